@@ -1,0 +1,70 @@
+// Errors that carry their context: the file, the key path inside it (or a line), and what was
+// expected. Every user-facing failure in Metamer is one of these, so the CLI can print one line
+// and choose an exit code without knowing which stage failed.
+#pragma once
+
+#include <fmt/format.h>
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace metamer {
+
+// Exit codes of the `metamer` tool (documented in README.md).
+enum class ExitCode : int {
+    Ok = 0,
+    Failure = 1,    // a runtime failure that is not the user's input (I/O error, driver error)
+    BadInput = 2,   // the scene, a spectrum file or the command line is wrong
+    NoDevice = 3,   // no usable Vulkan device
+};
+
+// Where in the user's input something went wrong. Any field may be empty.
+struct Where {
+    std::string file;  // path as the user gave it (or as resolved)
+    std::string key;   // JSON key path, e.g. "materials.skin.diffuse"
+    int line = 0;      // 1-based line number for line-oriented files (CSV); 0 = none
+
+    Where child(const std::string& k) const;       // "a.b" + "c" -> "a.b.c"
+    Where index(size_t i) const;                   // "a.b" + 2   -> "a.b.2"
+    std::string str() const;                       // "file:line: key" (parts omitted when empty)
+};
+
+class Error : public std::runtime_error {
+public:
+    Error(ExitCode code, Where where, const std::string& message);
+    ExitCode code() const { return code_; }
+    const Where& where() const { return where_; }
+    const std::string& message() const { return message_; }
+
+private:
+    ExitCode code_;
+    Where where_;
+    std::string message_;
+};
+
+// Bad user input: exit code 2.
+template <typename... Args>
+[[noreturn]] void failInput(const Where& where, fmt::format_string<Args...> f, Args&&... args) {
+    throw Error(ExitCode::BadInput, where, fmt::format(f, std::forward<Args>(args)...));
+}
+
+// Runtime failure not caused by the input: exit code 1.
+template <typename... Args>
+[[noreturn]] void failRuntime(fmt::format_string<Args...> f, Args&&... args) {
+    throw Error(ExitCode::Failure, Where{}, fmt::format(f, std::forward<Args>(args)...));
+}
+
+// Edit distance, for "did you mean ...?" suggestions.
+size_t editDistance(const std::string& a, const std::string& b);
+
+// The closest candidate to `wanted` if it is close enough to be a plausible typo, else "".
+std::string closestMatch(const std::string& wanted, const std::vector<std::string>& candidates);
+
+// Warnings go to stderr with their context; tests can capture them.
+void warn(const Where& where, const std::string& message);
+// Route warnings elsewhere (nullptr restores stderr). Returns the previous sink.
+using WarningSink = void (*)(const std::string& line);
+WarningSink setWarningSink(WarningSink sink);
+
+}  // namespace metamer

@@ -1,0 +1,94 @@
+// The scene model: plain data, as loaded and validated from a scene file. Geometry is already in
+// world space (triangles, metres); spectra are as read (not yet on the grid). Both renderers
+// consume this; neither reaches back into JSON.
+#pragma once
+
+#include "core/error.h"
+#include "spectral/grid.h"
+#include "spectral/spectrum.h"
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace metamer {
+
+// A spectrum together with the key path it came from, for warnings about coverage.
+struct SceneSpectrum {
+    Spectrum spectrum;
+    SpectrumKind kind = SpectrumKind::Reflectance;
+    Where where;
+};
+
+struct Camera {
+    enum class Projection { Perspective, Orthographic };
+    Projection projection = Projection::Perspective;
+    glm::dvec3 position{0, 0, 5};
+    glm::dvec3 target{0, 0, 0};
+    glm::dvec3 up{0, 1, 0};
+    double fov_y_deg = 35.0;  // perspective: full vertical field of view
+    double height_m = 2.0;    // orthographic: height of the view in metres (width from aspect)
+    int width = 512;          // pixels
+    int height = 512;
+};
+
+struct Light {
+    enum class Type { Ambient, Directional, Point };
+    Type type = Type::Directional;
+    // Directional: the direction the light travels (towards the scene), normalized.
+    glm::dvec3 direction{0, -1, 0};
+    // Point: position in metres.
+    glm::dvec3 position{0, 0, 0};
+    // spectrum × scale is: ambient and directional, irradiance E(λ) in W·m⁻²·nm⁻¹;
+    // point, radiant intensity I(λ) in W·sr⁻¹·nm⁻¹.
+    SceneSpectrum spectrum;
+    double scale = 1.0;
+    std::string name;  // "lights.1"
+};
+
+struct Fluorescence {
+    SceneSpectrum excitation;  // absorptance a(λ), 0..1
+    SceneSpectrum emission;    // emission shape, any scale; normalized to unit integral
+    double quantum_yield = 1.0;
+};
+
+struct Material {
+    std::string name;
+    SceneSpectrum diffuse;    // ρd(λ), Lambertian reflectance factor
+    SceneSpectrum specular;   // ρs(λ), Blinn–Phong lobe weight (normal-incidence reflectance)
+    double gloss = 0.0;       // Blinn–Phong exponent n (≥ 0)
+    std::optional<Fluorescence> fluorescence;
+
+    bool hasSpecular() const {
+        return !(specular.spectrum.isConstant() && *specular.spectrum.constant == 0.0);
+    }
+};
+
+// A triangle mesh in world space. Normals are per vertex (unit length); the shading normal is
+// their barycentric interpolation, renormalized.
+struct Mesh {
+    std::vector<glm::dvec3> positions;
+    std::vector<glm::dvec3> normals;
+    std::vector<uint32_t> indices;  // 3 per triangle, counter-clockwise seen from the normal side
+    uint32_t material = 0;          // index into Scene::materials
+    std::string name;               // "objects.2" (+ " (assets/teapot.gltf)")
+};
+
+struct Scene {
+    std::filesystem::path file;  // the scene file, for messages
+    Grid grid;
+    Camera camera;
+    std::vector<Light> lights;
+    std::vector<Material> materials;
+    std::vector<Mesh> meshes;
+
+    bool hasFluorescence() const;
+    bool hasSpecular() const;
+    size_t triangleCount() const;
+};
+
+}  // namespace metamer

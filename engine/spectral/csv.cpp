@@ -1,0 +1,104 @@
+#include "spectral/csv.h"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+namespace metamer {
+
+namespace {
+
+std::string trim(const std::string& s) {
+    size_t a = s.find_first_not_of(" \t\r\n");
+    if (a == std::string::npos) return "";
+    size_t b = s.find_last_not_of(" \t\r\n");
+    return s.substr(a, b - a + 1);
+}
+
+std::vector<std::string> splitFields(const std::string& line) {
+    std::vector<std::string> fields;
+    std::stringstream ss(line);
+    std::string f;
+    while (std::getline(ss, f, ',')) fields.push_back(trim(f));
+    if (!line.empty() && line.back() == ',') fields.push_back("");
+    return fields;
+}
+
+bool parseNumber(const std::string& text, double& out) {
+    if (text.empty()) return false;
+    errno = 0;
+    char* end = nullptr;
+    out = std::strtod(text.c_str(), &end);
+    return end == text.c_str() + text.size() && errno != ERANGE;
+}
+
+}  // namespace
+
+SpectralTable readSpectralTable(const std::filesystem::path& path, size_t minColumns) {
+    Where where{path.string(), "", 0};
+    std::ifstream in(path);
+    if (!in) failInput(where, "cannot open spectrum file");
+    SpectralTable t;
+    std::string raw;
+    int lineNo = 0;
+    bool sawData = false, sawHeader = false;
+    size_t width = 0;
+    while (std::getline(in, raw)) {
+        ++lineNo;
+        where.line = lineNo;
+        std::string line = trim(raw);
+        if (line.empty() || line[0] == '#') continue;
+        auto fields = splitFields(line);
+        double w;
+        if (!parseNumber(fields[0], w)) {
+            if (sawData || sawHeader)
+                failInput(where, "'{}' is not a wavelength in nm", fields[0]);
+            sawHeader = true;  // first non-numeric line: the header
+            t.columnNames.assign(fields.begin() + 1, fields.end());
+            continue;
+        }
+        if (fields.size() < 2) failInput(where, "expected wavelength_nm,value; got '{}'", line);
+        if (width == 0) {
+            width = fields.size() - 1;
+            if (width < minColumns)
+                failInput(where, "expected at least {} value column(s), got {}", minColumns, width);
+            t.columns.resize(width);
+        } else if (fields.size() - 1 != width) {
+            failInput(where, "expected {} value column(s) as on the first data line, got {}", width,
+                      fields.size() - 1);
+        }
+        if (!std::isfinite(w) || w <= 0) failInput(where, "wavelength '{}' must be a positive finite number", fields[0]);
+        if (!t.wavelengths_nm.empty() && !(w > t.wavelengths_nm.back()))
+            failInput(where, "wavelengths must increase strictly: {} nm follows {} nm", w,
+                      t.wavelengths_nm.back());
+        t.wavelengths_nm.push_back(w);
+        for (size_t c = 0; c < width; ++c) {
+            double v;
+            if (!parseNumber(fields[c + 1], v) || !std::isfinite(v))
+                failInput(where, "column {}: '{}' is not a finite number", c + 2, fields[c + 1]);
+            t.columns[c].push_back(v);
+        }
+        sawData = true;
+    }
+    where.line = 0;
+    if (t.wavelengths_nm.size() < 2)
+        failInput(where, "needs at least 2 data lines (wavelength_nm,value), found {}", t.wavelengths_nm.size());
+    if (!t.columnNames.empty() && t.columnNames.size() != width) t.columnNames.clear();
+    return t;
+}
+
+Spectrum readSpectrumCsv(const std::filesystem::path& path) {
+    SpectralTable t = readSpectralTable(path, 1);
+    if (t.columns.size() != 1)
+        failInput(Where{path.string()}, "expected one value column (wavelength_nm,value), got {}",
+                  t.columns.size());
+    Spectrum s;
+    s.wavelengths_nm = std::move(t.wavelengths_nm);
+    s.values = std::move(t.columns[0]);
+    s.source = path.string();
+    return s;
+}
+
+}  // namespace metamer

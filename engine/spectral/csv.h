@@ -1,0 +1,27 @@
+// Spectrum files: plain CSV, one sample per line, `wavelength_nm,value[,value...]`.
+// An optional header line (first non-comment line that is not numeric) names the columns;
+// lines starting with '#' and blank lines are ignored. Errors name the file and line.
+#pragma once
+
+#include "spectral/spectrum.h"
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace metamer {
+
+struct SpectralTable {
+    std::vector<std::string> columnNames;  // header names of the value columns (may be empty)
+    std::vector<double> wavelengths_nm;
+    std::vector<std::vector<double>> columns;  // columns[c][row]
+};
+
+// Reads a table with at least `minColumns` value columns; validates wavelengths (finite,
+// strictly increasing) and values (finite).
+SpectralTable readSpectralTable(const std::filesystem::path& path, size_t minColumns = 1);
+
+// Reads a single-spectrum CSV (exactly one value column).
+Spectrum readSpectrumCsv(const std::filesystem::path& path);
+
+}  // namespace metamer

@@ -1,0 +1,65 @@
+// A spectrum as read from the user or the library: a piecewise-linear function of wavelength
+// (or a constant), and resampling of it onto a Grid.
+#pragma once
+
+#include "core/error.h"
+#include "spectral/grid.h"
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace metamer {
+
+// What a spectrum means decides what happens where its data do not cover the grid
+// (docs/physics.md, "Coverage policy").
+enum class SpectrumKind {
+    Light,        // relative spectral power; × scale gives W·m⁻²·nm⁻¹ or W·sr⁻¹·nm⁻¹
+    Reflectance,  // diffuse or specular reflectance factor, 0..1 (metals' specular may approach 1)
+    Excitation,   // fluorescence absorptance, 0..1
+    Emission,     // fluorescence emission shape, relative (normalized by the engine)
+    Observer,     // a detector's spectral sensitivity
+};
+
+const char* kindName(SpectrumKind kind);
+
+struct Spectrum {
+    // Data: strictly increasing wavelengths (nm) with values; or a constant over all wavelengths.
+    std::vector<double> wavelengths_nm;
+    std::vector<double> values;
+    std::optional<double> constant;
+    std::string source;  // for messages: "illuminants/D65", "my.csv", "inline", "constant 0.8"
+
+    static Spectrum makeConstant(double value);
+    bool isConstant() const { return constant.has_value(); }
+
+    double minWavelength() const;  // -inf for a constant
+    double maxWavelength() const;  // +inf for a constant
+
+    // Piecewise-linear value; 0 outside the data.
+    double at(double nm) const;
+    // ∫ f(λ) dλ over [a, b] of the piecewise-linear function (0 outside the data).
+    double integrate(double a, double b) const;
+    // ∫ f over the whole data range (constants: error, it is unbounded).
+    double integral() const;
+
+    // Checks sorted, strictly increasing, finite, same lengths, ≥ 2 points (or constant).
+    void validate(const Where& where) const;
+};
+
+// Resampling onto a grid: each band gets the mean of the piecewise-linear spectrum over the band
+// [λi - Δ/2, λi + Δ/2]. Band averaging conserves the integral (narrow emission lines keep their
+// energy on coarse grids) and equals linear interpolation wherever the spectrum is linear across
+// the band. A band whose centre lies outside the data is 0; a band cut by the data's end is
+// averaged over its covered part. See docs/physics.md, "Resampling".
+std::vector<double> resample(const Spectrum& s, const Grid& grid);
+
+// Whether the data cover every band centre of the grid.
+struct CoverageGap {
+    bool covered = true;
+    double data_lo = 0, data_hi = 0;  // the data's own range
+    bool overlaps = true;             // false when the data lie entirely outside the grid
+};
+CoverageGap coverage(const Spectrum& s, const Grid& grid);
+
+}  // namespace metamer
