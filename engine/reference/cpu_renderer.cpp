@@ -1,0 +1,280 @@
+#include "reference/cpu_renderer.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <exception>
+#include <mutex>
+#include <numbers>
+#include <thread>
+
+namespace metamer {
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kRayTMin = 1e-9;  // metres along a unit direction
+
+// The SceneOnGrid must come from this scene: a mismatch is a programming error, not input.
+void checkOnGrid(const Scene& scene, const SceneOnGrid& g) {
+    const size_t n = static_cast<size_t>(g.grid.bands());
+    auto sized = [n](const std::vector<double>& v) { return v.size() == n; };
+    if (g.wavelengths_nm.size() != n || g.lights.size() != scene.lights.size() ||
+        g.materials.size() != scene.materials.size())
+        failRuntime("reference renderer: the resampled spectra do not match the scene "
+                    "({} lights, {} materials vs {} and {})",
+                    g.lights.size(), g.materials.size(), scene.lights.size(), scene.materials.size());
+    for (const auto& e : g.lights)
+        if (!sized(e)) failRuntime("reference renderer: a light spectrum has the wrong band count");
+    for (const auto& m : g.materials) {
+        if (!sized(m.diffuse) || !sized(m.specular) ||
+            (m.fluorescent && (!sized(m.excitation) || !sized(m.emission))))
+            failRuntime("reference renderer: a material spectrum has the wrong band count");
+    }
+}
+
+void checkMeshes(const Scene& scene) {
+    Where objects{scene.file.string(), "objects", 0};
+    for (size_t m = 0; m < scene.meshes.size(); ++m) {
+        const Mesh& mesh = scene.meshes[m];
+        Where w = objects.index(m);
+        if (mesh.material >= scene.materials.size())
+            failInput(w, "mesh '{}' uses material {} but there are {}", mesh.name, mesh.material,
+                      scene.materials.size());
+        if (!mesh.normals.empty() && mesh.normals.size() != mesh.positions.size())
+            failInput(w, "mesh '{}' has {} normals for {} positions", mesh.name, mesh.normals.size(),
+                      mesh.positions.size());
+        if (mesh.indices.size() % 3 != 0)
+            failInput(w, "mesh '{}' has {} indices, not a multiple of 3", mesh.name, mesh.indices.size());
+        for (uint32_t i : mesh.indices)
+            if (i >= mesh.positions.size())
+                failInput(w, "mesh '{}' has index {} but {} positions", mesh.name, i,
+                          mesh.positions.size());
+    }
+}
+
+}  // namespace
+
+ReferenceRenderer::ReferenceRenderer(const Scene& scene, const SceneOnGrid& onGrid,
+                                     const ReferenceOptions& options)
+    : scene_(scene),
+      onGrid_(onGrid),
+      options_(options),
+      bands_(onGrid.grid.bands()),
+      bvh_((checkMeshes(scene), Bvh::collectTriangles(scene))) {
+    if (options_.ssaa < 1 || options_.ssaa > 64)
+        failInput(Where{"", "ssaa", 0}, "supersampling {} is outside 1..64", options_.ssaa);
+    if (options_.threads < 0)
+        failInput(Where{"", "threads", 0}, "thread count {} is negative", options_.threads);
+    checkOnGrid(scene, onGrid);
+
+    const Camera& cam = scene.camera;
+    Where camWhere{scene.file.string(), "camera", 0};
+    if (cam.width < 1 || cam.height < 1)
+        failInput(camWhere, "image size {}×{} must be at least 1×1", cam.width, cam.height);
+    const glm::dvec3 toTarget = cam.target - cam.position;
+    if (!(glm::length(toTarget) > 0.0)) failInput(camWhere, "camera target equals its position");
+    f_ = glm::normalize(toTarget);
+    const glm::dvec3 side = glm::cross(f_, cam.up);
+    if (!(glm::length(side) > 1e-12 * glm::length(cam.up)))
+        failInput(camWhere, "camera up is parallel to the view direction");
+    r_ = glm::normalize(side);
+    u_ = glm::cross(r_, f_);
+    aspect_ = static_cast<double>(cam.width) / cam.height;
+    if (cam.projection == Camera::Projection::Perspective) {
+        if (!(cam.fov_y_deg > 0.0 && cam.fov_y_deg < 180.0))
+            failInput(camWhere, "field of view {}° is outside (0, 180)", cam.fov_y_deg);
+        tanHalf_ = std::tan(0.5 * cam.fov_y_deg * kPi / 180.0);
+    } else {
+        if (!(cam.height_m > 0.0)) failInput(camWhere, "orthographic height {} m must be > 0", cam.height_m);
+        halfHeight_ = 0.5 * cam.height_m;
+    }
+
+    // View-independent spectral factors, per (material, light).
+    const size_t nm = scene.materials.size(), nl = scene.lights.size();
+    diffuseTerm_.assign(nm * nl * bands_, 0.0);
+    specularTerm_.assign(nm * nl * bands_, 0.0);
+    fluorescenceTerm_.assign(nm * nl * bands_, 0.0);
+    hasSpecular_.assign(nm, false);
+    hasFluorescence_.assign(nm, false);
+    const double step = onGrid.grid.step_nm;
+    for (size_t m = 0; m < nm; ++m) {
+        const MaterialOnGrid& mat = onGrid.materials[m];
+        hasSpecular_[m] = std::any_of(mat.specular.begin(), mat.specular.end(),
+                                      [](double v) { return v != 0.0; });
+        hasFluorescence_[m] = mat.fluorescent;
+        const double lobeNorm = (mat.gloss + 8.0) / (8.0 * kPi);
+        for (size_t l = 0; l < nl; ++l) {
+            const std::vector<double>& e = onGrid.lights[l];
+            const size_t o = termOffset(static_cast<uint32_t>(m), l);
+            for (int b = 0; b < bands_; ++b) {
+                diffuseTerm_[o + b] = mat.diffuse[b] * e[b] / kPi;
+                specularTerm_[o + b] = mat.specular[b] * e[b] * lobeNorm;
+            }
+            if (!mat.fluorescent) continue;
+            // Absorbed photons ∝ S = Σ a·E·λ·Δλ (the Riemann sum over the render grid); a fraction
+            // Φ is re-emitted with shape ê, each photon at λ carrying energy ∝ 1/λ.
+            double s = 0.0;
+            for (int b = 0; b < bands_; ++b)
+                s += mat.excitation[b] * e[b] * onGrid.wavelengths_nm[b] * step;
+            for (int b = 0; b < bands_; ++b)
+                fluorescenceTerm_[o + b] =
+                    mat.quantum_yield / kPi * mat.emission[b] / onGrid.wavelengths_nm[b] * s;
+        }
+    }
+}
+
+Ray ReferenceRenderer::cameraRay(double px, double py) const {
+    const Camera& cam = scene_.camera;
+    const double ndcX = 2.0 * px / cam.width - 1.0;
+    const double ndcY = 1.0 - 2.0 * py / cam.height;
+    Ray ray;
+    if (cam.projection == Camera::Projection::Perspective) {
+        ray.origin = cam.position;
+        ray.direction =
+            glm::normalize(f_ + ndcX * tanHalf_ * aspect_ * r_ + ndcY * tanHalf_ * u_);
+    } else {
+        ray.origin = cam.position + ndcX * halfHeight_ * aspect_ * r_ + ndcY * halfHeight_ * u_;
+        ray.direction = f_;
+    }
+    return ray;
+}
+
+int32_t ReferenceRenderer::trace(const Ray& ray, double* radiance) const {
+    std::fill(radiance, radiance + bands_, 0.0);
+    auto hit = bvh_.intersect(ray, kRayTMin);
+    if (!hit) return kBackgroundId;
+    shade(*hit, ray, radiance);
+    return static_cast<int32_t>(bvh_.triangles()[hit->index].mesh);
+}
+
+void ReferenceRenderer::shade(const RayHit& hit, const Ray& ray, double* radiance) const {
+    const BvhTriangle& tri = bvh_.triangles()[hit.index];
+    const Mesh& mesh = scene_.meshes[tri.mesh];
+    const uint32_t material = mesh.material;
+    const double b1 = hit.b1, b2 = hit.b2, b0 = 1.0 - b1 - b2;
+
+    // The point on the triangle (as a rasterizer interpolates it), and its normals.
+    const glm::dvec3 p = b0 * tri.p0 + b1 * tri.p1 + b2 * tri.p2;
+    const glm::dvec3 ng = glm::normalize(glm::cross(tri.p1 - tri.p0, tri.p2 - tri.p0));
+    glm::dvec3 n = ng;
+    if (!mesh.normals.empty()) {
+        const uint32_t* idx = &mesh.indices[3 * static_cast<size_t>(tri.triangle)];
+        const glm::dvec3 s =
+            b0 * mesh.normals[idx[0]] + b1 * mesh.normals[idx[1]] + b2 * mesh.normals[idx[2]];
+        // Opposing vertex normals can cancel; the face normal is then the only sensible choice.
+        if (glm::length(s) > 1e-12) n = glm::normalize(s);
+    }
+    const glm::dvec3 v = -ray.direction;
+    // Two-sided: a back face is shaded as if seen from its front.
+    if (glm::dot(ng, v) < 0.0) n = -n;
+
+    const double gloss = onGrid_.materials[material].gloss;
+    for (size_t l = 0; l < scene_.lights.size(); ++l) {
+        const Light& light = scene_.lights[l];
+        double gDiffuse = 0.0, gSpecular = 0.0;  // geometric factors; fluorescence uses gDiffuse
+        if (light.type == Light::Type::Ambient) {
+            gDiffuse = 1.0;  // irradiance E on every surface, whatever its orientation
+        } else {
+            glm::dvec3 w;        // unit vector towards the light
+            double falloff = 1.0;  // 1/d² for a point light
+            if (light.type == Light::Type::Directional) {
+                w = -glm::normalize(light.direction);
+            } else {
+                const glm::dvec3 toLight = light.position - p;
+                const double d2 = glm::dot(toLight, toLight);
+                if (!(d2 > 0.0)) continue;  // a point light on the surface: no defined direction
+                w = toLight / std::sqrt(d2);
+                falloff = 1.0 / d2;
+            }
+            const double cosI = glm::dot(n, w);
+            if (cosI <= 0.0) continue;  // lit from behind the shading normal: nothing
+            gDiffuse = cosI * falloff;
+            if (hasSpecular_[material]) {
+                const glm::dvec3 hv = w + v;
+                const double len = glm::length(hv);
+                const double nh = len > 0.0 ? std::max(0.0, glm::dot(n, hv / len)) : 0.0;
+                const double lobe = gloss == 0.0 ? 1.0 : std::pow(nh, gloss);  // x^0 = 1
+                gSpecular = gDiffuse * lobe;
+            }
+        }
+        const size_t o = termOffset(material, l);
+        const double* d = &diffuseTerm_[o];
+        for (int b = 0; b < bands_; ++b) radiance[b] += gDiffuse * d[b];
+        if (gSpecular != 0.0) {
+            const double* s = &specularTerm_[o];
+            for (int b = 0; b < bands_; ++b) radiance[b] += gSpecular * s[b];
+        }
+        if (hasFluorescence_[material]) {
+            const double* f = &fluorescenceTerm_[o];
+            for (int b = 0; b < bands_; ++b) radiance[b] += gDiffuse * f[b];
+        }
+    }
+}
+
+int32_t ReferenceRenderer::pixel(int x, int y, double* radiance) const {
+    const int s = options_.ssaa;
+    std::vector<double> sample(bands_);
+    std::fill(radiance, radiance + bands_, 0.0);
+    int32_t id = kBackgroundId;
+    for (int j = 0; j < s; ++j) {
+        for (int i = 0; i < s; ++i) {
+            const Ray ray = cameraRay(x + (i + 0.5) / s, y + (j + 0.5) / s);
+            const int32_t sid = trace(ray, sample.data());
+            if (i == 0 && j == 0)
+                id = sid;
+            else if (sid != id)
+                id = kMixedId;
+            for (int b = 0; b < bands_; ++b) radiance[b] += sample[b];
+        }
+    }
+    const double inv = 1.0 / (static_cast<double>(s) * s);
+    for (int b = 0; b < bands_; ++b) radiance[b] *= inv;
+    return id;
+}
+
+ReferenceImage ReferenceRenderer::render() const {
+    const int w = scene_.camera.width, h = scene_.camera.height;
+    ReferenceImage image;
+    image.cube = SpectralCube(w, h, onGrid_.grid);
+    image.objectId.assign(static_cast<size_t>(w) * h, kBackgroundId);
+
+    int threads = options_.threads;
+    if (threads == 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    threads = std::min(threads, h);
+
+    // Rows are handed out one at a time; each pixel depends only on its own rays, so the result
+    // is the same for any thread count.
+    std::atomic<int> nextRow{0};
+    std::exception_ptr failure;
+    std::mutex failureMutex;
+    auto work = [&] {
+        try {
+            std::vector<double> radiance(bands_);
+            for (int y = nextRow++; y < h; y = nextRow++) {
+                for (int x = 0; x < w; ++x) {
+                    image.objectId[static_cast<size_t>(y) * w + x] = pixel(x, y, radiance.data());
+                    float* out = image.cube.pixel(x, y);
+                    for (int b = 0; b < bands_; ++b) out[b] = static_cast<float>(radiance[b]);
+                }
+            }
+        } catch (...) {
+            std::lock_guard<std::mutex> lock(failureMutex);
+            if (!failure) failure = std::current_exception();
+            nextRow = h;  // let the other threads stop early
+        }
+    };
+    std::vector<std::thread> pool;
+    for (int t = 1; t < threads; ++t) pool.emplace_back(work);
+    work();
+    for (auto& t : pool) t.join();
+    if (failure) std::rethrow_exception(failure);
+    return image;
+}
+
+ReferenceImage renderReference(const Scene& scene, const SceneOnGrid& onGrid,
+                               const ReferenceOptions& options) {
+    return ReferenceRenderer(scene, onGrid, options).render();
+}
+
+}  // namespace metamer

@@ -1,0 +1,82 @@
+// The CPU reference renderer: ray casting in double precision, one ray per sub-sample, local
+// illumination (no shadows, no interreflection). It shares only the Scene model and the
+// SceneOnGrid spectra with the GPU path and produces the goldens the GPU is checked against.
+// Every convention (camera, pixels, shading) is spelled out in docs/physics.md.
+#pragma once
+
+#include "reference/bvh.h"
+#include "scene/scene.h"
+#include "scene/scene_on_grid.h"
+#include "spectral/cube.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace metamer {
+
+struct ReferenceOptions {
+    int ssaa = 1;     // s×s sub-samples per pixel on a regular grid, box-averaged
+    int threads = 0;  // 0 = std::thread::hardware_concurrency()
+};
+
+// objectId values besides a mesh index.
+inline constexpr int32_t kBackgroundId = -1;
+inline constexpr int32_t kMixedId = -2;  // the pixel's sub-samples saw different meshes (or sky)
+
+struct ReferenceImage {
+    SpectralCube cube;             // band-averaged spectral radiance, W·sr⁻¹·m⁻²·nm⁻¹
+    std::vector<int32_t> objectId;  // per pixel, row 0 at the top: mesh index, -1 or -2
+};
+
+ReferenceImage renderReference(const Scene& scene, const SceneOnGrid& onGrid,
+                               const ReferenceOptions& options = {});
+
+// The renderer behind renderReference, exposed so tests can check pixels in double before they
+// are rounded to float in the cube. Holds references: scene and onGrid must outlive it.
+class ReferenceRenderer {
+public:
+    ReferenceRenderer(const Scene& scene, const SceneOnGrid& onGrid,
+                      const ReferenceOptions& options = {});
+
+    int bands() const { return bands_; }
+
+    // The primary ray through image position (px, py) in pixels (x right, y down, (0,0) the
+    // image's top-left corner).
+    Ray cameraRay(double px, double py) const;
+
+    // Radiance along one ray into `radiance` (bands() values, overwritten); returns the mesh
+    // index hit, or kBackgroundId.
+    int32_t trace(const Ray& ray, double* radiance) const;
+
+    // Box-averaged radiance of pixel (x, y) over the ssaa×ssaa sub-samples; returns its objectId.
+    int32_t pixel(int x, int y, double* radiance) const;
+
+    ReferenceImage render() const;
+
+private:
+    // Outgoing radiance at a hit, towards -ray.direction.
+    void shade(const RayHit& hit, const Ray& ray, double* radiance) const;
+
+    const Scene& scene_;
+    const SceneOnGrid& onGrid_;
+    ReferenceOptions options_;
+    int bands_ = 0;
+    Bvh bvh_;
+
+    // Camera basis and projection scale (docs/physics.md, "Camera").
+    glm::dvec3 f_, r_, u_;
+    double aspect_ = 1.0;
+    double tanHalf_ = 0.0;     // perspective
+    double halfHeight_ = 0.0;  // orthographic, metres
+
+    // View-independent spectra per (material, light), flattened [material][light][band]:
+    // diffuse ρd·E/π; specular ρs·E·(N+8)/(8π); fluorescence (Φ/π)·ê(λ)/λ·S with
+    // S = Σ a·E·λ·Δλ. Each is scaled per hit by its geometric factor.
+    std::vector<double> diffuseTerm_, specularTerm_, fluorescenceTerm_;
+    std::vector<bool> hasSpecular_, hasFluorescence_;  // per material
+    size_t termOffset(uint32_t material, size_t light) const {
+        return (static_cast<size_t>(material) * onGrid_.lights.size() + light) * bands_;
+    }
+};
+
+}  // namespace metamer
