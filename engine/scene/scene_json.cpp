@@ -1,0 +1,581 @@
+#include "scene/scene_json.h"
+
+#include "scene/gltf_mesh.h"
+#include "scene/overrides.h"
+#include "scene/shapes.h"
+#include "spectral/csv.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+namespace fs = std::filesystem;
+
+namespace metamer {
+
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+// ---------------------------------------------------------------------------------------------
+// Parsing: nlohmann's parser reports syntax errors by byte offset and ignores duplicate keys, so
+// a callback follows the key path as it parses, to reject duplicates and to say where an error
+// happened.
+
+class PathTracker {
+public:
+    explicit PathTracker(std::string file) : file_(std::move(file)) {}
+
+    std::string path() const {
+        std::string p;
+        for (const auto& f : stack_) {
+            std::string part = f.array ? std::to_string(f.count) : f.key;
+            if (part.empty()) break;
+            p += (p.empty() ? "" : ".") + part;
+        }
+        return p;
+    }
+
+    bool operator()(int, nlohmann::json::parse_event_t event, Json& parsed) {
+        using E = nlohmann::json::parse_event_t;
+        switch (event) {
+            case E::object_start: stack_.push_back({false}); break;
+            case E::array_start: stack_.push_back({true}); break;
+            case E::key: {
+                Frame& f = stack_.back();
+                f.key = parsed.get<std::string>();
+                if (!f.keys.insert(f.key).second)
+                    failInput(Where{file_, path()},
+                              "duplicate key (the later value would silently replace the earlier)");
+                break;
+            }
+            case E::value: finishValue(); break;
+            case E::object_end:
+            case E::array_end:
+                stack_.pop_back();
+                finishValue();
+                break;
+        }
+        return true;
+    }
+
+private:
+    struct Frame {
+        bool array = false;
+        std::string key;  // the member being parsed; "" between members
+        size_t count = 0;  // elements completed so far = index of the one being parsed
+        std::set<std::string> keys;
+    };
+
+    void finishValue() {
+        if (stack_.empty()) return;
+        if (stack_.back().array)
+            ++stack_.back().count;
+        else
+            stack_.back().key.clear();
+    }
+
+    std::string file_;
+    std::vector<Frame> stack_;
+};
+
+// 1-based line and column of a 0-based byte offset.
+std::pair<int, int> lineColumn(const std::string& text, size_t offset) {
+    offset = std::min(offset, text.size());
+    int line = 1;
+    size_t lineStart = 0;
+    for (size_t i = 0; i < offset; ++i)
+        if (text[i] == '\n') {
+            ++line;
+            lineStart = i + 1;
+        }
+    return {line, static_cast<int>(offset - lineStart) + 1};
+}
+
+Json parseJson(const std::string& text, const std::string& file) {
+    PathTracker tracker(file);
+    try {
+        return Json::parse(text, std::ref(tracker), /*allow_exceptions=*/true, /*ignore_comments=*/false);
+    } catch (const nlohmann::json::parse_error& e) {
+        // nlohmann's message reads "[json.exception.parse_error.101] parse error at line L,
+        // column C: what"; keep only "what" and compute the position ourselves.
+        std::string what = e.what();
+        if (size_t c = what.find("column "); c != std::string::npos)
+            if (size_t colon = what.find(": ", c); colon != std::string::npos) what = what.substr(colon + 2);
+        auto [line, column] = lineColumn(text, e.byte == 0 ? 0 : e.byte - 1);
+        failInput(Where{file, tracker.path(), line}, "JSON syntax error at column {}: {}", column, what);
+    } catch (const nlohmann::json::out_of_range& e) {
+        // A number too large for a double (1e999). Find the literal for the line number.
+        std::string what = e.what();
+        std::string literal;
+        if (size_t q = what.find('\''); q != std::string::npos) {
+            size_t q2 = what.find('\'', q + 1);
+            if (q2 != std::string::npos) literal = what.substr(q + 1, q2 - q - 1);
+        }
+        int line = 0;
+        if (!literal.empty())
+            if (size_t at = text.find(literal); at != std::string::npos) line = lineColumn(text, at).first;
+        failInput(Where{file, tracker.path(), line}, "number {} is out of the range of a double", literal);
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Typed access with messages that name what was expected and what was found.
+
+std::string describe(const Json& v) {
+    switch (v.type()) {
+        case Json::value_t::null: return "null";
+        case Json::value_t::boolean: return "a boolean";
+        case Json::value_t::string: return "a string";
+        case Json::value_t::array: return v.empty() ? "an empty array" : fmt::format("an array of {}", v.size());
+        case Json::value_t::object: return "an object";
+        case Json::value_t::number_integer:
+        case Json::value_t::number_unsigned:
+        case Json::value_t::number_float: return "a number";
+        default: return "nothing";
+    }
+}
+
+std::string join(const std::vector<std::string>& items) {
+    std::string s;
+    for (const auto& i : items) s += (s.empty() ? "" : ", ") + i;
+    return s;
+}
+
+const Json& asObject(const Json& v, const Where& w) {
+    if (!v.is_object()) failInput(w, "expected an object, got {}", describe(v));
+    return v;
+}
+
+const Json& asArray(const Json& v, const Where& w) {
+    if (!v.is_array()) failInput(w, "expected an array, got {}", describe(v));
+    return v;
+}
+
+// Rejects keys outside `allowed`, suggesting the nearest one. `elsewhere` lists keys that are
+// valid in a sibling form of the object (an orthographic camera's height_m on a perspective
+// one), to say so rather than "unknown".
+void checkKeys(const Json& obj, const Where& w, const std::vector<std::string>& allowed,
+               const std::string& form = "", const std::vector<std::string>& elsewhere = {}) {
+    for (auto it = obj.begin(); it != obj.end(); ++it) {
+        const std::string& key = it.key();
+        if (std::find(allowed.begin(), allowed.end(), key) != allowed.end()) continue;
+        Where at = w.child(key);
+        std::string forWhat = form.empty() ? "" : " for " + form;
+        if (std::find(elsewhere.begin(), elsewhere.end(), key) != elsewhere.end())
+            failInput(at, "key not allowed{}; allowed keys are {}", forWhat, join(allowed));
+        std::string near = closestMatch(key, allowed);
+        if (!near.empty()) failInput(at, "unknown key{}; did you mean '{}'?", forWhat, near);
+        failInput(at, "unknown key{}; allowed keys are {}", forWhat, join(allowed));
+    }
+}
+
+const Json* find(const Json& obj, const char* key) {
+    auto it = obj.find(key);
+    return it == obj.end() ? nullptr : &*it;
+}
+
+const Json& require(const Json& obj, const Where& w, const char* key, const char* what) {
+    const Json* v = find(obj, key);
+    if (!v) failInput(w.child(key), "missing required key ({})", what);
+    return *v;
+}
+
+double number(const Json& v, const Where& w) {
+    if (!v.is_number()) failInput(w, "expected a number, got {}", describe(v));
+    double x = v.get<double>();
+    if (!std::isfinite(x)) failInput(w, "expected a finite number");
+    return x;
+}
+
+// A number in [lo, hi], or (lo, hi] etc. when the ends are open.
+double numberIn(const Json& v, const Where& w, double lo, double hi, bool loOpen, bool hiOpen,
+                const char* units = "") {
+    double x = number(v, w);
+    bool ok = (loOpen ? x > lo : x >= lo) && (hiOpen ? x < hi : x <= hi);
+    if (!ok)
+        failInput(w, "{:g}{} is outside the allowed range {}{:g}, {:g}{}", x, units, loOpen ? "(" : "[", lo, hi,
+                  hiOpen ? ")" : "]");
+    return x;
+}
+
+int integerIn(const Json& v, const Where& w, int lo, int hi) {
+    if (!v.is_number()) failInput(w, "expected an integer, got {}", describe(v));
+    double x = v.get<double>();
+    if (!std::isfinite(x) || x != std::floor(x)) failInput(w, "expected an integer, got {:g}", x);
+    if (x < lo || x > hi) failInput(w, "{:g} is outside the allowed range {}..{}", x, lo, hi);
+    return static_cast<int>(x);
+}
+
+std::string string(const Json& v, const Where& w) {
+    if (!v.is_string()) failInput(w, "expected a string, got {}", describe(v));
+    return v.get<std::string>();
+}
+
+template <int N>
+glm::vec<N, double> vector(const Json& v, const Where& w) {
+    if (!v.is_array() || v.size() != N || !std::all_of(v.begin(), v.end(), [](const Json& e) { return e.is_number(); }))
+        failInput(w, "expected an array of {} numbers, got {}", N, describe(v));
+    glm::vec<N, double> out;
+    for (int i = 0; i < N; ++i) out[i] = number(v[i], w.index(i));
+    return out;
+}
+
+glm::dvec3 nonZeroDirection(const Json& v, const Where& w) {
+    glm::dvec3 d = vector<3>(v, w);
+    double len = glm::length(d);
+    if (!(len > 0.0) || !std::isfinite(len)) failInput(w, "a direction must not be the zero vector");
+    return d / len;
+}
+
+// One of `choices`, with a suggestion when it is a typo.
+std::string choice(const Json& v, const Where& w, const std::vector<std::string>& choices) {
+    std::string s = string(v, w);
+    if (std::find(choices.begin(), choices.end(), s) != choices.end()) return s;
+    std::string near = closestMatch(s, choices);
+    if (!near.empty()) failInput(w, "'{}' is not one of {}; did you mean '{}'?", s, join(choices), near);
+    failInput(w, "'{}' is not one of {}", s, join(choices));
+}
+
+bool endsWithCsv(const std::string& s) {
+    if (s.size() < 4) return false;
+    std::string ext = s.substr(s.size() - 4);
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+    return ext == ".csv";
+}
+
+// ---------------------------------------------------------------------------------------------
+
+class Loader {
+public:
+    Loader(const SpectrumLibrary& lib, const fs::path& file) : lib_(lib), file_(file), dir_(file.parent_path()) {}
+
+    Scene load(const Json& doc) {
+        Where root{file_.string()};
+        asObject(doc, root);
+        checkKeys(doc, root, {"description", "grid", "camera", "lights", "materials", "objects"});
+        scene_.file = file_;
+        if (const Json* d = find(doc, "description")) string(*d, root.child("description"));
+        if (const Json* g = find(doc, "grid")) readGrid(*g, root.child("grid"));
+        readCamera(require(doc, root, "camera", "an object: projection, position, target, ..."),
+                   root.child("camera"));
+        if (const Json* l = find(doc, "lights")) {
+            const Json& lights = asArray(*l, root.child("lights"));
+            for (size_t i = 0; i < lights.size(); ++i) readLight(lights[i], root.child("lights").index(i));
+        }
+        if (const Json* m = find(doc, "materials")) {
+            Where mw = root.child("materials");
+            const Json& materials = asObject(*m, mw);
+            for (auto it = materials.begin(); it != materials.end(); ++it)
+                readMaterial(it.key(), it.value(), mw.child(it.key()));
+        }
+        used_.assign(scene_.materials.size(), false);
+        if (const Json* o = find(doc, "objects")) {
+            const Json& objects = asArray(*o, root.child("objects"));
+            for (size_t i = 0; i < objects.size(); ++i) readObject(objects[i], root.child("objects").index(i));
+        }
+        if (scene_.lights.empty()) warn(root.child("lights"), "the scene has no lights; it will render black");
+        if (scene_.meshes.empty()) warn(root.child("objects"), "the scene has no objects");
+        for (size_t i = 0; i < used_.size(); ++i)
+            if (!used_[i]) warn(root.child("materials").child(scene_.materials[i].name), "material is not used by any object");
+        return std::move(scene_);
+    }
+
+private:
+    void readGrid(const Json& v, const Where& w) {
+        asObject(v, w);
+        checkKeys(v, w, {"start_nm", "end_nm", "step_nm"});
+        Grid g;
+        g.start_nm = number(require(v, w, "start_nm", "a wavelength in nm"), w.child("start_nm"));
+        g.end_nm = number(require(v, w, "end_nm", "a wavelength in nm"), w.child("end_nm"));
+        g.step_nm = number(require(v, w, "step_nm", "a step in nm"), w.child("step_nm"));
+        g.validate(w);
+        scene_.grid = g;
+    }
+
+    void readCamera(const Json& v, const Where& w) {
+        asObject(v, w);
+        Camera& c = scene_.camera;
+        std::string projection = "perspective";
+        if (const Json* p = find(v, "projection"))
+            projection = choice(*p, w.child("projection"), {"perspective", "orthographic"});
+        std::vector<std::string> common = {"projection", "position", "target", "up", "width", "height"};
+        std::vector<std::string> persp = common, ortho = common;
+        persp.push_back("fov_y_deg");
+        ortho.push_back("height_m");
+        bool isPersp = projection == "perspective";
+        checkKeys(v, w, isPersp ? persp : ortho, fmt::format("a {} camera", projection),
+                  {isPersp ? "height_m" : "fov_y_deg"});
+        c.position = vector<3>(require(v, w, "position", "[x, y, z] in metres"), w.child("position"));
+        c.target = vector<3>(require(v, w, "target", "[x, y, z] in metres"), w.child("target"));
+        if (const Json* u = find(v, "up")) c.up = nonZeroDirection(*u, w.child("up"));
+        glm::dvec3 view = c.target - c.position;
+        if (!(glm::length(view) > 0.0)) failInput(w.child("target"), "the target equals the camera position");
+        if (glm::length(glm::cross(glm::normalize(view), glm::normalize(c.up))) < 1e-6)
+            failInput(w.child("up"), "up is parallel to the view direction (target - position)");
+        if (const Json* x = find(v, "width")) c.width = integerIn(*x, w.child("width"), 1, 16384);
+        if (const Json* x = find(v, "height")) c.height = integerIn(*x, w.child("height"), 1, 16384);
+        if (isPersp) {
+            c.projection = Camera::Projection::Perspective;
+            if (const Json* f = find(v, "fov_y_deg"))
+                c.fov_y_deg = numberIn(*f, w.child("fov_y_deg"), 0, 180, true, true, "°");
+        } else {
+            c.projection = Camera::Projection::Orthographic;
+            c.height_m = numberIn(require(v, w, "height_m", "the view height in metres"), w.child("height_m"), 0,
+                                  INFINITY, true, true, " m");
+        }
+    }
+
+    void readLight(const Json& v, const Where& w) {
+        asObject(v, w);
+        Light l;
+        l.name = w.key;
+        std::string type = choice(require(v, w, "type", "ambient, directional or point"), w.child("type"),
+                                  {"ambient", "directional", "point"});
+        if (type == "ambient") {
+            l.type = Light::Type::Ambient;
+            checkKeys(v, w, {"type", "spectrum", "scale"}, "an ambient light", {"direction", "position"});
+        } else if (type == "directional") {
+            l.type = Light::Type::Directional;
+            checkKeys(v, w, {"type", "direction", "spectrum", "scale"}, "a directional light", {"position"});
+            l.direction = nonZeroDirection(require(v, w, "direction", "[x, y, z], the way the light travels"),
+                                           w.child("direction"));
+        } else {
+            l.type = Light::Type::Point;
+            checkKeys(v, w, {"type", "position", "spectrum", "scale"}, "a point light", {"direction"});
+            l.position = vector<3>(require(v, w, "position", "[x, y, z] in metres"), w.child("position"));
+        }
+        l.spectrum = spectrum(require(v, w, "spectrum", "a spectrum"), w.child("spectrum"), SpectrumKind::Light);
+        if (const Json* s = find(v, "scale")) l.scale = numberIn(*s, w.child("scale"), 0, INFINITY, false, true);
+        scene_.lights.push_back(std::move(l));
+    }
+
+    void readMaterial(const std::string& name, const Json& v, const Where& w) {
+        if (name.empty()) failInput(w, "a material name must not be empty");
+        if (name.find('.') != std::string::npos)
+            failInput(w, "a material name must not contain '.' (key paths use it)");
+        asObject(v, w);
+        checkKeys(v, w, {"diffuse", "specular", "gloss", "fluorescence"});
+        Material m;
+        m.name = name;
+        m.diffuse = spectrum(require(v, w, "diffuse", "a spectrum; 0 for none"), w.child("diffuse"),
+                             SpectrumKind::Reflectance);
+        if (const Json* s = find(v, "specular")) {
+            m.specular = spectrum(*s, w.child("specular"), SpectrumKind::Reflectance);
+        } else {
+            m.specular.spectrum = Spectrum::makeConstant(0.0);
+            m.specular.kind = SpectrumKind::Reflectance;
+            m.specular.where = w.child("specular");
+        }
+        if (const Json* g = find(v, "gloss"))
+            m.gloss = numberIn(*g, w.child("gloss"), 0, 1e6, false, false);
+        else if (m.hasSpecular())
+            failInput(w.child("gloss"), "missing required key (the Blinn–Phong exponent; required with a specular)");
+        if (const Json* f = find(v, "fluorescence")) {
+            Where fw = w.child("fluorescence");
+            asObject(*f, fw);
+            checkKeys(*f, fw, {"excitation", "emission", "quantum_yield"});
+            Fluorescence fl;
+            fl.excitation = spectrum(require(*f, fw, "excitation", "a spectrum"), fw.child("excitation"),
+                                     SpectrumKind::Excitation);
+            fl.emission = spectrum(require(*f, fw, "emission", "a spectrum"), fw.child("emission"),
+                                   SpectrumKind::Emission);
+            fl.quantum_yield = numberIn(require(*f, fw, "quantum_yield", "a number in [0, 1]"),
+                                        fw.child("quantum_yield"), 0, 1, false, false);
+            m.fluorescence = std::move(fl);
+        }
+        scene_.materials.push_back(std::move(m));
+    }
+
+    uint32_t materialRef(const Json& obj, const Where& w) {
+        Where mw = w.child("material");
+        std::string name = string(require(obj, w, "material", "a material name"), mw);
+        std::vector<std::string> names;
+        for (const auto& m : scene_.materials) names.push_back(m.name);
+        auto it = std::find(names.begin(), names.end(), name);
+        if (it == names.end()) {
+            std::string near = closestMatch(name, names);
+            if (!near.empty()) failInput(mw, "no material '{}'; did you mean '{}'?", name, near);
+            if (names.empty()) failInput(mw, "no material '{}': the scene defines no materials", name);
+            failInput(mw, "no material '{}'; the materials are {}", name, join(names));
+        }
+        uint32_t index = static_cast<uint32_t>(it - names.begin());
+        used_[index] = true;
+        return index;
+    }
+
+    void readObject(const Json& v, const Where& w) {
+        asObject(v, w);
+        const Json* shape = find(v, "shape");
+        const Json* mesh = find(v, "mesh");
+        if (shape && mesh) failInput(w.child("mesh"), "an object has either \"shape\" or \"mesh\", not both");
+        if (!shape && !mesh)
+            failInput(w, "expected \"shape\": \"sphere\" or \"quad\", or \"mesh\": a glTF file");
+        Mesh out;
+        if (mesh) {
+            checkKeys(v, w, {"mesh", "material", "translate", "rotate_deg", "scale"}, "a mesh object");
+            std::string given = string(*mesh, w.child("mesh"));
+            fs::path path = (dir_ / given).lexically_normal();
+            out = loadGltfMesh(path, w.child("mesh"));
+            glm::dvec3 t(0.0), r(0.0), s(1.0);
+            if (const Json* x = find(v, "translate")) t = vector<3>(*x, w.child("translate"));
+            if (const Json* x = find(v, "rotate_deg")) r = vector<3>(*x, w.child("rotate_deg"));
+            if (const Json* x = find(v, "scale")) {
+                Where sw = w.child("scale");
+                if (x->is_number())
+                    s = glm::dvec3(number(*x, sw));
+                else if (x->is_array())
+                    s = vector<3>(*x, sw);
+                else
+                    failInput(sw, "expected a number or an array of 3 numbers, got {}", describe(*x));
+                if (!(s.x > 0 && s.y > 0 && s.z > 0)) failInput(sw, "scale factors must be > 0");
+            }
+            transformMesh(out, objectTransform(t, r, s));
+            out.name = w.key + " (" + given + ")";
+        } else {
+            std::string kind = choice(*shape, w.child("shape"), {"sphere", "quad"});
+            if (kind == "sphere") {
+                checkKeys(v, w, {"shape", "material", "center", "radius", "segments"}, "a sphere",
+                          {"normal", "size", "up", "translate", "rotate_deg", "scale"});
+                glm::dvec3 c = vector<3>(require(v, w, "center", "[x, y, z] in metres"), w.child("center"));
+                double r = numberIn(require(v, w, "radius", "metres"), w.child("radius"), 0, INFINITY, true, true, " m");
+                int segments = 128;
+                if (const Json* x = find(v, "segments"))
+                    segments = integerIn(*x, w.child("segments"), kMinSphereSegments, kMaxSphereSegments);
+                out = makeSphere(c, r, segments);
+            } else {
+                checkKeys(v, w, {"shape", "material", "center", "normal", "size", "up"}, "a quad",
+                          {"radius", "segments", "translate", "rotate_deg", "scale"});
+                glm::dvec3 c = vector<3>(require(v, w, "center", "[x, y, z] in metres"), w.child("center"));
+                glm::dvec3 n = nonZeroDirection(require(v, w, "normal", "[x, y, z]"), w.child("normal"));
+                Where sw = w.child("size");
+                glm::dvec2 size = vector<2>(require(v, w, "size", "[width, height] in metres"), sw);
+                if (!(size.x > 0 && size.y > 0)) failInput(sw, "width and height must be > 0");
+                std::optional<glm::dvec3> up;
+                if (const Json* u = find(v, "up")) {
+                    up = nonZeroDirection(*u, w.child("up"));
+                    if (!quadAxes(n, up)) failInput(w.child("up"), "up is (nearly) parallel to the normal");
+                }
+                out = makeQuad(c, n, size, up);
+            }
+            out.name = w.key;
+        }
+        out.material = materialRef(v, w);
+        scene_.meshes.push_back(std::move(out));
+    }
+
+    SceneSpectrum spectrum(const Json& v, const Where& w, SpectrumKind kind) {
+        SceneSpectrum s;
+        s.kind = kind;
+        s.where = w;
+        if (v.is_number()) {
+            double x = number(v, w);
+            if (kind == SpectrumKind::Emission)
+                failInput(w, "an emission spectrum must be sampled data (its shape matters), not a constant");
+            if (kind == SpectrumKind::Light && x < 0) failInput(w, "a light's spectrum must be ≥ 0, got {:g}", x);
+            if ((kind == SpectrumKind::Reflectance || kind == SpectrumKind::Excitation) && (x < 0 || x > 1))
+                failInput(w, "a {} must be within [0, 1], got {:g}", kindName(kind), x);
+            s.spectrum = Spectrum::makeConstant(x);
+        } else if (v.is_string()) {
+            std::string name = v.get<std::string>();
+            if (name.empty()) failInput(w, "expected a spectrum name, got an empty string");
+            if (endsWithCsv(name)) {
+                fs::path path = (dir_ / name).lexically_normal();
+                std::error_code ec;
+                if (!fs::is_regular_file(path, ec)) failInput(w, "spectrum file '{}' not found", path.string());
+                try {
+                    s.spectrum = readSpectrumCsv(path);
+                } catch (const Error& e) {
+                    failInput(w, "{}", e.what());
+                }
+                s.spectrum.source = name;
+            } else {
+                try {
+                    s.spectrum = lib_.get(name, w);
+                } catch (const Error& e) {
+                    if (e.where().file == w.file && e.where().key == w.key) throw;
+                    failInput(w, "library spectrum '{}': {}", name, e.what());
+                }
+            }
+        } else if (v.is_object()) {
+            checkKeys(v, w, {"wavelengths_nm", "values"}, "an inline spectrum");
+            auto numbers = [&](const char* key) {
+                Where kw = w.child(key);
+                const Json& a = require(v, w, key, "an array of numbers");
+                if (!a.is_array()) failInput(kw, "expected an array of numbers, got {}", describe(a));
+                std::vector<double> out;
+                for (size_t i = 0; i < a.size(); ++i) out.push_back(number(a[i], kw.index(i)));
+                return out;
+            };
+            s.spectrum.wavelengths_nm = numbers("wavelengths_nm");
+            s.spectrum.values = numbers("values");
+            s.spectrum.source = "inline";
+            s.spectrum.validate(w);
+        } else {
+            failInput(w,
+                      "expected a spectrum (a library name, a .csv path, a number or "
+                      "{{\"wavelengths_nm\": [...], \"values\": [...]}}), got {}",
+                      describe(v));
+        }
+        if (!s.spectrum.isConstant()) checkValues(s);
+        return s;
+    }
+
+    // Sampled data outside the physical range is suspicious but can be legitimate (noisy
+    // measurements), so it is a warning.
+    static void checkValues(const SceneSpectrum& s) {
+        const auto& vals = s.spectrum.values;
+        auto [lo, hi] = std::minmax_element(vals.begin(), vals.end());
+        const auto& wl = s.spectrum.wavelengths_nm;
+        if (*lo < 0)
+            warn(s.where, fmt::format("{} spectrum '{}' is negative ({:g} at {:g} nm)", kindName(s.kind),
+                                      s.spectrum.source, *lo, wl[lo - vals.begin()]));
+        bool bounded = s.kind == SpectrumKind::Reflectance || s.kind == SpectrumKind::Excitation;
+        if (bounded && *hi > 1)
+            warn(s.where, fmt::format("{} spectrum '{}' exceeds 1 ({:g} at {:g} nm)", kindName(s.kind),
+                                      s.spectrum.source, *hi, wl[hi - vals.begin()]));
+    }
+
+    const SpectrumLibrary& lib_;
+    fs::path file_;
+    fs::path dir_;
+    Scene scene_;
+    std::vector<bool> used_;
+};
+
+}  // namespace
+
+Scene loadSceneFromString(const std::string& text, const fs::path& file, const SpectrumLibrary& lib,
+                          const std::vector<std::string>& overrides) {
+    std::string name = file.string();
+    Json doc = parseJson(text, name);
+    if (!doc.is_object()) failInput(Where{name}, "expected a JSON object at the top level, got {}", describe(doc));
+    std::vector<Override> applied = applyOverrides(doc, overrides, name);
+    try {
+        return Loader(lib, file).load(doc);
+    } catch (const Error& e) {
+        // An error in a value that came from --set should say so: the file is not at fault.
+        const std::string& key = e.where().key;
+        for (auto it = applied.rbegin(); it != applied.rend(); ++it)
+            if (key == it->key || key.rfind(it->key + ".", 0) == 0)
+                throw Error(e.code(), e.where(), e.message() + " (from --set " + it->text + ")");
+        throw;
+    }
+}
+
+Scene loadScene(const fs::path& file, const SpectrumLibrary& lib, const std::vector<std::string>& overrides) {
+    std::error_code ec;
+    if (!fs::is_regular_file(file, ec)) failInput(Where{file.string()}, "scene file not found");
+    std::ifstream in(file, std::ios::binary);
+    if (!in) failInput(Where{file.string()}, "cannot open the scene file");
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return loadSceneFromString(ss.str(), file, lib, overrides);
+}
+
+}  // namespace metamer

@@ -1,0 +1,23 @@
+// Scene files: JSON in, a validated Scene out (format: docs/scene-format.md). Every error is an
+// input error naming the file and the key path (or the line, for JSON syntax).
+#pragma once
+
+#include "scene/scene.h"
+#include "spectral/library.h"
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace metamer {
+
+// Reads `file`, applies `overrides` ("KEY=VALUE", as given to --set) and interprets the result.
+// Library names resolve through `lib`; CSV and mesh paths resolve against the file's folder.
+Scene loadScene(const std::filesystem::path& file, const SpectrumLibrary& lib,
+                const std::vector<std::string>& overrides = {});
+
+// The same from text already in memory; `file` is used for messages and to resolve paths.
+Scene loadSceneFromString(const std::string& text, const std::filesystem::path& file,
+                          const SpectrumLibrary& lib, const std::vector<std::string>& overrides = {});
+
+}  // namespace metamer

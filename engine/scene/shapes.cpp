@@ -1,0 +1,121 @@
+#include "scene/shapes.h"
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <cmath>
+#include <numbers>
+#include <utility>
+
+namespace metamer {
+
+namespace {
+
+// Beyond this |cos| between hint and normal the projected "up" is too ill-conditioned to trust.
+constexpr double kParallelCos = 0.999;
+
+}  // namespace
+
+Mesh makeSphere(const glm::dvec3& center, double radius, int segments) {
+    const int n = segments;      // meridians
+    const int m = segments / 2;  // latitude bands; m - 1 rings of n vertices between the poles
+    const double pi = std::numbers::pi;
+    Mesh mesh;
+    auto add = [&](const glm::dvec3& dir) {
+        mesh.positions.push_back(center + radius * dir);
+        mesh.normals.push_back(dir);
+    };
+    add({0, 1, 0});  // north pole: vertex 0
+    for (int i = 1; i < m; ++i) {
+        double theta = pi * i / m;  // from +y
+        for (int j = 0; j < n; ++j) {
+            double phi = 2.0 * pi * j / n;
+            // phi grows from +z towards +x: counter-clockwise seen from +y.
+            add({std::sin(theta) * std::sin(phi), std::cos(theta), std::sin(theta) * std::cos(phi)});
+        }
+    }
+    add({0, -1, 0});  // south pole: last vertex
+    const uint32_t south = static_cast<uint32_t>(mesh.positions.size() - 1);
+    auto ring = [&](int i, int j) { return static_cast<uint32_t>(1 + (i - 1) * n + (j % n)); };
+    auto tri = [&](uint32_t a, uint32_t b, uint32_t c) {
+        mesh.indices.insert(mesh.indices.end(), {a, b, c});
+    };
+    // Seen from outside, south is down and growing phi is to the right, so
+    // (top-left, bottom-left, bottom-right) is counter-clockwise.
+    for (int j = 0; j < n; ++j) tri(0, ring(1, j), ring(1, j + 1));
+    for (int i = 1; i < m - 1; ++i)
+        for (int j = 0; j < n; ++j) {
+            uint32_t a = ring(i, j), b = ring(i, j + 1), c = ring(i + 1, j), d = ring(i + 1, j + 1);
+            tri(a, c, d);
+            tri(a, d, b);
+        }
+    for (int j = 0; j < n; ++j) tri(ring(m - 1, j), south, ring(m - 1, j + 1));
+    return mesh;
+}
+
+std::optional<QuadAxes> quadAxes(const glm::dvec3& normal, const std::optional<glm::dvec3>& upHint) {
+    glm::dvec3 n = glm::normalize(normal);
+    glm::dvec3 hint;
+    if (upHint) {
+        hint = glm::normalize(*upHint);
+        if (std::fabs(glm::dot(hint, n)) > kParallelCos) return std::nullopt;
+    } else {
+        // A floor or ceiling has no vertical in its plane; -z is "up" for a camera looking
+        // down -z at it, so a floor's height runs away from such a camera.
+        hint = std::fabs(n.y) > kParallelCos ? glm::dvec3(0, 0, -1) : glm::dvec3(0, 1, 0);
+    }
+    QuadAxes a;
+    a.normal = n;
+    a.up = glm::normalize(hint - glm::dot(hint, n) * n);
+    a.right = glm::normalize(glm::cross(a.up, n));
+    return a;
+}
+
+Mesh makeQuad(const glm::dvec3& center, const glm::dvec3& normal, const glm::dvec2& size,
+              const std::optional<glm::dvec3>& upHint) {
+    QuadAxes a = *quadAxes(normal, upHint);
+    glm::dvec3 r = 0.5 * size.x * a.right, u = 0.5 * size.y * a.up;
+    Mesh mesh;
+    // right × up = normal, so (-,-), (+,-), (+,+), (-,+) runs counter-clockwise about it.
+    mesh.positions = {center - r - u, center + r - u, center + r + u, center - r + u};
+    mesh.normals.assign(4, a.normal);
+    mesh.indices = {0, 1, 2, 0, 2, 3};
+    return mesh;
+}
+
+glm::dmat4 objectTransform(const glm::dvec3& translate, const glm::dvec3& rotateDeg,
+                           const glm::dvec3& scale) {
+    glm::dmat4 m = glm::translate(glm::dmat4(1.0), translate);
+    m = glm::rotate(m, glm::radians(rotateDeg.z), glm::dvec3(0, 0, 1));
+    m = glm::rotate(m, glm::radians(rotateDeg.y), glm::dvec3(0, 1, 0));
+    m = glm::rotate(m, glm::radians(rotateDeg.x), glm::dvec3(1, 0, 0));
+    return glm::scale(m, scale);
+}
+
+void transformMesh(Mesh& mesh, const glm::dmat4& m) {
+    glm::dmat3 linear(m);
+    glm::dmat3 normalMatrix = glm::transpose(glm::inverse(linear));
+    for (auto& p : mesh.positions) p = glm::dvec3(m * glm::dvec4(p, 1.0));
+    for (auto& n : mesh.normals) n = glm::normalize(normalMatrix * n);
+    if (glm::determinant(linear) < 0.0)
+        for (size_t t = 0; t + 2 < mesh.indices.size(); t += 3) std::swap(mesh.indices[t + 1], mesh.indices[t + 2]);
+}
+
+std::vector<glm::dvec3> smoothNormals(const std::vector<glm::dvec3>& positions,
+                                      const std::vector<uint32_t>& indices) {
+    std::vector<glm::dvec3> sum(positions.size(), glm::dvec3(0.0));
+    for (size_t t = 0; t + 2 < indices.size(); t += 3) {
+        uint32_t a = indices[t], b = indices[t + 1], c = indices[t + 2];
+        // |cross| is twice the area: the weighting comes for free.
+        glm::dvec3 face = glm::cross(positions[b] - positions[a], positions[c] - positions[a]);
+        sum[a] += face;
+        sum[b] += face;
+        sum[c] += face;
+    }
+    for (auto& n : sum) {
+        double len = glm::length(n);
+        n = len > 0.0 ? n / len : glm::dvec3(0, 0, 1);
+    }
+    return sum;
+}
+
+}  // namespace metamer

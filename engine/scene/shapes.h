@@ -1,0 +1,52 @@
+// Built-in shapes (sphere, quad) tessellated to world-space triangle meshes, and the mesh
+// utilities the scene loader shares with the glTF reader: affine transforms and smooth normals.
+#pragma once
+
+#include "scene/scene.h"
+
+#include <glm/glm.hpp>
+
+#include <optional>
+#include <vector>
+
+namespace metamer {
+
+// Limits on "segments" (docs/scene-format.md).
+constexpr int kMinSphereSegments = 4;
+constexpr int kMaxSphereSegments = 4096;
+
+// A UV sphere about the y axis: `segments` meridians and segments/2 latitude bands, one vertex
+// at each pole, no seam duplicates (the mesh is closed). Vertex normals are exactly (p - c)/r;
+// triangles are counter-clockwise seen from outside. 2·segments·(segments/2 - 1) triangles.
+// Precondition: radius > 0, segments within the limits above.
+Mesh makeSphere(const glm::dvec3& center, double radius, int segments);
+
+// A w×h rectangle centred at `center` facing `normal`. In-plane axes: "up" is the hint (default
+// +y, or -z when the normal is within ~2.6° of ±y and no hint was given) made perpendicular to
+// the normal; "right" = up × normal. The size is (right extent, up extent). Two triangles,
+// counter-clockwise seen from the normal side. Precondition: normal ≠ 0, hint not parallel to it.
+Mesh makeQuad(const glm::dvec3& center, const glm::dvec3& normal, const glm::dvec2& size,
+              const std::optional<glm::dvec3>& upHint = std::nullopt);
+
+// The in-plane axes makeQuad uses; nullopt when the hint is (nearly) parallel to the normal.
+struct QuadAxes {
+    glm::dvec3 right, up, normal;
+};
+std::optional<QuadAxes> quadAxes(const glm::dvec3& normal, const std::optional<glm::dvec3>& upHint);
+
+// M = T · Rz · Ry · Rx · S: scale first, then rotate about x, then y, then z (degrees), then
+// translate.
+glm::dmat4 objectTransform(const glm::dvec3& translate, const glm::dvec3& rotateDeg,
+                           const glm::dvec3& scale);
+
+// Positions by m, normals by the inverse-transpose of its 3×3 part (renormalized). A mirroring
+// transform (det < 0) reverses each triangle's index order so the winding stays
+// counter-clockwise seen from the normal side. Precondition: m is invertible.
+void transformMesh(Mesh& mesh, const glm::dmat4& m);
+
+// Area-weighted smooth vertex normals: each vertex gets the normalized sum of the (unnormalized)
+// cross products of the triangles that use it. A vertex no triangle with area uses gets +z.
+std::vector<glm::dvec3> smoothNormals(const std::vector<glm::dvec3>& positions,
+                                      const std::vector<uint32_t>& indices);
+
+}  // namespace metamer
