@@ -1,0 +1,302 @@
+#include "vk/context.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+
+namespace metamer::vk {
+
+namespace {
+
+constexpr const char* kValidationLayer = "VK_LAYER_KHRONOS_validation";
+std::atomic<uint32_t> gValidationErrorsAtExit{0};
+
+[[noreturn]] void failNoDevice(const std::string& why) {
+    throw Error(ExitCode::NoDevice, Where{}, "no usable Vulkan device: " + why);
+}
+
+int scoreType(VkPhysicalDeviceType t) {
+    switch (t) {
+        case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return 400;
+        case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return 300;
+        case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return 200;
+        case VK_PHYSICAL_DEVICE_TYPE_CPU: return 100;
+        default: return 50;
+    }
+}
+
+bool hasLayer(const char* name) {
+    uint32_t n = 0;
+    vkEnumerateInstanceLayerProperties(&n, nullptr);
+    std::vector<VkLayerProperties> layers(n);
+    vkEnumerateInstanceLayerProperties(&n, layers.data());
+    return std::any_of(layers.begin(), layers.end(),
+                       [&](const VkLayerProperties& l) { return std::strcmp(l.layerName, name) == 0; });
+}
+
+// A device we can render with: a graphics queue and RGBA32F + D32 render targets.
+bool usable(VkPhysicalDevice pd, uint32_t* family) {
+    uint32_t n = 0;
+    vkGetPhysicalDeviceQueueFamilyProperties(pd, &n, nullptr);
+    std::vector<VkQueueFamilyProperties> families(n);
+    vkGetPhysicalDeviceQueueFamilyProperties(pd, &n, families.data());
+    bool found = false;
+    for (uint32_t i = 0; i < n && !found; ++i)
+        if (families[i].queueFlags & VK_QUEUE_GRAPHICS_BIT) {
+            *family = i;
+            found = true;
+        }
+    if (!found) return false;
+    VkFormatProperties color{}, depth{};
+    vkGetPhysicalDeviceFormatProperties(pd, VK_FORMAT_R32G32B32A32_SFLOAT, &color);
+    vkGetPhysicalDeviceFormatProperties(pd, VK_FORMAT_D32_SFLOAT, &depth);
+    return (color.optimalTilingFeatures & VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BIT) &&
+           (depth.optimalTilingFeatures & VK_FORMAT_FEATURE_DEPTH_STENCIL_ATTACHMENT_BIT);
+}
+
+const char* typeName(VkPhysicalDeviceType t) {
+    switch (t) {
+        case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return "discrete GPU";
+        case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return "integrated GPU";
+        case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return "virtual GPU";
+        case VK_PHYSICAL_DEVICE_TYPE_CPU: return "CPU";
+        default: return "other";
+    }
+}
+
+}  // namespace
+
+const char* resultName(VkResult r) {
+    switch (r) {
+#define NAME(x) \
+    case x: return #x;
+        NAME(VK_SUCCESS) NAME(VK_NOT_READY) NAME(VK_TIMEOUT) NAME(VK_INCOMPLETE)
+        NAME(VK_ERROR_OUT_OF_HOST_MEMORY) NAME(VK_ERROR_OUT_OF_DEVICE_MEMORY)
+        NAME(VK_ERROR_INITIALIZATION_FAILED) NAME(VK_ERROR_DEVICE_LOST)
+        NAME(VK_ERROR_MEMORY_MAP_FAILED) NAME(VK_ERROR_LAYER_NOT_PRESENT)
+        NAME(VK_ERROR_EXTENSION_NOT_PRESENT) NAME(VK_ERROR_FEATURE_NOT_PRESENT)
+        NAME(VK_ERROR_INCOMPATIBLE_DRIVER) NAME(VK_ERROR_TOO_MANY_OBJECTS)
+        NAME(VK_ERROR_FORMAT_NOT_SUPPORTED) NAME(VK_ERROR_FRAGMENTED_POOL)
+        NAME(VK_ERROR_OUT_OF_DATE_KHR) NAME(VK_SUBOPTIMAL_KHR) NAME(VK_ERROR_SURFACE_LOST_KHR)
+#undef NAME
+        default: return "VkResult(other)";
+    }
+}
+
+ContextOptions contextOptionsFromEnvironment() {
+    ContextOptions o;
+    if (const char* v = std::getenv("METAMER_VALIDATION")) o.validation = std::strcmp(v, "0") != 0;
+    if (const char* d = std::getenv("METAMER_DEVICE")) o.device = d;
+    return o;
+}
+
+std::vector<DeviceInfo> Context::listDevices(VkInstance instance) {
+    uint32_t n = 0;
+    vkEnumeratePhysicalDevices(instance, &n, nullptr);
+    std::vector<VkPhysicalDevice> pds(n);
+    vkEnumeratePhysicalDevices(instance, &n, pds.data());
+    std::vector<DeviceInfo> out;
+    for (uint32_t i = 0; i < n; ++i) {
+        VkPhysicalDeviceProperties p;
+        vkGetPhysicalDeviceProperties(pds[i], &p);
+        uint32_t family;
+        DeviceInfo d{i, p.deviceName, p.deviceType, usable(pds[i], &family) ? scoreType(p.deviceType) : 0};
+        out.push_back(d);
+    }
+    return out;
+}
+
+VKAPI_ATTR VkBool32 VKAPI_CALL Context::onValidationMessage(
+    VkDebugUtilsMessageSeverityFlagBitsEXT severity, VkDebugUtilsMessageTypeFlagsEXT,
+    const VkDebugUtilsMessengerCallbackDataEXT* data, void* user) {
+    auto* self = static_cast<Context*>(user);
+    if (severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT) {
+        self->validationErrors_++;
+        gValidationErrorsAtExit++;
+        std::fprintf(stderr, "vulkan validation error: %s\n", data->pMessage);
+    } else if (severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT) {
+        std::fprintf(stderr, "vulkan validation warning: %s\n", data->pMessage);
+    }
+    return VK_FALSE;
+}
+
+uint32_t Context::validationErrorsAtExit() { return gValidationErrorsAtExit.load(); }
+
+Context::Context(const ContextOptions& options) {
+    validation_ = options.validation;
+    if (validation_ && !hasLayer(kValidationLayer))
+        failRuntime("validation requested but {} is not installed (apt-get install vulkan-validationlayers)",
+                    kValidationLayer);
+
+    VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
+    app.pApplicationName = "metamer";
+    app.apiVersion = VK_API_VERSION_1_1;
+    std::vector<const char*> extensions, layers;
+    if (validation_) {
+        extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+        layers.push_back(kValidationLayer);
+    }
+    VkDebugUtilsMessengerCreateInfoEXT messengerInfo{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
+    messengerInfo.messageSeverity =
+        VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
+    messengerInfo.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT |
+                                VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
+                                VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT;
+    messengerInfo.pfnUserCallback = &Context::onValidationMessage;
+    messengerInfo.pUserData = this;
+
+    VkInstanceCreateInfo ici{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
+    ici.pApplicationInfo = &app;
+    ici.enabledExtensionCount = uint32_t(extensions.size());
+    ici.ppEnabledExtensionNames = extensions.data();
+    ici.enabledLayerCount = uint32_t(layers.size());
+    ici.ppEnabledLayerNames = layers.data();
+    if (validation_) ici.pNext = &messengerInfo;  // also catches errors in vkCreate/DestroyInstance
+    VkResult r = vkCreateInstance(&ici, nullptr, &instance_);
+    if (r == VK_ERROR_INCOMPATIBLE_DRIVER || r == VK_ERROR_INITIALIZATION_FAILED)
+        failNoDevice(fmt::format("no Vulkan driver ({}); install mesa-vulkan-drivers for the CPU "
+                                 "rasterizer lavapipe", resultName(r)));
+    VK_CHECK(r);
+
+    try {
+        if (validation_) {
+            auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
+                vkGetInstanceProcAddr(instance_, "vkCreateDebugUtilsMessengerEXT"));
+            VK_CHECK(create(instance_, &messengerInfo, nullptr, &messenger_));
+            setObjectName_ = reinterpret_cast<PFN_vkSetDebugUtilsObjectNameEXT>(
+                vkGetInstanceProcAddr(instance_, "vkSetDebugUtilsObjectNameEXT"));
+        }
+
+        // Choose the device.
+        auto devices = listDevices(instance_);
+        if (devices.empty()) failNoDevice("the Vulkan loader found no device (is mesa-vulkan-drivers installed?)");
+        std::string all;
+        for (const auto& d : devices)
+            all += fmt::format("{}{}: {} ({})", all.empty() ? "" : ", ", d.index, d.name, typeName(d.type));
+        const DeviceInfo* chosen = nullptr;
+        if (!options.device.empty()) {
+            char* end = nullptr;
+            long idx = std::strtol(options.device.c_str(), &end, 10);
+            for (const auto& d : devices) {
+                bool byIndex = *end == '\0' && idx == long(d.index);
+                std::string lname = d.name, lwant = options.device;
+                std::transform(lname.begin(), lname.end(), lname.begin(), ::tolower);
+                std::transform(lwant.begin(), lwant.end(), lwant.begin(), ::tolower);
+                if (byIndex || (*end != '\0' && lname.find(lwant) != std::string::npos)) {
+                    chosen = &d;
+                    break;
+                }
+            }
+            if (!chosen) failNoDevice(fmt::format("METAMER_DEVICE='{}' matches none of: {}", options.device, all));
+            if (chosen->score == 0)
+                failNoDevice(fmt::format("device '{}' lacks a graphics queue or RGBA32F/D32 render targets",
+                                         chosen->name));
+        } else {
+            for (const auto& d : devices)
+                if (d.score > 0 && (!chosen || d.score > chosen->score)) chosen = &d;
+            if (!chosen)
+                failNoDevice(fmt::format("none has a graphics queue and RGBA32F/D32 render targets ({})", all));
+        }
+        info_ = *chosen;
+        uint32_t n = 0;
+        vkEnumeratePhysicalDevices(instance_, &n, nullptr);
+        std::vector<VkPhysicalDevice> pds(n);
+        vkEnumeratePhysicalDevices(instance_, &n, pds.data());
+        physical_ = pds[info_.index];
+        usable(physical_, &queueFamily_);
+        vkGetPhysicalDeviceProperties(physical_, &properties_);
+        vkGetPhysicalDeviceMemoryProperties(physical_, &memory_);
+        if (options.verbose)
+            std::fprintf(stderr, "metamer: device %u: %s (%s)\n", info_.index, info_.name.c_str(),
+                         typeName(info_.type));
+
+        float priority = 1.0f;
+        VkDeviceQueueCreateInfo qci{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
+        qci.queueFamilyIndex = queueFamily_;
+        qci.queueCount = 1;
+        qci.pQueuePriorities = &priority;
+        VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
+        dci.queueCreateInfoCount = 1;
+        dci.pQueueCreateInfos = &qci;
+        VK_CHECK(vkCreateDevice(physical_, &dci, nullptr, &device_));
+        vkGetDeviceQueue(device_, queueFamily_, 0, &queue_);
+
+        VkCommandPoolCreateInfo pci{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+        pci.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+        pci.queueFamilyIndex = queueFamily_;
+        VK_CHECK(vkCreateCommandPool(device_, &pci, nullptr, &commandPool_));
+    } catch (...) {
+        release();
+        throw;
+    }
+}
+
+Context::~Context() { release(); }
+
+void Context::release() {
+    if (device_) {
+        vkDeviceWaitIdle(device_);
+        if (commandPool_) vkDestroyCommandPool(device_, commandPool_, nullptr);
+        vkDestroyDevice(device_, nullptr);  // the layers report leaked children here
+    }
+    if (messenger_) {
+        auto destroy = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(
+            vkGetInstanceProcAddr(instance_, "vkDestroyDebugUtilsMessengerEXT"));
+        destroy(instance_, messenger_, nullptr);
+    }
+    if (instance_) vkDestroyInstance(instance_, nullptr);
+    device_ = VK_NULL_HANDLE;
+    commandPool_ = VK_NULL_HANDLE;
+    messenger_ = VK_NULL_HANDLE;
+    instance_ = VK_NULL_HANDLE;
+}
+
+uint32_t Context::findMemoryType(uint32_t typeBits, VkMemoryPropertyFlags required,
+                                 VkMemoryPropertyFlags preferred) const {
+    for (int pass = 0; pass < 2; ++pass) {
+        VkMemoryPropertyFlags want = required | (pass == 0 ? preferred : 0);
+        for (uint32_t i = 0; i < memory_.memoryTypeCount; ++i)
+            if ((typeBits & (1u << i)) && (memory_.memoryTypes[i].propertyFlags & want) == want) return i;
+    }
+    failRuntime("Vulkan: no memory type with flags {:#x} among bits {:#x}", required, typeBits);
+}
+
+VkCommandBuffer Context::beginOneTime() {
+    VkCommandBufferAllocateInfo ai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+    ai.commandPool = commandPool_;
+    ai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+    ai.commandBufferCount = 1;
+    VkCommandBuffer cmd;
+    VK_CHECK(vkAllocateCommandBuffers(device_, &ai, &cmd));
+    VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+    bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+    VK_CHECK(vkBeginCommandBuffer(cmd, &bi));
+    return cmd;
+}
+
+void Context::endOneTimeAndWait(VkCommandBuffer cmd) {
+    VK_CHECK(vkEndCommandBuffer(cmd));
+    VkFenceCreateInfo fci{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+    VkFence fence;
+    VK_CHECK(vkCreateFence(device_, &fci, nullptr, &fence));
+    VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+    si.commandBufferCount = 1;
+    si.pCommandBuffers = &cmd;
+    VkResult r = vkQueueSubmit(queue_, 1, &si, fence);
+    if (r == VK_SUCCESS) r = vkWaitForFences(device_, 1, &fence, VK_TRUE, UINT64_MAX);
+    vkDestroyFence(device_, fence, nullptr);
+    vkFreeCommandBuffers(device_, commandPool_, 1, &cmd);
+    VK_CHECK(r);
+}
+
+void Context::setName(VkObjectType type, uint64_t handle, const char* name) const {
+    if (!setObjectName_) return;
+    VkDebugUtilsObjectNameInfoEXT ni{VK_STRUCTURE_TYPE_DEBUG_UTILS_OBJECT_NAME_INFO_EXT};
+    ni.objectType = type;
+    ni.objectHandle = handle;
+    ni.pObjectName = name;
+    setObjectName_(device_, &ni);
+}
+
+}  // namespace metamer::vk

@@ -1,0 +1,100 @@
+// The Vulkan instance and device, headless (no window-system extensions). Devices are scored
+// discrete > integrated > virtual > CPU; METAMER_DEVICE (an index or a name substring) overrides.
+// With validation on, every validation error is counted (and printed); tests require zero,
+// including the leak reports the layers make when the device is destroyed.
+#pragma once
+
+#include "vk/check.h"
+
+#include <atomic>
+#include <string>
+#include <vector>
+
+namespace metamer::vk {
+
+struct ContextOptions {
+    // Enable VK_LAYER_KHRONOS_validation. Default: on when METAMER_VALIDATION=1.
+    bool validation = false;
+    // Device choice: "" = best score; else an index into the device list or a name substring.
+    // Default: $METAMER_DEVICE.
+    std::string device;
+    bool verbose = false;  // print the chosen device
+};
+
+ContextOptions contextOptionsFromEnvironment();
+
+struct DeviceInfo {
+    uint32_t index = 0;
+    std::string name;
+    VkPhysicalDeviceType type = VK_PHYSICAL_DEVICE_TYPE_OTHER;
+    int score = 0;
+};
+
+class Context {
+public:
+    // Throws Error(ExitCode::NoDevice) when there is no Vulkan driver or no usable device.
+    explicit Context(const ContextOptions& options = contextOptionsFromEnvironment());
+    ~Context();
+    Context(const Context&) = delete;
+    Context& operator=(const Context&) = delete;
+
+    VkInstance instance() const { return instance_; }
+    VkPhysicalDevice physicalDevice() const { return physical_; }
+    VkDevice device() const { return device_; }
+    VkQueue queue() const { return queue_; }
+    uint32_t queueFamily() const { return queueFamily_; }
+    VkCommandPool commandPool() const { return commandPool_; }
+    const VkPhysicalDeviceProperties& properties() const { return properties_; }
+    const VkPhysicalDeviceMemoryProperties& memoryProperties() const { return memory_; }
+    const DeviceInfo& deviceInfo() const { return info_; }
+    bool validationEnabled() const { return validation_; }
+
+    // Validation errors reported so far (the count includes leak reports at destruction, which
+    // the owner can only observe through validationErrorsAtExit()).
+    uint32_t validationErrors() const { return validationErrors_.load(); }
+    static uint32_t validationErrorsAtExit();  // summed over destroyed contexts
+
+    // A memory type index with all `required` flags (and `preferred` ones if possible).
+    uint32_t findMemoryType(uint32_t typeBits, VkMemoryPropertyFlags required,
+                            VkMemoryPropertyFlags preferred = 0) const;
+
+    // Record into a one-time command buffer, submit, wait.
+    template <typename F>
+    void submitAndWait(F&& record);
+
+    // Debug name on any object (no-op without validation).
+    void setName(VkObjectType type, uint64_t handle, const char* name) const;
+
+    static std::vector<DeviceInfo> listDevices(VkInstance instance);
+
+private:
+    void release();
+    VkCommandBuffer beginOneTime();
+    void endOneTimeAndWait(VkCommandBuffer cmd);
+    static VKAPI_ATTR VkBool32 VKAPI_CALL onValidationMessage(
+        VkDebugUtilsMessageSeverityFlagBitsEXT severity, VkDebugUtilsMessageTypeFlagsEXT types,
+        const VkDebugUtilsMessengerCallbackDataEXT* data, void* user);
+
+    VkInstance instance_ = VK_NULL_HANDLE;
+    VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
+    VkPhysicalDevice physical_ = VK_NULL_HANDLE;
+    VkDevice device_ = VK_NULL_HANDLE;
+    VkQueue queue_ = VK_NULL_HANDLE;
+    uint32_t queueFamily_ = 0;
+    VkCommandPool commandPool_ = VK_NULL_HANDLE;
+    VkPhysicalDeviceProperties properties_{};
+    VkPhysicalDeviceMemoryProperties memory_{};
+    DeviceInfo info_;
+    bool validation_ = false;
+    std::atomic<uint32_t> validationErrors_{0};
+    PFN_vkSetDebugUtilsObjectNameEXT setObjectName_ = nullptr;
+};
+
+template <typename F>
+void Context::submitAndWait(F&& record) {
+    VkCommandBuffer cmd = beginOneTime();
+    record(cmd);
+    endOneTimeAndWait(cmd);
+}
+
+}  // namespace metamer::vk
