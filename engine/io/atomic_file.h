@@ -1,0 +1,45 @@
+// Atomic file output: write to a temporary file beside the target, then rename it over the target.
+// A failed or interrupted write never leaves a half-written file and never harms an existing one.
+#pragma once
+
+#include <filesystem>
+
+namespace metamer {
+
+class AtomicOutput {
+public:
+    // Creates the target's folder if missing (errors name the path). Does not create any file:
+    // the writer opens tempPath() itself.
+    explicit AtomicOutput(std::filesystem::path finalPath);
+    ~AtomicOutput();  // removes the temporary file unless committed
+
+    AtomicOutput(const AtomicOutput&) = delete;
+    AtomicOutput& operator=(const AtomicOutput&) = delete;
+
+    // Where to write: same folder, hidden, and ending in the final extension so that writers
+    // choosing the format by extension (OpenImageIO) pick the right one, e.g.
+    // out/.scene.exr.tmp-1234-0.exr for out/scene.exr.
+    const std::filesystem::path& tempPath() const { return temp_; }
+    const std::filesystem::path& finalPath() const { return final_; }
+
+    // fsyncs the temporary file, renames it over the final path (atomic on POSIX) and fsyncs the
+    // folder. Throws a runtime error naming the path if the temporary file is missing or the
+    // rename fails; the temporary file is then still removed by the destructor.
+    void commit();
+    bool committed() const { return committed_; }
+
+private:
+    std::filesystem::path final_;
+    std::filesystem::path temp_;
+    int slot_ = -1;  // index in the live-temp registry, -1 when not registered
+    bool committed_ = false;
+};
+
+// Unlinks every temporary file of a live AtomicOutput. Async-signal-safe (reads a fixed
+// registry and calls only unlink()), for SIGINT/SIGTERM handlers; the process should exit next.
+void removeLiveTempFiles() noexcept;
+
+// Number of temporary files currently registered (tests).
+int liveTempFileCount() noexcept;
+
+}  // namespace metamer

@@ -1,0 +1,293 @@
+#include "io/spectral_exr.h"
+
+#include "core/error.h"
+#include "io/atomic_file.h"
+
+#include <OpenImageIO/half.h>
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <numeric>
+#include <optional>
+
+namespace fs = std::filesystem;
+
+namespace metamer {
+
+namespace {
+
+constexpr float kHalfMax = 65504.0f;
+constexpr double kGridTolerance_nm = 1e-4;
+constexpr const char* kQuantity = "spectral radiance, band-averaged, W·sr⁻¹·m⁻²·nm⁻¹";
+
+// OpenEXR compressions OpenImageIO knows; an optional ":level" suffix is allowed (zip:9, dwaa:45).
+bool knownCompression(const std::string& c) {
+    static const char* names[] = {"none", "rle",  "zips", "zip",  "piz",
+                                  "pxr24", "b44", "b44a", "dwaa", "dwab"};
+    std::string base = c.substr(0, c.find(':'));
+    return std::find(std::begin(names), std::end(names), base) != std::end(names);
+}
+
+// A parsed S0.<λ><unit> / T.<λ><unit> channel.
+struct BandChannel {
+    double wavelength_nm;
+    int index;
+};
+
+// Parses the quantity after the component prefix: a number with ',' or '.' as decimal separator
+// and an optional exponent, then an SI prefix and "m" or "Hz". Returns nm, or nothing when the
+// text is not exactly that (e.g. a bispectral "500nm.600nm").
+std::optional<double> parseWavelength(std::string_view s) {
+    size_t i = 0;
+    auto digits = [&] {
+        size_t b = i;
+        while (i < s.size() && s[i] >= '0' && s[i] <= '9') ++i;
+        return i > b;
+    };
+    bool intPart = digits();
+    bool fracPart = false;
+    if (i < s.size() && (s[i] == ',' || s[i] == '.')) {
+        ++i;
+        fracPart = digits();
+    }
+    if (!intPart && !fracPart) return std::nullopt;
+    if (i + 1 < s.size() && (s[i] == 'e' || s[i] == 'E')) {
+        size_t save = i++;
+        if (s[i] == '+' || s[i] == '-') ++i;
+        if (!digits()) i = save;  // "E" was an SI prefix (exa), not an exponent
+    }
+    std::string number(s.substr(0, i));
+    std::replace(number.begin(), number.end(), ',', '.');
+    double v = 0;
+    auto [end, ec] = std::from_chars(number.data(), number.data() + number.size(), v);
+    if (ec != std::errc() || end != number.data() + number.size()) return std::nullopt;
+
+    std::string_view unit = s.substr(i);
+    bool hertz = unit.size() >= 2 && unit.substr(unit.size() - 2) == "Hz";
+    bool metre = !hertz && !unit.empty() && unit.back() == 'm';
+    if (!hertz && !metre) return std::nullopt;
+    std::string_view prefix = unit.substr(0, unit.size() - (hertz ? 2 : 1));
+    // Powers of ten, so that nm (the usual case) converts without any rounding.
+    static const std::pair<std::string_view, int> prefixes[] = {
+        {"Y", 24}, {"Z", 21}, {"E", 18}, {"P", 15},  {"T", 12},  {"G", 9},   {"M", 6},
+        {"k", 3},  {"h", 2},  {"da", 1}, {"", 0},    {"d", -1},  {"c", -2},  {"m", -3},
+        {"u", -6}, {"n", -9}, {"p", -12}, {"f", -15}, {"a", -18}, {"z", -21}, {"y", -24}};
+    auto it = std::find_if(std::begin(prefixes), std::end(prefixes),
+                           [&](const auto& p) { return p.first == prefix; });
+    if (it == std::end(prefixes)) return std::nullopt;
+    if (hertz) {
+        double frequency = v * std::pow(10.0, it->second);
+        if (!(frequency > 0)) return std::nullopt;
+        return 299792458.0 / frequency * 1e9;
+    }
+    int toNm = it->second + 9;
+    return toNm >= 0 ? v * std::pow(10.0, toNm) : v / std::pow(10.0, -toNm);
+}
+
+// "S0.552,5nm" -> 552.5 when the name has the given component prefix ("S0" or "T").
+std::optional<double> bandOf(const std::string& name, std::string_view component) {
+    if (name.size() <= component.size() || name.compare(0, component.size(), component) != 0)
+        return std::nullopt;
+    std::string_view rest(name);
+    rest.remove_prefix(component.size());
+    if (rest.front() != '.') return std::nullopt;  // "S01..." is not S0; Fichet allows extra dots
+    while (!rest.empty() && rest.front() == '.') rest.remove_prefix(1);
+    return parseWavelength(rest);
+}
+
+// The grid spanned by sorted channel wavelengths; errors name the file and the offending pair.
+Grid gridOf(const std::vector<BandChannel>& bands, const OIIO::ImageSpec& spec, const Where& where) {
+    const size_t n = bands.size();
+    for (size_t i = 1; i < n; ++i)
+        if (bands[i].wavelength_nm - bands[i - 1].wavelength_nm < kGridTolerance_nm)
+            failInput(where, "two spectral channels at {} nm", bands[i].wavelength_nm);
+    // Prefer our own metamer:grid attribute when it agrees with the channels: exact values.
+    if (std::string text = spec.get_string_attribute("metamer:grid"); !text.empty()) {
+        try {
+            Grid g = Grid::parse(text, where);
+            bool agrees = g.bands() == static_cast<int>(n);
+            for (size_t i = 0; agrees && i < n; ++i)
+                agrees = std::fabs(g.wavelength(static_cast<int>(i)) - bands[i].wavelength_nm) <=
+                         kGridTolerance_nm;
+            if (agrees) return g;
+        } catch (const Error&) {
+            // Not ours or out of the render limits: fall back to the channels.
+        }
+    }
+    Grid g;
+    g.start_nm = bands.front().wavelength_nm;
+    g.end_nm = bands.back().wavelength_nm;
+    if (n == 1) {
+        g.step_nm = 1.0;  // one band: the step is not recorded in the channels
+        return g;
+    }
+    double step = (g.end_nm - g.start_nm) / static_cast<double>(n - 1);
+    // Channel names carry 6 decimals; snap the step to them when that is within rounding.
+    double snapped = std::round(step * 1e6) / 1e6;
+    g.step_nm = std::fabs(snapped - step) * static_cast<double>(n - 1) < 1e-6 ? snapped : step;
+    for (size_t i = 1; i < n; ++i) {
+        if (std::fabs(g.start_nm + static_cast<double>(i) * g.step_nm - bands[i].wavelength_nm) >
+            kGridTolerance_nm)
+            failInput(where,
+                      "spectral channels are not on a uniform grid: {} nm and {} nm are {} nm apart, "
+                      "the mean step is {} nm",
+                      bands[i - 1].wavelength_nm, bands[i].wavelength_nm,
+                      bands[i].wavelength_nm - bands[i - 1].wavelength_nm, g.step_nm);
+    }
+    return g;
+}
+
+}  // namespace
+
+std::string spectralChannelName(double wavelength_nm) {
+    std::string n = fmt::format("S0.{:.6f}nm", wavelength_nm);
+    std::replace(n.begin(), n.end(), '.', ',');
+    n[2] = '.';  // the separator after the component stays a dot
+    return n;
+}
+
+ExrWriteReport writeSpectralExr(const fs::path& path, const SpectralCube& cube,
+                                const ExrWriteOptions& options) {
+    using namespace OIIO;
+    const int bands = cube.bands();
+    const size_t count = static_cast<size_t>(cube.width) * cube.height * bands;
+    if (cube.width <= 0 || cube.height <= 0 || bands <= 0 || cube.data.size() != count)
+        failRuntime("cannot write '{}': cube is {}×{} with {} bands but holds {} values", path.string(),
+                    cube.width, cube.height, bands, cube.data.size());
+    if (!knownCompression(options.compression))
+        failInput(Where{"", "compression"},
+                  "unknown OpenEXR compression '{}' (none, rle, zips, zip, piz, pxr24, b44, b44a, "
+                  "dwaa, dwab)",
+                  options.compression);
+
+    ExrWriteReport report;
+    // Half: clamp finite overflow ourselves (a plain conversion would turn it into ±Inf) and
+    // convert once, so OpenImageIO writes the buffer as is.
+    std::vector<half> halves;
+    const void* pixels = cube.data.data();
+    TypeDesc pixelType = TypeDesc::FLOAT;
+    if (options.half) {
+        halves.resize(count);
+        for (size_t i = 0; i < count; ++i) {
+            float v = cube.data[i];
+            if (!std::isfinite(v)) {
+                ++report.nonFinite;
+            } else if (std::fabs(v) > kHalfMax) {
+                ++report.clampedToHalfMax;
+                v = std::copysign(kHalfMax, v);
+            }
+            halves[i] = half(v);
+        }
+        pixels = halves.data();
+        pixelType = TypeDesc::HALF;
+    } else {
+        for (float v : cube.data) report.nonFinite += !std::isfinite(v);
+    }
+
+    ImageSpec spec(cube.width, cube.height, bands, pixelType);
+    spec.channelnames.clear();
+    for (int b = 0; b < bands; ++b) spec.channelnames.push_back(spectralChannelName(cube.grid.wavelength(b)));
+    spec.attribute("compression", options.compression);
+    spec.attribute("spectralLayoutVersion", "1.0");
+    spec.attribute("emissiveUnits", "W.m^-2.sr^-1");
+    spec.attribute("metamer:grid", cube.grid.str());
+    spec.attribute("metamer:quantity", kQuantity);
+    for (const auto& [key, value] : options.extraAttributes) spec.attribute(key, value);
+
+    AtomicOutput out(path);
+    auto writer = ImageOutput::create("openexr");
+    if (!writer) failRuntime("cannot write '{}': no OpenEXR writer: {}", path.string(), OIIO::geterror());
+    if (!writer->open(out.tempPath().string(), spec))
+        failRuntime("cannot write '{}': {}", path.string(), writer->geterror());
+    bool ok = writer->write_image(pixelType, pixels);  // whole image in one call: fastest path
+    std::string err = ok ? "" : writer->geterror();
+    if (!writer->close() && ok) {
+        ok = false;
+        err = writer->geterror();
+    }
+    if (!ok) failRuntime("cannot write '{}': {}", path.string(), err);
+    out.commit();
+    return report;
+}
+
+SpectralExrImage readSpectralExrImage(const fs::path& path) {
+    using namespace OIIO;
+    Where where{path.string()};
+    std::error_code ec;
+    if (!fs::exists(path, ec)) failInput(where, "file not found");
+    if (fs::is_directory(path, ec)) failInput(where, "is a folder, not an OpenEXR file");
+
+    auto in = ImageInput::open(path.string());
+    if (!in) failInput(where, "not a readable OpenEXR file: {}", OIIO::geterror());
+    if (std::string(in->format_name()) != "openexr")
+        failInput(where, "not an OpenEXR file (it reads as {})", in->format_name());
+    const ImageSpec& spec = in->spec();
+    if (spec.deep) failInput(where, "deep OpenEXR images are not supported");
+
+    std::vector<BandChannel> emissive, reflective;
+    for (int c = 0; c < spec.nchannels; ++c) {
+        const std::string& name = spec.channelnames[c];
+        if (auto w = bandOf(name, "S0")) emissive.push_back({*w, c});
+        else if (auto t = bandOf(name, "T")) reflective.push_back({*t, c});
+    }
+    SpectralExrImage result;
+    std::vector<BandChannel>* chosen = &emissive;
+    if (emissive.empty()) {
+        chosen = &reflective;
+        result.component = SpectralComponent::Reflective;
+    }
+    if (chosen->empty()) {
+        std::string names;
+        for (int c = 0; c < spec.nchannels && c < 8; ++c) names += (c ? ", " : "") + spec.channelnames[c];
+        if (spec.nchannels > 8) names += ", ...";
+        failInput(where, "no spectral channels (expected S0.<λ>nm or T.<λ>nm; found {})", names);
+    }
+    auto& bands = *chosen;
+    // EXR stores channels alphabetically ("1000,0nm" before "300,0nm"): sort by wavelength.
+    std::stable_sort(bands.begin(), bands.end(), [](const BandChannel& a, const BandChannel& b) {
+        return a.wavelength_nm < b.wavelength_nm;
+    });
+    Grid grid = gridOf(bands, spec, where);
+
+    SpectralCube& cube = result.cube;
+    cube = SpectralCube(spec.width, spec.height, grid);
+    const int n = static_cast<int>(bands.size());
+    int chBegin = bands.front().index, chEnd = bands.front().index + 1;
+    for (const auto& b : bands) {
+        chBegin = std::min(chBegin, b.index);
+        chEnd = std::max(chEnd, b.index + 1);
+    }
+    bool direct = chEnd - chBegin == n;
+    for (int i = 0; direct && i < n; ++i) direct = bands[i].index == chBegin + i;
+    if (direct) {
+        if (!in->read_image(0, 0, chBegin, chEnd, TypeDesc::FLOAT, cube.data.data()))
+            failInput(where, "cannot read pixels: {}", in->geterror());
+        return result;
+    }
+    // Channels out of wavelength order (or interleaved with others): read the span, then permute.
+    const int span = chEnd - chBegin;
+    const size_t pixels = static_cast<size_t>(spec.width) * spec.height;
+    std::vector<float> buffer(pixels * span);
+    if (!in->read_image(0, 0, chBegin, chEnd, TypeDesc::FLOAT, buffer.data()))
+        failInput(where, "cannot read pixels: {}", in->geterror());
+    std::vector<int> source(n);
+    for (int i = 0; i < n; ++i) source[i] = bands[i].index - chBegin;
+    for (size_t p = 0; p < pixels; ++p) {
+        const float* src = buffer.data() + p * span;
+        float* dst = cube.data.data() + p * n;
+        for (int i = 0; i < n; ++i) dst[i] = src[source[i]];
+    }
+    return result;
+}
+
+SpectralCube readSpectralExr(const fs::path& path) {
+    SpectralExrImage image = readSpectralExrImage(path);
+    if (image.component != SpectralComponent::Emissive)
+        failInput(Where{path.string()},
+                  "holds reflectance (T.<λ>nm channels), not spectral radiance (S0.<λ>nm)");
+    return std::move(image.cube);
+}
+
+}  // namespace metamer

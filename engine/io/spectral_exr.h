@@ -1,0 +1,54 @@
+// Spectral OpenEXR files in the layout of Fichet, Pacanowski and Wilkie, "An OpenEXR Layout for
+// Spectral Images", JCGT 10(3), 2021: one channel per band, named S0.<λ>nm (emissive) or
+// T.<λ>nm (reflective), with a comma as the decimal separator. See docs/io.md.
+#pragma once
+
+#include "spectral/cube.h"
+
+#include <filesystem>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace metamer {
+
+struct ExrWriteOptions {
+    bool half = false;               // float16 instead of float32
+    std::string compression = "zip"; // any OpenImageIO OpenEXR compression: none, zip, zips, piz, ...
+    std::vector<std::pair<std::string, std::string>> extraAttributes;  // string header attributes
+};
+
+struct ExrWriteReport {
+    size_t clampedToHalfMax = 0;  // half only: finite values beyond ±65504 written as ±65504
+    size_t nonFinite = 0;         // NaN or ±Inf values, written unchanged
+};
+
+// Channel name of an emissive band: 552.5 -> "S0.552,500000nm".
+std::string spectralChannelName(double wavelength_nm);
+
+// Writes the cube as emissive spectral radiance (S0 channels) through AtomicOutput, so the file
+// appears complete or not at all. Header: spectralLayoutVersion, emissiveUnits, metamer:grid,
+// metamer:quantity, plus options.extraAttributes. Throws a runtime error naming the path.
+ExrWriteReport writeSpectralExr(const std::filesystem::path& path, const SpectralCube& cube,
+                                const ExrWriteOptions& options = {});
+
+enum class SpectralComponent {
+    Emissive,    // S0.<λ>nm: spectral radiance
+    Reflective,  // T.<λ>nm: reflectance
+};
+
+struct SpectralExrImage {
+    SpectralCube cube;
+    SpectralComponent component = SpectralComponent::Emissive;
+};
+
+// Reads the S0 channels (or, if there are none, the T channels) into a cube, bands sorted by
+// wavelength. Other channels (R, G, B, S1..S3, bispectral T.<λ>nm.<λ>nm) are ignored. The
+// wavelengths must form a uniform grid within 1e-4 nm; the Grid is taken from them (not checked
+// against the render limits of Grid::validate). Input errors name the file.
+SpectralExrImage readSpectralExrImage(const std::filesystem::path& path);
+
+// The same, for callers that only take emissive data: a file with only T channels is an error.
+SpectralCube readSpectralExr(const std::filesystem::path& path);
+
+}  // namespace metamer
