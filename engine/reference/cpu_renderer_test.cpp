@@ -126,6 +126,32 @@ TEST(ReferenceRenderer, DirectionalLightFromBehindTheSurfaceGivesNothing) {
     for (double v : px) EXPECT_EQ(v, 0.0);
 }
 
+TEST(ReferenceRenderer, ShadingNormalIsTheInterpolatedVertexNormal) {
+    // One triangle in z = 0 with tilted vertex normals; the ray hits (0.5, 0.25), where the
+    // barycentrics are b0 = 0.25, b1 = 0.5, b2 = 0.25.
+    Scene s = emptyScene(kGrid, orthoAlongMinusZ(4, 4, 4.0));
+    s.materials.push_back(lambertian(1.0));
+    s.lights.push_back(directionalLight({0, 0, -1}, testIlluminant()));
+    Mesh m;
+    m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    const glm::dvec3 n0(0, 0, 1), n1 = glm::normalize(glm::dvec3(1, 0, 1)),
+                     n2 = glm::normalize(glm::dvec3(0, -2, 1));
+    m.normals = {n0, n1, n2};
+    m.indices = {0, 1, 2};
+    s.meshes.push_back(m);
+    SceneOnGrid g = onGrid(s);
+    const Ray ray{{0.5, 0.25, 5.0}, {0, 0, -1}};
+    std::vector<double> L(g.grid.bands());
+    const double cosine = glm::normalize(0.25 * n0 + 0.5 * n1 + 0.25 * n2).z;
+    ASSERT_EQ(ReferenceRenderer(s, g).trace(ray, L.data()), 0);
+    for (int b = 0; b < g.grid.bands(); ++b) expectRel(L[b], g.lights[0][b] * cosine / kPi, 1e-12, "smooth");
+
+    // Without vertex normals the face normal shades: E/π.
+    s.meshes[0].normals.clear();
+    ASSERT_EQ(ReferenceRenderer(s, g).trace(ray, L.data()), 0);
+    for (int b = 0; b < g.grid.bands(); ++b) expectRel(L[b], g.lights[0][b] / kPi, 1e-12, "flat");
+}
+
 // --- 2. Ambient --------------------------------------------------------------------------------
 
 TEST(ReferenceRenderer, AmbientIsRhoEOverPiWhateverTheOrientation) {
