@@ -1,0 +1,481 @@
+#include "scene/scene_json.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <fstream>
+#include <functional>
+
+using namespace metamer;
+namespace fs = std::filesystem;
+using Json = nlohmann::ordered_json;
+
+namespace {
+
+const fs::path kData = fs::path(METAMER_TEST_DATA_DIR) / "scene";
+
+const SpectrumLibrary& fixtureLibrary() {
+    static SpectrumLibrary lib(kData / "spectra");
+    return lib;
+}
+
+// Warnings are collected instead of printed while one of these is alive.
+class CaptureWarnings {
+public:
+    CaptureWarnings() : old_(setWarningSink(&CaptureWarnings::sink)) { lines().clear(); }
+    ~CaptureWarnings() { setWarningSink(old_); }
+    static std::vector<std::string>& lines() {
+        static std::vector<std::string> l;
+        return l;
+    }
+
+private:
+    static void sink(const std::string& line) { lines().push_back(line); }
+    WarningSink old_;
+};
+
+// A valid scene exercising every feature; the bad-input cases below break one thing each.
+Json baseScene() {
+    return Json::parse(R"({
+      "description": "test scene",
+      "grid": {"start_nm": 380, "end_nm": 780, "step_nm": 10},
+      "camera": {"projection": "perspective", "position": [0, 1, 6], "target": [0, 0, 0],
+                 "up": [0, 1, 0], "fov_y_deg": 35, "width": 64, "height": 48},
+      "lights": [
+        {"type": "ambient", "spectrum": "illuminants/D65", "scale": 0.02},
+        {"type": "directional", "direction": [0, -2, 0], "spectrum": "illuminants/D65", "scale": 1.0},
+        {"type": "point", "position": [2, 3, 2], "spectrum": "illuminants/A", "scale": 20.0}
+      ],
+      "materials": {
+        "skin": {"diffuse": "colorchecker/dark_skin", "specular": 0.04, "gloss": 40},
+        "white": {"diffuse": 0.8},
+        "local": {"diffuse": "local.csv"},
+        "inline": {"diffuse": {"wavelengths_nm": [400, 700], "values": [0.1, 0.7]}},
+        "gold": {"diffuse": 0, "specular": "metals/gold", "gloss": 200},
+        "brightener": {"diffuse": 0.8, "fluorescence": {"excitation": "fluorescent/brightener_ex",
+                       "emission": "fluorescent/brightener_em", "quantum_yield": 0.9}}
+      },
+      "objects": [
+        {"shape": "sphere", "center": [0, 0, 0], "radius": 1, "material": "skin", "segments": 16},
+        {"shape": "quad", "center": [0, -1, 0], "normal": [0, 2, 0], "size": [8, 4], "material": "brightener"},
+        {"mesh": "cube.gltf", "translate": [2, 0, 0], "rotate_deg": [0, 30, 0], "scale": 0.5, "material": "gold"},
+        {"shape": "sphere", "center": [3, 0, 0], "radius": 0.5, "material": "white"},
+        {"shape": "quad", "center": [0, 0, -2], "normal": [0, 0, 1], "size": [1, 1], "material": "local"},
+        {"shape": "quad", "center": [0, 0, -3], "normal": [0, 0, 1], "size": [1, 1], "up": [1, 1, 0], "material": "inline"}
+      ]
+    })");
+}
+
+// In-memory scenes are "placed" in the fixture folder so relative paths resolve there.
+Scene load(const Json& doc, const std::vector<std::string>& overrides = {}) {
+    return loadSceneFromString(doc.dump(2), kData / "test.json", fixtureLibrary(), overrides);
+}
+
+std::string errorOf(const std::function<void()>& f) {
+    try {
+        f();
+    } catch (const Error& e) {
+        EXPECT_EQ(e.code(), ExitCode::BadInput) << e.what();
+        return e.what();
+    }
+    return "(no error)";
+}
+
+}  // namespace
+
+TEST(SceneJson, FullSceneLoadsWithTheRightValues) {
+    CaptureWarnings warnings;
+    Scene s = load(baseScene());
+    EXPECT_TRUE(warnings.lines().empty()) << warnings.lines().front();
+
+    EXPECT_EQ(s.grid, (Grid{380, 780, 10}));
+    EXPECT_EQ(s.camera.projection, Camera::Projection::Perspective);
+    EXPECT_EQ(s.camera.position, glm::dvec3(0, 1, 6));
+    EXPECT_DOUBLE_EQ(s.camera.fov_y_deg, 35);
+    EXPECT_EQ(s.camera.width, 64);
+    EXPECT_EQ(s.camera.height, 48);
+
+    ASSERT_EQ(s.lights.size(), 3u);
+    EXPECT_EQ(s.lights[0].type, Light::Type::Ambient);
+    EXPECT_DOUBLE_EQ(s.lights[0].scale, 0.02);
+    EXPECT_EQ(s.lights[1].type, Light::Type::Directional);
+    EXPECT_EQ(s.lights[1].direction, glm::dvec3(0, -1, 0));  // normalized
+    EXPECT_EQ(s.lights[2].type, Light::Type::Point);
+    EXPECT_EQ(s.lights[2].position, glm::dvec3(2, 3, 2));
+    EXPECT_EQ(s.lights[2].spectrum.spectrum.source, "illuminants/A");
+    EXPECT_EQ(s.lights[2].spectrum.kind, SpectrumKind::Light);
+    EXPECT_EQ(s.lights[2].spectrum.where.key, "lights.2.spectrum");
+    EXPECT_EQ(s.lights[2].name, "lights.2");
+
+    // Materials keep the file's order.
+    ASSERT_EQ(s.materials.size(), 6u);
+    const Material& skin = s.materials[0];
+    EXPECT_EQ(skin.name, "skin");
+    EXPECT_EQ(skin.diffuse.spectrum.source, "colorchecker/dark_skin");
+    EXPECT_EQ(skin.diffuse.where.key, "materials.skin.diffuse");
+    EXPECT_NE(skin.diffuse.where.file.find("test.json"), std::string::npos);
+    EXPECT_DOUBLE_EQ(*skin.specular.spectrum.constant, 0.04);
+    EXPECT_DOUBLE_EQ(skin.gloss, 40);
+    EXPECT_FALSE(skin.fluorescence);
+    const Material& white = s.materials[1];
+    EXPECT_FALSE(white.hasSpecular());  // specular defaults to 0
+    EXPECT_DOUBLE_EQ(white.gloss, 0);
+    const Material& bright = s.materials[5];
+    ASSERT_TRUE(bright.fluorescence);
+    EXPECT_EQ(bright.fluorescence->excitation.kind, SpectrumKind::Excitation);
+    EXPECT_EQ(bright.fluorescence->emission.kind, SpectrumKind::Emission);
+    EXPECT_EQ(bright.fluorescence->emission.where.key, "materials.brightener.fluorescence.emission");
+    EXPECT_DOUBLE_EQ(bright.fluorescence->quantum_yield, 0.9);
+    EXPECT_TRUE(s.hasFluorescence());
+    EXPECT_TRUE(s.hasSpecular());
+
+    ASSERT_EQ(s.meshes.size(), 6u);
+    EXPECT_EQ(s.meshes[0].name, "objects.0");
+    EXPECT_EQ(s.meshes[0].material, 0u);
+    EXPECT_EQ(s.meshes[0].indices.size() / 3, size_t(2 * 16 * 7));
+    EXPECT_EQ(s.meshes[1].material, 5u);
+    EXPECT_EQ(s.meshes[2].name, "objects.2 (cube.gltf)");
+    EXPECT_EQ(s.meshes[2].material, 4u);
+}
+
+TEST(SceneJson, SpectrumForms) {
+    Scene s = load(baseScene());
+    // Library name.
+    const Spectrum& lib = s.materials[0].diffuse.spectrum;
+    EXPECT_FALSE(lib.isConstant());
+    EXPECT_NEAR(lib.at(380), 0.05, 1e-6);
+    // Constant.
+    EXPECT_DOUBLE_EQ(*s.materials[1].diffuse.spectrum.constant, 0.8);
+    // CSV relative to the scene's folder.
+    const Spectrum& csv = s.materials[2].diffuse.spectrum;
+    EXPECT_EQ(csv.source, "local.csv");
+    EXPECT_DOUBLE_EQ(csv.at(450), 0.3);
+    // Inline.
+    const Spectrum& in = s.materials[3].diffuse.spectrum;
+    EXPECT_EQ(in.source, "inline");
+    EXPECT_DOUBLE_EQ(in.at(550), 0.4);
+    EXPECT_EQ(s.materials[3].diffuse.kind, SpectrumKind::Reflectance);
+}
+
+TEST(SceneJson, OrthographicCameraAndDefaults) {
+    Json d = baseScene();
+    d.erase("grid");
+    d["camera"] = Json::parse(R"({"projection": "orthographic", "position": [0, 0, 5], "target": [0, 0, 0],
+                                  "height_m": 3})");
+    Scene s = load(d);
+    EXPECT_EQ(s.grid, Grid{});  // 300:740:5
+    EXPECT_EQ(s.camera.projection, Camera::Projection::Orthographic);
+    EXPECT_DOUBLE_EQ(s.camera.height_m, 3);
+    EXPECT_EQ(s.camera.width, 512);
+    EXPECT_EQ(s.camera.up, glm::dvec3(0, 1, 0));
+}
+
+TEST(SceneJson, MeshObjectTransformIsAppliedAfterTheFileTransforms) {
+    Scene s = load(baseScene());
+    // cube.gltf: a unit cube scaled 2 by its node and moved to (1, 2, 3): x in [0, 2] before
+    // the object transform. Object: scale 0.5, rotate 30° about y, translate (2, 0, 0).
+    const Mesh& m = s.meshes[2];
+    glm::dvec3 centroid(0.0);
+    for (const auto& p : m.positions) centroid += p;
+    centroid /= double(m.positions.size());
+    double a = glm::radians(30.0);
+    glm::dvec3 c(0.5, 1.0, 1.5);  // (1, 2, 3) scaled by 0.5
+    glm::dvec3 expected(2 + std::cos(a) * c.x + std::sin(a) * c.z, c.y, -std::sin(a) * c.x + std::cos(a) * c.z);
+    EXPECT_NEAR(glm::length(centroid - expected), 0.0, 1e-9);
+    for (const auto& n : m.normals) EXPECT_NEAR(glm::length(n), 1.0, 1e-12);
+}
+
+TEST(SceneJson, EmptySceneWarns) {
+    CaptureWarnings warnings;
+    Json d = baseScene();
+    d["lights"] = Json::array();
+    d["objects"] = Json::array();
+    d["materials"] = Json::object();
+    Scene s = load(d);
+    EXPECT_TRUE(s.lights.empty());
+    ASSERT_EQ(warnings.lines().size(), 2u);
+    EXPECT_NE(warnings.lines()[0].find("lights"), std::string::npos);
+    EXPECT_NE(warnings.lines()[1].find("objects"), std::string::npos);
+}
+
+TEST(SceneJson, UnusedMaterialWarns) {
+    CaptureWarnings warnings;
+    Json d = baseScene();
+    d["materials"]["spare"] = Json::parse(R"({"diffuse": 0.5})");
+    load(d);
+    ASSERT_EQ(warnings.lines().size(), 1u);
+    EXPECT_NE(warnings.lines()[0].find("materials.spare"), std::string::npos);
+}
+
+TEST(SceneJson, LoadsFromFileAndResolvesPathsAgainstItsFolder) {
+    // The fixture folder holds cube.gltf and local.csv; write the scene next to them.
+    fs::path file = kData / "generated_from_test.json";
+    {
+        std::ofstream out(file);
+        out << baseScene().dump(2);
+    }
+    Scene s = loadScene(file, fixtureLibrary());
+    fs::remove(file);
+    EXPECT_EQ(s.meshes.size(), 6u);
+    EXPECT_EQ(s.file, file);
+    EXPECT_NE(errorOf([] { loadScene(kData / "no_such_scene.json", fixtureLibrary()); }).find("no_such_scene.json"),
+              std::string::npos);
+}
+
+// ---- Bad inputs: every error names the file and the key path ---------------------------------
+
+struct BadCase {
+    const char* name;
+    std::function<void(Json&)> edit;
+    const char* key;      // must appear in what()
+    const char* message;  // must appear in what()
+};
+
+class SceneJsonBad : public ::testing::TestWithParam<BadCase> {};
+
+TEST_P(SceneJsonBad, NamesFileKeyAndProblem) {
+    const BadCase& c = GetParam();
+    Json d = baseScene();
+    c.edit(d);
+    std::string what = errorOf([&] { load(d); });
+    if (std::getenv("SHOW_ERRORS")) std::printf("%s\n", what.c_str());
+    EXPECT_NE(what.find("test.json: "), std::string::npos) << what;
+    EXPECT_NE(what.find(std::string(": ") + c.key + ": "), std::string::npos) << what;
+    EXPECT_NE(what.find(c.message), std::string::npos) << what;
+}
+
+Json parse(const char* s) { return Json::parse(s); }
+
+const BadCase kBadCases[] = {
+    {"UnknownTopLevelKey", [](Json& d) { d["light"] = Json::array(); }, "light",
+     "unknown key; did you mean 'lights'?"},
+    {"DescriptionNotString", [](Json& d) { d["description"] = 3; }, "description", "expected a string, got a number"},
+    {"CameraMissing", [](Json& d) { d.erase("camera"); }, "camera", "missing required key"},
+    {"CameraFovTypo", [](Json& d) { d["camera"]["fov"] = 20; }, "camera.fov",
+     "unknown key for a perspective camera; did you mean 'fov_y_deg'?"},
+    {"CameraPositionString", [](Json& d) { d["camera"]["position"] = "origin"; }, "camera.position",
+     "expected an array of 3 numbers, got a string"},
+    {"CameraPositionTwoNumbers", [](Json& d) { d["camera"]["position"] = parse("[0, 1]"); }, "camera.position",
+     "expected an array of 3 numbers, got an array of 2"},
+    {"CameraPositionMissing", [](Json& d) { d["camera"].erase("position"); }, "camera.position",
+     "missing required key"},
+    {"CameraAtTarget", [](Json& d) { d["camera"]["position"] = parse("[0, 0, 0]"); }, "camera.target",
+     "equals the camera position"},
+    {"CameraUpParallel", [](Json& d) { d["camera"]["up"] = parse("[0, -1, -6]"); }, "camera.up",
+     "parallel to the view direction"},
+    {"CameraUpZero", [](Json& d) { d["camera"]["up"] = parse("[0, 0, 0]"); }, "camera.up", "zero vector"},
+    {"CameraWidthZero", [](Json& d) { d["camera"]["width"] = 0; }, "camera.width", "outside the allowed range 1..16384"},
+    {"CameraHeightHuge", [](Json& d) { d["camera"]["height"] = 20000; }, "camera.height", "outside the allowed range"},
+    {"CameraWidthFraction", [](Json& d) { d["camera"]["width"] = 12.5; }, "camera.width", "expected an integer"},
+    {"CameraFov180", [](Json& d) { d["camera"]["fov_y_deg"] = 180; }, "camera.fov_y_deg", "outside the allowed range (0, 180)"},
+    {"ProjectionTypo", [](Json& d) { d["camera"]["projection"] = "orthograhic"; }, "camera.projection",
+     "did you mean 'orthographic'?"},
+    {"OrthographicWithoutHeight", [](Json& d) { d["camera"]["projection"] = "orthographic"; d["camera"].erase("fov_y_deg"); },
+     "camera.height_m", "missing required key"},
+    {"OrthographicWithFov", [](Json& d) { d["camera"]["projection"] = "orthographic"; d["camera"]["height_m"] = 2; },
+     "camera.fov_y_deg", "key not allowed for an orthographic camera"},
+    {"OrthographicNegativeHeight",
+     [](Json& d) { d["camera"]["projection"] = "orthographic"; d["camera"].erase("fov_y_deg"); d["camera"]["height_m"] = -1; },
+     "camera.height_m", "must be > 0, got -1 m"},
+    {"GridBelowLimit", [](Json& d) { d["grid"]["start_nm"] = 100; }, "grid", "is outside 200..2500 nm"},
+    {"GridNotWholeSteps", [](Json& d) { d["grid"]["end_nm"] = 785; }, "grid.end_nm", "whole number"},
+    {"GridStepMissing", [](Json& d) { d["grid"].erase("step_nm"); }, "grid.step_nm", "missing required key"},
+    {"GridStepString", [](Json& d) { d["grid"]["step_nm"] = "5"; }, "grid.step_nm", "expected a number, got a string"},
+    {"LightsNotArray", [](Json& d) { d["lights"] = Json::object(); }, "lights", "expected an array, got an object"},
+    {"LightTypeUnknown", [](Json& d) { d["lights"][1]["type"] = "spot"; }, "lights.1.type",
+     "'spot' is not one of ambient, directional, point"},
+    {"LightTypeMissing", [](Json& d) { d["lights"][1].erase("type"); }, "lights.1.type", "missing required key"},
+    {"LightScaleNegative", [](Json& d) { d["lights"][0]["scale"] = -1; }, "lights.0.scale", "must be ≥ 0, got -1"},
+    {"LightDirectionZero", [](Json& d) { d["lights"][1]["direction"] = parse("[0, 0, 0]"); }, "lights.1.direction",
+     "zero vector"},
+    {"LightSpectrumMissing", [](Json& d) { d["lights"][2].erase("spectrum"); }, "lights.2.spectrum",
+     "missing required key"},
+    {"PointLightWithDirection", [](Json& d) { d["lights"][2]["direction"] = parse("[0, 1, 0]"); },
+     "lights.2.direction", "key not allowed for a point light"},
+    {"LightConstantNegative", [](Json& d) { d["lights"][0]["spectrum"] = -2; }, "lights.0.spectrum", "must be ≥ 0"},
+    {"UnknownSpectrumName", [](Json& d) { d["lights"][0]["spectrum"] = "illuminants/D66"; }, "lights.0.spectrum",
+     "no spectrum 'illuminants/D66'; did you mean 'illuminants/D65'?"},
+    {"UnknownSpectrumNameInMaterial", [](Json& d) { d["materials"]["skin"]["diffuse"] = "colorchecker/dark_skn"; },
+     "materials.skin.diffuse", "did you mean 'colorchecker/dark_skin'?"},
+    {"SpectrumWrongType", [](Json& d) { d["materials"]["white"]["diffuse"] = parse("[0.5]"); },
+     "materials.white.diffuse", "expected a spectrum"},
+    {"MissingCsv", [](Json& d) { d["materials"]["local"]["diffuse"] = "nowhere.csv"; }, "materials.local.diffuse",
+     "spectrum file"},
+    {"BadCsv", [](Json& d) { d["materials"]["local"]["diffuse"] = "bad.csv"; }, "materials.local.diffuse",
+     "bad.csv:3: wavelengths must increase strictly"},
+    {"BrokenLibraryFile", [](Json& d) { d["materials"]["local"]["diffuse"] = "broken/bad_value"; },
+     "materials.local.diffuse", "bad_value.csv:3"},
+    {"InlineNotMonotonic",
+     [](Json& d) { d["materials"]["inline"]["diffuse"] = parse(R"({"wavelengths_nm": [400, 600, 500], "values": [0, 0, 0]})"); },
+     "materials.inline.diffuse", "wavelengths must increase strictly"},
+    {"InlineLengthMismatch",
+     [](Json& d) { d["materials"]["inline"]["diffuse"] = parse(R"({"wavelengths_nm": [400, 600], "values": [0.1]})"); },
+     "materials.inline.diffuse", "2 wavelengths but 1 values"},
+    {"InlineValueString",
+     [](Json& d) { d["materials"]["inline"]["diffuse"] = parse(R"({"wavelengths_nm": [400, 600], "values": [0.1, "x"]})"); },
+     "materials.inline.diffuse.values.1", "expected a number, got a string"},
+    {"InlineValuesMissing", [](Json& d) { d["materials"]["inline"]["diffuse"] = parse(R"({"wavelengths_nm": [400, 600]})"); },
+     "materials.inline.diffuse.values", "missing required key"},
+    {"InlineUnknownKey",
+     [](Json& d) { d["materials"]["inline"]["diffuse"] = parse(R"({"wavelength_nm": [400, 600], "values": [0, 1]})"); },
+     "materials.inline.diffuse.wavelength_nm", "did you mean 'wavelengths_nm'?"},
+    {"ReflectanceAboveOne", [](Json& d) { d["materials"]["white"]["diffuse"] = 1.5; }, "materials.white.diffuse",
+     "within [0, 1]"},
+    {"MaterialKeyTypo", [](Json& d) { d["materials"]["white"]["difuse"] = 0.5; }, "materials.white.difuse",
+     "unknown key; did you mean 'diffuse'?"},
+    {"MaterialDiffuseMissing", [](Json& d) { d["materials"]["white"] = parse(R"({"specular": 0.1, "gloss": 5})"); },
+     "materials.white.diffuse", "missing required key"},
+    {"MaterialNotObject", [](Json& d) { d["materials"]["white"] = 0.5; }, "materials.white",
+     "expected an object, got a number"},
+    {"MaterialNameWithDot", [](Json& d) { d["materials"]["white.5"] = parse(R"({"diffuse": 0.5})"); },
+     "materials.white.5", "must not contain '.'"},
+    {"GlossMissingWithSpecular", [](Json& d) { d["materials"]["skin"].erase("gloss"); }, "materials.skin.gloss",
+     "missing required key"},
+    {"GlossNegative", [](Json& d) { d["materials"]["skin"]["gloss"] = -1; }, "materials.skin.gloss",
+     "outside the allowed range [0, 1e+06]"},
+    {"GlossHuge", [](Json& d) { d["materials"]["skin"]["gloss"] = 2e6; }, "materials.skin.gloss", "outside the allowed range"},
+    {"QuantumYieldAboveOne", [](Json& d) { d["materials"]["brightener"]["fluorescence"]["quantum_yield"] = 1.2; },
+     "materials.brightener.fluorescence.quantum_yield", "outside the allowed range [0, 1]"},
+    {"QuantumYieldMissing", [](Json& d) { d["materials"]["brightener"]["fluorescence"].erase("quantum_yield"); },
+     "materials.brightener.fluorescence.quantum_yield", "missing required key"},
+    {"EmissionMissing", [](Json& d) { d["materials"]["brightener"]["fluorescence"].erase("emission"); },
+     "materials.brightener.fluorescence.emission", "missing required key"},
+    {"EmissionConstant", [](Json& d) { d["materials"]["brightener"]["fluorescence"]["emission"] = 1; },
+     "materials.brightener.fluorescence.emission", "must be sampled data"},
+    {"ExcitationUnknown", [](Json& d) { d["materials"]["brightener"]["fluorescence"]["excitation"] = "fluorescent/brightener_x"; },
+     "materials.brightener.fluorescence.excitation", "did you mean 'fluorescent/brightener_ex'?"},
+    {"ObjectsNotArray", [](Json& d) { d["objects"] = "all"; }, "objects", "expected an array, got a string"},
+    {"UnknownMaterial", [](Json& d) { d["objects"][0]["material"] = "skn"; }, "objects.0.material",
+     "no material 'skn'; did you mean 'skin'?"},
+    {"UnknownMaterialFarOff", [](Json& d) { d["objects"][0]["material"] = "velvet"; }, "objects.0.material",
+     "the materials are skin, white"},
+    {"ObjectMaterialMissing", [](Json& d) { d["objects"][3].erase("material"); }, "objects.3.material",
+     "missing required key"},
+    {"SphereNegativeRadius", [](Json& d) { d["objects"][0]["radius"] = -1; }, "objects.0.radius", "must be > 0, got -1 m"},
+    {"SphereRadiusMissing", [](Json& d) { d["objects"][0].erase("radius"); }, "objects.0.radius", "missing required key"},
+    {"SphereTooFewSegments", [](Json& d) { d["objects"][0]["segments"] = 3; }, "objects.0.segments",
+     "outside the allowed range 4..4096"},
+    {"SphereWithNormal", [](Json& d) { d["objects"][0]["normal"] = parse("[0, 1, 0]"); }, "objects.0.normal",
+     "key not allowed for a sphere"},
+    {"QuadZeroNormal", [](Json& d) { d["objects"][1]["normal"] = parse("[0, 0, 0]"); }, "objects.1.normal", "zero vector"},
+    {"QuadZeroSize", [](Json& d) { d["objects"][1]["size"] = parse("[0, 1]"); }, "objects.1.size", "must be > 0"},
+    {"QuadUpAlongNormal", [](Json& d) { d["objects"][1]["up"] = parse("[0, -3, 0]"); }, "objects.1.up",
+     "parallel to the normal"},
+    {"QuadWithRadius", [](Json& d) { d["objects"][1]["radius"] = 1; }, "objects.1.radius", "key not allowed for a quad"},
+    {"ShapeUnknown", [](Json& d) { d["objects"][0]["shape"] = "sphre"; }, "objects.0.shape", "did you mean 'sphere'?"},
+    {"NeitherShapeNorMesh", [](Json& d) { d["objects"][0].erase("shape"); }, "objects.0", "expected \"shape\""},
+    {"ShapeAndMesh", [](Json& d) { d["objects"][0]["mesh"] = "cube.gltf"; }, "objects.0.mesh", "not both"},
+    {"MeshMissing", [](Json& d) { d["objects"][2]["mesh"] = "assets/nothing.gltf"; }, "objects.2.mesh",
+     "assets/nothing.gltf' not found"},
+    {"MeshNotGltf", [](Json& d) { d["objects"][2]["mesh"] = "not_gltf.gltf"; }, "objects.2.mesh",
+     "not_gltf.gltf' is not valid glTF"},
+    {"MeshWrongExtension", [](Json& d) { d["objects"][2]["mesh"] = "model.obj"; }, "objects.2.mesh",
+     "model.obj' is not glTF"},
+    {"MeshNotTriangles", [](Json& d) { d["objects"][2]["mesh"] = "strip.gltf"; }, "objects.2.mesh",
+     "mode 5 is not TRIANGLES"},
+    {"MeshScaleZero", [](Json& d) { d["objects"][2]["scale"] = 0; }, "objects.2.scale", "must be > 0"},
+    {"MeshScaleString", [](Json& d) { d["objects"][2]["scale"] = "big"; }, "objects.2.scale",
+     "expected a number or an array of 3 numbers, got a string"},
+    {"MeshRotateTwoNumbers", [](Json& d) { d["objects"][2]["rotate_deg"] = parse("[0, 30]"); }, "objects.2.rotate_deg",
+     "expected an array of 3 numbers"},
+    {"MeshWithRadius", [](Json& d) { d["objects"][2]["radius"] = 1; }, "objects.2.radius", "unknown key for a mesh object"},
+};
+
+INSTANTIATE_TEST_SUITE_P(All, SceneJsonBad, ::testing::ValuesIn(kBadCases),
+                         [](const auto& info) { return std::string(info.param.name); });
+
+// Errors found while parsing carry the line (and what the parser was inside).
+TEST(SceneJson, SyntaxErrorGivesLineAndColumn) {
+    std::string text = "{\n  \"camera\": {\n    \"width\": 64,\n    \"height\": \n  }\n}\n";
+    std::string what = errorOf([&] { loadSceneFromString(text, "dir/broken.json", fixtureLibrary()); });
+    EXPECT_NE(what.find("dir/broken.json:5: camera.height: JSON syntax error at column 3"), std::string::npos) << what;
+}
+
+TEST(SceneJson, TrailingCommaIsASyntaxError) {
+    std::string text = "{\"lights\": [1, 2,\n]}";
+    std::string what = errorOf([&] { loadSceneFromString(text, "t.json", fixtureLibrary()); });
+    EXPECT_NE(what.find("t.json:2: lights.2: JSON syntax error at column 1"), std::string::npos) << what;
+}
+
+TEST(SceneJson, EmptyFileIsASyntaxError) {
+    std::string what = errorOf([&] { loadSceneFromString("", "empty.json", fixtureLibrary()); });
+    EXPECT_NE(what.find("empty.json:1: JSON syntax error"), std::string::npos) << what;
+}
+
+TEST(SceneJson, NumberOverflowIsAnErrorWithKeyAndLine) {
+    std::string text = baseScene().dump(2);
+    size_t at = text.find("\"radius\": 1");
+    ASSERT_NE(at, std::string::npos);
+    text.replace(at, 11, "\"radius\": 1e999");
+    std::string what = errorOf([&] { loadSceneFromString(text, "big.json", fixtureLibrary()); });
+    EXPECT_NE(what.find("big.json:"), std::string::npos) << what;
+    EXPECT_NE(what.find("objects.0.radius: number 1e999 is out of the range of a double"), std::string::npos) << what;
+}
+
+TEST(SceneJson, DuplicateKeyIsAnError) {
+    std::string text = R"({"camera": {"width": 64, "width": 32}})";
+    std::string what = errorOf([&] { loadSceneFromString(text, "dup.json", fixtureLibrary()); });
+    EXPECT_NE(what.find("dup.json: camera.width: duplicate key"), std::string::npos) << what;
+}
+
+TEST(SceneJson, TopLevelMustBeAnObject) {
+    std::string what = errorOf([&] { loadSceneFromString("[1, 2]", "arr.json", fixtureLibrary()); });
+    EXPECT_NE(what.find("arr.json: expected a JSON object at the top level, got an array of 2"), std::string::npos)
+        << what;
+}
+
+// ---- Overrides ------------------------------------------------------------------------------
+
+TEST(SceneOverrides, ChangeValues) {
+    Scene s = load(baseScene(), {"lights.1.spectrum=illuminants/A", "camera.width=256", "lights.0.scale=0.5",
+                                 "camera.position=[0, 2, 6]", "objects.3.segments=8",
+                                 R"(grid={"start_nm": 400, "end_nm": 700, "step_nm": 5})"});
+    EXPECT_EQ(s.lights[1].spectrum.spectrum.source, "illuminants/A");
+    EXPECT_EQ(s.camera.width, 256);
+    EXPECT_DOUBLE_EQ(s.lights[0].scale, 0.5);
+    EXPECT_EQ(s.camera.position, glm::dvec3(0, 2, 6));
+    EXPECT_EQ(s.meshes[3].indices.size() / 3, size_t(2 * 8 * 3));  // a new key in an existing object
+    EXPECT_EQ(s.grid, (Grid{400, 700, 5}));
+}
+
+TEST(SceneOverrides, QuotedJsonStringAndLaterWins) {
+    Scene s = load(baseScene(), {R"(lights.1.spectrum="illuminants/A")", "camera.width=10", "camera.width=20"});
+    EXPECT_EQ(s.lights[1].spectrum.spectrum.source, "illuminants/A");
+    EXPECT_EQ(s.camera.width, 20);
+}
+
+TEST(SceneOverrides, BadPathsNameTheOverride) {
+    struct Case {
+        const char* text;
+        const char* expected;
+    } cases[] = {
+        {"lights.5.scale=0.5", "test.json: lights.5: --set lights.5.scale=0.5: no element 5; 'lights' has 3"},
+        {"lights.x.scale=0.5", "test.json: lights.x: --set lights.x.scale=0.5: 'lights' is an array"},
+        {"camer.width=1", "test.json: camer: --set camer.width=1: no such key; did you mean 'camera'?"},
+        {"camera.nope.x=1", "test.json: camera.nope: --set camera.nope.x=1: no such key"},
+        {"camera.width.x=1", "test.json: camera.width: --set camera.width.x=1: 'camera.width' is a number"},
+        {"camera.width", "test.json: --set camera.width: expected KEY=VALUE"},
+        {"camera..width=1", "test.json: --set camera..width=1: 'camera..width' is not a key path"},
+        {"=1", "test.json: --set =1: '' is not a key path"},
+    };
+    for (const auto& c : cases) {
+        std::string what = errorOf([&] { load(baseScene(), {c.text}); });
+        EXPECT_NE(what.find(c.expected), std::string::npos) << c.text << "\n" << what;
+    }
+}
+
+TEST(SceneOverrides, BadValuesAreCheckedLikeTheFileAndNameTheOverride) {
+    std::string what = errorOf([&] { load(baseScene(), {"camera.width=abc"}); });
+    EXPECT_NE(what.find("test.json: camera.width: expected an integer, got a string (from --set camera.width=abc)"),
+              std::string::npos)
+        << what;
+    what = errorOf([&] { load(baseScene(), {"camera.fov=20"}); });
+    EXPECT_NE(what.find("camera.fov: unknown key for a perspective camera; did you mean 'fov_y_deg'? (from --set "
+                        "camera.fov=20)"),
+              std::string::npos)
+        << what;
+    what = errorOf([&] { load(baseScene(), {"lights.0.spectrum=illuminants/B"}); });
+    EXPECT_NE(what.find("lights.0.spectrum: no spectrum 'illuminants/B'"), std::string::npos) << what;
+    EXPECT_NE(what.find("(from --set lights.0.spectrum=illuminants/B)"), std::string::npos) << what;
+}
