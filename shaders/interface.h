@@ -1,6 +1,11 @@
 // The one place that defines the spectral pass's interface: descriptor bindings, specialization
-// constant ids, push constants and storage-buffer records. Included by C++ (engine/render) and
-// by GLSL (shaders/*.vert, *.frag), so neither restates a binding number or a struct layout.
+// constant ids, push constants and uniform-block records. Included by C++ (engine/render) and by
+// GLSL (shaders/*.vert, *.frag), so neither restates a binding number or a struct layout.
+//
+// Why uniform blocks, laid out per pass: every spectral value a fragment reads sits at an offset
+// known when the shader is compiled (band k of this pass, light l), so the loads are uniform
+// across a SIMD batch of fragments. lavapipe turns such loads into one scalar load and a
+// broadcast; a storage buffer indexed at run time costs a gather per fragment (60× slower here).
 #ifndef METAMER_SHADERS_INTERFACE_H
 #define METAMER_SHADERS_INTERFACE_H
 
@@ -13,58 +18,60 @@ using vec4 = glm::vec4;
 using mat4 = glm::mat4;
 #endif
 
-// Descriptor set 0 of the spectral pass.
-#define BINDING_LIGHTS 0     // GpuLight[LIGHT_COUNT]
-#define BINDING_MATERIALS 1  // GpuMaterial[]
-#define BINDING_SPECTRA 2    // float[]: every per-band table, addressed by the offsets below
-
-// Specialization constants of spectral.frag: the shader is specialized to the scene.
-#define SPEC_LIGHT_COUNT 0       // number of lights (≥ 0)
-#define SPEC_BAND_COUNT 1        // bands in the grid; bands past it are written as 0
-#define SPEC_HAS_SPECULAR 2      // any material with a specular lobe
-#define SPEC_HAS_FLUORESCENCE 3  // any fluorescent material
-
-// Colour attachments per pass (lavapipe's maxColorAttachments), 4 bands each. spectral.frag is
-// built once per attachment count 1..MAX_OUTPUTS (define OUTPUT_COUNT).
+// Colour attachments per pass (lavapipe's maxColorAttachments), 4 bands each: 32 bands a pass.
+// spectral.frag is built once per attachment count 1..MAX_OUTPUTS (define OUTPUT_COUNT).
 #define MAX_OUTPUTS 8
+#define BANDS_PER_PASS (4 * MAX_OUTPUTS)
+// Lights per scene: the per-pass light spectra block is MAX_LIGHTS × MAX_OUTPUTS vec4 = 16 KiB,
+// the smallest maxUniformBufferRange Vulkan guarantees.
+#define MAX_LIGHTS 128
 
-#define LIGHT_AMBIENT 0u
-#define LIGHT_DIRECTIONAL 1u
-#define LIGHT_POINT 2u
+// Descriptor set 0 of the spectral pass.
+#define BINDING_LIGHTS 0          // GpuLightBlock (static)
+#define BINDING_LIGHT_SPECTRA 1   // GpuLightSpectraBlock, dynamic offset: this pass's bands
+#define BINDING_MATERIAL 2        // GpuMaterialBlock, dynamic offset: this pass's bands of this material
+
+// Specialization constants of spectral.frag: the shader is specialized to the scene. Lights are
+// sorted ambient, then directional, then point, so each kind is a loop without branches.
+#define SPEC_AMBIENT_COUNT 0
+#define SPEC_DIRECTIONAL_COUNT 1
+#define SPEC_POINT_COUNT 2
+#define SPEC_HAS_SPECULAR 3       // any material with a specular lobe
+#define SPEC_HAS_FLUORESCENCE 4   // any fluorescent material
 
 struct GpuLight {
     vec4 vector;  // directional: xyz = unit vector towards the light; point: xyz = position (m)
-    uint type;    // LIGHT_*
-    uint spectrumOffset;  // BINDING_SPECTRA index of E(λ) (irradiance or intensity), per band
-    uint pad0;
-    uint pad1;
 };
 
-struct GpuMaterial {
-    float gloss;            // Blinn–Phong exponent
-    uint diffuseOffset;     // ρd per band
-    uint specularOffset;    // ρs per band
-    uint emissionOffset;    // ê(λ)/λ per band (nm⁻²), fluorescent materials only
-    uint couplingOffset;    // (Φ/π)·Σ a·E_l·λ·Δλ per light, fluorescent materials only
-    uint fluorescent;       // 0 or 1
-    uint hasSpecular;       // 0 or 1
-    uint pad0;
+struct GpuLightBlock {
+    GpuLight lights[MAX_LIGHTS];
+};
+
+// E(λ) of every light for this pass's bands: lightBands[l * MAX_OUTPUTS + k] holds bands
+// 4k..4k+3 of the pass (irradiance W·m⁻²·nm⁻¹ or intensity W·sr⁻¹·nm⁻¹). Bands past the grid are 0.
+struct GpuLightSpectraBlock {
+    vec4 lightBands[MAX_LIGHTS * MAX_OUTPUTS];
+};
+
+struct GpuMaterialBlock {
+    vec4 diffuse[MAX_OUTPUTS];             // ρd
+    vec4 specular[MAX_OUTPUTS];            // ρs
+    vec4 emissionOverLambda[MAX_OUTPUTS];  // ê(λ)/λ, nm⁻² (0 for non-fluorescent materials)
+    vec4 params;                           // x: gloss N; y: 1 if fluorescent; z: 1 if specular
+    vec4 coupling[MAX_LIGHTS / 4];         // per light: (Φ/π)·Σ a·E·λ·Δλ (fluorescence)
 };
 
 struct SpectralPushConstants {
     mat4 viewProjection;  // world → clip (Vulkan clip space, y down, depth 0..1)
     vec4 cameraPosition;  // xyz; w = 1 perspective, 0 orthographic
     vec4 cameraForward;   // xyz: unit view direction (orthographic view vector is -forward)
-    uint materialIndex;
-    uint firstLayer;      // first RGBA layer (4 bands each) written by this pass
-    uint pad0;
-    uint pad1;
 };
 
 #ifdef __cplusplus
-static_assert(sizeof(GpuLight) == 32, "GpuLight must match std430");
-static_assert(sizeof(GpuMaterial) == 32, "GpuMaterial must match std430");
-static_assert(sizeof(SpectralPushConstants) == 112, "push constants must match GLSL");
+static_assert(sizeof(GpuLightBlock) == 16 * MAX_LIGHTS, "std140 layout");
+static_assert(sizeof(GpuLightSpectraBlock) == 16384, "must fit the minimum maxUniformBufferRange");
+static_assert(sizeof(GpuMaterialBlock) == 16 * (3 * MAX_OUTPUTS + 1 + MAX_LIGHTS / 4), "std140 layout");
+static_assert(sizeof(SpectralPushConstants) == 96, "push constants must match GLSL");
 }  // namespace metamer::gpu
 #endif
 

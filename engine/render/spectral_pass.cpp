@@ -34,23 +34,27 @@ struct Draw {
     uint32_t material;
 };
 
-// Everything the fragment shader reads, packed for the three storage buffers of interface.h.
+// Everything the fragment shader reads, packed per pass for the uniform blocks of interface.h.
 struct PackedScene {
     std::vector<float> vertices;  // position xyz, normal xyz
     std::vector<uint32_t> indices;
     std::vector<Draw> draws;
-    std::vector<gpu::GpuLight> lights;
-    std::vector<gpu::GpuMaterial> materials;
-    std::vector<float> spectra;
+    int ambient = 0, directional = 0, point = 0;  // light counts, in this order in every block
+    gpu::GpuLightBlock lights{};
+    std::vector<gpu::GpuLightSpectraBlock> lightSpectra;  // per pass
+    std::vector<gpu::GpuMaterialBlock> materials;         // per pass × material: [pass][material]
 };
 
-uint32_t append(std::vector<float>& table, const std::vector<double>& values) {
-    uint32_t offset = uint32_t(table.size());
-    for (double v : values) table.push_back(float(v));
-    return offset;
+// Band b of pass p lives at vec4 k = (b - 32p) / 4, component (b - 32p) % 4; bands past the grid are 0.
+void scatterBands(const std::vector<double>& values, int pass, glm::vec4* dst) {
+    for (int k = 0; k < MAX_OUTPUTS; ++k)
+        for (int c = 0; c < 4; ++c) {
+            size_t b = size_t(pass) * BANDS_PER_PASS + size_t(k) * 4 + c;
+            dst[k][c] = b < values.size() ? float(values[b]) : 0.0f;
+        }
 }
 
-PackedScene pack(const Scene& scene, const SceneOnGrid& g) {
+PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes) {
     PackedScene p;
     for (const auto& mesh : scene.meshes) {
         if (mesh.indices.empty()) continue;
@@ -63,47 +67,52 @@ PackedScene pack(const Scene& scene, const SceneOnGrid& g) {
         p.indices.insert(p.indices.end(), mesh.indices.begin(), mesh.indices.end());
         p.draws.push_back(d);
     }
-    for (size_t l = 0; l < scene.lights.size(); ++l) {
-        const Light& light = scene.lights[l];
-        gpu::GpuLight gl{};
-        switch (light.type) {
-            case Light::Type::Ambient: gl.type = LIGHT_AMBIENT; break;
-            case Light::Type::Directional:
-                gl.type = LIGHT_DIRECTIONAL;
-                gl.vector = glm::vec4(glm::vec3(-glm::normalize(light.direction)), 0.0f);
-                break;
-            case Light::Type::Point:
-                gl.type = LIGHT_POINT;
-                gl.vector = glm::vec4(glm::vec3(light.position), 1.0f);
-                break;
-        }
-        gl.spectrumOffset = append(p.spectra, g.lights[l]);
-        p.lights.push_back(gl);
-    }
-    // View-independent fluorescence coupling per (material, light): (Φ/π)·Σ a·E_l·λ·Δλ, in
-    // double, so the shader only multiplies by the light's geometric factor.
-    std::vector<double> emissionOverLambda;
-    for (const auto& m : g.materials) {
-        gpu::GpuMaterial gm{};
-        gm.gloss = float(m.gloss);
-        gm.diffuseOffset = append(p.spectra, m.diffuse);
-        gm.specularOffset = append(p.spectra, m.specular);
-        gm.hasSpecular = std::any_of(m.specular.begin(), m.specular.end(), [](double v) { return v != 0.0; });
-        if (m.fluorescent) {
-            gm.fluorescent = 1;
-            emissionOverLambda.resize(m.emission.size());
-            for (size_t i = 0; i < m.emission.size(); ++i)
-                emissionOverLambda[i] = m.emission[i] / g.wavelengths_nm[i];
-            gm.emissionOffset = append(p.spectra, emissionOverLambda);
-            std::vector<double> coupling;
-            for (const auto& E : g.lights) {
-                double s = 0.0;
-                for (size_t i = 0; i < E.size(); ++i) s += m.excitation[i] * E[i] * g.wavelengths_nm[i];
-                coupling.push_back(m.quantum_yield / M_PI * s * g.grid.step_nm);
+    // Lights sorted by kind (the shader loops over each kind without branching).
+    std::vector<size_t> order;
+    for (Light::Type type : {Light::Type::Ambient, Light::Type::Directional, Light::Type::Point})
+        for (size_t l = 0; l < scene.lights.size(); ++l)
+            if (scene.lights[l].type == type) {
+                order.push_back(l);
+                (type == Light::Type::Ambient ? p.ambient : type == Light::Type::Directional ? p.directional : p.point)++;
             }
-            gm.couplingOffset = append(p.spectra, coupling);
+    for (size_t i = 0; i < order.size(); ++i) {
+        const Light& light = scene.lights[order[i]];
+        if (light.type == Light::Type::Directional)
+            p.lights.lights[i].vector = glm::vec4(glm::vec3(-glm::normalize(light.direction)), 0.0f);
+        else if (light.type == Light::Type::Point)
+            p.lights.lights[i].vector = glm::vec4(glm::vec3(light.position), 1.0f);
+    }
+    p.lightSpectra.resize(passes);
+    for (int pass = 0; pass < passes; ++pass)
+        for (size_t i = 0; i < order.size(); ++i)
+            scatterBands(g.lights[order[i]], pass, &p.lightSpectra[pass].lightBands[i * MAX_OUTPUTS]);
+
+    p.materials.resize(size_t(passes) * g.materials.size());
+    std::vector<double> emissionOverLambda;
+    for (size_t mi = 0; mi < g.materials.size(); ++mi) {
+        const MaterialOnGrid& m = g.materials[mi];
+        bool specular = std::any_of(m.specular.begin(), m.specular.end(), [](double v) { return v != 0.0; });
+        // View-independent fluorescence coupling per light, (Φ/π)·Σ a·E_l·λ·Δλ, summed in double
+        // so the shader only multiplies by the light's geometric factor.
+        std::vector<float> coupling(MAX_LIGHTS, 0.0f);
+        emissionOverLambda.assign(m.diffuse.size(), 0.0);
+        if (m.fluorescent) {
+            for (size_t i = 0; i < m.emission.size(); ++i) emissionOverLambda[i] = m.emission[i] / g.wavelengths_nm[i];
+            for (size_t i = 0; i < order.size(); ++i) {
+                const auto& E = g.lights[order[i]];
+                double sum = 0.0;
+                for (size_t b = 0; b < E.size(); ++b) sum += m.excitation[b] * E[b] * g.wavelengths_nm[b];
+                coupling[i] = float(m.quantum_yield / M_PI * sum * g.grid.step_nm);
+            }
         }
-        p.materials.push_back(gm);
+        for (int pass = 0; pass < passes; ++pass) {
+            gpu::GpuMaterialBlock& b = p.materials[size_t(pass) * g.materials.size() + mi];
+            scatterBands(m.diffuse, pass, b.diffuse);
+            scatterBands(m.specular, pass, b.specular);
+            scatterBands(emissionOverLambda, pass, b.emissionOverLambda);
+            b.params = glm::vec4(float(m.gloss), m.fluorescent ? 1.0f : 0.0f, specular ? 1.0f : 0.0f, 0.0f);
+            for (int l = 0; l < MAX_LIGHTS; ++l) b.coupling[l / 4][l % 4] = coupling[l];
+        }
     }
     return p;
 }
@@ -147,7 +156,8 @@ struct SpectralPass::Impl {
     PackedScene packed;
     CameraMatrices camera;
 
-    vk::Buffer vertexBuffer, indexBuffer, lightBuffer, materialBuffer, spectraBuffer, readbackBuffer;
+    vk::Buffer vertexBuffer, indexBuffer, lightBuffer, lightSpectraBuffer, materialBuffer, readbackBuffer;
+    VkDeviceSize lightSpectraStride = 0, materialStride = 0;  // dynamic-offset strides, aligned
     vk::Image color, depth;
     VkDescriptorSetLayout setLayout = VK_NULL_HANDLE;
     VkPipelineLayout pipelineLayout = VK_NULL_HANDLE;
@@ -176,10 +186,16 @@ struct SpectralPass::Impl {
         if (setLayout) vkDestroyDescriptorSetLayout(d, setLayout, nullptr);
     }
 
-    vk::Buffer storage(const void* data, size_t bytes, const char* name) {
-        // Vulkan forbids empty buffers; a scene without lights still binds one.
-        vk::Buffer b(ctx, std::max<size_t>(bytes, 64), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, name);
-        if (bytes) b.upload(data, bytes);
+    VkDeviceSize aligned(VkDeviceSize size) const {
+        VkDeviceSize a = std::max<VkDeviceSize>(16, ctx.properties().limits.minUniformBufferOffsetAlignment);
+        return (size + a - 1) / a * a;
+    }
+
+    // Copies `count` records of `size` bytes into a uniform buffer with records `stride` apart.
+    vk::Buffer uniforms(const void* data, size_t size, size_t count, VkDeviceSize stride, const char* name) {
+        vk::Buffer b(ctx, std::max<VkDeviceSize>(stride * std::max<size_t>(count, 1), 16),
+                     VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, name);
+        for (size_t i = 0; i < count; ++i) b.upload(static_cast<const char*>(data) + i * size, size, i * stride);
         return b;
     }
 
@@ -190,10 +206,13 @@ struct SpectralPass::Impl {
             indexBuffer = vk::Buffer(ctx, packed.indices.size() * 4, VK_BUFFER_USAGE_INDEX_BUFFER_BIT, "indices");
             indexBuffer.upload(packed.indices.data(), packed.indices.size() * 4);
         }
-        lightBuffer = storage(packed.lights.data(), packed.lights.size() * sizeof(gpu::GpuLight), "lights");
-        materialBuffer =
-            storage(packed.materials.data(), packed.materials.size() * sizeof(gpu::GpuMaterial), "materials");
-        spectraBuffer = storage(packed.spectra.data(), packed.spectra.size() * 4, "spectra");
+        lightBuffer = uniforms(&packed.lights, sizeof(gpu::GpuLightBlock), 1, sizeof(gpu::GpuLightBlock), "lights");
+        lightSpectraStride = aligned(sizeof(gpu::GpuLightSpectraBlock));
+        lightSpectraBuffer = uniforms(packed.lightSpectra.data(), sizeof(gpu::GpuLightSpectraBlock),
+                                      packed.lightSpectra.size(), lightSpectraStride, "light spectra");
+        materialStride = aligned(sizeof(gpu::GpuMaterialBlock));
+        materialBuffer = uniforms(packed.materials.data(), sizeof(gpu::GpuMaterialBlock), packed.materials.size(),
+                                  materialStride, "materials");
     }
 
     void createTargets(Readback mode) {
@@ -239,10 +258,11 @@ struct SpectralPass::Impl {
 
     void createLayouts() {
         VkDevice d = ctx.device();
-        VkDescriptorSetLayoutBinding bindings[3];
-        uint32_t ids[3] = {BINDING_LIGHTS, BINDING_MATERIALS, BINDING_SPECTRA};
-        for (int i = 0; i < 3; ++i)
-            bindings[i] = {ids[i], VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr};
+        VkDescriptorSetLayoutBinding bindings[3] = {
+            {BINDING_LIGHTS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
+            {BINDING_LIGHT_SPECTRA, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
+            {BINDING_MATERIAL, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
+        };
         VkDescriptorSetLayoutCreateInfo sl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
         sl.bindingCount = 3;
         sl.pBindings = bindings;
@@ -256,27 +276,28 @@ struct SpectralPass::Impl {
         pl.pPushConstantRanges = &range;
         VK_CHECK(vkCreatePipelineLayout(d, &pl, nullptr, &pipelineLayout));
 
-        VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 3};
+        VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1},
+                                         {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC, 2}};
         VkDescriptorPoolCreateInfo pci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
         pci.maxSets = 1;
-        pci.poolSizeCount = 1;
-        pci.pPoolSizes = &size;
+        pci.poolSizeCount = 2;
+        pci.pPoolSizes = sizes;
         VK_CHECK(vkCreateDescriptorPool(d, &pci, nullptr, &descriptorPool));
         VkDescriptorSetAllocateInfo ai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
         ai.descriptorPool = descriptorPool;
         ai.descriptorSetCount = 1;
         ai.pSetLayouts = &setLayout;
         VK_CHECK(vkAllocateDescriptorSets(d, &ai, &descriptorSet));
-        VkDescriptorBufferInfo infos[3] = {{lightBuffer.handle(), 0, VK_WHOLE_SIZE},
-                                           {materialBuffer.handle(), 0, VK_WHOLE_SIZE},
-                                           {spectraBuffer.handle(), 0, VK_WHOLE_SIZE}};
+        VkDescriptorBufferInfo infos[3] = {{lightBuffer.handle(), 0, sizeof(gpu::GpuLightBlock)},
+                                           {lightSpectraBuffer.handle(), 0, sizeof(gpu::GpuLightSpectraBlock)},
+                                           {materialBuffer.handle(), 0, sizeof(gpu::GpuMaterialBlock)}};
         VkWriteDescriptorSet writes[3];
         for (int i = 0; i < 3; ++i) {
             writes[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
             writes[i].dstSet = descriptorSet;
-            writes[i].dstBinding = ids[i];
+            writes[i].dstBinding = bindings[i].binding;
             writes[i].descriptorCount = 1;
-            writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+            writes[i].descriptorType = bindings[i].descriptorType;
             writes[i].pBufferInfo = &infos[i];
         }
         vkUpdateDescriptorSets(d, 3, writes, 0, nullptr);
@@ -341,16 +362,17 @@ struct SpectralPass::Impl {
 
     VkPipeline makePipeline(VkRenderPass renderPass, uint32_t attachments) {
         struct Spec {
-            int32_t lightCount, bandCount;
+            int32_t ambient, directional, point;
             VkBool32 hasSpecular, hasFluorescence;
-        } spec{plan.lightCount, plan.bands, plan.hasSpecular, plan.hasFluorescence};
-        VkSpecializationMapEntry entries[4] = {
-            {SPEC_LIGHT_COUNT, offsetof(Spec, lightCount), 4},
-            {SPEC_BAND_COUNT, offsetof(Spec, bandCount), 4},
+        } spec{packed.ambient, packed.directional, packed.point, plan.hasSpecular, plan.hasFluorescence};
+        VkSpecializationMapEntry entries[5] = {
+            {SPEC_AMBIENT_COUNT, offsetof(Spec, ambient), 4},
+            {SPEC_DIRECTIONAL_COUNT, offsetof(Spec, directional), 4},
+            {SPEC_POINT_COUNT, offsetof(Spec, point), 4},
             {SPEC_HAS_SPECULAR, offsetof(Spec, hasSpecular), 4},
             {SPEC_HAS_FLUORESCENCE, offsetof(Spec, hasFluorescence), 4},
         };
-        VkSpecializationInfo si{4, entries, sizeof(Spec), &spec};
+        VkSpecializationInfo si{5, entries, sizeof(Spec), &spec};
         const SpirvCode& fragCode = kSpectralFrag[attachments - 1];
         VkShaderModule frag = makeShader(ctx.device(), fragCode.code, fragCode.bytes);
         VkPipelineShaderStageCreateInfo stages[2] = {{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO},
@@ -477,17 +499,19 @@ struct SpectralPass::Impl {
             vkCmdBeginRenderPass(cmd, &rb, VK_SUBPASS_CONTENTS_INLINE);
             if (!packed.draws.empty()) {
                 vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, passPipeline[p]);
-                vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelineLayout, 0, 1, &descriptorSet,
-                                        0, nullptr);
                 VkDeviceSize zero = 0;
                 VkBuffer vb = vertexBuffer.handle();
                 vkCmdBindVertexBuffers(cmd, 0, 1, &vb, &zero);
                 vkCmdBindIndexBuffer(cmd, indexBuffer.handle(), 0, VK_INDEX_TYPE_UINT32);
-                pc.firstLayer = po.firstLayer;
+                vkCmdPushConstants(cmd, pipelineLayout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
+                                   sizeof(pc), &pc);
+                size_t materials = packed.materials.size() / passes.size();
                 for (const Draw& d : packed.draws) {
-                    pc.materialIndex = d.material;
-                    vkCmdPushConstants(cmd, pipelineLayout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT,
-                                       0, sizeof(pc), &pc);
+                    // This pass's bands of the light spectra and of the draw's material.
+                    uint32_t offsets[2] = {uint32_t(p * lightSpectraStride),
+                                           uint32_t((p * materials + d.material) * materialStride)};
+                    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelineLayout, 0, 1,
+                                            &descriptorSet, 2, offsets);
                     vkCmdDrawIndexed(cmd, d.indexCount, 1, d.firstIndex, d.vertexOffset, 0);
                 }
             }
@@ -614,7 +638,10 @@ SpectralPass::SpectralPass(vk::Context& ctx, const Scene& scene, const SceneOnGr
     Impl& m = *impl_;
     m.plan = p;
     m.grid = spectra.grid;
-    m.packed = pack(scene, spectra);
+    if (scene.lights.size() > MAX_LIGHTS)
+        failInput(Where{scene.file.string(), "lights"}, "{} lights; the GPU path supports at most {}",
+                  scene.lights.size(), MAX_LIGHTS);
+    m.packed = pack(scene, spectra, p.passes);
     m.camera = cameraMatrices(scene.camera, scene);
     m.createBuffers();
     m.createTargets(options.readback);
