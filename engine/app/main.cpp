@@ -1,7 +1,143 @@
-// metamer: the command-line tool. Thin: parses arguments and calls the engine.
-#include <cstdio>
+// metamer: the command-line tool. A thin shell: parse arguments, call the engine, print one line
+// per error, map errors to exit codes (README.md, "Exit codes").
+#include "core/error.h"
+#include "io/atomic_file.h"
+#include "render/render_job.h"
+#include "vk/context.h"
 
-int main() {
-    std::puts("metamer: not yet");
+#include <CLI/CLI.hpp>
+
+#include <csignal>
+#include <cstdio>
+#include <unistd.h>
+
+using namespace metamer;
+
+namespace {
+
+// An interrupted run leaves no partial output: temporary files are removed, finished files were
+// renamed into place atomically, earlier files are untouched.
+extern "C" void onSignal(int sig) {
+    removeLiveTempFiles();
+    _exit(128 + sig);
+}
+
+void printTimings(const RenderJobResult& r) {
+    const StageTimings& t = r.timings;
+    std::printf("timings (ms): load %.1f  upload %.1f  shading %.1f  readback %.1f  write %.1f  total %.1f\n",
+                t.load_ms, t.upload_ms, t.shading_ms, t.readback_ms, t.write_ms, t.total_ms);
+    double bandPixels = double(r.width) * r.height * r.grid.bands();
+    if (t.frames > 1) {
+        std::printf("frames: %d; first frame shading %.1f ms (includes shader compilation); median of the other "
+                    "%d: shading %.1f ms, readback %.1f ms\n",
+                    t.frames, t.first_shading_ms, t.frames - 1, t.median_shading_ms, t.median_readback_ms);
+        std::printf("throughput (median frame): %.3f G band-pixels/s in shading, %.3f including readback\n",
+                    bandPixels / (t.median_shading_ms * 1e6),
+                    bandPixels / ((t.median_shading_ms + t.median_readback_ms) * 1e6));
+    } else if (t.shading_ms > 0) {
+        std::printf("throughput: %.3f G band-pixels/s in shading, %.3f including readback (one frame, includes "
+                    "shader compilation; --frames N for steady state)\n",
+                    bandPixels / (t.shading_ms * 1e6), bandPixels / ((t.shading_ms + t.readback_ms) * 1e6));
+    }
+}
+
+int listDevices() {
+    vk::ContextOptions o;
+    VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
+    app.apiVersion = VK_API_VERSION_1_1;
+    VkInstanceCreateInfo ici{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
+    ici.pApplicationInfo = &app;
+    VkInstance instance;
+    if (vkCreateInstance(&ici, nullptr, &instance) != VK_SUCCESS) {
+        std::fprintf(stderr, "metamer: no usable Vulkan device: no Vulkan driver\n");
+        return int(ExitCode::NoDevice);
+    }
+    auto devices = vk::Context::listDevices(instance);
+    for (const auto& d : devices)
+        std::printf("%u: %s (score %d%s)\n", d.index, d.name.c_str(), d.score, d.score ? "" : ", unusable");
+    vkDestroyInstance(instance, nullptr);
+    if (devices.empty()) {
+        std::fprintf(stderr, "metamer: no usable Vulkan device: the loader found none\n");
+        return int(ExitCode::NoDevice);
+    }
     return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    std::signal(SIGINT, onSignal);
+    std::signal(SIGTERM, onSignal);
+
+    CLI::App app{"metamer: full-spectral rendering for color-imaging research"};
+    app.require_subcommand(1);
+
+    RenderJob job;
+    std::string gridText, backend = "gpu", readback = "auto";
+    bool timings = false, strictCoverage = false, noPng = false;
+    auto* render = app.add_subcommand("render", "render a scene to a spectral radiance cube (EXR) and a quick-look PNG");
+    render->add_option("scene", job.scene, "scene file (JSON, docs/scene-format.md)")->required();
+    render->add_option("--out,-o", job.outDir, "output folder (created if missing)")->capture_default_str();
+    render->add_option("--grid", gridText, "spectral grid START:END:STEP in nm, e.g. 300:740:5 (overrides the scene)");
+    render->add_option("--set", job.overrides, "override a scene value: KEY=VALUE, e.g. lights.0.spectrum=illuminants/A")
+        ->take_all();
+    render->add_option("--backend", backend, "gpu (Vulkan) or cpu (double-precision reference)")
+        ->check(CLI::IsMember({"gpu", "cpu"}))
+        ->capture_default_str();
+    render->add_option("--ssaa", job.ssaa, "supersampling: N×N samples per pixel (1-4)")
+        ->check(CLI::Range(1, 4))
+        ->capture_default_str();
+    render->add_flag("--half", job.half, "write float16 instead of float32");
+    render->add_option("--compression", job.compression, "EXR compression (none, zip, zips, piz, ...)")
+        ->capture_default_str();
+    render->add_flag("--strict-coverage", strictCoverage, "error when a spectrum's data do not cover the grid");
+    render->add_option("--readback", readback, "auto, map (linear host-visible image) or copy")
+        ->check(CLI::IsMember({"auto", "map", "copy"}))
+        ->capture_default_str();
+    render->add_flag("--no-png", noPng, "skip the quick-look PNG");
+    render->add_flag("--timings", timings, "print per-stage timings");
+    render->add_option("--frames", job.frames, "render N frames (timing: first frame and median of the rest)")
+        ->check(CLI::Range(1, 1000));
+    render->add_flag("--validation", job.validation, "enable Vulkan validation layers; any error fails the run");
+    render->add_option("--device", job.device, "Vulkan device index or name substring (default: best; env METAMER_DEVICE)");
+    render->add_flag("--verbose,-v", job.verbose, "print the chosen device and the render plan");
+
+    auto* devices = app.add_subcommand("devices", "list Vulkan devices and their scores");
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        int code = app.exit(e);
+        return code == 0 ? 0 : int(ExitCode::BadInput);
+    }
+
+    try {
+        if (devices->parsed()) return listDevices();
+
+        job.backend = backend == "cpu" ? Backend::Cpu : Backend::Gpu;
+        job.readback = readback == "map" ? Readback::Map : readback == "copy" ? Readback::Copy : Readback::Auto;
+        job.coverage = strictCoverage ? CoveragePolicy::Error : CoveragePolicy::ZeroWithWarning;
+        job.quickLook = !noPng;
+        if (!gridText.empty()) job.grid = Grid::parse(gridText, Where{"", "--grid"});
+
+        RenderJobResult r = runRenderJob(job);
+        if (job.verbose) std::printf("%s\n", r.backendDescription.c_str());
+        std::printf("wrote %s (%d×%d px, %d bands %s nm, W·sr⁻¹·m⁻²·nm⁻¹%s)\n", r.cubePath.c_str(), r.width,
+                    r.height, r.grid.bands(), r.grid.str().c_str(), job.half ? ", float16" : ", float32");
+        if (r.clampedToHalf)
+            std::printf("note: %zu values beyond the float16 range were clamped to ±65504\n", r.clampedToHalf);
+        if (job.quickLook) std::printf("wrote %s (quick look: CIE 1931 → sRGB, auto exposure)\n", r.pngPath.c_str());
+        if (timings) printTimings(r);
+        if (r.validationErrors) {
+            std::fprintf(stderr, "metamer: %u Vulkan validation error(s) (see above)\n", r.validationErrors);
+            return int(ExitCode::Failure);
+        }
+        return 0;
+    } catch (const Error& e) {
+        std::fprintf(stderr, "metamer: %s\n", e.what());
+        return int(e.code());
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "metamer: %s\n", e.what());
+        return int(ExitCode::Failure);
+    }
 }

@@ -584,30 +584,46 @@ struct SpectralPass::Impl {
     // Layered target → pixel-interleaved cube, box-filtering ssaa×ssaa samples; rows in parallel.
     void readInto(SpectralCube& cube) {
         LayerAccess a = access();
-        int s = plan.ssaa, bands = plan.bands, W = cube.width, H = cube.height;
-        float norm = 1.0f / float(s * s);
-        auto work = [&](int y0, int y1) {
-            std::vector<float> acc(size_t(W) * plan.layers * 4);
-            for (int y = y0; y < y1; ++y) {
-                std::fill(acc.begin(), acc.end(), 0.0f);
-                for (int l = 0; l < plan.layers; ++l)
+        const int s = plan.ssaa, bands = plan.bands, W = cube.width, H = cube.height, layers = plan.layers;
+        auto copyRows = [&](int y0, int y1) {
+            // One layer row at a time: 4 bands of every pixel, strided into the cube.
+            for (int y = y0; y < y1; ++y)
+                for (int l = 0; l < layers; ++l) {
+                    const float* row = a.row(uint32_t(l), uint32_t(y));
+                    int n = std::min(4, bands - 4 * l);
+                    float* out = cube.pixel(0, y) + 4 * l;
+                    if (n == 4)
+                        for (int x = 0; x < W; ++x, out += bands) std::memcpy(out, row + 4 * x, 16);
+                    else
+                        for (int x = 0; x < W; ++x, out += bands) std::memcpy(out, row + 4 * x, 4 * n);
+                }
+        };
+        auto filterRows = [&](int y0, int y1) {
+            const float norm = 1.0f / float(s * s);
+            std::vector<float> acc(size_t(W) * 4);
+            for (int y = y0; y < y1; ++y)
+                for (int l = 0; l < layers; ++l) {
+                    std::fill(acc.begin(), acc.end(), 0.0f);
                     for (int sy = 0; sy < s; ++sy) {
                         const float* row = a.row(uint32_t(l), uint32_t(y * s + sy));
                         for (int x = 0; x < W; ++x)
                             for (int sx = 0; sx < s; ++sx)
-                                for (int c = 0; c < 4; ++c)
-                                    acc[(size_t(x) * plan.layers + l) * 4 + c] += row[(x * s + sx) * 4 + c];
+                                for (int c = 0; c < 4; ++c) acc[x * 4 + c] += row[(x * s + sx) * 4 + c];
                     }
-                for (int x = 0; x < W; ++x) {
-                    float* out = cube.pixel(x, y);
-                    const float* in = &acc[size_t(x) * plan.layers * 4];
-                    for (int b = 0; b < bands; ++b) out[b] = s == 1 ? in[b] : in[b] * norm;
+                    int n = std::min(4, bands - 4 * l);
+                    for (int x = 0; x < W; ++x)
+                        for (int c = 0; c < n; ++c) cube.at(x, y, 4 * l + c) = acc[x * 4 + c] * norm;
                 }
-            }
         };
         int threads = std::max(1, std::min<int>(int(std::thread::hardware_concurrency()), H));
         std::vector<std::thread> pool;
-        for (int t = 0; t < threads; ++t) pool.emplace_back(work, H * t / threads, H * (t + 1) / threads);
+        for (int t = 0; t < threads; ++t) {
+            int y0 = H * t / threads, y1 = H * (t + 1) / threads;
+            if (s == 1)
+                pool.emplace_back(copyRows, y0, y1);
+            else
+                pool.emplace_back(filterRows, y0, y1);
+        }
         for (auto& t : pool) t.join();
     }
 };
@@ -654,15 +670,22 @@ SpectralPass::SpectralPass(vk::Context& ctx, const Scene& scene, const SceneOnGr
 SpectralPass::~SpectralPass() = default;
 
 SpectralCube SpectralPass::render() {
+    SpectralCube cube;
+    render(cube);
+    return cube;
+}
+
+void SpectralPass::render(SpectralCube& cube) {
     Impl& m = *impl_;
     auto t0 = Clock::now();
     m.ctx.submitAndWait([&](VkCommandBuffer cmd) { m.record(cmd); });
     timings_.shading_ms = msSince(t0);
     auto t1 = Clock::now();
-    SpectralCube cube(m.scene.camera.width, m.scene.camera.height, m.grid);
+    if (cube.width != m.scene.camera.width || cube.height != m.scene.camera.height || !(cube.grid == m.grid) ||
+        cube.data.size() != size_t(cube.width) * cube.height * cube.bands())
+        cube = SpectralCube(m.scene.camera.width, m.scene.camera.height, m.grid);
     m.readInto(cube);
     timings_.readback_ms = msSince(t1);
-    return cube;
 }
 
 }  // namespace metamer

@@ -59,6 +59,9 @@ public:
 
     // Renders every band and returns the cube (W·sr⁻¹·m⁻²·nm⁻¹).
     SpectralCube render();
+    // The same into `cube`, reusing its memory when it already has the right size (repeated
+    // frames then pay no allocation; timings_.readback_ms covers the allocation when it happens).
+    void render(SpectralCube& cube);
 
 private:
     struct Impl;
