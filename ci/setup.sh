@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# Installs everything Metamer needs on Debian 12 (bookworm): the build tools, Vulkan with Mesa's
+# lavapipe software rasterizer and the validation layers, the libraries, and a Python virtual
+# environment with colour-science (the independent oracle some tests use). Runs as root; safe to
+# run again (apt-get and pip skip what is already there).
+set -euo pipefail
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+
+packages=(
+  build-essential cmake ninja-build pkg-config git
+  libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers vulkan-tools
+  glslang-tools spirv-tools
+  libglm-dev libfmt-dev nlohmann-json3-dev libcli11-dev libtinygltf-dev
+  libopenimageio-dev openimageio-tools
+  libglfw3-dev xvfb
+  libgtest-dev
+  python3 python3-venv python3-pip python3-openimageio python3-numpy
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]})); then
+  export DEBIAN_FRONTEND=noninteractive
+  apt-get update -qq
+  apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
+
+# Debian's python3 sees python3-openimageio; the venv inherits it (--system-site-packages) and
+# adds colour-science from PyPI, pinned so the oracle does not move under the tests.
+venv="$here/.venv"
+if [ ! -x "$venv/bin/python" ]; then
+  /usr/bin/python3 -m venv --system-site-packages "$venv"
+fi
+if ! "$venv/bin/python" -c "import colour" 2>/dev/null; then
+  "$venv/bin/pip" install --quiet --disable-pip-version-check "colour-science==0.4.7"
+fi
+echo "metamer: set-up complete"
