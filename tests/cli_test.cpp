@@ -1,0 +1,137 @@
+// The `metamer` command as a user runs it: exit codes, one-line errors, outputs that appear
+// whole or not at all.
+#include "io/spectral_exr.h"
+
+#include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace fs = std::filesystem;
+using namespace metamer;
+
+namespace {
+
+struct CliRun {
+    int code = -1;
+    std::string output;  // stdout and stderr together
+};
+
+CliRun run(const std::string& args, const std::string& env = "") {
+    std::string cmd = env + " " METAMER_BINARY " " + args + " 2>&1";
+    CliRun r;
+    FILE* p = popen(cmd.c_str(), "r");
+    char buf[4096];
+    while (size_t n = fread(buf, 1, sizeof buf, p)) r.output.append(buf, n);
+    int status = pclose(p);
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return r;
+}
+
+fs::path freshDir(const std::string& name) {
+    fs::path d = fs::temp_directory_path() / ("metamer-cli-test-" + name);
+    fs::remove_all(d);
+    return d;
+}
+
+const std::string kScene = std::string(METAMER_SOURCE_DIR) + "/tests/data/cli/small.json";
+
+int countLinesStartingWith(const std::string& text, const std::string& prefix) {
+    std::istringstream in(text);
+    std::string line;
+    int n = 0;
+    while (std::getline(in, line)) n += line.rfind(prefix, 0) == 0;
+    return n;
+}
+
+}  // namespace
+
+TEST(Cli, RendersCubeAndQuickLookWithValidationClean) {
+    fs::path out = freshDir("render");
+    CliRun r = run("render " + kScene + " --out " + out.string() + " --validation --timings");
+    ASSERT_EQ(r.code, 0) << r.output;
+    EXPECT_NE(r.output.find("W·sr⁻¹·m⁻²·nm⁻¹"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("timings (ms): load"), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find("validation error"), std::string::npos) << r.output;
+    SpectralCube cube = readSpectralExr(out / "small.exr");
+    EXPECT_EQ(cube.width, 48);
+    EXPECT_EQ(cube.height, 32);
+    EXPECT_EQ(cube.bands(), 89);
+    EXPECT_TRUE(fs::exists(out / "small.png"));
+    // Nothing but the two outputs: no temporary files left behind.
+    EXPECT_EQ(std::distance(fs::directory_iterator(out), fs::directory_iterator()), 2);
+}
+
+TEST(Cli, GridFlagOverridesTheSceneAndHalfWritesFloat16) {
+    fs::path out = freshDir("grid");
+    CliRun r = run("render " + kScene + " --out " + out.string() + " --grid 400:700:10 --half --no-png");
+    ASSERT_EQ(r.code, 0) << r.output;
+    auto in = OIIO::ImageInput::open((out / "small.exr").string());
+    ASSERT_TRUE(in);
+    EXPECT_EQ(in->spec().nchannels, 31);
+    EXPECT_EQ(in->spec().format, OIIO::TypeDesc::HALF);
+    in->close();
+    EXPECT_FALSE(fs::exists(out / "small.png"));
+}
+
+TEST(Cli, CpuBackendWritesTheSameLayout) {
+    fs::path out = freshDir("cpu");
+    CliRun r = run("render " + kScene + " --out " + out.string() + " --backend cpu --no-png");
+    ASSERT_EQ(r.code, 0) << r.output;
+    EXPECT_EQ(readSpectralExr(out / "small.exr").bands(), 89);
+}
+
+TEST(Cli, NoVulkanDriverIsOneLineAndExitCode3) {
+    fs::path out = freshDir("nodevice");
+    CliRun r = run("render " + kScene + " --out " + out.string(), "VK_ICD_FILENAMES=/nonexistent.json");
+    EXPECT_EQ(r.code, 3) << r.output;
+    EXPECT_EQ(countLinesStartingWith(r.output, "metamer:"), 1) << r.output;
+    EXPECT_NE(r.output.find("no usable Vulkan device"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(out / "small.exr"));
+}
+
+TEST(Cli, DeviceOverrideThatMatchesNothingIsExitCode3) {
+    CliRun r = run("render " + kScene + " --out " + freshDir("nomatch").string(), "METAMER_DEVICE=no-such-gpu");
+    EXPECT_EQ(r.code, 3) << r.output;
+    EXPECT_NE(r.output.find("no-such-gpu"), std::string::npos) << r.output;
+}
+
+TEST(Cli, BadInputIsExitCode2WithFileAndKey) {
+    CliRun missing = run("render /nonexistent/scene.json --out " + freshDir("missing").string());
+    EXPECT_EQ(missing.code, 2) << missing.output;
+    EXPECT_NE(missing.output.find("/nonexistent/scene.json"), std::string::npos) << missing.output;
+
+    CliRun grid = run("render " + kScene + " --grid 300:740:7");
+    EXPECT_EQ(grid.code, 2) << grid.output;
+    EXPECT_NE(grid.output.find("--grid"), std::string::npos) << grid.output;
+
+    CliRun set = run("render " + kScene + " --set materials.skin.diffuse=colorchecker/dark_skn --out " +
+                  freshDir("set").string());
+    EXPECT_EQ(set.code, 2) << set.output;
+    EXPECT_NE(set.output.find("materials.skin.diffuse"), std::string::npos) << set.output;
+    EXPECT_NE(set.output.find("did you mean"), std::string::npos) << set.output;
+
+    CliRun strict = run("render " + kScene + " --strict-coverage --out " + freshDir("strict").string());
+    EXPECT_EQ(strict.code, 2) << strict.output;
+    EXPECT_NE(strict.output.find("covers 380–780 nm"), std::string::npos) << strict.output;
+}
+
+TEST(Cli, FailedRenderLeavesThePreviousCubeIntact) {
+    fs::path out = freshDir("intact");
+    ASSERT_EQ(run("render " + kScene + " --out " + out.string() + " --no-png").code, 0);
+    auto read = [](const fs::path& p) {
+        std::ifstream f(p, std::ios::binary);
+        return std::string(std::istreambuf_iterator<char>(f), {});
+    };
+    std::string before = read(out / "small.exr");
+    CliRun r = run("render " + kScene + " --out " + out.string() + " --set camera.width=-5");
+    EXPECT_EQ(r.code, 2) << r.output;
+    EXPECT_EQ(read(out / "small.exr"), before);
+    EXPECT_EQ(std::distance(fs::directory_iterator(out), fs::directory_iterator()), 1);
+}
