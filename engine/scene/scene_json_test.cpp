@@ -5,7 +5,12 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <unistd.h>
+
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <functional>
 #include <set>
@@ -212,16 +217,24 @@ TEST(SceneJson, UnusedMaterialWarns) {
 }
 
 TEST(SceneJson, LoadsFromFileAndResolvesPathsAgainstItsFolder) {
-    // The fixture folder holds cube.gltf and local.csv; write the scene next to them.
-    fs::path file = kData / "generated_from_test.json";
+    // A scene in a scratch folder with its own copies of the mesh and the CSV it refers to.
+    fs::path dir = fs::temp_directory_path() / ("metamer_scene_test_" + std::to_string(::getpid()));
+    fs::create_directories(dir / "sub");
+    fs::copy_file(kData / "cube.gltf", dir / "sub" / "cube.gltf", fs::copy_options::overwrite_existing);
+    fs::copy_file(kData / "local.csv", dir / "local.csv", fs::copy_options::overwrite_existing);
+    Json d = baseScene();
+    d["objects"][2]["mesh"] = "sub/cube.gltf";
+    fs::path file = dir / "scene.json";
     {
         std::ofstream out(file);
-        out << baseScene().dump(2);
+        out << d.dump(2);
     }
     Scene s = loadScene(file, fixtureLibrary());
-    fs::remove(file);
     EXPECT_EQ(s.meshes.size(), 6u);
+    EXPECT_EQ(s.meshes[2].name, "objects.2 (sub/cube.gltf)");
+    EXPECT_EQ(s.materials[2].diffuse.spectrum.source, "local.csv");
     EXPECT_EQ(s.file, file);
+    fs::remove_all(dir);
     EXPECT_NE(errorOf([] { loadScene(kData / "no_such_scene.json", fixtureLibrary()); }).find("no_such_scene.json"),
               std::string::npos);
 }
