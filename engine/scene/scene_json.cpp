@@ -157,6 +157,17 @@ const Json& asArray(const Json& v, const Where& w) {
     return v;
 }
 
+// A typo (closestMatch), or else the one allowed key that the given key abbreviates or extends:
+// "fov" -> "fov_y_deg", "radius_m" -> "radius".
+std::string suggestKey(const std::string& key, const std::vector<std::string>& allowed) {
+    std::string near = closestMatch(key, allowed);
+    if (!near.empty() || key.size() < 3) return near;
+    std::vector<std::string> prefixed;
+    for (const auto& a : allowed)
+        if (a.size() >= 3 && (a.rfind(key, 0) == 0 || key.rfind(a, 0) == 0)) prefixed.push_back(a);
+    return prefixed.size() == 1 ? prefixed.front() : std::string();
+}
+
 // Rejects keys outside `allowed`, suggesting the nearest one. `elsewhere` lists keys that are
 // valid in a sibling form of the object (an orthographic camera's height_m on a perspective
 // one), to say so rather than "unknown".
@@ -169,7 +180,7 @@ void checkKeys(const Json& obj, const Where& w, const std::vector<std::string>& 
         std::string forWhat = form.empty() ? "" : " for " + form;
         if (std::find(elsewhere.begin(), elsewhere.end(), key) != elsewhere.end())
             failInput(at, "key not allowed{}; allowed keys are {}", forWhat, join(allowed));
-        std::string near = closestMatch(key, allowed);
+        std::string near = suggestKey(key, allowed);
         if (!near.empty()) failInput(at, "unknown key{}; did you mean '{}'?", forWhat, near);
         failInput(at, "unknown key{}; allowed keys are {}", forWhat, join(allowed));
     }
@@ -198,6 +209,7 @@ double numberIn(const Json& v, const Where& w, double lo, double hi, bool loOpen
                 const char* units = "") {
     double x = number(v, w);
     bool ok = (loOpen ? x > lo : x >= lo) && (hiOpen ? x < hi : x <= hi);
+    if (!ok && std::isinf(hi)) failInput(w, "must be {} {:g}, got {:g}{}", loOpen ? ">" : "≥", lo, x, units);
     if (!ok)
         failInput(w, "{:g}{} is outside the allowed range {}{:g}, {:g}{}", x, units, loOpen ? "(" : "[", lo, hi,
                   hiOpen ? ")" : "]");
@@ -309,7 +321,7 @@ private:
         persp.push_back("fov_y_deg");
         ortho.push_back("height_m");
         bool isPersp = projection == "perspective";
-        checkKeys(v, w, isPersp ? persp : ortho, fmt::format("a {} camera", projection),
+        checkKeys(v, w, isPersp ? persp : ortho, fmt::format("{} {} camera", isPersp ? "a" : "an", projection),
                   {isPersp ? "height_m" : "fov_y_deg"});
         c.position = vector<3>(require(v, w, "position", "[x, y, z] in metres"), w.child("position"));
         c.target = vector<3>(require(v, w, "target", "[x, y, z] in metres"), w.child("target"));
