@@ -94,14 +94,19 @@ std::vector<double> resample(const Spectrum& s, const Grid& grid) {
             out[i] = *s.constant;
             continue;
         }
-        // A band whose centre lies outside the data is 0 (the coverage policy decides whether
-        // that is allowed); at the data's ends, average over the covered part of the band only.
-        double lo = std::max(c - h, s.wavelengths_nm.front());
-        double hi = std::min(c + h, s.wavelengths_nm.back());
-        if (c < s.wavelengths_nm.front() || c > s.wavelengths_nm.back() || hi <= lo)
-            out[i] = 0.0;
-        else
-            out[i] = s.integrate(lo, hi) / (hi - lo);
+        // The band average of the data taken as 0 outside their range (so a narrow line keeps
+        // its energy on any grid), except that a band whose centre lies inside the data holds
+        // the end value over the part the data do not reach: measured data end where the
+        // instrument stopped, not where the quantity falls to zero. Data that do fall to zero
+        // at their ends (lines, bands) lose nothing either way.
+        const auto& w = s.wavelengths_nm;
+        double lo = c - h, hi = c + h;
+        double sum = s.integrate(lo, hi);
+        if (c >= w.front() && c <= w.back()) {
+            if (lo < w.front()) sum += s.values.front() * (w.front() - lo);
+            if (hi > w.back()) sum += s.values.back() * (hi - w.back());
+        }
+        out[i] = sum / grid.step_nm;
     }
     return out;
 }

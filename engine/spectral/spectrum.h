@@ -50,8 +50,9 @@ struct Spectrum {
 // Resampling onto a grid: each band gets the mean of the piecewise-linear spectrum over the band
 // [λi - Δ/2, λi + Δ/2]. Band averaging conserves the integral (narrow emission lines keep their
 // energy on coarse grids) and equals linear interpolation wherever the spectrum is linear across
-// the band. A band whose centre lies outside the data is 0; a band cut by the data's end is
-// averaged over its covered part. See docs/physics.md, "Resampling".
+// the band. Outside its data a spectrum is 0, except that a band whose centre lies inside the data
+// holds the data's end value over the part of the band the data do not reach. See
+// docs/physics.md, "Resampling".
 std::vector<double> resample(const Spectrum& s, const Grid& grid);
 
 // Whether the data cover every band centre of the grid.
