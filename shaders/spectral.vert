@@ -12,6 +12,9 @@ layout(location = 1) out vec3 worldNormal;
 
 layout(push_constant) uniform Push { SpectralPushConstants pc; };
 
+// The depth pre-pass and the colour passes must compute bit-identical depths (test EQUAL).
+invariant gl_Position;
+
 void main() {
     worldPosition = inPosition;
     worldNormal = inNormal;

@@ -141,7 +141,7 @@ VkShaderModule makeShader(VkDevice device, const uint32_t* code, size_t bytes) {
 }  // namespace
 
 std::string SpectralPassPlan::describe() const {
-    return fmt::format("{} bands in {} RGBA32F layers, {} pass(es) of ≤{} attachments, {}×{} target ({} MiB), "
+    return fmt::format("{} bands in {} RGBA32F layers, a depth pre-pass + {} colour pass(es) of ≤{} attachments, {}×{} target ({} MiB), "
                        "{} light(s), specular {}, fluorescence {}, ssaa {}, readback by {}",
                        bands, layers, passes, MAX_OUTPUTS, targetWidth, targetHeight, targetBytes >> 20,
                        lightCount, hasSpecular ? "on" : "off", hasFluorescence ? "on" : "off", ssaa,
@@ -171,10 +171,12 @@ struct SpectralPass::Impl {
         VkFramebuffer framebuffer = VK_NULL_HANDLE;
     };
     std::vector<PassObjects> passes;
+    PassObjects depthPrePass;
 
     Impl(vk::Context& c, const Scene& s) : ctx(c), scene(s) {}
     ~Impl() {
         VkDevice d = ctx.device();
+        passes.push_back(depthPrePass);
         for (auto& p : passes) {
             if (p.framebuffer) vkDestroyFramebuffer(d, p.framebuffer, nullptr);
             if (p.pipeline) vkDestroyPipeline(d, p.pipeline, nullptr);
@@ -305,6 +307,9 @@ struct SpectralPass::Impl {
         vert = makeShader(d, kSpirv_spectral_vert, sizeof(kSpirv_spectral_vert));
     }
 
+    // attachments == 0: the depth pre-pass (clears and writes depth). Otherwise a colour pass that
+    // loads the pre-pass's depth and shades only the visible surface (depth test EQUAL), so every
+    // pixel is shaded once per pass whatever the overdraw.
     VkRenderPass makeRenderPass(uint32_t attachments) {
         std::vector<VkAttachmentDescription> descs;
         std::vector<VkAttachmentReference> refs;
@@ -326,11 +331,12 @@ struct SpectralPass::Impl {
         VkAttachmentDescription da{};
         da.format = VK_FORMAT_D32_SFLOAT;
         da.samples = VK_SAMPLE_COUNT_1_BIT;
-        da.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
-        da.storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+        bool prePass = attachments == 0;
+        da.loadOp = prePass ? VK_ATTACHMENT_LOAD_OP_CLEAR : VK_ATTACHMENT_LOAD_OP_LOAD;
+        da.storeOp = VK_ATTACHMENT_STORE_OP_STORE;  // every later pass loads it
         da.stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
         da.stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
-        da.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+        da.initialLayout = prePass ? VK_IMAGE_LAYOUT_UNDEFINED : VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
         da.finalLayout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
         descs.push_back(da);
         VkAttachmentReference depthRef{attachments, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
@@ -340,7 +346,7 @@ struct SpectralPass::Impl {
         sub.colorAttachmentCount = attachments;
         sub.pColorAttachments = refs.data();
         sub.pDepthStencilAttachment = &depthRef;
-        // The depth image is reused by every pass: wait for the previous pass's depth writes.
+        // The depth image is shared by every pass: wait for the pre-pass's depth writes.
         VkSubpassDependency dep{};
         dep.srcSubpass = VK_SUBPASS_EXTERNAL;
         dep.dstSubpass = 0;
@@ -360,6 +366,7 @@ struct SpectralPass::Impl {
         return r;
     }
 
+    // attachments == 0: the depth pre-pass pipeline (vertex stage only).
     VkPipeline makePipeline(VkRenderPass renderPass, uint32_t attachments) {
         struct Spec {
             int32_t ambient, directional, point;
@@ -373,8 +380,12 @@ struct SpectralPass::Impl {
             {SPEC_HAS_FLUORESCENCE, offsetof(Spec, hasFluorescence), 4},
         };
         VkSpecializationInfo si{5, entries, sizeof(Spec), &spec};
-        const SpirvCode& fragCode = kSpectralFrag[attachments - 1];
-        VkShaderModule frag = makeShader(ctx.device(), fragCode.code, fragCode.bytes);
+        bool prePass = attachments == 0;
+        VkShaderModule frag = VK_NULL_HANDLE;
+        if (!prePass) {
+            const SpirvCode& fragCode = kSpectralFrag[attachments - 1];
+            frag = makeShader(ctx.device(), fragCode.code, fragCode.bytes);
+        }
         VkPipelineShaderStageCreateInfo stages[2] = {{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO},
                                                      {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO}};
         stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
@@ -413,8 +424,9 @@ struct SpectralPass::Impl {
         ms.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
         VkPipelineDepthStencilStateCreateInfo ds{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
         ds.depthTestEnable = VK_TRUE;
-        ds.depthWriteEnable = VK_TRUE;
-        ds.depthCompareOp = VK_COMPARE_OP_LESS;
+        ds.depthWriteEnable = prePass ? VK_TRUE : VK_FALSE;
+        // Same vertex shader (gl_Position is invariant) → the same depth in every pass.
+        ds.depthCompareOp = prePass ? VK_COMPARE_OP_LESS : VK_COMPARE_OP_EQUAL;
         std::vector<VkPipelineColorBlendAttachmentState> blends(attachments);
         for (auto& b : blends) {
             b = {};
@@ -424,7 +436,7 @@ struct SpectralPass::Impl {
         cb.attachmentCount = attachments;
         cb.pAttachments = blends.data();
         VkGraphicsPipelineCreateInfo gp{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
-        gp.stageCount = 2;
+        gp.stageCount = prePass ? 1 : 2;
         gp.pStages = stages;
         gp.pVertexInputState = &vi;
         gp.pInputAssemblyState = &ia;
@@ -437,12 +449,27 @@ struct SpectralPass::Impl {
         gp.renderPass = renderPass;
         VkPipeline p;
         VkResult r = vkCreateGraphicsPipelines(ctx.device(), VK_NULL_HANDLE, 1, &gp, nullptr, &p);
-        vkDestroyShaderModule(ctx.device(), frag, nullptr);  // the pipeline keeps what it needs
+        if (frag) vkDestroyShaderModule(ctx.device(), frag, nullptr);  // the pipeline keeps what it needs
         VK_CHECK(r);
         return p;
     }
 
     void createPasses() {
+        {
+            PassObjects pre;
+            pre.renderPass = makeRenderPass(0);
+            pre.pipeline = makePipeline(pre.renderPass, 0);
+            VkImageView view = depth.layerView(0);
+            VkFramebufferCreateInfo fb{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
+            fb.renderPass = pre.renderPass;
+            fb.attachmentCount = 1;
+            fb.pAttachments = &view;
+            fb.width = plan.targetWidth;
+            fb.height = plan.targetHeight;
+            fb.layers = 1;
+            VK_CHECK(vkCreateFramebuffer(ctx.device(), &fb, nullptr, &pre.framebuffer));
+            depthPrePass = pre;
+        }
         // One render pass + pipeline per distinct attachment count (at most two: 8 and the rest).
         VkRenderPass rpFull = VK_NULL_HANDLE, rpLast = VK_NULL_HANDLE;
         VkPipeline plFull = VK_NULL_HANDLE, plLast = VK_NULL_HANDLE;
@@ -485,6 +512,28 @@ struct SpectralPass::Impl {
         pc.viewProjection = camera.viewProjection;
         pc.cameraPosition = glm::vec4(camera.position, camera.perspective ? 1.0f : 0.0f);
         pc.cameraForward = glm::vec4(camera.forward, 0.0f);
+        VkDeviceSize zero = 0;
+        VkBuffer vb = vertexBuffer.handle();
+        {
+            VkClearValue clear{};
+            clear.depthStencil = {1.0f, 0};
+            VkRenderPassBeginInfo rb{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
+            rb.renderPass = depthPrePass.renderPass;
+            rb.framebuffer = depthPrePass.framebuffer;
+            rb.renderArea = {{0, 0}, {plan.targetWidth, plan.targetHeight}};
+            rb.clearValueCount = 1;
+            rb.pClearValues = &clear;
+            vkCmdBeginRenderPass(cmd, &rb, VK_SUBPASS_CONTENTS_INLINE);
+            if (!packed.draws.empty()) {
+                vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, depthPrePass.pipeline);
+                vkCmdBindVertexBuffers(cmd, 0, 1, &vb, &zero);
+                vkCmdBindIndexBuffer(cmd, indexBuffer.handle(), 0, VK_INDEX_TYPE_UINT32);
+                vkCmdPushConstants(cmd, pipelineLayout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
+                                   sizeof(pc), &pc);
+                for (const Draw& d : packed.draws) vkCmdDrawIndexed(cmd, d.indexCount, 1, d.firstIndex, d.vertexOffset, 0);
+            }
+            vkCmdEndRenderPass(cmd);
+        }
         for (size_t p = 0; p < passes.size(); ++p) {
             const PassObjects& po = passes[p];
             std::vector<VkClearValue> clears(po.attachments + 1);
@@ -499,8 +548,6 @@ struct SpectralPass::Impl {
             vkCmdBeginRenderPass(cmd, &rb, VK_SUBPASS_CONTENTS_INLINE);
             if (!packed.draws.empty()) {
                 vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, passPipeline[p]);
-                VkDeviceSize zero = 0;
-                VkBuffer vb = vertexBuffer.handle();
                 vkCmdBindVertexBuffers(cmd, 0, 1, &vb, &zero);
                 vkCmdBindIndexBuffer(cmd, indexBuffer.handle(), 0, VK_INDEX_TYPE_UINT32);
                 vkCmdPushConstants(cmd, pipelineLayout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
