@@ -147,7 +147,9 @@ BLB_HG_LINES = [
 
 
 def blacklight() -> None:
-    wl = grid(300, 500, 0.5)
+    # Tabulated to 830 nm (zeros past ~460 nm) so it covers every visible grid: the lamp is known
+    # to emit nothing there, which is different from "not measured".
+    wl = grid(300, 830, 0.5)
     c, fwhm = BLB_PHOSPHOR
     band_area = fwhm * FWHM_TO_SIGMA * np.sqrt(2 * np.pi)  # area of the unit-peak band
     v = gaussian_nm(wl, c, fwhm)
