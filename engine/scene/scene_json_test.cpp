@@ -248,6 +248,9 @@ struct BadCase {
     const char* message;  // must appear in what()
 };
 
+// Print a case by its name (CTest shows the parameter; a byte dump of the struct helps nobody).
+void PrintTo(const BadCase& c, std::ostream* os) { *os << c.name; }
+
 class SceneJsonBad : public ::testing::TestWithParam<BadCase> {};
 
 TEST_P(SceneJsonBad, NamesFileKeyAndProblem) {
