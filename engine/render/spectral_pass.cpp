@@ -217,10 +217,11 @@ struct SpectralPass::Impl {
                                   materialStride, "materials");
     }
 
-    void createTargets(Readback mode) {
+    void createTargets(Readback mode, bool sampled) {
         uint32_t w = plan.targetWidth, h = plan.targetHeight, layers = uint32_t(plan.layers);
+        VkImageUsageFlags sampledBit = sampled ? VK_IMAGE_USAGE_SAMPLED_BIT : 0;
         bool tryMap = mode != Readback::Copy &&
-                      vk::supportsLinearRenderTarget(ctx, VK_FORMAT_R32G32B32A32_SFLOAT, w, h, layers);
+                      vk::supportsLinearRenderTarget(ctx, VK_FORMAT_R32G32B32A32_SFLOAT, w, h, layers, sampled);
         if (mode == Readback::Map && !tryMap)
             failRuntime("--readback map: this device cannot render into a linear host-visible {}×{}×{} image",
                         w, h, layers);
@@ -231,7 +232,7 @@ struct SpectralPass::Impl {
         cd.name = "spectral target";
         if (tryMap) {
             cd.tiling = VK_IMAGE_TILING_LINEAR;
-            cd.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT;
+            cd.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | sampledBit;
             cd.hostVisible = true;
             try {
                 color = vk::Image(ctx, cd);
@@ -243,7 +244,7 @@ struct SpectralPass::Impl {
         }
         if (!tryMap) {
             cd.tiling = VK_IMAGE_TILING_OPTIMAL;
-            cd.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+            cd.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | sampledBit;
             cd.hostVisible = false;
             color = vk::Image(ctx, cd);
             plan.mappedReadback = false;
@@ -707,7 +708,7 @@ SpectralPass::SpectralPass(vk::Context& ctx, const Scene& scene, const SceneOnGr
     m.packed = pack(scene, spectra, p.passes);
     m.camera = cameraMatrices(scene.camera, scene);
     m.createBuffers();
-    m.createTargets(options.readback);
+    m.createTargets(options.readback, options.sampled);
     m.createLayouts();
     m.createPasses();
     plan_ = m.plan;
@@ -723,10 +724,25 @@ SpectralCube SpectralPass::render() {
 }
 
 void SpectralPass::render(SpectralCube& cube) {
+    draw();
+    readback(cube);
+}
+
+void SpectralPass::draw() {
     Impl& m = *impl_;
     auto t0 = Clock::now();
     m.ctx.submitAndWait([&](VkCommandBuffer cmd) { m.record(cmd); });
     timings_.shading_ms = msSince(t0);
+}
+
+VkImage SpectralPass::targetImage() const { return impl_->color.handle(); }
+VkImageView SpectralPass::targetArrayView() { return impl_->color.layerView(~0u); }
+VkImageLayout SpectralPass::targetLayout() const {
+    return plan_.mappedReadback ? VK_IMAGE_LAYOUT_GENERAL : VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+}
+
+void SpectralPass::readback(SpectralCube& cube) {
+    Impl& m = *impl_;
     auto t1 = Clock::now();
     if (cube.width != m.scene.camera.width || cube.height != m.scene.camera.height || !(cube.grid == m.grid) ||
         cube.data.size() != size_t(cube.width) * cube.height * cube.bands())

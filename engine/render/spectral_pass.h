@@ -23,6 +23,7 @@ enum class Readback {
 struct SpectralPassOptions {
     int ssaa = 1;  // s×s samples per pixel, box-filtered (1, 2, 3 or 4)
     Readback readback = Readback::Auto;
+    bool sampled = false;  // the target is also read by a later pass (the tonemap pass)
 };
 
 // What this scene needs from the GPU: decided once, before any Vulkan object is made.
@@ -57,11 +58,22 @@ public:
     const SpectralPassPlan& plan() const { return plan_; }
     const SpectralPassTimings& timings() const { return timings_; }
 
-    // Renders every band and returns the cube (W·sr⁻¹·m⁻²·nm⁻¹).
+    // Draws every band into the layered target and waits (no readback).
+    void draw();
+    // Reads the target drawn last into `cube` (reusing its memory when it has the right size).
+    void readback(SpectralCube& cube);
+
+    // Renders every band and returns the cube (W·sr⁻¹·m⁻²·nm⁻¹): draw() + readback().
     SpectralCube render();
     // The same into `cube`, reusing its memory when it already has the right size (repeated
     // frames then pay no allocation; timings_.readback_ms covers the allocation when it happens).
     void render(SpectralCube& cube);
+
+    // The layered target for a later pass (options.sampled): ssaa × camera size, plan().layers
+    // RGBA32F layers, in layout targetLayout() after draw() (and after readback()).
+    VkImage targetImage() const;
+    VkImageView targetArrayView();
+    VkImageLayout targetLayout() const;
 
 private:
     struct Impl;

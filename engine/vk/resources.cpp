@@ -173,14 +173,15 @@ void Image::invalidate() {
 }
 
 bool supportsLinearRenderTarget(const Context& ctx, VkFormat format, uint32_t width, uint32_t height,
-                                uint32_t layers) {
+                                uint32_t layers, bool sampled) {
     VkFormatProperties fp;
     vkGetPhysicalDeviceFormatProperties(ctx.physicalDevice(), format, &fp);
     if (!(fp.linearTilingFeatures & VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BIT)) return false;
+    if (sampled && !(fp.linearTilingFeatures & VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT)) return false;
+    VkImageUsageFlags usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | (sampled ? VK_IMAGE_USAGE_SAMPLED_BIT : 0);
     VkImageFormatProperties ip;
     VkResult r = vkGetPhysicalDeviceImageFormatProperties(
-        ctx.physicalDevice(), format, VK_IMAGE_TYPE_2D, VK_IMAGE_TILING_LINEAR,
-        VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT, 0, &ip);
+        ctx.physicalDevice(), format, VK_IMAGE_TYPE_2D, VK_IMAGE_TILING_LINEAR, usage, 0, &ip);
     if (r != VK_SUCCESS) return false;
     if (ip.maxArrayLayers < layers || ip.maxExtent.width < width || ip.maxExtent.height < height) return false;
     // Host-visible memory must be able to back it.

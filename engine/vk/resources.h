@@ -67,8 +67,8 @@ private:
 };
 
 // Whether the device can render into a LINEAR host-visible 2D-array image of this size (so the
-// cube can be read back by mapping instead of copying).
+// cube can be read back by mapping instead of copying); `sampled` also requires sampling it.
 bool supportsLinearRenderTarget(const Context& ctx, VkFormat format, uint32_t width, uint32_t height,
-                                uint32_t layers);
+                                uint32_t layers, bool sampled = false);
 
 }  // namespace metamer::vk
