@@ -78,8 +78,18 @@ struct Mesh {
     std::string name;               // "objects.2" (+ " (assets/teapot.gltf)")
 };
 
+// The scene's "output" block: how the display path should see the scene. Every field is optional
+// (command-line flags override it); names are checked where they are used, with `where`.
+struct OutputSettings {
+    std::optional<std::string> detector, adaptation, display, integration, xyz;  // xyz: relative|absolute
+    std::optional<int> bits;
+    std::optional<std::vector<std::string>> write;  // of "cube", "png", "xyz", "responses"
+    Where where;                                     // the "output" key
+};
+
 struct Scene {
     std::filesystem::path file;  // the scene file, for messages
+    OutputSettings output;
     Grid grid;
     Camera camera;
     std::vector<Light> lights;

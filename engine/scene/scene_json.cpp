@@ -270,10 +270,11 @@ public:
     Scene load(const Json& doc) {
         Where root{file_.string()};
         asObject(doc, root);
-        checkKeys(doc, root, {"description", "grid", "camera", "lights", "materials", "objects"});
+        checkKeys(doc, root, {"description", "grid", "camera", "lights", "materials", "objects", "output"});
         scene_.file = file_;
         if (const Json* d = find(doc, "description")) string(*d, root.child("description"));
         if (const Json* g = find(doc, "grid")) readGrid(*g, root.child("grid"));
+        if (const Json* o = find(doc, "output")) readOutput(*o, root.child("output"));
         readCamera(require(doc, root, "camera", "an object: projection, position, target, ..."),
                    root.child("camera"));
         if (const Json* l = find(doc, "lights")) {
@@ -308,6 +309,30 @@ private:
         g.step_nm = number(require(v, w, "step_nm", "a step in nm"), w.child("step_nm"));
         g.validate(w);
         scene_.grid = g;
+    }
+
+    // Names (detector, adaptation, display) are checked by the display path, which knows them.
+    void readOutput(const Json& v, const Where& w) {
+        asObject(v, w);
+        checkKeys(v, w, {"detector", "adaptation", "display", "bits", "integration", "xyz", "write"});
+        OutputSettings& o = scene_.output;
+        o.where = w;
+        if (const Json* d = find(v, "detector")) o.detector = string(*d, w.child("detector"));
+        if (const Json* a = find(v, "adaptation")) o.adaptation = string(*a, w.child("adaptation"));
+        if (const Json* d = find(v, "display")) o.display = string(*d, w.child("display"));
+        if (const Json* b = find(v, "bits")) {
+            o.bits = integerIn(*b, w.child("bits"), 8, 16);
+            if (*o.bits != 8 && *o.bits != 16) failInput(w.child("bits"), "must be 8 or 16, got {}", *o.bits);
+        }
+        if (const Json* i = find(v, "integration"))
+            o.integration = choice(*i, w.child("integration"), {"riemann", "trapezoid"});
+        if (const Json* x = find(v, "xyz")) o.xyz = choice(*x, w.child("xyz"), {"relative", "absolute"});
+        if (const Json* wr = find(v, "write")) {
+            const Json& list = asArray(*wr, w.child("write"));
+            o.write.emplace();
+            for (size_t i = 0; i < list.size(); ++i)
+                o.write->push_back(choice(list[i], w.child("write").index(i), {"cube", "png", "xyz", "responses"}));
+        }
     }
 
     void readCamera(const Json& v, const Where& w) {
