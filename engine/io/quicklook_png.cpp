@@ -1,5 +1,7 @@
 #include "io/quicklook_png.h"
 
+#include "io/image_file.h"
+
 #include "color/cie_xyz.h"
 #include "color/srgb.h"
 #include "core/error.h"
@@ -75,24 +77,9 @@ QuickLookReport writeQuickLookPng(const std::filesystem::path& path, const Spect
         "(99th percentile of Y>0, radiometric W.sr^-1.m^-2); grid {}",
         report.yPercentile99 > 0 ? report.yPercentile99 : 1.0, cube.grid.str());
 
-    OIIO::ImageSpec spec(cube.width, cube.height, 3, OIIO::TypeDesc::UINT8);
-    spec.attribute("ImageDescription", report.description);
-    spec.attribute("oiio:ColorSpace", "sRGB");
-    spec.attribute("Software", "metamer");
-
-    AtomicOutput out(path);
-    auto writer = OIIO::ImageOutput::create("png");
-    if (!writer) failRuntime("cannot write '{}': no PNG writer: {}", path.string(), OIIO::geterror());
-    if (!writer->open(out.tempPath().string(), spec))
-        failRuntime("cannot write '{}': {}", path.string(), writer->geterror());
-    bool ok = writer->write_image(OIIO::TypeDesc::UINT8, rgb8.data());
-    std::string err = ok ? "" : writer->geterror();
-    if (!writer->close() && ok) {
-        ok = false;
-        err = writer->geterror();
-    }
-    if (!ok) failRuntime("cannot write '{}': {}", path.string(), err);
-    out.commit();
+    ImageFile file{cube.width, cube.height, {"R", "G", "B"},
+                   {{"ImageDescription", report.description}, {"oiio:ColorSpace", "sRGB"}}};
+    writeImage(path, file, std::vector<uint16_t>(rgb8.begin(), rgb8.end()), 8);
     return report;
 }
 
