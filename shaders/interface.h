@@ -67,7 +67,53 @@ struct SpectralPushConstants {
     vec4 cameraForward;   // xyz: unit view direction (orthographic view vector is -forward)
 };
 
+// ---------------------------------------------------------------------------------------------
+// The tonemap pass (tonemap.frag): one fragment per output pixel reads the spectral target and
+// evaluates the display path of color/tonemap.h.
+#define TONEMAP_BINDING_SPECTRAL 0  // sampler2DArray: the spectral target (texelFetch only)
+#define TONEMAP_BINDING_PARAMS 1    // TonemapParams (uniform)
+#define TONEMAP_BINDING_TABLES 2    // vec4[] (storage): per-layer tables, offsets in TonemapParams
+
+#define TONEMAP_MAX_CHANNELS 8      // detector channels (two RGBA32F response attachments)
+
+// Specialization constants of tonemap.frag.
+#define TONEMAP_SPEC_CHANNELS 0     // detector channels, 1..8
+#define TONEMAP_SPEC_LAYERS 1       // spectral layers (4 bands each)
+#define TONEMAP_SPEC_SSAA 2         // samples per pixel side in the spectral target
+#define TONEMAP_SPEC_MODE 3         // TONEMAP_MODE_*
+#define TONEMAP_SPEC_DISPLAY 4      // TONEMAP_DISPLAY_*
+
+#define TONEMAP_MODE_LINEAR 0
+#define TONEMAP_MODE_FILM 1
+#define TONEMAP_MODE_RESPONSES 2
+#define TONEMAP_DISPLAY_SRGB 0
+#define TONEMAP_DISPLAY_GOG 1
+
+// Colour attachments of the tonemap pass.
+#define TONEMAP_OUT_COUNTS 0      // rgb: digital counts (integers as floats); a: 1 if clipped
+#define TONEMAP_OUT_XYZ 1         // rgb: XYZ × output scale
+#define TONEMAP_OUT_RESPONSES 2   // and 3: detector responses, 4 channels each
+
+struct TonemapParams {
+    vec4 responseToXyz[3];  // rows: relative XYZ = (dot(row0, r), dot(row1, r), dot(row2, r)), r = responses 0..2
+    vec4 adaptation[3];     // rows of the chromatic adaptation matrix
+    vec4 xyzToRgb[3];       // rows of the display's XYZ → linear RGB matrix
+    vec4 blackXyz;          // xyz: display black; w: largest count (2^bits − 1)
+    vec4 gain;              // GOG per channel (xyz)
+    vec4 offset;
+    vec4 gamma;
+    vec4 filmCurve[3];      // per film layer: dMin, dMax, logH0, gamma (color/film.h, FilmCurve)
+    vec4 filmToe;           // xyz: per film layer, the toe/shoulder width (density units)
+    vec4 filmWhite;         // xyz: layer exposures of the reference white; w: 1 / projected clear-film Y
+    vec4 scales;            // x: XYZ output scale; y: 1 / ssaa²
+    uint weightsOffset;     // tables: [channel][layer] detector weights
+    uint dyeOffset;         // tables: [dye][layer] film dye densities (yellow, magenta, cyan)
+    uint baseOffset;        // tables: [layer] film base density
+    uint projectionOffset;  // tables: [X,Y,Z][layer] lamp × colour matching × quadrature weight
+};
+
 #ifdef __cplusplus
+static_assert(sizeof(TonemapParams) == 16 * 19 + 16, "std140 layout");
 static_assert(sizeof(GpuLightBlock) == 16 * MAX_LIGHTS, "std140 layout");
 static_assert(sizeof(GpuLightSpectraBlock) == 16384, "must fit the minimum maxUniformBufferRange");
 static_assert(sizeof(GpuMaterialBlock) == 16 * (3 * MAX_OUTPUTS + 1 + MAX_LIGHTS / 4), "std140 layout");
