@@ -1,0 +1,76 @@
+// Detectors: what turns a spectral radiance into a few channel responses. A human observer (the
+// CIE colour-matching functions), a digital camera (its RGB sensitivities), the three layers of a
+// colour film, or any sensitivity table the user supplies. Johnson & Fairchild (1999, Figure 5)
+// render one scene as seen by a human, a camera and a slide film; this is the first step of each.
+//
+// A detector is linear in the radiance: response_c = Σ_b weights[c][b] · L_b, where the weights
+// already hold the sensitivity resampled onto the grid times the quadrature weight of each band.
+// Everything after that (white balance, characterization, film tone scale) lives elsewhere
+// (camera_characterization.h, film.h). docs/color.md, "Detectors".
+#pragma once
+
+#include "core/error.h"
+#include "spectral/grid.h"
+#include "spectral/library.h"
+
+#include <glm/vec3.hpp>
+
+#include <string>
+#include <vector>
+
+namespace metamer {
+
+// How a band sum approximates ∫ s(λ) L(λ) dλ.
+//   Riemann:   Σ s_b L_b Δλ (what Johnson & Fairchild and the rest of Metamer use: each band
+//              stands for its whole interval, so the sum is the integral of the band averages).
+//   Trapezoid: the same with the first and last band weighted Δλ/2, i.e. the band values taken as
+//              point samples at the band centres and integrated from the first centre to the last.
+//              Exact for a linear integrand; what colour-science's tabulated integration does.
+// A one-band grid has weight Δλ either way (there is no interval between centres to integrate).
+enum class Integration { Riemann, Trapezoid };
+
+// "riemann" / "trapezoid"; anything else is an input error at `where`.
+Integration parseIntegration(const std::string& name, const Where& where);
+const char* integrationName(Integration integration);
+
+// The quadrature weight of each band, in nm.
+std::vector<double> quadratureWeights(const Grid& grid, Integration integration);
+
+enum class DetectorKind { Observer, Camera, Film, Custom };
+
+struct Detector {
+    std::string name;                          // the spec it was made from: "cie1931", "camera:nikon_d5100", ...
+    DetectorKind kind = DetectorKind::Custom;
+    std::vector<std::string> channels;         // "X","Y","Z" / "R","G","B" / "blue","green","red" / CSV header
+    std::vector<std::vector<double>> weights;  // [channel][band]: sensitivity(band) × quadrature weight (nm)
+    std::string units;                         // of a response, for logs and file metadata
+    std::string source;                        // where the sensitivities came from (file or library name)
+    Grid grid;                                 // the grid the weights are on
+    Integration integration = Integration::Riemann;
+};
+
+// Makes a detector on `grid`. Specs:
+//   "cie1931", "cie1964"  the CIE 1931 2° and 1964 10° observers (spectra/observers), X Y Z;
+//                         zero outside 360–830 nm
+//   "camera:<name>"       spectra/cameras/<name>.csv (wavelength_nm,r,g,b), R G B
+//   "film:<name>"         the three layers' sensitivities of spectra/film/<name>.json, blue green red
+//   "csv:<path>"          a user table wavelength_nm,ch1[,ch2...] with 1–8 channels; header names
+//                         become channel names ("ch1"... without a header); the path is absolute or
+//                         relative to the current directory. Zero outside its data (with a warning
+//                         when the data do not reach every band centre of the grid).
+// Library data are band-averaged onto the grid like every other spectrum (docs/physics.md,
+// "Resampling"). An unknown spec is an input error at `where` with a suggestion and the list of
+// known detectors.
+Detector makeDetector(const std::string& spec, const SpectrumLibrary& library, const Grid& grid,
+                      Integration integration, const Where& where);
+
+// Every built-in detector spec, for help text and suggestions: observers, then cameras, then films.
+std::vector<std::string> detectorNames(const SpectrumLibrary& library);
+
+// response_c = Σ_b weights[c][b] · bands[b], for `bands` on detector.grid (grid.bands() values).
+std::vector<double> detectorResponse(const Detector& detector, const double* bands);
+// The same for a 3-channel detector (a runtime error otherwise), from double or float radiance.
+glm::dvec3 detectorResponse3(const Detector& detector, const double* bands);
+glm::dvec3 detectorResponse3(const Detector& detector, const float* bands);
+
+}  // namespace metamer
