@@ -102,6 +102,7 @@ struct TonemapParams {
     vec4 gain;              // GOG per channel (xyz)
     vec4 offset;
     vec4 gamma;
+    vec4 cutoffCounts;      // xyz: counts at or below these show the display's black and are written 0
     vec4 filmCurve[3];      // per film layer: dMin, dMax, logH0, gamma (color/film.h, FilmCurve)
     vec4 filmToe;           // xyz: per film layer, the toe/shoulder width (density units)
     vec4 filmWhite;         // xyz: layer exposures of the reference white; w: 1 / projected clear-film Y
@@ -113,7 +114,7 @@ struct TonemapParams {
 };
 
 #ifdef __cplusplus
-static_assert(sizeof(TonemapParams) == 16 * 19 + 16, "std140 layout");
+static_assert(sizeof(TonemapParams) == 16 * 20 + 16, "std140 layout");
 static_assert(sizeof(GpuLightBlock) == 16 * MAX_LIGHTS, "std140 layout");
 static_assert(sizeof(GpuLightSpectraBlock) == 16384, "must fit the minimum maxUniformBufferRange");
 static_assert(sizeof(GpuMaterialBlock) == 16 * (3 * MAX_OUTPUTS + 1 + MAX_LIGHTS / 4), "std140 layout");

@@ -89,5 +89,7 @@ void main() {
     vec3 v = DISPLAY == TONEMAP_DISPLAY_SRGB ? srgbEncode(rgb)
                                              : (pow(rgb, 1.0 / P.gamma.xyz) - P.offset.xyz) / P.gain.xyz;
     vec3 counts = clamp(floor(v * P.blackXyz.w + 0.5), 0.0, P.blackXyz.w);
+    // Every count below the GOG cutoff shows the same black; write it as 0 (color/display_model.h).
+    counts = mix(counts, vec3(0.0), lessThanEqual(counts, P.cutoffCounts.xyz));
     outCounts = vec4(counts, clipped ? 1.0 : 0.0);
 }
