@@ -7,6 +7,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <csignal>
 #include <cstdio>
 #include <unistd.h>
@@ -24,8 +25,9 @@ extern "C" void onSignal(int sig) {
 
 void printTimings(const RenderJobResult& r) {
     const StageTimings& t = r.timings;
-    std::printf("timings (ms): load %.1f  upload %.1f  shading %.1f  readback %.1f  write %.1f  total %.1f\n",
-                t.load_ms, t.upload_ms, t.shading_ms, t.readback_ms, t.write_ms, t.total_ms);
+    std::printf("timings (ms): load %.1f  upload %.1f  shading %.1f  readback %.1f  tonemap %.1f  write %.1f  "
+                "total %.1f\n",
+                t.load_ms, t.upload_ms, t.shading_ms, t.readback_ms, t.tonemap_ms, t.write_ms, t.total_ms);
     double bandPixels = double(r.width) * r.height * r.grid.bands();
     if (t.frames > 1) {
         std::printf("frames: %d; first frame shading %.1f ms (includes shader compilation); median of the other "
@@ -94,7 +96,20 @@ int main(int argc, char** argv) {
     render->add_option("--readback", readback, "auto, map (linear host-visible image) or copy")
         ->check(CLI::IsMember({"auto", "map", "copy"}))
         ->capture_default_str();
-    render->add_flag("--no-png", noPng, "skip the quick-look PNG");
+    std::string detector, adapt, display, integration, xyz;
+    int bits = 0;
+    std::vector<std::string> write;
+    render->add_option("--detector", detector,
+                       "cie1931, cie1964, camera:<name>, film:<name> or csv:<path> (default: the scene's output "
+                       "block, else cie1931)");
+    render->add_option("--adapt", adapt, "chromatic adaptation: none, vonkries-xyz, vonkries, bradford, cat02, cat16");
+    render->add_option("--display", display, "display model: srgb or crt");
+    render->add_option("--bits", bits, "display counts: 8 or 16 bits")->check(CLI::IsMember({8, 16}));
+    render->add_option("--integration", integration, "riemann (default) or trapezoid");
+    render->add_option("--xyz", xyz, "XYZ output scale: relative (white Y = 100) or absolute (cd/m²)");
+    render->add_option("--write", write, "outputs, comma-separated: cube, png, xyz, responses (default cube,png)")
+        ->delimiter(',');
+    render->add_flag("--no-png", noPng, "skip the display PNG");
     render->add_flag("--timings", timings, "print per-stage timings");
     render->add_option("--frames", job.frames, "render N frames (timing: first frame and median of the rest)")
         ->check(CLI::Range(1, 1000));
@@ -117,16 +132,33 @@ int main(int argc, char** argv) {
         job.backend = backend == "cpu" ? Backend::Cpu : Backend::Gpu;
         job.readback = readback == "map" ? Readback::Map : readback == "copy" ? Readback::Copy : Readback::Auto;
         job.coverage = strictCoverage ? CoveragePolicy::Error : CoveragePolicy::ZeroWithWarning;
-        job.quickLook = !noPng;
+        if (!detector.empty()) job.detector = detector;
+        if (!adapt.empty()) job.adaptation = adapt;
+        if (!display.empty()) job.display = display;
+        if (bits) job.bits = bits;
+        if (!integration.empty()) job.integration = integration;
+        if (!xyz.empty()) job.xyz = xyz;
+        if (!write.empty()) job.write = write;
+        if (noPng) {
+            // --no-png: whatever would be written, but not the PNG.
+            std::vector<std::string> w = job.write ? *job.write : std::vector<std::string>{"cube"};
+            w.erase(std::remove(w.begin(), w.end(), "png"), w.end());
+            job.write = w;
+        }
         if (!gridText.empty()) job.grid = Grid::parse(gridText, Where{"", "--grid"});
 
         RenderJobResult r = runRenderJob(job);
         if (job.verbose) std::printf("%s\n", r.backendDescription.c_str());
-        std::printf("wrote %s (%d×%d px, %d bands %s nm, W·sr⁻¹·m⁻²·nm⁻¹%s)\n", r.cubePath.c_str(), r.width,
-                    r.height, r.grid.bands(), r.grid.str().c_str(), job.half ? ", float16" : ", float32");
+        for (const auto& f : r.written) std::printf("wrote %s (%s)\n", f.path.c_str(), f.what.c_str());
         if (r.clampedToHalf)
             std::printf("note: %zu values beyond the float16 range were clamped to ±65504\n", r.clampedToHalf);
-        if (job.quickLook) std::printf("wrote %s (quick look: CIE 1931 → sRGB, auto exposure)\n", r.pngPath.c_str());
+        if (!r.displayDescription.empty())
+            std::printf("display: %zu of %d pixels clipped (outside the display gamut or range)\n", r.clippedPixels,
+                        r.width * r.height);
+        if (r.cameraFitRmsDeltaE)
+            std::printf("camera characterization: rms ΔE2000 %.2f over the 24 ColorChecker patches\n",
+                        *r.cameraFitRmsDeltaE);
+        for (const auto& n : r.notes) std::printf("note: %s\n", n.c_str());
         if (timings) printTimings(r);
         if (r.validationErrors) {
             std::fprintf(stderr, "metamer: %u Vulkan validation error(s) (see above)\n", r.validationErrors);

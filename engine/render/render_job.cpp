@@ -1,11 +1,15 @@
 #include "render/render_job.h"
 
+#include "io/image_file.h"
 #include "io/quicklook_png.h"
 #include "io/spectral_exr.h"
 #include "reference/cpu_renderer.h"
+#include "render/tonemap_pass.h"
 #include "scene/scene_json.h"
 #include "spectral/library.h"
 #include "vk/context.h"
+
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <chrono>
@@ -23,7 +27,57 @@ double median(std::vector<double> v) {
     size_t n = v.size();
     return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
+
+OutputFiles parseWrite(const std::vector<std::string>& names, const Where& where) {
+    OutputFiles f{false, false, false, false};
+    for (const auto& n : names) {
+        if (n == "cube") f.cube = true;
+        else if (n == "png") f.png = true;
+        else if (n == "xyz") f.xyz = true;
+        else if (n == "responses") f.responses = true;
+        else {
+            std::string near = closestMatch(n, {"cube", "png", "xyz", "responses"});
+            failInput(where, "'{}' is not an output; expected cube, png, xyz or responses{}", n,
+                      near.empty() ? "" : fmt::format(" (did you mean '{}'?)", near));
+        }
+    }
+    return f;
+}
+
+// A file name part for a detector: "camera:nikon_d5100" → "camera-nikon_d5100".
+std::string detectorFileName(const std::string& name) {
+    std::string s = name.rfind("csv:", 0) == 0 ? "csv-" + std::filesystem::path(name.substr(4)).stem().string() : name;
+    std::replace(s.begin(), s.end(), ':', '-');
+    return s;
+}
+
 }  // namespace
+
+TonemapSettings tonemapSettings(const RenderJob& job, const Scene& scene, OutputFiles* files) {
+    const OutputSettings& o = scene.output;
+    Where sceneOut = o.where.file.empty() ? Where{scene.file.string(), "output"} : o.where;
+    TonemapSettings s;
+    if (job.detector) s.detector = *job.detector;
+    else if (o.detector) s.detector = *o.detector;
+    if (job.adaptation) s.adaptation = parseAdaptation(*job.adaptation, Where{"", "--adapt"});
+    else if (o.adaptation) s.adaptation = parseAdaptation(*o.adaptation, sceneOut.child("adaptation"));
+    if (job.display) s.display = *job.display;
+    else if (o.display) s.display = *o.display;
+    if (job.bits) s.bits = *job.bits;
+    else if (o.bits) s.bits = *o.bits;
+    if (job.integration) s.integration = parseIntegration(*job.integration, Where{"", "--integration"});
+    else if (o.integration) s.integration = parseIntegration(*o.integration, sceneOut.child("integration"));
+    std::string xyz = job.xyz ? *job.xyz : o.xyz ? *o.xyz : "relative";
+    if (xyz != "relative" && xyz != "absolute")
+        failInput(Where{"", "--xyz"}, "'{}' is not an XYZ scale; expected relative or absolute", xyz);
+    s.absolute = xyz == "absolute";
+    if (files) {
+        if (job.write) *files = parseWrite(*job.write, Where{"", "--write"});
+        else if (o.write) *files = parseWrite(*o.write, sceneOut.child("write"));
+        else *files = OutputFiles{};
+    }
+    return s;
+}
 
 RenderJobResult runRenderJob(const RenderJob& job) {
     RenderJobResult r;
@@ -34,16 +88,35 @@ RenderJobResult runRenderJob(const RenderJob& job) {
     Scene scene = loadScene(job.scene, library, job.overrides);
     if (job.grid) scene.grid = *job.grid;
     SceneOnGrid spectra = resampleScene(scene, scene.grid, job.coverage);
+    OutputFiles files;
+    TonemapSettings settings = tonemapSettings(job, scene, &files);
+    bool display = files.png || files.xyz || files.responses;
+    std::optional<TonemapPlan> plan;
+    if (display) {
+        // Names given in the scene are reported against the scene's output block.
+        Where sceneOut = scene.output.where.file.empty() ? Where{scene.file.string(), "output"} : scene.output.where;
+        try {
+            plan = makeTonemapPlan(settings, scene, spectra, library);
+        } catch (const Error& e) {
+            bool fromScene = (!job.detector && scene.output.detector && e.where().key == "--detector") ||
+                             (!job.display && scene.output.display && e.where().key == "--display");
+            if (!fromScene) throw;
+            throw Error(e.code(), sceneOut.child(e.where().key == "--detector" ? "detector" : "display"), e.message());
+        }
+        r.displayDescription = plan->description;
+        r.xyzUnits = plan->xyzUnits;
+        if (plan->camera) r.cameraFitRmsDeltaE = plan->camera->rmsDeltaE2000;
+    }
     r.timings.load_ms = msSince(t);
     r.grid = scene.grid;
     r.width = scene.camera.width;
     r.height = scene.camera.height;
-
-    std::string stem = job.scene.stem().string();
-    r.cubePath = job.outDir / (stem + ".exr");
-    r.pngPath = job.outDir / (stem + ".png");
+    bool responsesOnly = plan && plan->mode == TonemapMode::ResponsesOnly;
+    // A custom detector has no display path: its PNG is the CIE 1931 quick look of the cube.
+    bool needCube = files.cube || (files.png && responsesOnly) || job.backend == Backend::Cpu;
 
     SpectralCube cube;
+    DisplayImage image;
     if (job.backend == Backend::Gpu) {
         vk::ContextOptions co = vk::contextOptionsFromEnvironment();
         co.validation = co.validation || job.validation;
@@ -54,16 +127,26 @@ RenderJobResult runRenderJob(const RenderJob& job) {
             SpectralPassOptions po;
             po.ssaa = job.ssaa;
             po.readback = job.readback;
+            po.sampled = display;
             SpectralPass pass(*ctx, scene, spectra, po);
+            std::unique_ptr<TonemapPass> tonemap;
+            if (display) tonemap = std::make_unique<TonemapPass>(*ctx, pass, *plan);
             std::vector<double> shading, readback;
             for (int f = 0; f < std::max(1, job.frames); ++f) {
-                pass.render(cube);
+                pass.draw();
                 shading.push_back(pass.timings().shading_ms);
-                readback.push_back(pass.timings().readback_ms);
+                if (display) image = tonemap->render();
+                if (needCube) {
+                    pass.readback(cube);
+                    readback.push_back(pass.timings().readback_ms);
+                } else {
+                    readback.push_back(0.0);
+                }
             }
             r.timings.upload_ms = pass.timings().upload_ms;
             r.timings.shading_ms = shading[0];
             r.timings.readback_ms = readback[0];
+            r.timings.tonemap_ms = tonemap ? tonemap->lastMs() : 0.0;
             r.timings.frames = int(shading.size());
             r.timings.first_shading_ms = shading[0];
             if (shading.size() > 1) {
@@ -81,19 +164,64 @@ RenderJobResult runRenderJob(const RenderJob& job) {
         ReferenceImage img = renderReference(scene, spectra, ro);
         cube = std::move(img.cube);
         r.timings.shading_ms = msSince(t);
+        if (display) {
+            t = Clock::now();
+            image = tonemapReference(*plan, cube);
+            r.timings.tonemap_ms = msSince(t);
+        }
         r.backendDescription = fmt::format("CPU reference (double precision ray casting), {} bands, ssaa {}",
                                            scene.grid.bands(), job.ssaa);
     }
+    r.clippedPixels = image.clippedPixels;
 
     t = Clock::now();
-    ExrWriteOptions wo;
-    wo.half = job.half;
-    wo.compression = job.compression;
-    wo.extraAttributes = {{"metamer:scene", job.scene.string()},
-                          {"metamer:backend", job.backend == Backend::Gpu ? "gpu" : "cpu"}};
-    ExrWriteReport wr = writeSpectralExr(r.cubePath, cube, wo);
-    r.clampedToHalf = wr.clampedToHalfMax;
-    if (job.quickLook) writeQuickLookPng(r.pngPath, cube, library);
+    std::string stem = job.scene.stem().string();
+    std::vector<std::pair<std::string, std::string>> provenance = {
+        {"metamer:scene", job.scene.string()},
+        {"metamer:backend", job.backend == Backend::Gpu ? "gpu" : "cpu"},
+        {"metamer:grid", scene.grid.str()}};
+    if (files.cube) {
+        ExrWriteOptions wo;
+        wo.half = job.half;
+        wo.compression = job.compression;
+        wo.extraAttributes = provenance;
+        std::filesystem::path p = job.outDir / (stem + ".exr");
+        r.clampedToHalf = writeSpectralExr(p, cube, wo).clampedToHalfMax;
+        r.written.push_back({p, fmt::format("{}×{} px, {} bands {} nm, W·sr⁻¹·m⁻²·nm⁻¹, {}", cube.width, cube.height,
+                                            cube.bands(), scene.grid.str(), job.half ? "float16" : "float32")});
+    }
+    if (files.png) {
+        std::filesystem::path p = job.outDir / (stem + ".png");
+        if (responsesOnly) {
+            writeQuickLookPng(p, cube, library);
+            r.written.push_back({p, fmt::format("quick look, CIE 1931 → sRGB with auto exposure: detector {} has "
+                                                "no display path", plan->detector.name)});
+        } else {
+            ImageFile f{image.width, image.height, {"R", "G", "B"}, provenance};
+            f.attributes.push_back({"ImageDescription", "metamer display image: " + plan->description});
+            writeImage(p, f, image.counts, plan->display.bits);
+            r.written.push_back({p, "display counts: " + plan->description});
+        }
+    }
+    if (files.xyz && !responsesOnly) {
+        std::filesystem::path p = job.outDir / (stem + ".xyz.exr");
+        ImageFile f{image.width, image.height, {"X", "Y", "Z"}, provenance};
+        f.attributes.push_back({"metamer:xyz", plan->xyzUnits});
+        f.attributes.push_back({"metamer:display", plan->description});
+        writeImage(p, f, image.xyz);
+        r.written.push_back({p, "XYZ, " + plan->xyzUnits});
+    } else if (files.xyz) {
+        r.notes.push_back(fmt::format("no XYZ output: detector {} has no colorimetric path", plan->detector.name));
+    }
+    if (files.responses) {
+        std::filesystem::path p = job.outDir / (stem + "." + detectorFileName(plan->detector.name) + ".exr");
+        ImageFile f{image.width, image.height, plan->detector.channels, provenance};
+        f.attributes.push_back({"metamer:detector", plan->detector.name});
+        f.attributes.push_back({"metamer:units", plan->detector.units});
+        writeImage(p, f, image.responses);
+        r.written.push_back({p, fmt::format("{} responses ({}), {}", plan->detector.name,
+                                            fmt::join(plan->detector.channels, ", "), plan->detector.units)});
+    }
     r.timings.write_ms = msSince(t);
     r.timings.total_ms = msSince(start);
     return r;

@@ -1,0 +1,19 @@
+#!/usr/bin/env bash
+# The paper's Figure 5: scenes/imaging-systems.json as seen by a human observer (CIE 1931), a
+# digital camera (Nikon D5100, NPL measured sensitivities) and a colour transparency film (the
+# parametric reversal model of spectra/film), left to right, each shown on an sRGB display after
+# Bradford adaptation to D65. Needs a build (bash ci/build.sh) and oiiotool (openimageio-tools).
+set -euo pipefail
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+metamer="${METAMER:-$here/build/metamer}"
+work="$(mktemp -d)"
+trap 'rm -rf "$work"' EXIT
+images=()
+for detector in cie1931 camera:nikon_d5100 film:reversal; do
+  name="${detector//:/-}"
+  "$metamer" render "$here/scenes/imaging-systems.json" --out "$work/$name" --detector "$detector" \
+    --adapt bradford --display srgb --write png
+  images+=("$work/$name/imaging-systems.png")
+done
+oiiotool "${images[@]}" --mosaic:pad=8 3x1 -o "$here/docs/figures/figure5.png"
+echo "wrote docs/figures/figure5.png (left to right: CIE 1931 observer, Nikon D5100, reversal film)"

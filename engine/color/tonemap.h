@@ -1,0 +1,99 @@
+// The display path as plain data: what the tonemap pass (GPU, render/tonemap_pass) and its CPU
+// reference (color/tonemap_reference) both evaluate, per pixel:
+//
+//   spectral radiance L(λ) ─ detector weights ─► responses r (K channels)
+//     ─► relative XYZ (reference white Y = 1): linear (observer, camera: 3×3) or film (nonlinear)
+//     ─► chromatic adaptation (3×3, scene white → display white)
+//     ─► display model (XYZ → RGB → clip → inverse transfer) ─► digital counts
+//
+// Everything view-independent — detector weights, camera characterization, film tables, the
+// exposure that puts the reference white at Y = 1, the adaptation matrix — is decided here, once,
+// in double precision. docs/color.md describes each step.
+#pragma once
+
+#include "color/adaptation.h"
+#include "color/camera_characterization.h"
+#include "color/detector.h"
+#include "color/display_model.h"
+#include "color/film.h"
+#include "scene/scene.h"
+#include "scene/scene_on_grid.h"
+#include "spectral/cube.h"
+#include "spectral/library.h"
+
+#include <glm/glm.hpp>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace metamer {
+
+// What the user chose (flags or the scene's "output" block).
+struct TonemapSettings {
+    std::string detector = "cie1931";
+    Integration integration = Integration::Riemann;
+    Adaptation adaptation = Adaptation::Bradford;
+    std::string display = "srgb";
+    int bits = 8;
+    bool absolute = false;  // XYZ output in cd/m² (683 lm/W) instead of relative (white Y = 100)
+};
+
+// The scene's reference white: the light that defines "white" for exposure and adaptation.
+struct ReferenceWhite {
+    std::string source;             // "lights.1 (illuminants/D65)"
+    std::vector<double> irradiance; // E(λ) at normal incidence, W·m⁻²·nm⁻¹, per band
+    std::vector<double> radiance;   // of a perfect white diffuser under it: E/π, W·sr⁻¹·m⁻²·nm⁻¹
+};
+
+// The brightest (by CIE 1931 Y) non-ambient light at normal incidence: a directional light's E(λ);
+// a point light's I(λ)/d² at the camera target's distance. With only ambient lights, their sum;
+// with none, an equal-energy white (and a warning).
+ReferenceWhite referenceWhite(const Scene& scene, const SceneOnGrid& spectra, const SpectrumLibrary& library);
+
+enum class TonemapMode {
+    Linear,         // XYZ = responseToXyz · r (observers, cameras)
+    Film,           // XYZ = filmXyz(r)
+    ResponsesOnly,  // a custom detector: no colorimetric path, only the responses are output
+};
+
+struct TonemapPlan {
+    TonemapSettings settings;
+    Grid grid;
+    Detector detector;        // weights [channel][band]
+    TonemapMode mode = TonemapMode::Linear;
+    ReferenceWhite white;
+    glm::dmat3 responseToXyz{1.0};  // Linear: responses → relative XYZ (white Y = 1)
+    std::optional<FilmModel> film;  // Film
+    glm::dvec3 sourceWhiteXyz{0.0}; // relative XYZ of the reference white as the detector sees it
+    glm::dmat3 adaptation{1.0};     // relative XYZ → relative XYZ under the display white
+    DisplayModel display;
+    // Relative XYZ (white Y = 1) × xyzOutputScale = the XYZ written to the XYZ EXR: 100 (relative
+    // colorimetry) or 683·Y_white in cd/m² (absolute; observers only).
+    double xyzOutputScale = 100.0;
+    std::string xyzUnits;           // "relative (reference white Y = 100)" or "cd/m²"
+    std::string description;        // one line for logs and file metadata
+    std::optional<CameraCharacterization> camera;
+};
+
+TonemapPlan makeTonemapPlan(const TonemapSettings& settings, const Scene& scene, const SceneOnGrid& spectra,
+                            const SpectrumLibrary& library);
+
+// What the display path produces, per pixel, row 0 at the top.
+struct DisplayImage {
+    int width = 0, height = 0, channels = 0;
+    std::vector<float> responses;  // channels per pixel, detector units
+    std::vector<float> xyz;        // 3 per pixel, scaled by xyzOutputScale (empty in ResponsesOnly)
+    std::vector<uint16_t> counts;  // 3 per pixel, 0 .. 2^bits − 1 (empty in ResponsesOnly)
+    size_t clippedPixels = 0;      // pixels whose linear display RGB left [0, 1]
+};
+
+// The CPU reference of the tonemap pass, in double precision, on a cube already filtered to
+// pixels.
+DisplayImage tonemapReference(const TonemapPlan& plan, const SpectralCube& cube);
+
+// The per-pixel chain, exposed for tests: relative XYZ (white Y = 1) of one spectrum, before
+// adaptation; responses are written to `responses` (plan.detector.channels.size() values).
+glm::dvec3 relativeXyz(const TonemapPlan& plan, const float* radiance, double* responses);
+
+}  // namespace metamer

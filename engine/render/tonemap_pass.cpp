@@ -1,0 +1,378 @@
+#include "render/tonemap_pass.h"
+
+#include "interface.h"
+#include "vk/resources.h"
+
+#include "tonemap.frag.spv.h"
+#include "tonemap.vert.spv.h"
+
+#include <chrono>
+#include <cstring>
+
+namespace metamer {
+
+namespace {
+
+constexpr uint32_t kAttachments = 4;  // counts, XYZ, responses 0–3, responses 4–7
+
+void setRows(glm::vec4 rows[3], const glm::dmat3& m) {
+    for (int r = 0; r < 3; ++r) rows[r] = glm::vec4(float(m[0][r]), float(m[1][r]), float(m[2][r]), 0.0f);
+}
+
+// Appends per-band values as one vec4 per layer (4 bands), zero past the last band.
+uint32_t appendLayers(std::vector<glm::vec4>& tables, const std::vector<double>& bands, int layers) {
+    uint32_t offset = uint32_t(tables.size());
+    for (int l = 0; l < layers; ++l) {
+        glm::vec4 v(0.0f);
+        for (int c = 0; c < 4; ++c) {
+            size_t b = size_t(l) * 4 + c;
+            if (b < bands.size()) v[c] = float(bands[b]);
+        }
+        tables.push_back(v);
+    }
+    return offset;
+}
+
+VkShaderModule makeShader(VkDevice device, const uint32_t* code, size_t bytes) {
+    VkShaderModuleCreateInfo ci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+    ci.codeSize = bytes;
+    ci.pCode = code;
+    VkShaderModule m;
+    VK_CHECK(vkCreateShaderModule(device, &ci, nullptr, &m));
+    return m;
+}
+
+}  // namespace
+
+struct TonemapPass::Impl {
+    vk::Context& ctx;
+    SpectralPass& source;
+    const TonemapPlan& plan;
+    uint32_t width, height;
+    int layers;
+    vk::Buffer params, tables, readback;
+    vk::Image targets[kAttachments];
+    VkSampler sampler = VK_NULL_HANDLE;
+    VkDescriptorSetLayout setLayout = VK_NULL_HANDLE;
+    VkPipelineLayout pipelineLayout = VK_NULL_HANDLE;
+    VkDescriptorPool pool = VK_NULL_HANDLE;
+    VkDescriptorSet set = VK_NULL_HANDLE;
+    VkRenderPass renderPass = VK_NULL_HANDLE;
+    VkFramebuffer framebuffer = VK_NULL_HANDLE;
+    VkPipeline pipeline = VK_NULL_HANDLE;
+
+    Impl(vk::Context& c, SpectralPass& s, const TonemapPlan& p) : ctx(c), source(s), plan(p) {}
+    ~Impl() {
+        VkDevice d = ctx.device();
+        if (pipeline) vkDestroyPipeline(d, pipeline, nullptr);
+        if (framebuffer) vkDestroyFramebuffer(d, framebuffer, nullptr);
+        if (renderPass) vkDestroyRenderPass(d, renderPass, nullptr);
+        if (pool) vkDestroyDescriptorPool(d, pool, nullptr);
+        if (pipelineLayout) vkDestroyPipelineLayout(d, pipelineLayout, nullptr);
+        if (setLayout) vkDestroyDescriptorSetLayout(d, setLayout, nullptr);
+        if (sampler) vkDestroySampler(d, sampler, nullptr);
+    }
+
+    void createBuffers() {
+        gpu::TonemapParams p{};
+        setRows(p.responseToXyz, plan.responseToXyz);
+        setRows(p.adaptation, plan.adaptation);
+        setRows(p.xyzToRgb, glm::inverse(plan.display.rgbToXyz));
+        p.blackXyz = glm::vec4(glm::vec3(plan.display.blackXyz), float(maxCount(plan.display)));
+        p.gain = glm::vec4(glm::vec3(plan.display.gain), 0.0f);
+        p.offset = glm::vec4(glm::vec3(plan.display.offset), 0.0f);
+        p.gamma = glm::vec4(glm::vec3(plan.display.gamma), 0.0f);
+        p.cutoffCounts = glm::vec4(glm::vec3(cutoffCounts(plan.display)), 0.0f);
+        p.scales = glm::vec4(float(plan.xyzOutputScale), 1.0f / float(source.plan().ssaa * source.plan().ssaa), 0, 0);
+
+        std::vector<glm::vec4> t;
+        p.weightsOffset = uint32_t(t.size());
+        for (const auto& w : plan.detector.weights) appendLayers(t, w, layers);
+        if (plan.film) {
+            const FilmModel& f = *plan.film;
+            for (int i = 0; i < 3; ++i)
+                p.filmCurve[i] = glm::vec4(float(f.curves[i].dMin), float(f.curves[i].dMax), float(f.curves[i].logH0),
+                                           float(f.curves[i].gamma));
+            p.filmToe = glm::vec4(float(f.curves[0].toe), float(f.curves[1].toe), float(f.curves[2].toe), 0.0f);
+            p.filmWhite = glm::vec4(glm::vec3(f.exposureOfWhite), float(1.0 / f.projectedWhiteY));
+            p.dyeOffset = uint32_t(t.size());
+            for (int i = 0; i < 3; ++i) appendLayers(t, f.dyeDensity[i], layers);
+            p.baseOffset = appendLayers(t, f.baseDensity, layers);
+            p.projectionOffset = uint32_t(t.size());
+            for (int i = 0; i < 3; ++i) appendLayers(t, f.projection[i], layers);
+        }
+        if (t.empty()) t.push_back(glm::vec4(0.0f));
+        params = vk::Buffer(ctx, sizeof(p), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, "tonemap params");
+        params.upload(&p, sizeof(p));
+        tables = vk::Buffer(ctx, t.size() * sizeof(glm::vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "tonemap tables");
+        tables.upload(t.data(), t.size() * sizeof(glm::vec4));
+        readback = vk::Buffer(ctx, VkDeviceSize(width) * height * 16 * kAttachments, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                              "tonemap readback");
+    }
+
+    void createTargets() {
+        const char* names[kAttachments] = {"counts", "xyz", "responses 0-3", "responses 4-7"};
+        for (uint32_t i = 0; i < kAttachments; ++i) {
+            vk::ImageDesc d;
+            d.width = width;
+            d.height = height;
+            d.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+            d.name = names[i];
+            targets[i] = vk::Image(ctx, d);
+        }
+    }
+
+    void createPipeline() {
+        VkDevice d = ctx.device();
+        VkSamplerCreateInfo sci{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+        sci.magFilter = sci.minFilter = VK_FILTER_NEAREST;
+        sci.addressModeU = sci.addressModeV = sci.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+        VK_CHECK(vkCreateSampler(d, &sci, nullptr, &sampler));
+
+        VkDescriptorSetLayoutBinding b[3] = {
+            {TONEMAP_BINDING_SPECTRAL, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
+            {TONEMAP_BINDING_PARAMS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
+            {TONEMAP_BINDING_TABLES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
+        };
+        VkDescriptorSetLayoutCreateInfo sl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+        sl.bindingCount = 3;
+        sl.pBindings = b;
+        VK_CHECK(vkCreateDescriptorSetLayout(d, &sl, nullptr, &setLayout));
+        VkPipelineLayoutCreateInfo pl{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+        pl.setLayoutCount = 1;
+        pl.pSetLayouts = &setLayout;
+        VK_CHECK(vkCreatePipelineLayout(d, &pl, nullptr, &pipelineLayout));
+
+        VkDescriptorPoolSize sizes[3] = {{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1},
+                                         {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1},
+                                         {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1}};
+        VkDescriptorPoolCreateInfo pci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+        pci.maxSets = 1;
+        pci.poolSizeCount = 3;
+        pci.pPoolSizes = sizes;
+        VK_CHECK(vkCreateDescriptorPool(d, &pci, nullptr, &pool));
+        VkDescriptorSetAllocateInfo ai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+        ai.descriptorPool = pool;
+        ai.descriptorSetCount = 1;
+        ai.pSetLayouts = &setLayout;
+        VK_CHECK(vkAllocateDescriptorSets(d, &ai, &set));
+        VkDescriptorImageInfo image{sampler, source.targetArrayView(), sampledLayout()};
+        VkDescriptorBufferInfo ubo{params.handle(), 0, VK_WHOLE_SIZE}, ssbo{tables.handle(), 0, VK_WHOLE_SIZE};
+        VkWriteDescriptorSet w[3];
+        for (int i = 0; i < 3; ++i) {
+            w[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+            w[i].dstSet = set;
+            w[i].dstBinding = b[i].binding;
+            w[i].descriptorCount = 1;
+            w[i].descriptorType = b[i].descriptorType;
+        }
+        w[0].pImageInfo = &image;
+        w[1].pBufferInfo = &ubo;
+        w[2].pBufferInfo = &ssbo;
+        vkUpdateDescriptorSets(d, 3, w, 0, nullptr);
+
+        VkAttachmentDescription att[kAttachments];
+        VkAttachmentReference refs[kAttachments];
+        for (uint32_t i = 0; i < kAttachments; ++i) {
+            att[i] = {};
+            att[i].format = VK_FORMAT_R32G32B32A32_SFLOAT;
+            att[i].samples = VK_SAMPLE_COUNT_1_BIT;
+            att[i].loadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;  // every pixel is written
+            att[i].storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+            att[i].stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
+            att[i].stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+            att[i].initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+            att[i].finalLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+            refs[i] = {i, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
+        }
+        VkSubpassDescription sub{};
+        sub.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
+        sub.colorAttachmentCount = kAttachments;
+        sub.pColorAttachments = refs;
+        VkRenderPassCreateInfo rp{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO};
+        rp.attachmentCount = kAttachments;
+        rp.pAttachments = att;
+        rp.subpassCount = 1;
+        rp.pSubpasses = &sub;
+        VK_CHECK(vkCreateRenderPass(d, &rp, nullptr, &renderPass));
+        VkImageView views[kAttachments];
+        for (uint32_t i = 0; i < kAttachments; ++i) views[i] = targets[i].layerView(0);
+        VkFramebufferCreateInfo fb{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
+        fb.renderPass = renderPass;
+        fb.attachmentCount = kAttachments;
+        fb.pAttachments = views;
+        fb.width = width;
+        fb.height = height;
+        fb.layers = 1;
+        VK_CHECK(vkCreateFramebuffer(d, &fb, nullptr, &framebuffer));
+
+        int32_t spec[5] = {int32_t(std::max<size_t>(1, plan.detector.weights.size())), layers, source.plan().ssaa,
+                           plan.mode == TonemapMode::Film      ? TONEMAP_MODE_FILM
+                           : plan.mode == TonemapMode::Linear ? TONEMAP_MODE_LINEAR
+                                                              : TONEMAP_MODE_RESPONSES,
+                           plan.display.kind == DisplayKind::Srgb ? TONEMAP_DISPLAY_SRGB : TONEMAP_DISPLAY_GOG};
+        VkSpecializationMapEntry entries[5];
+        uint32_t ids[5] = {TONEMAP_SPEC_CHANNELS, TONEMAP_SPEC_LAYERS, TONEMAP_SPEC_SSAA, TONEMAP_SPEC_MODE,
+                           TONEMAP_SPEC_DISPLAY};
+        for (int i = 0; i < 5; ++i) entries[i] = {ids[i], uint32_t(i * 4), 4};
+        VkSpecializationInfo si{5, entries, sizeof(spec), spec};
+        VkShaderModule vert = makeShader(d, kSpirv_tonemap_vert, sizeof(kSpirv_tonemap_vert));
+        VkShaderModule frag = makeShader(d, kSpirv_tonemap_frag, sizeof(kSpirv_tonemap_frag));
+        VkPipelineShaderStageCreateInfo stages[2] = {{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO},
+                                                     {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO}};
+        stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
+        stages[0].module = vert;
+        stages[0].pName = "main";
+        stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
+        stages[1].module = frag;
+        stages[1].pName = "main";
+        stages[1].pSpecializationInfo = &si;
+        VkPipelineVertexInputStateCreateInfo vi{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
+        VkPipelineInputAssemblyStateCreateInfo ia{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
+        ia.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+        VkViewport viewport{0, 0, float(width), float(height), 0, 1};
+        VkRect2D scissor{{0, 0}, {width, height}};
+        VkPipelineViewportStateCreateInfo vp{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
+        vp.viewportCount = 1;
+        vp.pViewports = &viewport;
+        vp.scissorCount = 1;
+        vp.pScissors = &scissor;
+        VkPipelineRasterizationStateCreateInfo rs{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
+        rs.polygonMode = VK_POLYGON_MODE_FILL;
+        rs.cullMode = VK_CULL_MODE_NONE;
+        rs.lineWidth = 1.0f;
+        VkPipelineMultisampleStateCreateInfo ms{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
+        ms.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
+        VkPipelineColorBlendAttachmentState blends[kAttachments];
+        for (auto& bl : blends) {
+            bl = {};
+            bl.colorWriteMask = 0xF;
+        }
+        VkPipelineColorBlendStateCreateInfo cb{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
+        cb.attachmentCount = kAttachments;
+        cb.pAttachments = blends;
+        VkGraphicsPipelineCreateInfo gp{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
+        gp.stageCount = 2;
+        gp.pStages = stages;
+        gp.pVertexInputState = &vi;
+        gp.pInputAssemblyState = &ia;
+        gp.pViewportState = &vp;
+        gp.pRasterizationState = &rs;
+        gp.pMultisampleState = &ms;
+        gp.pColorBlendState = &cb;
+        gp.layout = pipelineLayout;
+        gp.renderPass = renderPass;
+        VkResult r = vkCreateGraphicsPipelines(d, VK_NULL_HANDLE, 1, &gp, nullptr, &pipeline);
+        vkDestroyShaderModule(d, vert, nullptr);
+        vkDestroyShaderModule(d, frag, nullptr);
+        VK_CHECK(r);
+    }
+
+    // The spectral target is sampled in GENERAL when it is a mapped linear image (the host may
+    // read it too), else in SHADER_READ_ONLY_OPTIMAL.
+    VkImageLayout sampledLayout() const {
+        return source.targetLayout() == VK_IMAGE_LAYOUT_GENERAL ? VK_IMAGE_LAYOUT_GENERAL
+                                                                : VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
+    }
+
+    void record(VkCommandBuffer cmd) {
+        VkImageMemoryBarrier in{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
+        in.srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT;
+        in.dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
+        in.oldLayout = source.targetLayout();
+        in.newLayout = sampledLayout();
+        in.srcQueueFamilyIndex = in.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+        in.image = source.targetImage();
+        in.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, uint32_t(layers)};
+        vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                             VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT, 0, 0, nullptr, 0, nullptr, 1, &in);
+
+        VkRenderPassBeginInfo rb{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
+        rb.renderPass = renderPass;
+        rb.framebuffer = framebuffer;
+        rb.renderArea = {{0, 0}, {width, height}};
+        vkCmdBeginRenderPass(cmd, &rb, VK_SUBPASS_CONTENTS_INLINE);
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
+        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelineLayout, 0, 1, &set, 0, nullptr);
+        vkCmdDraw(cmd, 3, 1, 0, 0);
+        vkCmdEndRenderPass(cmd);
+
+        for (uint32_t i = 0; i < kAttachments; ++i) {
+            VkBufferImageCopy region{};
+            region.bufferOffset = VkDeviceSize(i) * width * height * 16;
+            region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+            region.imageExtent = {width, height, 1};
+            vkCmdCopyImageToBuffer(cmd, targets[i].handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback.handle(), 1,
+                                   &region);
+        }
+        VkBufferMemoryBarrier out{VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER};
+        out.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+        out.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+        out.srcQueueFamilyIndex = out.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+        out.buffer = readback.handle();
+        out.size = VK_WHOLE_SIZE;
+        vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 0, nullptr, 1, &out, 0,
+                             nullptr);
+        // Hand the spectral target back in the layout the spectral pass left it in.
+        std::swap(in.oldLayout, in.newLayout);
+        in.srcAccessMask = VK_ACCESS_SHADER_READ_BIT;
+        in.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+        vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 0, nullptr, 0,
+                             nullptr, 1, &in);
+    }
+
+    DisplayImage read() {
+        readback.invalidate();
+        const float* base = static_cast<const float*>(readback.mapped());
+        size_t n = size_t(width) * height;
+        DisplayImage img;
+        img.width = int(width);
+        img.height = int(height);
+        img.channels = int(plan.detector.weights.size());
+        img.responses.resize(n * img.channels);
+        const float* counts = base;
+        const float* xyz = base + 4 * n;
+        const float* r0 = base + 8 * n;
+        const float* r1 = base + 12 * n;
+        for (size_t i = 0; i < n; ++i)
+            for (int c = 0; c < img.channels; ++c) img.responses[i * img.channels + c] = c < 4 ? r0[4 * i + c] : r1[4 * i + c - 4];
+        if (plan.mode != TonemapMode::ResponsesOnly) {
+            img.xyz.resize(n * 3);
+            img.counts.resize(n * 3);
+            for (size_t i = 0; i < n; ++i) {
+                for (int c = 0; c < 3; ++c) {
+                    img.xyz[3 * i + c] = xyz[4 * i + c];
+                    img.counts[3 * i + c] = uint16_t(counts[4 * i + c]);
+                }
+                img.clippedPixels += counts[4 * i + 3] > 0.5f;
+            }
+        }
+        return img;
+    }
+};
+
+TonemapPass::TonemapPass(vk::Context& ctx, SpectralPass& source, const TonemapPlan& plan)
+    : impl_(std::make_unique<Impl>(ctx, source, plan)) {
+    if (plan.detector.weights.size() > TONEMAP_MAX_CHANNELS)
+        failInput(Where{"", "--detector"}, "{} channels; the tonemap pass takes at most {}", plan.detector.weights.size(),
+                  TONEMAP_MAX_CHANNELS);
+    Impl& m = *impl_;
+    m.width = source.plan().targetWidth / uint32_t(source.plan().ssaa);
+    m.height = source.plan().targetHeight / uint32_t(source.plan().ssaa);
+    m.layers = source.plan().layers;
+    m.createBuffers();
+    m.createTargets();
+    m.createPipeline();
+}
+
+TonemapPass::~TonemapPass() = default;
+
+DisplayImage TonemapPass::render() {
+    auto t0 = std::chrono::steady_clock::now();
+    impl_->ctx.submitAndWait([&](VkCommandBuffer cmd) { impl_->record(cmd); });
+    DisplayImage img = impl_->read();
+    lastMs_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    return img;
+}
+
+}  // namespace metamer

@@ -1,0 +1,32 @@
+// The GPU tonemap pass: reads the spectral pass's layered target and evaluates the display path
+// (color/tonemap.h) per output pixel: detector responses, XYZ, adapted display counts. Shared by
+// `metamer render` and the preview window; checked against color/tonemap_reference.
+#pragma once
+
+#include "color/tonemap.h"
+#include "render/spectral_pass.h"
+#include "vk/context.h"
+
+#include <memory>
+
+namespace metamer {
+
+class TonemapPass {
+public:
+    // `source` must have been made with SpectralPassOptions::sampled = true and outlive this.
+    TonemapPass(vk::Context& ctx, SpectralPass& source, const TonemapPlan& plan);
+    ~TonemapPass();
+    TonemapPass(const TonemapPass&) = delete;
+    TonemapPass& operator=(const TonemapPass&) = delete;
+
+    // Runs the pass on what source.draw() drew last, waits, and reads the outputs back.
+    DisplayImage render();
+    double lastMs() const { return lastMs_; }
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+    double lastMs_ = 0;
+};
+
+}  // namespace metamer
