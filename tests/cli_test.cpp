@@ -135,3 +135,64 @@ TEST(Cli, FailedRenderLeavesThePreviousCubeIntact) {
     EXPECT_EQ(read(out / "small.exr"), before);
     EXPECT_EQ(std::distance(fs::directory_iterator(out), fs::directory_iterator()), 1);
 }
+
+TEST(Cli, DisplayPathWritesPngXyzAndResponses) {
+    fs::path out = freshDir("display");
+    CliRun r = run("render " + kScene + " --out " + out.string() +
+                   " --detector camera:nikon_d5100 --adapt cat16 --display crt --bits 16 --write png,xyz,responses");
+    ASSERT_EQ(r.code, 0) << r.output;
+    EXPECT_NE(r.output.find("camera characterization: rms ΔE2000"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(out / "small.exr"));  // not asked for
+    auto png = OIIO::ImageInput::open((out / "small.png").string());
+    ASSERT_TRUE(png);
+    EXPECT_EQ(png->spec().format, OIIO::TypeDesc::UINT16);
+    EXPECT_NE(png->spec().get_string_attribute("ImageDescription").find("adaptation cat16"), std::string::npos);
+    png->close();
+    auto xyz = OIIO::ImageInput::open((out / "small.xyz.exr").string());
+    ASSERT_TRUE(xyz);
+    EXPECT_EQ(xyz->spec().channelnames, (std::vector<std::string>{"X", "Y", "Z"}));
+    EXPECT_NE(xyz->spec().get_string_attribute("metamer:xyz").find("Y = 100"), std::string::npos);
+    xyz->close();
+    auto resp = OIIO::ImageInput::open((out / "small.camera-nikon_d5100.exr").string());
+    ASSERT_TRUE(resp);
+    EXPECT_EQ(resp->spec().nchannels, 3);
+    resp->close();
+}
+
+TEST(Cli, CustomCsvDetectorWritesItsChannels) {
+    fs::path out = freshDir("csvdetector");
+    fs::create_directories(out);
+    {
+        std::ofstream f(out / "uv.csv");
+        f << "wavelength_nm,uva,blue\n300,1,0\n400,1,0\n401,0,1\n500,0,1\n";
+    }
+    CliRun r = run("render " + kScene + " --out " + out.string() + " --detector csv:" + (out / "uv.csv").string() +
+                   " --write responses,png");
+    ASSERT_EQ(r.code, 0) << r.output;
+    auto resp = OIIO::ImageInput::open((out / "small.csv-uv.exr").string());
+    ASSERT_TRUE(resp) << r.output;
+    // OpenEXR stores channels sorted by name.
+    EXPECT_EQ(resp->spec().channelnames, (std::vector<std::string>{"blue", "uva"}));
+    resp->close();
+    EXPECT_NE(r.output.find("has no display path"), std::string::npos) << r.output;
+}
+
+TEST(Cli, DisplayPathErrorsNameTheFlagOrTheSceneKey) {
+    CliRun adapt = run("render " + kScene + " --adapt bradfrod --out " + freshDir("adapt").string());
+    EXPECT_EQ(adapt.code, 2) << adapt.output;
+    EXPECT_NE(adapt.output.find("--adapt"), std::string::npos) << adapt.output;
+    EXPECT_NE(adapt.output.find("bradford"), std::string::npos) << adapt.output;
+
+    CliRun detector = run("render " + kScene + " --detector camera:nikon --out " + freshDir("det").string());
+    EXPECT_EQ(detector.code, 2) << detector.output;
+    EXPECT_NE(detector.output.find("--detector"), std::string::npos) << detector.output;
+
+    CliRun scene = run("render " + kScene + " --set output={\\\"detector\\\":\\\"cie1913\\\"} --out " +
+                       freshDir("scenedet").string());
+    EXPECT_EQ(scene.code, 2) << scene.output;
+    EXPECT_NE(scene.output.find("small.json: output.detector"), std::string::npos) << scene.output;
+
+    CliRun absolute = run("render " + kScene + " --detector cie1964 --xyz absolute --out " + freshDir("abs").string());
+    EXPECT_EQ(absolute.code, 2) << absolute.output;
+    EXPECT_NE(absolute.output.find("CIE 1931"), std::string::npos) << absolute.output;
+}
