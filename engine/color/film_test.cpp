@@ -169,6 +169,7 @@ TEST(Film, MidGreyFallsOnTheStraightPart) {
     glm::dvec3 xyz = filmXyz(f, grey.data());
     EXPECT_GT(-std::log10(xyz.y), 0.7);  // the slide's higher contrast: darker than the 0.2 it was
     EXPECT_LT(-std::log10(xyz.y), 1.3);
+    std::printf("    18%% grey: D = %.3f %.3f %.3f, Y = %.3f of the clear film\n", d[0], d[1], d[2], xyz.y);
 }
 
 TEST(Film, LessLightMeansMoreDensity) {
@@ -200,6 +201,8 @@ TEST(Film, BlackGivesDMax) {
     glm::dvec3 xyz = filmXyz(f, black.data());
     EXPECT_GT(xyz.y, 0.0);  // a real slide's Dmax still passes a little light
     EXPECT_GT(-std::log10(xyz.y), 2.9);
+    std::printf("    black: Y = %.2e of the clear film (density %.2f), xy %.3f %.3f\n", xyz.y, -std::log10(xyz.y),
+                chromaticity(xyz).x, chromaticity(xyz).y);
     // A very deep shadow is within 0.01 of it.
     glm::dvec3 deep = filmDensitiesFromExposures(f, filmExposures(f, scaled(whiteRadiance("D65"), 1e-4).data()));
     for (int i = 0; i < 3; ++i) EXPECT_NEAR(deep[i], f.curves[i].dMax, 0.01);
