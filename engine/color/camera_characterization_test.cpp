@@ -6,7 +6,10 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <cstdlib>
+#include <fstream>
 #include <map>
+#include <sstream>
 
 using namespace metamer;
 
@@ -166,4 +169,33 @@ TEST(Camera, NeedsThreeChannelsAndSomeLight) {
     } catch (const Error& e) {
         EXPECT_EQ(e.code(), ExitCode::BadInput);
     }
+}
+
+TEST(Camera, MatchesTheIndependentNumpyAndColourScienceFit) {
+    // tests/reference/make_detector_reference.py: gains, matrix (numpy lstsq / a KKT solve) and
+    // ΔE2000 from colour-science, for three cameras, two lights and both fits.
+    std::ifstream in(std::string(METAMER_TEST_DATA_DIR) + "/color/detectors/camera_reference.csv");
+    ASSERT_TRUE(in.good());
+    std::string line;
+    std::getline(in, line);
+    int rows = 0;
+    while (std::getline(in, line)) {
+        std::stringstream ss(line);
+        std::vector<std::string> f;
+        for (std::string field; std::getline(ss, field, ',');) f.push_back(field);
+        ASSERT_EQ(f.size(), 17u) << line;
+        SCOPED_TRACE(f[0] + " " + f[1] + " " + f[2]);
+        std::vector<double> v;
+        for (size_t i = 3; i < f.size(); ++i) v.push_back(std::strtod(f[i].c_str(), nullptr));
+        Detector cam = makeDetector("camera:" + f[0], library(), kGrid, Integration::Riemann, Where{});
+        CameraFit fit = f[2] == "least_squares" ? CameraFit::LeastSquares : CameraFit::WhitePreserving;
+        CameraCharacterization c = characterizeCamera(cam, illuminant(f[1]), library(), kGrid, Integration::Riemann, fit);
+        for (int i = 0; i < 3; ++i) EXPECT_NEAR(c.whiteBalance[i], v[i], 1e-12 * v[i]);
+        for (int row = 0; row < 3; ++row)
+            for (int col = 0; col < 3; ++col) EXPECT_NEAR(c.rawToXyz[col][row], v[3 + 3 * row + col], 1e-9);
+        EXPECT_NEAR(c.rmsDeltaE2000, v[12], 1e-6);
+        EXPECT_NEAR(c.maxDeltaE2000, v[13], 1e-6);
+        ++rows;
+    }
+    EXPECT_EQ(rows, 12);
 }

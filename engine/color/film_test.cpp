@@ -6,7 +6,11 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <fstream>
 #include <limits>
+#include <map>
+#include <sstream>
 
 using namespace metamer;
 
@@ -284,4 +288,38 @@ TEST(Film, ErrorsNameTheFilmOrTheGrid) {
         EXPECT_NE(std::string(e.what()).find("900:1500:10"), std::string::npos) << e.what();
         EXPECT_NE(std::string(e.what()).find("reversal.json"), std::string::npos) << e.what();
     }
+}
+
+TEST(Film, MatchesTheIndependentPythonModel) {
+    // tests/reference/make_detector_reference.py evaluates the documented chain with numpy from
+    // the same JSON and tables: 24 patches, the perfect white and black under D65 and A.
+    std::ifstream in(std::string(METAMER_TEST_DATA_DIR) + "/color/detectors/film_reference.csv");
+    ASSERT_TRUE(in.good());
+    std::string line;
+    std::getline(in, line);
+    ASSERT_EQ(line, "illuminant,patch,X,Y,Z");
+    std::map<std::string, FilmModel> films;
+    int rows = 0;
+    while (std::getline(in, line)) {
+        std::stringstream ss(line);
+        std::vector<std::string> f;
+        for (std::string field; std::getline(ss, field, ',');) f.push_back(field);
+        ASSERT_EQ(f.size(), 5u) << line;
+        SCOPED_TRACE(f[0] + " " + f[1]);
+        if (!films.count(f[0])) films.emplace(f[0], reversal(f[0]));
+        std::vector<double> l = whiteRadiance(f[0]);
+        if (f[1] == "black") {
+            l.assign(l.size(), 0.0);
+        } else if (f[1] != "perfect_white") {
+            std::vector<double> rho = resample(library().get("colorchecker/" + f[1], Where{}), kGrid);
+            for (size_t b = 0; b < l.size(); ++b) l[b] *= rho[b];
+        }
+        glm::dvec3 xyz = filmXyz(films.at(f[0]), l.data());
+        for (int c = 0; c < 3; ++c) {
+            double expected = std::strtod(f[2 + c].c_str(), nullptr);
+            EXPECT_NEAR(xyz[c], expected, 1e-10 * (1.0 + expected));
+        }
+        ++rows;
+    }
+    EXPECT_EQ(rows, 52);
 }
