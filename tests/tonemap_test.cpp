@@ -156,7 +156,7 @@ TEST(Tonemap, PerfectWhiteUnderTheReferenceLightHasY100) {
     EXPECT_GT(a.xyz[1], a2.xyz[1]);
 }
 
-TEST(Tonemap, DISABLED_RenderedColorCheckerMatchesColourScience) {
+TEST(Tonemap, RenderedColorCheckerMatchesColourScience) {
     // tests/data/color/colorchecker_reference.csv: colour-science on the grid 300:740:5 with our
     // band averaging and Riemann sums; XYZ relative to the perfect diffuser (Y = 100), L*a*b*,
     // and sRGB counts after Bradford adaptation to D65.
