@@ -2,6 +2,7 @@
 
 #include "interface.h"
 #include "render/camera_matrices.h"
+#include "vk/pipeline.h"
 
 #include "spectral.frag.1.spv.h"
 #include "spectral.frag.2.spv.h"
@@ -129,14 +130,6 @@ const SpirvCode kSpectralFrag[MAX_OUTPUTS] = {
     {kSpirv_spectral_frag_7, sizeof(kSpirv_spectral_frag_7)}, {kSpirv_spectral_frag_8, sizeof(kSpirv_spectral_frag_8)},
 };
 
-VkShaderModule makeShader(VkDevice device, const uint32_t* code, size_t bytes) {
-    VkShaderModuleCreateInfo ci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-    ci.codeSize = bytes;
-    ci.pCode = code;
-    VkShaderModule m;
-    VK_CHECK(vkCreateShaderModule(device, &ci, nullptr, &m));
-    return m;
-}
 
 }  // namespace
 
@@ -305,7 +298,7 @@ struct SpectralPass::Impl {
         }
         vkUpdateDescriptorSets(d, 3, writes, 0, nullptr);
 
-        vert = makeShader(d, kSpirv_spectral_vert, sizeof(kSpirv_spectral_vert));
+        vert = vk::createShaderModule(d, kSpirv_spectral_vert, sizeof(kSpirv_spectral_vert));
     }
 
     // attachments == 0: the depth pre-pass (clears and writes depth). Otherwise a colour pass that
@@ -385,73 +378,31 @@ struct SpectralPass::Impl {
         VkShaderModule frag = VK_NULL_HANDLE;
         if (!prePass) {
             const SpirvCode& fragCode = kSpectralFrag[attachments - 1];
-            frag = makeShader(ctx.device(), fragCode.code, fragCode.bytes);
+            frag = vk::createShaderModule(ctx.device(), fragCode.code, fragCode.bytes);
         }
-        VkPipelineShaderStageCreateInfo stages[2] = {{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO},
-                                                     {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO}};
-        stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
-        stages[0].module = vert;
-        stages[0].pName = "main";
-        stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
-        stages[1].module = frag;
-        stages[1].pName = "main";
-        stages[1].pSpecializationInfo = &si;
-
-        VkVertexInputBindingDescription binding{0, 6 * sizeof(float), VK_VERTEX_INPUT_RATE_VERTEX};
-        VkVertexInputAttributeDescription attrs[2] = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0},
-                                                      {1, 0, VK_FORMAT_R32G32B32_SFLOAT, 3 * sizeof(float)}};
-        VkPipelineVertexInputStateCreateInfo vi{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
-        vi.vertexBindingDescriptionCount = 1;
-        vi.pVertexBindingDescriptions = &binding;
-        vi.vertexAttributeDescriptionCount = 2;
-        vi.pVertexAttributeDescriptions = attrs;
-        VkPipelineInputAssemblyStateCreateInfo ia{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
-        ia.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
-        VkViewport viewport{0, 0, float(plan.targetWidth), float(plan.targetHeight), 0, 1};
-        VkRect2D scissor{{0, 0}, {plan.targetWidth, plan.targetHeight}};
-        VkPipelineViewportStateCreateInfo vp{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
-        vp.viewportCount = 1;
-        vp.pViewports = &viewport;
-        vp.scissorCount = 1;
-        vp.pScissors = &scissor;
-        VkPipelineRasterizationStateCreateInfo rs{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
-        rs.polygonMode = VK_POLYGON_MODE_FILL;
-        rs.cullMode = VK_CULL_MODE_NONE;  // two-sided shading: back faces are visible
-        // Front faces are counter-clockwise seen from their normal side (scene/scene.h). Vulkan
-        // judges winding in y-down framebuffer space; the projection's y flip cancels that.
-        rs.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
-        rs.lineWidth = 1.0f;
-        VkPipelineMultisampleStateCreateInfo ms{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
-        ms.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
-        VkPipelineDepthStencilStateCreateInfo ds{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
-        ds.depthTestEnable = VK_TRUE;
-        ds.depthWriteEnable = prePass ? VK_TRUE : VK_FALSE;
+        vk::GraphicsPipelineDesc d;
+        d.renderPass = renderPass;
+        d.layout = pipelineLayout;
+        d.vertex = vert;
+        d.fragment = frag;
+        d.fragmentSpecialization = &si;
+        d.bindings = {{0, 6 * sizeof(float), VK_VERTEX_INPUT_RATE_VERTEX}};
+        d.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}, {1, 0, VK_FORMAT_R32G32B32_SFLOAT, 3 * sizeof(float)}};
+        d.width = plan.targetWidth;
+        d.height = plan.targetHeight;
+        d.colorAttachments = attachments;
+        d.depthTest = true;
+        d.depthWrite = prePass;
         // Same vertex shader (gl_Position is invariant) → the same depth in every pass.
-        ds.depthCompareOp = prePass ? VK_COMPARE_OP_LESS : VK_COMPARE_OP_EQUAL;
-        std::vector<VkPipelineColorBlendAttachmentState> blends(attachments);
-        for (auto& b : blends) {
-            b = {};
-            b.colorWriteMask = 0xF;
+        d.depthCompare = prePass ? VK_COMPARE_OP_LESS : VK_COMPARE_OP_EQUAL;
+        VkPipeline p = VK_NULL_HANDLE;
+        try {
+            p = vk::createGraphicsPipeline(ctx.device(), d);
+        } catch (...) {
+            if (frag) vkDestroyShaderModule(ctx.device(), frag, nullptr);
+            throw;
         }
-        VkPipelineColorBlendStateCreateInfo cb{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
-        cb.attachmentCount = attachments;
-        cb.pAttachments = blends.data();
-        VkGraphicsPipelineCreateInfo gp{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
-        gp.stageCount = prePass ? 1 : 2;
-        gp.pStages = stages;
-        gp.pVertexInputState = &vi;
-        gp.pInputAssemblyState = &ia;
-        gp.pViewportState = &vp;
-        gp.pRasterizationState = &rs;
-        gp.pMultisampleState = &ms;
-        gp.pDepthStencilState = &ds;
-        gp.pColorBlendState = &cb;
-        gp.layout = pipelineLayout;
-        gp.renderPass = renderPass;
-        VkPipeline p;
-        VkResult r = vkCreateGraphicsPipelines(ctx.device(), VK_NULL_HANDLE, 1, &gp, nullptr, &p);
         if (frag) vkDestroyShaderModule(ctx.device(), frag, nullptr);  // the pipeline keeps what it needs
-        VK_CHECK(r);
         return p;
     }
 

@@ -1,6 +1,7 @@
 #include "render/tonemap_pass.h"
 
 #include "interface.h"
+#include "vk/pipeline.h"
 #include "vk/resources.h"
 
 #include "tonemap.frag.spv.h"
@@ -33,14 +34,6 @@ uint32_t appendLayers(std::vector<glm::vec4>& tables, const std::vector<double>&
     return offset;
 }
 
-VkShaderModule makeShader(VkDevice device, const uint32_t* code, size_t bytes) {
-    VkShaderModuleCreateInfo ci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-    ci.codeSize = bytes;
-    ci.pCode = code;
-    VkShaderModule m;
-    VK_CHECK(vkCreateShaderModule(device, &ci, nullptr, &m));
-    return m;
-}
 
 }  // namespace
 
@@ -216,56 +209,26 @@ struct TonemapPass::Impl {
                            TONEMAP_SPEC_DISPLAY};
         for (int i = 0; i < 5; ++i) entries[i] = {ids[i], uint32_t(i * 4), 4};
         VkSpecializationInfo si{5, entries, sizeof(spec), spec};
-        VkShaderModule vert = makeShader(d, kSpirv_tonemap_vert, sizeof(kSpirv_tonemap_vert));
-        VkShaderModule frag = makeShader(d, kSpirv_tonemap_frag, sizeof(kSpirv_tonemap_frag));
-        VkPipelineShaderStageCreateInfo stages[2] = {{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO},
-                                                     {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO}};
-        stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
-        stages[0].module = vert;
-        stages[0].pName = "main";
-        stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
-        stages[1].module = frag;
-        stages[1].pName = "main";
-        stages[1].pSpecializationInfo = &si;
-        VkPipelineVertexInputStateCreateInfo vi{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
-        VkPipelineInputAssemblyStateCreateInfo ia{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
-        ia.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
-        VkViewport viewport{0, 0, float(width), float(height), 0, 1};
-        VkRect2D scissor{{0, 0}, {width, height}};
-        VkPipelineViewportStateCreateInfo vp{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
-        vp.viewportCount = 1;
-        vp.pViewports = &viewport;
-        vp.scissorCount = 1;
-        vp.pScissors = &scissor;
-        VkPipelineRasterizationStateCreateInfo rs{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
-        rs.polygonMode = VK_POLYGON_MODE_FILL;
-        rs.cullMode = VK_CULL_MODE_NONE;
-        rs.lineWidth = 1.0f;
-        VkPipelineMultisampleStateCreateInfo ms{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
-        ms.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
-        VkPipelineColorBlendAttachmentState blends[kAttachments];
-        for (auto& bl : blends) {
-            bl = {};
-            bl.colorWriteMask = 0xF;
+        VkShaderModule vert = vk::createShaderModule(d, kSpirv_tonemap_vert, sizeof(kSpirv_tonemap_vert));
+        VkShaderModule frag = vk::createShaderModule(d, kSpirv_tonemap_frag, sizeof(kSpirv_tonemap_frag));
+        vk::GraphicsPipelineDesc desc;
+        desc.renderPass = renderPass;
+        desc.layout = pipelineLayout;
+        desc.vertex = vert;
+        desc.fragment = frag;
+        desc.fragmentSpecialization = &si;
+        desc.width = width;
+        desc.height = height;
+        desc.colorAttachments = kAttachments;
+        try {
+            pipeline = vk::createGraphicsPipeline(d, desc);
+        } catch (...) {
+            vkDestroyShaderModule(d, vert, nullptr);
+            vkDestroyShaderModule(d, frag, nullptr);
+            throw;
         }
-        VkPipelineColorBlendStateCreateInfo cb{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
-        cb.attachmentCount = kAttachments;
-        cb.pAttachments = blends;
-        VkGraphicsPipelineCreateInfo gp{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
-        gp.stageCount = 2;
-        gp.pStages = stages;
-        gp.pVertexInputState = &vi;
-        gp.pInputAssemblyState = &ia;
-        gp.pViewportState = &vp;
-        gp.pRasterizationState = &rs;
-        gp.pMultisampleState = &ms;
-        gp.pColorBlendState = &cb;
-        gp.layout = pipelineLayout;
-        gp.renderPass = renderPass;
-        VkResult r = vkCreateGraphicsPipelines(d, VK_NULL_HANDLE, 1, &gp, nullptr, &pipeline);
         vkDestroyShaderModule(d, vert, nullptr);
         vkDestroyShaderModule(d, frag, nullptr);
-        VK_CHECK(r);
     }
 
     // The spectral target is sampled in GENERAL when it is a mapped linear image (the host may

@@ -1,0 +1,76 @@
+#include "vk/pipeline.h"
+
+namespace metamer::vk {
+
+VkShaderModule createShaderModule(VkDevice device, const uint32_t* code, size_t bytes) {
+    VkShaderModuleCreateInfo ci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+    ci.codeSize = bytes;
+    ci.pCode = code;
+    VkShaderModule m;
+    VK_CHECK(vkCreateShaderModule(device, &ci, nullptr, &m));
+    return m;
+}
+
+VkPipeline createGraphicsPipeline(VkDevice device, const GraphicsPipelineDesc& d) {
+    VkPipelineShaderStageCreateInfo stages[2] = {{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO},
+                                                 {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO}};
+    stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
+    stages[0].module = d.vertex;
+    stages[0].pName = "main";
+    stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
+    stages[1].module = d.fragment;
+    stages[1].pName = "main";
+    stages[1].pSpecializationInfo = d.fragmentSpecialization;
+
+    VkPipelineVertexInputStateCreateInfo vi{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
+    vi.vertexBindingDescriptionCount = uint32_t(d.bindings.size());
+    vi.pVertexBindingDescriptions = d.bindings.data();
+    vi.vertexAttributeDescriptionCount = uint32_t(d.attributes.size());
+    vi.pVertexAttributeDescriptions = d.attributes.data();
+    VkPipelineInputAssemblyStateCreateInfo ia{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
+    ia.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+    VkViewport viewport{0, 0, float(d.width), float(d.height), 0, 1};
+    VkRect2D scissor{{0, 0}, {d.width, d.height}};
+    VkPipelineViewportStateCreateInfo vp{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
+    vp.viewportCount = 1;
+    vp.pViewports = &viewport;
+    vp.scissorCount = 1;
+    vp.pScissors = &scissor;
+    VkPipelineRasterizationStateCreateInfo rs{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
+    rs.polygonMode = VK_POLYGON_MODE_FILL;
+    rs.cullMode = VK_CULL_MODE_NONE;  // two-sided shading: back faces are visible
+    rs.frontFace = d.frontFace;
+    rs.lineWidth = 1.0f;
+    VkPipelineMultisampleStateCreateInfo ms{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
+    ms.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
+    VkPipelineDepthStencilStateCreateInfo ds{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
+    ds.depthTestEnable = d.depthTest;
+    ds.depthWriteEnable = d.depthWrite;
+    ds.depthCompareOp = d.depthCompare;
+    std::vector<VkPipelineColorBlendAttachmentState> blends(d.colorAttachments);
+    for (auto& b : blends) {
+        b = {};
+        b.colorWriteMask = 0xF;
+    }
+    VkPipelineColorBlendStateCreateInfo cb{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
+    cb.attachmentCount = d.colorAttachments;
+    cb.pAttachments = blends.data();
+
+    VkGraphicsPipelineCreateInfo gp{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
+    gp.stageCount = d.fragment ? 2 : 1;
+    gp.pStages = stages;
+    gp.pVertexInputState = &vi;
+    gp.pInputAssemblyState = &ia;
+    gp.pViewportState = &vp;
+    gp.pRasterizationState = &rs;
+    gp.pMultisampleState = &ms;
+    gp.pDepthStencilState = d.depthTest ? &ds : nullptr;
+    gp.pColorBlendState = &cb;
+    gp.layout = d.layout;
+    gp.renderPass = d.renderPass;
+    VkPipeline p;
+    VK_CHECK(vkCreateGraphicsPipelines(device, VK_NULL_HANDLE, 1, &gp, nullptr, &p));
+    return p;
+}
+
+}  // namespace metamer::vk

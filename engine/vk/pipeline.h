@@ -1,0 +1,32 @@
+// Graphics pipelines with the state every Metamer pass shares: fixed viewport, no culling (two-
+// sided surfaces), no blending, one sample. Each pass states only what differs.
+#pragma once
+
+#include "vk/check.h"
+
+#include <vector>
+
+namespace metamer::vk {
+
+VkShaderModule createShaderModule(VkDevice device, const uint32_t* code, size_t bytes);
+
+struct GraphicsPipelineDesc {
+    VkRenderPass renderPass = VK_NULL_HANDLE;
+    VkPipelineLayout layout = VK_NULL_HANDLE;
+    VkShaderModule vertex = VK_NULL_HANDLE;
+    VkShaderModule fragment = VK_NULL_HANDLE;  // none: a depth-only pipeline
+    const VkSpecializationInfo* fragmentSpecialization = nullptr;
+    std::vector<VkVertexInputBindingDescription> bindings;
+    std::vector<VkVertexInputAttributeDescription> attributes;
+    uint32_t width = 0, height = 0;
+    uint32_t colorAttachments = 0;
+    bool depthTest = false, depthWrite = false;
+    VkCompareOp depthCompare = VK_COMPARE_OP_LESS;
+    // Front faces are counter-clockwise seen from their normal side (scene/scene.h). Vulkan
+    // judges winding in y-down framebuffer space; the projections' y flip cancels that.
+    VkFrontFace frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
+};
+
+VkPipeline createGraphicsPipeline(VkDevice device, const GraphicsPipelineDesc& desc);
+
+}  // namespace metamer::vk
