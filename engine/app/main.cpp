@@ -107,7 +107,7 @@ int main(int argc, char** argv) {
     render->add_option("--bits", bits, "display counts: 8 or 16 bits")->check(CLI::IsMember({8, 16}));
     render->add_option("--integration", integration, "riemann (default) or trapezoid");
     render->add_option("--xyz", xyz, "XYZ output scale: relative (white Y = 100) or absolute (cd/m²)");
-    render->add_option("--write", write, "outputs, comma-separated: cube, png, xyz, responses (default cube,png)")
+    render->add_option("--write", write, "outputs, comma-separated: cube, png, xyz, responses, edges (default cube,png)")
         ->delimiter(',');
     render->add_flag("--no-png", noPng, "skip the display PNG");
     render->add_flag("--timings", timings, "print per-stage timings");

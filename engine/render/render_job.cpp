@@ -29,15 +29,16 @@ double median(std::vector<double> v) {
 }
 
 OutputFiles parseWrite(const std::vector<std::string>& names, const Where& where) {
-    OutputFiles f{false, false, false, false};
+    OutputFiles f{false, false, false, false, false};
     for (const auto& n : names) {
         if (n == "cube") f.cube = true;
         else if (n == "png") f.png = true;
         else if (n == "xyz") f.xyz = true;
         else if (n == "responses") f.responses = true;
+        else if (n == "edges") f.edges = true;
         else {
-            std::string near = closestMatch(n, {"cube", "png", "xyz", "responses"});
-            failInput(where, "'{}' is not an output; expected cube, png, xyz or responses{}", n,
+            std::string near = closestMatch(n, {"cube", "png", "xyz", "responses", "edges"});
+            failInput(where, "'{}' is not an output; expected cube, png, xyz, responses or edges{}", n,
                       near.empty() ? "" : fmt::format(" (did you mean '{}'?)", near));
         }
     }
@@ -115,8 +116,12 @@ RenderJobResult runRenderJob(const RenderJob& job) {
     // A custom detector has no display path: its PNG is the CIE 1931 quick look of the cube.
     bool needCube = files.cube || (files.png && responsesOnly) || job.backend == Backend::Cpu;
 
+    if (files.edges && job.backend != Backend::Cpu)
+        failInput(Where{"", "--write"}, "the edges mask comes from the CPU reference's object ids; use --backend cpu");
+
     SpectralCube cube;
     DisplayImage image;
+    std::vector<uint16_t> edges;
     if (job.backend == Backend::Gpu) {
         vk::ContextOptions co = vk::contextOptionsFromEnvironment();
         co.validation = co.validation || job.validation;
@@ -163,6 +168,23 @@ RenderJobResult runRenderJob(const RenderJob& job) {
         ro.ssaa = job.ssaa;
         ReferenceImage img = renderReference(scene, spectra, ro);
         cube = std::move(img.cube);
+        if (files.edges) {
+            // A pixel is an edge when it or a neighbour sees something else: there rasterization and
+            // ray casting may pick different surfaces, so comparisons skip it.
+            int W = cube.width, H = cube.height;
+            edges.assign(size_t(W) * H, 0);
+            for (int y = 0; y < H; ++y)
+                for (int x = 0; x < W; ++x) {
+                    int32_t id = img.objectId[size_t(y) * W + x];
+                    bool edge = id == kMixedId;
+                    for (int dy = -1; dy <= 1 && !edge; ++dy)
+                        for (int dx = -1; dx <= 1 && !edge; ++dx) {
+                            int nx = x + dx, ny = y + dy;
+                            if (nx >= 0 && ny >= 0 && nx < W && ny < H) edge = img.objectId[size_t(ny) * W + nx] != id;
+                        }
+                    edges[size_t(y) * W + x] = edge ? 255 : 0;
+                }
+        }
         r.timings.shading_ms = msSince(t);
         if (display) {
             t = Clock::now();
@@ -221,6 +243,14 @@ RenderJobResult runRenderJob(const RenderJob& job) {
         writeImage(p, f, image.responses);
         r.written.push_back({p, fmt::format("{} responses ({}), {}", plan->detector.name,
                                             fmt::join(plan->detector.channels, ", "), plan->detector.units)});
+    }
+    if (files.edges) {
+        std::filesystem::path p = job.outDir / (stem + ".edges.png");
+        ImageFile f{cube.width, cube.height, {"Y"}, provenance};
+        writeImage(p, f, edges, 8);
+        size_t n = std::count(edges.begin(), edges.end(), 255);
+        r.written.push_back({p, fmt::format("edge mask: {} of {} pixels see more than one surface in their 3×3 "
+                                            "neighbourhood", n, edges.size())});
     }
     r.timings.write_ms = msSince(t);
     r.timings.total_ms = msSince(start);

@@ -23,6 +23,8 @@ struct OutputFiles {
     bool png = true;         // <scene>.png: the display image (counts)
     bool xyz = false;        // <scene>.xyz.exr: XYZ as the detector sees it
     bool responses = false;  // <scene>.<detector>.exr: raw detector responses
+    bool edges = false;      // <scene>.edges.png: 255 where a pixel's 3×3 neighbourhood sees more
+                             // than one surface (CPU backend only: the goldens' comparison mask)
 };
 
 struct RenderJob {
