@@ -1,5 +1,6 @@
 // metamer: the command-line tool. A thin shell: parse arguments, call the engine, print one line
 // per error, map errors to exit codes (README.md, "Exit codes").
+#include "app/compare_command.h"  // metamer compare
 #include "core/error.h"
 #include "io/atomic_file.h"
 #include "render/render_job.h"
@@ -119,6 +120,11 @@ int main(int argc, char** argv) {
 
     auto* devices = app.add_subcommand("devices", "list Vulkan devices and their scores");
 
+    // --- metamer compare (engine/app/compare_command.cpp, docs/compare.md)
+    CompareArgs compareArgs;
+    auto* compare = addCompareCommand(app, compareArgs);
+    // --- end metamer compare
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -128,6 +134,7 @@ int main(int argc, char** argv) {
 
     try {
         if (devices->parsed()) return listDevices();
+        if (compare->parsed()) return runCompare(compareArgs);  // metamer compare
 
         job.backend = backend == "cpu" ? Backend::Cpu : Backend::Gpu;
         job.readback = readback == "map" ? Readback::Map : readback == "copy" ? Readback::Copy : Readback::Auto;

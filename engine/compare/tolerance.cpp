@@ -1,0 +1,193 @@
+#include "compare/tolerance.h"
+
+#include "core/error.h"
+
+#include <fmt/ranges.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+namespace fs = std::filesystem;
+
+namespace metamer {
+
+namespace {
+
+using Json = nlohmann::json;
+
+// 1-based line of a byte offset.
+int lineAt(const std::string& text, size_t offset) {
+    int line = 1;
+    for (size_t i = 0; i < offset && i < text.size(); ++i) line += text[i] == '\n';
+    return line;
+}
+
+// The line of a top-level key, for messages (the first occurrence of "key" in the text).
+int lineOfKey(const std::string& text, const std::string& key) {
+    size_t at = text.find('"' + key + '"');
+    return at == std::string::npos ? 0 : lineAt(text, at);
+}
+
+const char* typeName(const Json& v) {
+    switch (v.type()) {
+        case Json::value_t::null: return "null";
+        case Json::value_t::boolean: return "a boolean";
+        case Json::value_t::string: return "a string";
+        case Json::value_t::array: return "an array";
+        case Json::value_t::object: return "an object";
+        default: return "a number";
+    }
+}
+
+struct Criterion {
+    const char* key;
+    std::optional<double> Tolerance::*field;
+};
+
+const std::vector<Criterion>& limits() {
+    static const std::vector<Criterion> k = {
+        {"max_abs", &Tolerance::maxAbs},
+        {"max_rel", &Tolerance::maxRel},
+        {"rmse_relative", &Tolerance::rmseRelative},
+        {"spectral_angle_max_deg", &Tolerance::spectralAngleMaxDeg},
+        {"fraction_over_threshold", &Tolerance::fractionOverThreshold},
+        {"delta_e2000_p95", &Tolerance::deltaE2000P95},
+        {"delta_e2000_max", &Tolerance::deltaE2000Max},
+    };
+    return k;
+}
+
+const std::vector<Criterion>& settings() {
+    static const std::vector<Criterion> k = {
+        {"pixel_threshold", &Tolerance::pixelThreshold},
+        {"relative_floor", &Tolerance::relativeFloor},
+    };
+    return k;
+}
+
+}  // namespace
+
+Tolerance readTolerance(const fs::path& path) {
+    const std::string file = path.string();
+    std::error_code ec;
+    if (!fs::exists(path, ec)) failInput(Where{file}, "tolerance file not found");
+    if (fs::is_directory(path, ec)) failInput(Where{file}, "is a folder, not a tolerance file");
+    std::ifstream in(path);
+    if (!in) failInput(Where{file}, "cannot open the tolerance file");
+    std::stringstream buffer;
+    buffer << in.rdbuf();
+    const std::string text = buffer.str();
+
+    // nlohmann keeps the last of two equal keys; a tolerance file with two max_rel entries is a
+    // mistake whichever one was meant, so the parser callback rejects it.
+    std::set<std::string> seen;
+    int depth = 0;
+    auto callback = [&](int d, Json::parse_event_t event, Json& parsed) {
+        depth = d;
+        if (event == Json::parse_event_t::key && depth == 1) {
+            std::string key = parsed.get<std::string>();
+            if (!seen.insert(key).second) failInput(Where{file, key}, "duplicate key");
+        }
+        return true;
+    };
+    Json j;
+    try {
+        j = Json::parse(text, callback, /*allow_exceptions=*/true, /*ignore_comments=*/false);
+    } catch (const Json::parse_error& e) {
+        // nlohmann's message starts "[json.exception.parse_error.101] parse error at line L, column C: ";
+        // keep what follows and count the line ourselves.
+        std::string what = e.what();
+        if (size_t c = what.find("column "); c != std::string::npos)
+            if (size_t colon = what.find(": ", c); colon != std::string::npos) what = what.substr(colon + 2);
+        failInput(Where{file, "", lineAt(text, e.byte == 0 ? 0 : e.byte - 1)}, "JSON syntax error: {}", what);
+    } catch (const Json::out_of_range&) {
+        failInput(Where{file}, "a number is out of the range of a double");
+    }
+    if (!j.is_object()) failInput(Where{file}, "must be a JSON object of criteria, not {}", typeName(j));
+
+    std::vector<std::string> known = {"description"};
+    for (const auto& c : limits()) known.push_back(c.key);
+    for (const auto& c : settings()) known.push_back(c.key);
+
+    Tolerance t;
+    t.source = file;
+    for (const auto& [key, value] : j.items()) {
+        Where where{file, key, lineOfKey(text, key)};
+        if (key == "description") {
+            if (!value.is_string()) failInput(where, "must be a string, not {}", typeName(value));
+            t.description = value.get<std::string>();
+            continue;
+        }
+        const Criterion* criterion = nullptr;
+        for (const auto* list : {&limits(), &settings()})
+            for (const auto& c : *list)
+                if (key == c.key) criterion = &c;
+        if (!criterion) {
+            std::string suggestion = closestMatch(key, known);
+            failInput(where, "unknown key{}; known keys: {}",
+                      suggestion.empty() ? "" : fmt::format(" (did you mean '{}'?)", suggestion),
+                      fmt::format("{}", fmt::join(known, ", ")));
+        }
+        if (!value.is_number()) failInput(where, "must be a number, not {}", typeName(value));
+        double v = value.get<double>();
+        if (!std::isfinite(v)) failInput(where, "must be a finite number");
+        if (v < 0.0) failInput(where, "must be ≥ 0, not {}", formatNumber(v));
+        t.*(criterion->field) = v;
+    }
+    return t;
+}
+
+void applyTolerance(const Tolerance& tolerance, CompareOptions& options) {
+    if (tolerance.pixelThreshold) options.pixelThreshold = *tolerance.pixelThreshold;
+    if (tolerance.relativeFloor) options.relativeFloor = *tolerance.relativeFloor;
+}
+
+Verdict judge(const CompareStats& stats, const Tolerance& tolerance) {
+    Verdict v;
+    auto check = [&](const char* key, const std::optional<double>& limit, std::optional<double> value) {
+        if (!limit) return;
+        if (!value) {
+            v.failures.push_back(fmt::format("{} not computed (needs spectral cubes and a detector)", key));
+            return;
+        }
+        // Written so that NaN fails: NaN ≤ limit is false.
+        if (!(*value <= *limit)) v.failures.push_back(fmt::format("{} {} > {}", key, formatNumber(*value),
+                                                                  formatNumber(*limit)));
+    };
+    check("max_abs", tolerance.maxAbs, stats.maxAbs);
+    check("max_rel", tolerance.maxRel, stats.maxRel);
+    check("rmse_relative", tolerance.rmseRelative, stats.rmseRelative);
+    check("spectral_angle_max_deg", tolerance.spectralAngleMaxDeg, stats.spectralAngleMaxDeg);
+    check("fraction_over_threshold", tolerance.fractionOverThreshold, stats.fractionOverThreshold);
+    check("delta_e2000_p95", tolerance.deltaE2000P95, stats.deltaE2000P95);
+    check("delta_e2000_max", tolerance.deltaE2000Max, stats.deltaE2000Max);
+    bool anyLimit = false;
+    for (const auto& c : limits()) anyLimit = anyLimit || (tolerance.*(c.field)).has_value();
+    if (anyLimit && stats.nonFiniteMismatches > 0)
+        v.failures.push_back(fmt::format("{} values are NaN or infinite in one image and not in the other",
+                                         stats.nonFiniteMismatches));
+    v.pass = v.failures.empty();
+    return v;
+}
+
+std::string formatNumber(double v) {
+    if (v == 0.0) return "0";
+    if (std::isnan(v)) return "nan";
+    if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+    double a = std::fabs(v);
+    if (a >= 1e-2 && a < 1e5) return fmt::format("{:.4g}", v);
+    // Scientific with up to 3 significant digits and no trailing zeros: 2.1e-03, 1e-03.
+    std::string s = fmt::format("{:.2e}", v);
+    size_t e = s.find('e');
+    std::string mantissa = s.substr(0, e);
+    if (mantissa.find('.') != std::string::npos) {
+        while (mantissa.back() == '0') mantissa.pop_back();
+        if (mantissa.back() == '.') mantissa.pop_back();
+    }
+    return mantissa + s.substr(e);
+}
+
+}  // namespace metamer
