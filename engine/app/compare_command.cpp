@@ -48,7 +48,10 @@ void printSummary(const CompareArgs& args, const ImageData& a, const ImageData& 
     if (!s.resampledFrom.empty())
         std::printf("   A resampled from %s onto B's grid %s (band averages of its piecewise-linear spectra)\n",
                     s.resampledFrom.c_str(), s.grid->str().c_str());
-    const size_t pixels = size_t(s.width) * s.height;
+    const size_t pixels = size_t(s.width) * s.height - s.maskedPixels;
+    if (s.maskedPixels)
+        std::printf("masked: %zu of %zu pixels left out (%s)\n", s.maskedPixels, pixels + s.maskedPixels,
+                    args.mask.c_str());
     if (s.maxAbs == 0.0 && s.nonFiniteMismatches == 0) {
         std::printf("identical: every value of A equals B's\n");
     } else {
@@ -87,6 +90,19 @@ void printSummary(const CompareArgs& args, const ImageData& a, const ImageData& 
     }
 }
 
+// --quiet: the statistics a tolerance file can gate, on one line.
+void printOneLine(const CompareStats& s) {
+    std::string line = fmt::format("max abs {}, max rel {}, rmse/mean|B| {}, angle max {}°, over {}: {} of {} pixels",
+                                   formatNumber(s.maxAbs), formatNumber(s.maxRel), formatNumber(s.rmseRelative),
+                                   formatNumber(s.spectralAngleMaxDeg), formatNumber(s.pixelThreshold),
+                                   s.pixelsOverThreshold, size_t(s.width) * s.height - s.maskedPixels);
+    if (s.maskedPixels) line += fmt::format(" ({} masked)", s.maskedPixels);
+    if (s.deltaE2000P95)
+        line += fmt::format(", ΔE2000 p95 {} max {}", formatNumber(*s.deltaE2000P95), formatNumber(*s.deltaE2000Max));
+    if (s.nonFiniteMismatches) line += fmt::format(", {} non-finite mismatches", s.nonFiniteMismatches);
+    std::printf("%s\n", line.c_str());
+}
+
 }  // namespace
 
 CLI::App* addCompareCommand(CLI::App& app, CompareArgs& args) {
@@ -110,7 +126,10 @@ CLI::App* addCompareCommand(CLI::App& app, CompareArgs& args) {
     c->add_option("--relative-floor", args.relativeFloor,
                   "relative errors are taken against at least this fraction of the channel's max |B| (default 1e-4)")
         ->check(CLI::NonNegativeNumber);
+    c->add_option("--mask", args.mask,
+                  "leave out the pixels where this image (e.g. the render's <scene>.edges.png) is non-zero");
     c->add_flag("--verbose,-v", args.verbose, "print every band (channel), not only the worst");
+    c->add_flag("--quiet,-q", args.quiet, "print one line of statistics and the verdict only");
     return c;
 }
 
@@ -119,6 +138,7 @@ int runCompare(const CompareArgs& args) {
     std::optional<Tolerance> tolerance;
     if (!args.tolerance.empty()) tolerance = readTolerance(args.tolerance);
     bool explicitDeltaE = !args.detector.empty() || !args.adapt.empty() || !args.display.empty();
+    if (args.verbose && args.quiet) failInput(Where{"", "--quiet"}, "conflicts with --verbose");
     if (explicitDeltaE && args.noDeltaE)
         failInput(Where{"", "--no-delta-e"}, "conflicts with --detector/--adapt/--display");
     if (tolerance && tolerance->wantsDeltaE() && args.noDeltaE)
@@ -132,6 +152,7 @@ int runCompare(const CompareArgs& args) {
     if (args.pixelThreshold >= 0.0) options.pixelThreshold = args.pixelThreshold;
     if (args.relativeFloor >= 0.0) options.relativeFloor = args.relativeFloor;
     options.resample = args.resample;
+    if (!args.mask.empty()) options.mask = readMask(args.mask, b.width, b.height);
     // ΔE2000 by default where there is a colour to see; on request (flags, a ΔE limit) always, so
     // that an unusable request is an error rather than a silent omission.
     bool requested = explicitDeltaE || (tolerance && tolerance->wantsDeltaE());
@@ -145,14 +166,15 @@ int runCompare(const CompareArgs& args) {
     }
 
     CompareStats stats = compareImages(a, b, options);
-    printSummary(args, a, b, stats);
+    if (args.quiet) printOneLine(stats);
+    else printSummary(args, a, b, stats);
 
     std::optional<Verdict> verdict;
     if (tolerance) verdict = judge(stats, *tolerance);
 
     if (!args.heatmap.empty()) {
         writeHeatmap(args.heatmap, stats, stats.pixelThreshold);
-        std::printf("wrote %s (heat map: relative error per pixel, log scale around %s)\n", args.heatmap.c_str(),
+        if (!args.quiet) std::printf("wrote %s (heat map: relative error per pixel, log scale around %s)\n", args.heatmap.c_str(),
                     formatNumber(stats.pixelThreshold).c_str());
     }
     if (!args.json.empty()) {
@@ -163,7 +185,7 @@ int runCompare(const CompareArgs& args) {
                                   {"pass", verdict->pass},
                                   {"failures", verdict->failures}};
         writeStatsJson(args.json, stats, extra);
-        std::printf("wrote %s (statistics)\n", args.json.c_str());
+        if (!args.quiet) std::printf("wrote %s (statistics)\n", args.json.c_str());
     }
 
     if (!verdict) return 0;

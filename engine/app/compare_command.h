@@ -11,12 +11,13 @@ namespace metamer {
 
 struct CompareArgs {
     std::string a, b;               // test image, reference
-    std::string tolerance, heatmap, json;
+    std::string tolerance, heatmap, json, mask;
     bool resample = false;
     std::string detector, adapt, display;  // ΔE2000 setup; empty = default (cie1931, bradford, srgb)
     bool noDeltaE = false;
     double pixelThreshold = -1.0, relativeFloor = -1.0;  // < 0: from the tolerance file or the defaults
     bool verbose = false;
+    bool quiet = false;             // one line of statistics and the verdict
 };
 
 // Adds the `compare` subcommand to `app`, filling `args` when parsed.

@@ -146,6 +146,7 @@ double percentile(std::vector<double>& values, double p) {
 // reference alone so A's errors cannot move it); for reflectance, the perfect reflector (1 in every
 // band). The tonemap plan then does exactly what a render does with that white.
 void addDeltaE(const ImageData& a, const ImageData& b, const TonemapSettings& settings, CompareStats& stats) {
+    auto masked = [&](size_t p) { return !stats.mask.empty() && stats.mask[p] != 0; };
     const Grid& grid = *b.grid;
     const int bands = grid.bands();
     const size_t pixels = size_t(b.width) * b.height;
@@ -208,6 +209,7 @@ void addDeltaE(const ImageData& a, const ImageData& b, const TonemapSettings& se
     de.reserve(pixels);
     double sum = 0.0;
     for (size_t p = 0; p < pixels; ++p) {
+        if (masked(p)) continue;
         double d = deltaE2000(lab(a.data.data() + p * bands), lab(b.data.data() + p * bands));
         if (!std::isfinite(d)) continue;  // NaN or Inf radiance: counted in nonFiniteMismatches
         de.push_back(d);
@@ -294,6 +296,18 @@ ImageData readComparable(const fs::path& path) {
     return d;
 }
 
+std::vector<uint8_t> readMask(const fs::path& path, int width, int height) {
+    ImageData m = readComparable(path);
+    if (m.width != width || m.height != height)
+        failInput(Where{path.string()}, "the mask is {}×{} but the images are {}×{}", m.width, m.height, width, height);
+    const size_t n = m.channels.size();
+    std::vector<uint8_t> mask(size_t(width) * height, 0);
+    for (size_t p = 0; p < mask.size(); ++p)
+        for (size_t c = 0; c < n; ++c)
+            if (m.data[p * n + c] != 0.0f) mask[p] = 1;
+    return mask;
+}
+
 CompareStats compareImages(const ImageData& aIn, const ImageData& b, const CompareOptions& options) {
     const std::string aName = nameOf(aIn, "A"), bName = nameOf(b, "B (the reference)");
     Where aWhere{aName};
@@ -340,6 +354,10 @@ CompareStats compareImages(const ImageData& aIn, const ImageData& b, const Compa
     s.resampledFrom = resampledFrom;
     s.pixelThreshold = options.pixelThreshold;
     s.relativeFloor = options.relativeFloor;
+    if (!options.mask.empty() && options.mask.size() != pixels)
+        failInput(Where{"", "mask"}, "{} mask entries for {}×{} pixels", options.mask.size(), b.width, b.height);
+    s.mask = options.mask;
+    auto masked = [&](size_t p) { return !options.mask.empty() && options.mask[p] != 0; };
 
     // Each channel's scale for the relative-error floor: its largest |b|. A channel that is 0
     // everywhere borrows the image's largest |b|; an all-black reference uses 1, so the relative
@@ -363,6 +381,10 @@ CompareStats compareImages(const ImageData& aIn, const ImageData& b, const Compa
     size_t angleCount = 0;
     std::vector<double> ua(n), ub(n);
     for (size_t p = 0; p < pixels; ++p) {
+        if (masked(p)) {
+            ++s.maskedPixels;
+            continue;
+        }
         const float* pa = a->data.data() + p * n;
         const float* pb = b.data.data() + p * n;
         double pixelMax = 0.0;
@@ -420,16 +442,17 @@ CompareStats compareImages(const ImageData& aIn, const ImageData& b, const Compa
             ++angleCount;
         }
     }
+    const size_t counted = pixels - s.maskedPixels;
     double totalSq = 0.0;
     for (size_t c = 0; c < n; ++c) {
-        s.perChannel[c].rmse = std::sqrt(sumSq[c] / double(pixels));
+        s.perChannel[c].rmse = counted ? std::sqrt(sumSq[c] / double(counted)) : 0.0;
         totalSq += sumSq[c];
     }
-    s.rmse = pixels ? std::sqrt(totalSq / double(pixels * n)) : 0.0;
+    s.rmse = counted ? std::sqrt(totalSq / double(counted * n)) : 0.0;
     double meanAbsB = countB ? sumAbsB / double(countB) : 0.0;
     s.rmseRelative = s.rmse == 0.0 ? 0.0 : meanAbsB > 0.0 ? s.rmse / meanAbsB : kInf;
     s.spectralAngleMeanDeg = angleCount ? angleSum / double(angleCount) : 0.0;
-    s.fractionOverThreshold = pixels ? double(s.pixelsOverThreshold) / double(pixels) : 0.0;
+    s.fractionOverThreshold = counted ? double(s.pixelsOverThreshold) / double(counted) : 0.0;
 
     if (options.display) {
         if (!b.grid)
@@ -457,6 +480,7 @@ nlohmann::json statsToJson(const CompareStats& s) {
     j["spectral_angle_mean_deg"] = number(s.spectralAngleMeanDeg);
     j["fraction_over_threshold"] = number(s.fractionOverThreshold);
     j["pixels_over_threshold"] = s.pixelsOverThreshold;
+    j["masked_pixels"] = s.maskedPixels;
     j["non_finite_mismatches"] = s.nonFiniteMismatches;
     if (s.worstChannel >= 0)
         j["worst"] = {{"x", s.worstX}, {"y", s.worstY}, {"channel", s.perChannel[size_t(s.worstChannel)].name}};

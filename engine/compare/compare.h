@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cstddef>
+#include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -35,6 +36,10 @@ struct ImageData {
 // counts, 0..255 for 8 bits, not normalized). Input errors (exit 2) name the file.
 ImageData readComparable(const std::filesystem::path& path);
 
+// A mask for CompareOptions::mask from an image file (e.g. the render's <scene>.edges.png): a pixel
+// is masked where any channel is non-zero. It must be width × height; input errors name the file.
+std::vector<uint8_t> readMask(const std::filesystem::path& path, int width, int height);
+
 // A cube held in memory (tests, the lead's golden runner): emissive S0 channels.
 ImageData fromCube(const SpectralCube& cube);
 
@@ -51,6 +56,10 @@ struct CompareOptions {
     // ΔE2000 through this detector, adaptation and display white (spectral cubes only); the white
     // is an equal-energy radiance at B's 99th-percentile CIE 1931 Y (docs/compare.md).
     std::optional<TonemapSettings> display;
+    // One entry per pixel (row 0 at the top), or empty: pixels with a non-zero entry are left out
+    // of every statistic — e.g. a golden's edge pixels, where a half-pixel shift of a silhouette
+    // between two rasterizers is not an error (readMask).
+    std::vector<uint8_t> mask;
 };
 
 struct ChannelStats {
@@ -69,11 +78,13 @@ struct CompareStats {
     double spectralAngleMaxDeg = 0, spectralAngleMeanDeg = 0;
     double fractionOverThreshold = 0;      // of pixels
     std::optional<double> deltaE2000Mean, deltaE2000P95, deltaE2000Max;
-    std::vector<float> pixelError;         // per pixel, the max relative error over its channels
+    std::vector<float> pixelError;         // per pixel, the max relative error over its channels (0 if masked)
+    std::vector<uint8_t> mask;             // CompareOptions::mask, kept for the heat map
 
     // Context for reports.
     double pixelThreshold = 0, relativeFloor = 0;  // the options used
     size_t pixelsOverThreshold = 0;
+    size_t maskedPixels = 0;               // left out by CompareOptions::mask
     size_t nonFiniteMismatches = 0;        // values non-finite in one image and not equal in the other
     int worstX = -1, worstY = -1;          // the pixel and channel of maxRel (-1: no difference)
     int worstChannel = -1;

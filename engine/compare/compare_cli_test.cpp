@@ -9,6 +9,7 @@
 
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 
@@ -151,4 +152,20 @@ TEST_F(CompareCli, ComparesDisplayPngsInCounts) {
     EXPECT_EQ(r.code, 0) << r.output;
     EXPECT_TRUE(has(r, "max abs error     1\n")) << r.output;
     EXPECT_FALSE(has(r, "ΔE2000")) << r.output;
+}
+
+TEST_F(CompareCli, MaskLeavesEdgePixelsOutAndQuietPrintsOneLine) {
+    SpectralCube ref = smoothCube(8, 6, Grid{400, 700, 10}), edge = ref;
+    for (int b = 0; b < ref.bands(); ++b) edge.at(5, 2, b) *= 3.0f;
+    writeSpectralExr(dir / "edge.exr", edge);
+    std::vector<uint16_t> mask(8 * 6, 0);
+    mask[2 * 8 + 5] = 255;
+    writeImage(dir / "ref.edges.png", ImageFile{8, 6, {"Y"}, {}}, mask, 8);
+    CliResult unmasked = runCompareCli(f("edge.exr") + " " + f("ref.exr") + " -q --tolerance " + strict);
+    EXPECT_EQ(unmasked.code, 1) << unmasked.output;
+    CliResult masked = runCompareCli(f("edge.exr") + " " + f("ref.exr") + " -q --tolerance " + strict + " --mask " +
+                                     f("ref.edges.png"));
+    EXPECT_EQ(masked.code, 0) << masked.output;
+    EXPECT_TRUE(has(masked, "0 of 47 pixels (1 masked)")) << masked.output;
+    EXPECT_EQ(std::count(masked.output.begin(), masked.output.end(), '\n'), 2) << masked.output;  // stats, verdict
 }

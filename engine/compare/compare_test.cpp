@@ -366,3 +366,28 @@ TEST_F(CompareFiles, StatsJsonIsWrittenWithEveryStatistic) {
     // Only the file itself: the temporary is gone.
     EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 1);
 }
+
+TEST_F(CompareFiles, MaskedPixelsAreLeftOutOfEveryStatistic) {
+    SpectralCube cb = smoothCube(4, 2, kGrid), ca = cb;
+    for (int b = 0; b < kGrid.bands(); ++b) ca.at(2, 1, b) *= 2.0f;  // a silhouette pixel, far off
+    ca.at(0, 0, 3) *= 1.01f;                                          // a real 1% error elsewhere
+    ImageFile edges{4, 2, {"Y"}, {}};
+    writeImage(dir / "edges.png", edges, std::vector<uint16_t>{0, 0, 0, 0, 0, 0, 255, 0}, 8);
+    CompareOptions o;
+    o.mask = readMask(dir / "edges.png", 4, 2);
+    o.display = TonemapSettings{};
+    CompareStats s = compareImages(fromCube(ca), fromCube(cb), o);
+    EXPECT_EQ(s.maskedPixels, 1u);
+    EXPECT_NEAR(s.maxRel, 0.01, 1e-6);
+    EXPECT_EQ(s.worstX, 0);
+    EXPECT_EQ(s.pixelsOverThreshold, 1u);
+    EXPECT_DOUBLE_EQ(s.fractionOverThreshold, 1.0 / 7.0);
+    EXPECT_EQ(s.pixelError[6], 0.0f);
+    EXPECT_LT(*s.deltaE2000Max, 1.0);  // the doubled pixel would be far more
+    CompareStats unmasked = compareImages(fromCube(ca), fromCube(cb), {});
+    EXPECT_NEAR(unmasked.maxRel, 1.0, 1e-6);
+
+    std::string message;
+    EXPECT_EQ(codeOf([&] { readMask(dir / "edges.png", 5, 2); }, &message), ExitCode::BadInput);
+    EXPECT_NE(message.find("edges.png: the mask is 4×2 but the images are 5×2"), std::string::npos) << message;
+}

@@ -14,6 +14,7 @@ namespace {
 
 constexpr double kDecades = 2.0;         // either side of the threshold
 constexpr double kCentreWithoutThreshold = 1e-4;
+constexpr uint16_t kMaskedGrey = 128;    // neutral, unlike both ramps
 
 // The ramps are drawn in CIELAB so that equal steps of log error are roughly equal steps of
 // lightness: both ramps climb in L*, so the whole scale reads dark → light, and the hue jumps
@@ -49,6 +50,10 @@ void writeHeatmap(const std::filesystem::path& path, const CompareStats& stats, 
     float lastError = -1.0f;
     std::array<uint8_t, 3> last{};
     for (size_t p = 0; p < pixels; ++p) {
+        if (!stats.mask.empty() && stats.mask[p]) {
+            for (int c = 0; c < 3; ++c) rgb[p * 3 + c] = kMaskedGrey;
+            continue;
+        }
         float e = stats.pixelError[p];
         over += !(e <= std::max(threshold, 0.0));
         if (!(e == lastError)) {
@@ -63,8 +68,8 @@ void writeHeatmap(const std::filesystem::path& path, const CompareStats& stats, 
         {"ImageDescription",
          fmt::format("metamer compare heat map: per pixel the largest relative error over the channels, log scale "
                      "{:.3g} (near black) to {:.3g} (light blue) | over the threshold: red to {:.3g} (light yellow); "
-                     "magenta: NaN or Inf in one image only; {} of {} pixels over",
-                     centre / 100.0, std::max(threshold, 0.0), centre * 100.0, over, pixels)});
+                     "magenta: NaN or Inf in one image only; grey: masked; {} of {} pixels over",
+                     centre / 100.0, std::max(threshold, 0.0), centre * 100.0, over, pixels - stats.maskedPixels)});
     writeImage(path, image, rgb, 8);
 }
 

@@ -15,7 +15,8 @@ namespace metamer {
 // `threshold` (the pixel threshold of the comparison), two decades either side: errors at or
 // below the threshold run from near black (≤ threshold/100, and exact matches) through
 // increasingly light blues; errors above it jump to a warm ramp, red just above the threshold to
-// light yellow at ≥ threshold×100. Values NaN or infinite in one image only are magenta. A
+// light yellow at ≥ threshold×100. Values NaN or infinite in one image only are magenta, masked
+// pixels (CompareOptions::mask) neutral grey (128). A
 // threshold ≤ 0 marks every non-zero error as over and centres the scale on 1e-4.
 void writeHeatmap(const std::filesystem::path& path, const CompareStats& stats, double threshold);
 
