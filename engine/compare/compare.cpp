@@ -104,8 +104,9 @@ ImageData resampleOnto(const ImageData& a, const Grid& target, const std::string
     return out;
 }
 
-// A's channels in B's order (plain images may store the same channels in another order).
-ImageData reorderLike(const ImageData& a, const ImageData& b, const std::string& aName, const std::string& bName) {
+// A's channels in B's order (plain images may store the same channels in another order); `a`
+// itself, uncopied, when the order already agrees.
+const ImageData& reorderLike(ImageData& storage, const ImageData& a, const ImageData& b, const std::string& aName, const std::string& bName) {
     const size_t n = b.channels.size();
     std::vector<size_t> from(n);
     std::vector<std::string> missing, extra;
@@ -123,12 +124,12 @@ ImageData reorderLike(const ImageData& a, const ImageData& b, const std::string&
     bool identity = true;
     for (size_t c = 0; c < n; ++c) identity = identity && from[c] == c;
     if (identity) return a;
-    ImageData out = a;
-    out.channels = b.channels;
+    storage = a;
+    storage.channels = b.channels;
     const size_t pixels = size_t(a.width) * a.height;
     for (size_t p = 0; p < pixels; ++p)
-        for (size_t c = 0; c < n; ++c) out.data[p * n + c] = a.data[p * n + from[c]];
-    return out;
+        for (size_t c = 0; c < n; ++c) storage.data[p * n + c] = a.data[p * n + from[c]];
+    return storage;
 }
 
 // Nearest-rank percentile (reorders `values`, which must not be empty).
@@ -266,7 +267,13 @@ ImageData readComparable(const fs::path& path) {
     if (format == "openexr" && spectral) {
         in->close();
         SpectralExrImage image = readSpectralExrImage(path);
-        ImageData d = fromCube(image.cube);
+        ImageData d;
+        d.width = image.cube.width;
+        d.height = image.cube.height;
+        d.grid = image.cube.grid;
+        for (double w : image.cube.grid.wavelengths()) d.channels.push_back(spectralChannelName(w));
+        d.data = std::move(image.cube.data);  // a 1024×1024×89 cube is 356 MiB: no copy
+        d.kind = "spectral radiance";
         d.source = path.string();
         if (image.component == SpectralComponent::Reflective) {
             for (auto& c : d.channels) c = "T" + c.substr(2);
@@ -340,8 +347,7 @@ CompareStats compareImages(const ImageData& aIn, const ImageData& b, const Compa
             resampledFrom = aIn.grid->str();
         }
     } else {
-        resampled = reorderLike(aIn, b, aName, bName);
-        a = &resampled;
+        a = &reorderLike(resampled, aIn, b, aName, bName);
     }
 
     const size_t n = b.channels.size();
