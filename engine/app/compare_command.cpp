@@ -1,6 +1,7 @@
 #include "app/compare_command.h"
 
 #include "color/adaptation.h"
+#include "color/cie_xyz.h"
 #include "compare/compare.h"
 #include "compare/heatmap.h"
 #include "compare/tolerance.h"
@@ -157,6 +158,12 @@ int runCompare(const CompareArgs& args) {
     // that an unusable request is an error rather than a silent omission.
     bool requested = explicitDeltaE || (tolerance && tolerance->wantsDeltaE());
     bool visible = b.grid && b.grid->start_nm <= kVisibleHi && b.grid->end_nm >= kVisibleLo;
+    if (visible && !requested && !args.noDeltaE && !SpectrumLibrary().contains(kCie1931Observer)) {
+        // Only a default: a comparison of radiance does not need the spectra library.
+        warn(Where{}, fmt::format("no ΔE2000: the spectra library at {} has no {}",
+                                  SpectrumLibrary::defaultRoot().string(), kCie1931Observer));
+        visible = false;
+    }
     if (!args.noDeltaE && (requested || visible)) {
         TonemapSettings settings;
         if (!args.detector.empty()) settings.detector = args.detector;
