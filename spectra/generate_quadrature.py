@@ -46,9 +46,9 @@ T_MID, T_HALF = 595.0, 235.0  # polynomial variable t = (λ − 595)/235 maps 36
 HPE_EE = np.array([[0.38971, 0.68898, -0.07868],
                    [-0.22981, 1.18340, 0.04641],
                    [0.0, 0.0, 1.0]])
-# Relative weights of the L, M, S signals before the principal-axis analysis (our assumption,
-# docs/representations.md): L twice M, S a few per cent, as in the usual cone-number ratios.
-CONE_WEIGHTS = np.array([1.0, 0.5, 1.0 / 32.0])  # L : M : S = 32 : 16 : 1
+# Relative weights of the L, M, S signals in the principal-axis analysis: equal (docs/
+# representations.md shows how the rule moves under cone-number-like weights such as 32 : 16 : 1).
+CONE_WEIGHTS = np.array([1.0, 1.0, 1.0])
 
 QUOTED_4 = np.array([456.0, 490.0, 557.0, 631.0])  # nm, as quoted for Meyer (1988)
 N_RANGE = range(3, 9)
@@ -83,13 +83,12 @@ def opponent_axes(cmf: np.ndarray, cone_weights=CONE_WEIGHTS):
     order = np.argsort(ev)[::-1]
     ev, vec = ev[order], vec[:, order]
     t = vec.T.copy()
-    # Signs: A positive; C1 positive for L (red), C2 positive for S (blue).
+    # Signs: A positive; the two opponent axes positive for L.
     if t[0].sum() < 0:
         t[0] = -t[0]
-    if t[1, 0] < 0:
-        t[1] = -t[1]
-    if t[2, 2] < 0:
-        t[2] = -t[2]
+    for i in (1, 2):
+        if t[i, 0] < 0:
+            t[i] = -t[i]
     k = t @ np.diag(cone_weights) @ HPE_EE
     return t, k, ev / ev[0]
 
@@ -298,13 +297,16 @@ def main() -> int:
         for n, r in by_n.items():
             print(f"  {kind:8s} N={n}: " + ", ".join(f"{x:.2f}" for x in r["nodes"]) + " nm")
 
-    # Sensitivity of the 4-point rule to the cone weights (docs).
-    for s_w in (0.25, 1.0, 2.0, 4.0):
-        cw = np.array([32.0, 16.0, s_w])
-        _, k2, _ = opponent_axes(cmf, cw)
-        print(f"  cone weights 32:16:{s_w:g}: shared N=4 nodes "
-              + ", ".join(f"{x:.1f}" for x in shared_rule(k2 @ cmf, 4)) + "; Gauss-A N=4 "
-              + ", ".join(f"{x:.1f}" for x in gauss_rule(np.clip((k2 @ cmf)[0], 0, None), 4)[0]))
+    # Sensitivity of the 4-point rules to the cone weights (docs).
+    for cw in ([1, 1, 1], [1, 1, 0.5], [1, 1, 0.25], [1, 0.5, 1 / 32], [1, 0.25, 1 / 32]):
+        _, k2, _ = opponent_axes(cmf, np.array(cw, dtype=float))
+        try:
+            shared = ", ".join(f"{x:.1f}" for x in shared_rule(k2 @ cmf, 4))
+        except AssertionError:
+            shared = "no rule (complex or out-of-range nodes)"
+        gauss = ", ".join(f"{x:.1f}" for x in gauss_rule(np.clip((k2 @ cmf)[0], 0, None), 4)[0])
+        print(f"  cone weights {cw[0]:g}:{cw[1]:g}:{cw[2]:.4g}: shared N=4 {shared}; "
+              f"Gauss-A N=4 {gauss}")
 
     # Files for the engine.
     for n, r in rules["shared"].items():
