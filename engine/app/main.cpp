@@ -107,6 +107,8 @@ int main(int argc, char** argv) {
     render->add_option("--display", display, "display model: srgb or crt");
     render->add_option("--bits", bits, "display counts: 8 or 16 bits")->check(CLI::IsMember({8, 16}));
     render->add_option("--integration", integration, "riemann (default) or trapezoid");
+    render->add_option("--mode", job.mode, "representation: full (default), rgb, ac1c2[:N] (docs/representations.md)")
+        ->capture_default_str();
     render->add_option("--xyz", xyz, "XYZ output scale: relative (white Y = 100) or absolute (cd/m²)");
     render->add_option("--write", write, "outputs, comma-separated: cube, png, xyz, responses, edges (default cube,png)")
         ->delimiter(',');

@@ -16,6 +16,7 @@
 #include "color/detector.h"
 #include "color/display_model.h"
 #include "color/film.h"
+#include "represent/representation.h"
 #include "scene/scene.h"
 #include "scene/scene_on_grid.h"
 #include "spectral/cube.h"
@@ -59,7 +60,8 @@ enum class TonemapMode {
 
 struct TonemapPlan {
     TonemapSettings settings;
-    Grid grid;
+    Grid grid;                // the cube's grid (channel indices for non-spectral modes)
+    std::string representation = "full";  // the representation mode (represent/representation.h)
     Detector detector;        // weights [channel][band]
     TonemapMode mode = TonemapMode::Linear;
     ReferenceWhite white;
@@ -76,8 +78,12 @@ struct TonemapPlan {
     std::optional<CameraCharacterization> camera;
 };
 
+// `spectra` are the scene's spectra on its grid (full). With a non-spectral `representation`
+// (rgb, ac1c2) the plan works on that mode's channels: the detector is the mode's channel → CIE
+// 1931 XYZ map (the only observer such a mode can serve) and the reference white is expressed in
+// channels; the cube the plan is applied to must be in those channels.
 TonemapPlan makeTonemapPlan(const TonemapSettings& settings, const Scene& scene, const SceneOnGrid& spectra,
-                            const SpectrumLibrary& library);
+                            const SpectrumLibrary& library, const Representation* representation = nullptr);
 
 // What the display path produces, per pixel, row 0 at the top.
 struct DisplayImage {

@@ -67,13 +67,31 @@ ReferenceWhite referenceWhite(const Scene& scene, const SceneOnGrid& spectra, co
 }
 
 TonemapPlan makeTonemapPlan(const TonemapSettings& settings, const Scene& scene, const SceneOnGrid& spectra,
-                            const SpectrumLibrary& library) {
+                            const SpectrumLibrary& library, const Representation* representation) {
     TonemapPlan p;
     p.settings = settings;
     p.grid = spectra.grid;
     p.display = parseDisplay(settings.display, settings.bits, Where{"", "--display"});
     p.white = referenceWhite(scene, spectra, library);
-    p.detector = makeDetector(settings.detector, library, spectra.grid, settings.integration, Where{"", "--detector"});
+    if (representation && !representation->mode.spectral()) {
+        const Representation& r = *representation;
+        if (settings.detector != "cie1931")
+            failInput(Where{"", "--detector"}, "the {} mode keeps no spectra: only the CIE 1931 observer can see it, "
+                      "not {}", r.mode.name(), settings.detector);
+        p.representation = r.mode.name();
+        p.grid = r.renderGrid();
+        p.white.irradiance = lightChannels(r, p.white.irradiance);
+        p.white.radiance = lightChannels(r, p.white.radiance);
+        p.detector.name = "cie1931";
+        p.detector.kind = DetectorKind::Observer;
+        p.detector.channels = {"X", "Y", "Z"};
+        p.detector.weights = r.toXyz;
+        p.detector.units = "W·sr⁻¹·m⁻² (radiometric CIE 1931 tristimulus, no 683), via the " + r.mode.name() + " mode";
+        p.detector.source = r.description;
+        p.detector.grid = p.grid;
+    } else {
+        p.detector = makeDetector(settings.detector, library, spectra.grid, settings.integration, Where{"", "--detector"});
+    }
 
     glm::dvec3 rawWhite = firstThreeResponses(p.detector, p.white.radiance);
     switch (p.detector.kind) {
@@ -132,8 +150,8 @@ TonemapPlan makeTonemapPlan(const TonemapSettings& settings, const Scene& scene,
         p.xyzOutputScale = 100.0;
         p.xyzUnits = fmt::format("relative: a perfect white diffuser under {} has Y = 100", p.white.source);
     }
-    p.description = fmt::format("detector {} ({} integration), white {}, adaptation {}, display {} {}-bit",
-                                p.detector.name,
+    p.description = fmt::format("{}detector {} ({} integration), white {}, adaptation {}, display {} {}-bit",
+                                p.representation == "full" ? "" : "mode " + p.representation + ", ", p.detector.name,
                                 integrationName(settings.integration),
                                 p.white.source, adaptationName(settings.adaptation), p.display.name, p.display.bits);
     return p;

@@ -5,6 +5,7 @@
 #include "io/spectral_exr.h"
 #include "reference/cpu_renderer.h"
 #include "render/tonemap_pass.h"
+#include "represent/representation.h"
 #include "scene/scene_json.h"
 #include "spectral/library.h"
 #include "vk/context.h"
@@ -89,6 +90,10 @@ RenderJobResult runRenderJob(const RenderJob& job) {
     Scene scene = loadScene(job.scene, library, job.overrides);
     if (job.grid) scene.grid = *job.grid;
     SceneOnGrid spectra = resampleScene(scene, scene.grid, job.coverage);
+    Representation representation =
+        makeRepresentation(parseMode(job.mode, Where{"", "--mode"}), scene.grid, library);
+    // What the renderers see: the spectra in the mode's channels (the same spectra in full mode).
+    SceneOnGrid rendered = represent(spectra, representation, scene);
     OutputFiles files;
     TonemapSettings settings = tonemapSettings(job, scene, &files);
     bool display = files.png || files.xyz || files.responses;
@@ -97,7 +102,7 @@ RenderJobResult runRenderJob(const RenderJob& job) {
         // Names given in the scene are reported against the scene's output block.
         Where sceneOut = scene.output.where.file.empty() ? Where{scene.file.string(), "output"} : scene.output.where;
         try {
-            plan = makeTonemapPlan(settings, scene, spectra, library);
+            plan = makeTonemapPlan(settings, scene, spectra, library, &representation);
         } catch (const Error& e) {
             bool fromScene = (!job.detector && scene.output.detector && e.where().key == "--detector") ||
                              (!job.display && scene.output.display && e.where().key == "--display");
@@ -133,7 +138,7 @@ RenderJobResult runRenderJob(const RenderJob& job) {
             po.ssaa = job.ssaa;
             po.readback = job.readback;
             po.sampled = display;
-            SpectralPass pass(*ctx, scene, spectra, po);
+            SpectralPass pass(*ctx, scene, rendered, po);
             std::unique_ptr<TonemapPass> tonemap;
             if (display) tonemap = std::make_unique<TonemapPass>(*ctx, pass, *plan);
             std::vector<double> shading, readback;
@@ -166,7 +171,7 @@ RenderJobResult runRenderJob(const RenderJob& job) {
         t = Clock::now();
         ReferenceOptions ro;
         ro.ssaa = job.ssaa;
-        ReferenceImage img = renderReference(scene, spectra, ro);
+        ReferenceImage img = renderReference(scene, rendered, ro);
         cube = std::move(img.cube);
         if (files.edges) {
             // A pixel is an edge when it or a neighbour sees something else: there rasterization and
@@ -191,8 +196,8 @@ RenderJobResult runRenderJob(const RenderJob& job) {
             image = tonemapReference(*plan, cube);
             r.timings.tonemap_ms = msSince(t);
         }
-        r.backendDescription = fmt::format("CPU reference (double precision ray casting), {} bands, ssaa {}",
-                                           scene.grid.bands(), job.ssaa);
+        r.backendDescription = fmt::format("CPU reference (double precision ray casting), {} channels, ssaa {}",
+                                           rendered.grid.bands(), job.ssaa);
     }
     r.clippedPixels = image.clippedPixels;
 
@@ -201,8 +206,19 @@ RenderJobResult runRenderJob(const RenderJob& job) {
     std::vector<std::pair<std::string, std::string>> provenance = {
         {"metamer:scene", job.scene.string()},
         {"metamer:backend", job.backend == Backend::Gpu ? "gpu" : "cpu"},
-        {"metamer:grid", scene.grid.str()}};
-    if (files.cube) {
+        {"metamer:grid", scene.grid.str()},
+        {"metamer:mode", representation.mode.name()}};
+    if (files.cube && !representation.mode.spectral()) {
+        // A non-spectral mode's "cube" is its channel image (RGB, or AC1C2 samples).
+        std::string tag = representation.mode.name();
+        std::replace(tag.begin(), tag.end(), ':', '-');
+        std::filesystem::path p = job.outDir / (stem + "." + tag + ".exr");
+        ImageFile f{cube.width, cube.height, representation.channelNames, provenance};
+        f.attributes.push_back({"metamer:representation", representation.description});
+        writeImage(p, f, cube.data);
+        r.written.push_back({p, fmt::format("{} channel radiance ({}), not a spectrum", representation.mode.name(),
+                                            fmt::join(representation.channelNames, ", "))});
+    } else if (files.cube) {
         ExrWriteOptions wo;
         wo.half = job.half;
         wo.compression = job.compression;
@@ -215,6 +231,9 @@ RenderJobResult runRenderJob(const RenderJob& job) {
     if (files.png) {
         std::filesystem::path p = job.outDir / (stem + ".png");
         if (responsesOnly) {
+            if (!representation.mode.spectral())
+                failInput(Where{"", "--detector"}, "a custom detector needs spectra; the {} mode has none",
+                          representation.mode.name());
             writeQuickLookPng(p, cube, library);
             r.written.push_back({p, fmt::format("quick look, CIE 1931 → sRGB with auto exposure: detector {} has "
                                                 "no display path", plan->detector.name)});

@@ -46,6 +46,7 @@ struct RenderJob {
     // The display path: each unset field comes from the scene's "output" block, else the default.
     std::optional<std::string> detector, adaptation, display, integration, xyz;
     std::optional<int> bits;
+    std::string mode = "full";  // representation mode: full, rgb, ac1c2[:N] (represent/representation.h)
     std::optional<std::vector<std::string>> write;
 };
 
