@@ -35,7 +35,7 @@ PairResult pairDeltaE(const std::string& mode, const std::string& illuminant, bo
     Scene scene = loadScene(fs::path(METAMER_SOURCE_DIR) / "scenes" / "metamers.json", library(),
                             {"lights.0.spectrum=illuminants/" + illuminant});
     SceneOnGrid spectra = resampleScene(scene, scene.grid);
-    Representation rep = makeRepresentation(parseMode(mode, Where{}), scene.grid, library());
+    Representation rep = makeRepresentation(parseMode(mode, Where{}), scene.grid, library(), &spectra);
     SceneOnGrid rendered = represent(spectra, rep, scene);
     TonemapPlan plan = makeTonemapPlan(TonemapSettings{}, scene, spectra, library(), &rep);
     DisplayImage d;
@@ -82,7 +82,8 @@ TEST(Representation, ModeNamesParseAndBadOnesNameTheFlag) {
     EXPECT_EQ(parseMode("rgb", Where{}).name(), "rgb");
     EXPECT_EQ(parseMode("ac1c2", Where{}).name(), "ac1c2:4");
     EXPECT_EQ(parseMode("ac1c2:8", Where{}).name(), "ac1c2:8");
-    for (const char* bad : {"rbg", "ac1c2:2", "ac1c2:9", "ac1c2:x", "linear"}) {
+    EXPECT_EQ(parseMode("linear:6", Where{}).name(), "linear:6");
+    for (const char* bad : {"rbg", "ac1c2:2", "ac1c2:9", "ac1c2:x", "linear", "linear:0", "linear:13"}) {
         try {
             parseMode(bad, Where{"", "--mode"});
             ADD_FAILURE() << bad << " parsed";
@@ -154,4 +155,47 @@ TEST(Representation, NonSpectralModesServeOnlyTheCie1931Observer) {
     TonemapSettings s;
     s.detector = "camera:nikon_d5100";
     EXPECT_THROW(makeTonemapPlan(s, scene, spectra, library(), &rep), Error);
+}
+
+TEST(Representation, LinearIsExactForSpectraInsideItsBasis) {
+    // metamers.json holds one light and reflected spectra spanning 3 dimensions (the grey card's is
+    // the light's own shape): linear:3 represents every pixel exactly.
+    PairResult lin = pairDeltaE("linear:3", "A"), full = pairDeltaE("full", "A");
+    EXPECT_NEAR(lin.deltaE, full.deltaE, 1e-4);
+    double worst = 0;
+    for (size_t i = 0; i < lin.image.xyz.size(); ++i)
+        worst = std::max(worst, std::fabs(double(lin.image.xyz[i]) - full.image.xyz[i]) /
+                                    std::max(1.0, double(full.image.xyz[i])));
+    EXPECT_LT(worst, 1e-5);
+}
+
+TEST(Representation, LinearErrorFallsWithMoreBasisFunctions) {
+    // The 24-patch chart under A spans 24 dimensions; fewer basis functions must cost accuracy,
+    // and the error must fall as K grows.
+    Scene scene = loadScene(fs::path(METAMER_SOURCE_DIR) / "scenes" / "colorchecker.json", library(),
+                            {"camera.width=60", "camera.height=40", "lights.0.spectrum=illuminants/A"});
+    SceneOnGrid spectra = resampleScene(scene, scene.grid);
+    auto render = [&](const std::string& mode) {
+        Representation rep = makeRepresentation(parseMode(mode, Where{}), scene.grid, library(), &spectra);
+        SceneOnGrid rendered = represent(spectra, rep, scene);
+        TonemapPlan plan = makeTonemapPlan(TonemapSettings{}, scene, spectra, library(), &rep);
+        return std::make_pair(tonemapReference(plan, renderReference(scene, rendered).cube), plan);
+    };
+    auto [full, plan] = render("full");
+    glm::dvec3 white = plan.sourceWhiteXyz * 100.0;
+    auto worstDeltaE = [&](const DisplayImage& d) {
+        double worst = 0;
+        for (size_t i = 0; i + 2 < d.xyz.size(); i += 3) {
+            glm::dvec3 a(d.xyz[i], d.xyz[i + 1], d.xyz[i + 2]), b(full.xyz[i], full.xyz[i + 1], full.xyz[i + 2]);
+            worst = std::max(worst, deltaE2000(xyzToLab(a, white), xyzToLab(b, white)));
+        }
+        return worst;
+    };
+    double e2 = worstDeltaE(render("linear:2").first), e4 = worstDeltaE(render("linear:4").first),
+           e8 = worstDeltaE(render("linear:8").first);
+    std::printf("  colorchecker under A, worst ΔE2000 against full: linear:2 %.3g, linear:4 %.3g, linear:8 %.3g\n", e2,
+                e4, e8);
+    EXPECT_GT(e2, 1.0);
+    EXPECT_LT(e8, e4);
+    EXPECT_LT(e4, e2);
 }

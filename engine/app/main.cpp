@@ -1,5 +1,6 @@
 // metamer: the command-line tool. A thin shell: parse arguments, call the engine, print one line
 // per error, map errors to exit codes (README.md, "Exit codes").
+#include "app/bench_command.h"    // metamer bench
 #include "app/compare_command.h"  // metamer compare
 #include "core/error.h"
 #include "io/atomic_file.h"
@@ -107,7 +108,7 @@ int main(int argc, char** argv) {
     render->add_option("--display", display, "display model: srgb or crt");
     render->add_option("--bits", bits, "display counts: 8 or 16 bits")->check(CLI::IsMember({8, 16}));
     render->add_option("--integration", integration, "riemann (default) or trapezoid");
-    render->add_option("--mode", job.mode, "representation: full (default), rgb, ac1c2[:N] (docs/representations.md)")
+    render->add_option("--mode", job.mode, "representation: full (default), rgb, ac1c2[:N], linear:K (docs/representations.md)")
         ->capture_default_str();
     render->add_option("--xyz", xyz, "XYZ output scale: relative (white Y = 100) or absolute (cd/m²)");
     render->add_option("--write", write, "outputs, comma-separated: cube, png, xyz, responses, edges (default cube,png)")
@@ -127,6 +128,11 @@ int main(int argc, char** argv) {
     auto* compare = addCompareCommand(app, compareArgs);
     // --- end metamer compare
 
+    // --- metamer bench (engine/app/bench_command.cpp, docs/speed-vs-accuracy.md)
+    BenchArgs benchArgs;
+    auto* bench = addBenchCommand(app, benchArgs);
+    // --- end metamer bench
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -137,6 +143,7 @@ int main(int argc, char** argv) {
     try {
         if (devices->parsed()) return listDevices();
         if (compare->parsed()) return runCompare(compareArgs);  // metamer compare
+        if (bench->parsed()) return runBenchCommand(benchArgs);  // metamer bench
 
         job.backend = backend == "cpu" ? Backend::Cpu : Backend::Gpu;
         job.readback = readback == "map" ? Readback::Map : readback == "copy" ? Readback::Copy : Readback::Auto;

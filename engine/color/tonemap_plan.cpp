@@ -91,6 +91,15 @@ TonemapPlan makeTonemapPlan(const TonemapSettings& settings, const Scene& scene,
         p.detector.grid = p.grid;
     } else {
         p.detector = makeDetector(settings.detector, library, spectra.grid, settings.integration, Where{"", "--detector"});
+        if (representation && representation->mode.kind == ModeKind::Linear) {
+            // Peercy's pixels are projections onto the basis, and a detector is linear: responses of
+            // the projected radiance are those of projected weights, so the GPU pass can read the
+            // unprojected target. The white is white under the projected light.
+            p.representation = representation->mode.name();
+            for (auto& w : p.detector.weights) w = project(*representation, w);
+            p.white.irradiance = lightChannels(*representation, p.white.irradiance);
+            p.white.radiance = lightChannels(*representation, p.white.radiance);
+        }
     }
 
     glm::dvec3 rawWhite = firstThreeResponses(p.detector, p.white.radiance);
@@ -116,6 +125,8 @@ TonemapPlan makeTonemapPlan(const TonemapSettings& settings, const Scene& scene,
         case DetectorKind::Film:
             p.film = makeFilm(p.detector.name.substr(p.detector.name.find(':') + 1), library, spectra.grid,
                               settings.integration, p.white.radiance);
+            if (representation && representation->mode.kind == ModeKind::Linear)
+                for (auto& w : p.film->layers.weights) w = project(*representation, w);
             p.mode = TonemapMode::Film;
             break;
         case DetectorKind::Custom: p.mode = TonemapMode::ResponsesOnly; break;

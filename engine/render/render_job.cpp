@@ -91,7 +91,7 @@ RenderJobResult runRenderJob(const RenderJob& job) {
     if (job.grid) scene.grid = *job.grid;
     SceneOnGrid spectra = resampleScene(scene, scene.grid, job.coverage);
     Representation representation =
-        makeRepresentation(parseMode(job.mode, Where{"", "--mode"}), scene.grid, library);
+        makeRepresentation(parseMode(job.mode, Where{"", "--mode"}), scene.grid, library, &spectra);
     // What the renderers see: the spectra in the mode's channels (the same spectra in full mode).
     SceneOnGrid rendered = represent(spectra, representation, scene);
     OutputFiles files;
@@ -200,6 +200,8 @@ RenderJobResult runRenderJob(const RenderJob& job) {
                                            rendered.grid.bands(), job.ssaa);
     }
     r.clippedPixels = image.clippedPixels;
+    // linear:K: the pixels are the projections onto the basis (Peercy's result).
+    if (!cube.data.empty()) projectCube(representation, cube.data, cube.bands());
 
     t = Clock::now();
     std::string stem = job.scene.stem().string();

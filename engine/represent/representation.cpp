@@ -5,6 +5,7 @@
 #include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -46,6 +47,7 @@ std::string Mode::name() const {
         case ModeKind::Full: return "full";
         case ModeKind::Rgb: return "rgb";
         case ModeKind::Ac1c2: return fmt::format("ac1c2:{}", samples);
+        case ModeKind::Linear: return fmt::format("linear:{}", samples);
     }
     return "?";
 }
@@ -69,8 +71,17 @@ Mode parseMode(const std::string& text, const Where& where) {
         }
         return m;
     }
-    std::string near = closestMatch(text, {"full", "rgb", "ac1c2"});
-    failInput(where, "'{}' is not a representation mode; expected full, rgb or ac1c2[:N]{}", text,
+    if (text.rfind("linear:", 0) == 0) {
+        char* end = nullptr;
+        long k = std::strtol(text.c_str() + 7, &end, 10);
+        if (*end != '\0' || end == text.c_str() + 7 || k < 1 || k > 12)
+            failInput(where, "'{}': the linear model takes 1 to 12 basis functions, e.g. linear:6", text);
+        m.kind = ModeKind::Linear;
+        m.samples = int(k);
+        return m;
+    }
+    std::string near = closestMatch(text, {"full", "rgb", "ac1c2", "linear:6"});
+    failInput(where, "'{}' is not a representation mode; expected full, rgb, ac1c2[:N] or linear:K{}", text,
               near.empty() ? "" : fmt::format(" (did you mean '{}'?)", near));
 }
 
@@ -83,11 +94,149 @@ Grid Representation::renderGrid() const {
     return g;
 }
 
-Representation makeRepresentation(const Mode& mode, const Grid& grid, const SpectrumLibrary& library) {
+namespace {
+
+// Eigen-decomposition of a symmetric matrix by cyclic Jacobi rotations (the sample Gram matrices
+// here are a few dozen rows). Returns eigenvalues descending with their vectors as columns of v.
+void symmetricEigen(std::vector<std::vector<double>> a, std::vector<double>& values,
+                    std::vector<std::vector<double>>& v) {
+    size_t n = a.size();
+    v.assign(n, std::vector<double>(n, 0.0));
+    for (size_t i = 0; i < n; ++i) v[i][i] = 1.0;
+    for (int sweep = 0; sweep < 100; ++sweep) {
+        double off = 0.0;
+        for (size_t p = 0; p < n; ++p)
+            for (size_t q = p + 1; q < n; ++q) off += a[p][q] * a[p][q];
+        if (off < 1e-30) break;
+        for (size_t p = 0; p < n; ++p)
+            for (size_t q = p + 1; q < n; ++q) {
+                if (std::fabs(a[p][q]) < 1e-300) continue;
+                double theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
+                double t = (theta >= 0 ? 1.0 : -1.0) / (std::fabs(theta) + std::sqrt(theta * theta + 1.0));
+                double c = 1.0 / std::sqrt(t * t + 1.0), sn = t * c;
+                for (size_t k = 0; k < n; ++k) {  // A ← A·J
+                    double akp = a[k][p], akq = a[k][q];
+                    a[k][p] = c * akp - sn * akq;
+                    a[k][q] = sn * akp + c * akq;
+                }
+                for (size_t k = 0; k < n; ++k) {  // A ← Jᵀ·A
+                    double apk = a[p][k], aqk = a[q][k];
+                    a[p][k] = c * apk - sn * aqk;
+                    a[q][k] = sn * apk + c * aqk;
+                }
+                for (size_t k = 0; k < n; ++k) {
+                    double vkp = v[k][p], vkq = v[k][q];
+                    v[k][p] = c * vkp - sn * vkq;
+                    v[k][q] = sn * vkp + c * vkq;
+                }
+            }
+    }
+    std::vector<size_t> order(n);
+    for (size_t i = 0; i < n; ++i) order[i] = i;
+    std::sort(order.begin(), order.end(), [&](size_t x, size_t y) { return a[x][x] > a[y][y]; });
+    values.resize(n);
+    std::vector<std::vector<double>> sorted(n, std::vector<double>(n));
+    for (size_t j = 0; j < n; ++j) {
+        values[j] = a[order[j]][order[j]];
+        for (size_t i = 0; i < n; ++i) sorted[i][j] = v[i][order[j]];
+    }
+    v = std::move(sorted);
+}
+
+// Characteristic vectors of the spectra a pixel can hold — each light, and the light each
+// material reflects (diffuse and specular) and emits — normalized so no one spectrum dominates by
+// its brightness; uncentred, as Peercy's characteristic-vector analysis.
+void linearBasis(Representation& r, const SceneOnGrid& spectra) {
+    double dl = r.grid.step_nm;
+    std::vector<std::vector<double>> samples;
+    auto add = [&](std::vector<double> s) {
+        double n2 = 0;
+        for (double x : s) n2 += x * x * dl;
+        if (!(n2 > 0)) return;
+        for (double& x : s) x /= std::sqrt(n2);
+        samples.push_back(std::move(s));
+    };
+    for (const auto& e : spectra.lights) {
+        add(e);
+        for (const auto& m : spectra.materials) {
+            std::vector<double> d(e.size()), sp(e.size());
+            for (size_t b = 0; b < e.size(); ++b) {
+                d[b] = m.diffuse[b] * e[b];
+                sp[b] = m.specular[b] * e[b];
+            }
+            add(d);
+            add(sp);
+        }
+    }
+    for (const auto& m : spectra.materials)
+        if (m.fluorescent) add(m.emission);
+    size_t n = samples.size();
+    if (n == 0) failInput(Where{"", "--mode"}, "linear: the scene has no light to analyse");
+    std::vector<std::vector<double>> gram(n, std::vector<double>(n, 0.0));
+    for (size_t i = 0; i < n; ++i)
+        for (size_t j = i; j < n; ++j) {
+            double g = 0;
+            for (size_t b = 0; b < samples[i].size(); ++b) g += samples[i][b] * samples[j][b] * dl;
+            gram[i][j] = gram[j][i] = g;
+        }
+    std::vector<double> values;
+    std::vector<std::vector<double>> vectors;
+    symmetricEigen(gram, values, vectors);
+    double total = 0, kept = 0;
+    for (double v : values) total += std::max(v, 0.0);
+    size_t k = std::min<size_t>(r.mode.samples, n);
+    for (size_t c = 0; c < k && values[c] > 1e-12 * values[0]; ++c) {
+        std::vector<double> e(r.grid.bands(), 0.0);
+        for (size_t i = 0; i < n; ++i)
+            for (size_t b = 0; b < e.size(); ++b) e[b] += vectors[i][c] * samples[i][b];
+        for (double& x : e) x /= std::sqrt(values[c]);
+        r.basis.push_back(std::move(e));
+        kept += values[c];
+    }
+    r.energyKept = total > 0 ? kept / total : 1.0;
+    if (r.basis.size() < size_t(r.mode.samples))
+        warn(Where{"", "--mode"}, fmt::format("linear:{}: the scene's spectra span only {} dimensions; using {}",
+                                              r.mode.samples, r.basis.size(), r.basis.size()));
+}
+
+}  // namespace
+
+std::vector<double> project(const Representation& r, const std::vector<double>& v) {
+    if (r.mode.kind != ModeKind::Linear) return v;
+    std::vector<double> out(v.size(), 0.0);
+    for (const auto& e : r.basis) {
+        double c = 0;
+        for (size_t b = 0; b < v.size(); ++b) c += e[b] * v[b] * r.grid.step_nm;
+        for (size_t b = 0; b < v.size(); ++b) out[b] += c * e[b];
+    }
+    return out;
+}
+
+void projectCube(const Representation& r, std::vector<float>& data, int bands) {
+    if (r.mode.kind != ModeKind::Linear) return;
+    std::vector<double> v(bands);
+    for (size_t p = 0; p + bands <= data.size(); p += bands) {
+        for (int b = 0; b < bands; ++b) v[b] = data[p + b];
+        v = project(r, v);
+        for (int b = 0; b < bands; ++b) data[p + b] = float(v[b]);
+    }
+}
+
+Representation makeRepresentation(const Mode& mode, const Grid& grid, const SpectrumLibrary& library,
+                                  const SceneOnGrid* spectra) {
     Representation r;
     r.mode = mode;
     r.grid = grid;
     const auto& root = library.root();
+    if (mode.kind == ModeKind::Linear) {
+        if (!spectra) failRuntime("linear:K needs the scene's spectra to build its basis");
+        for (double w : grid.wavelengths()) r.channelNames.push_back(fmt::format("{:g} nm", w));
+        linearBasis(r, *spectra);
+        r.description = fmt::format("linear:{}: Peercy 1993, {} basis functions from the scene's spectra keeping "
+                                    "{:.6f} of their energy, products by projection",
+                                    mode.samples, r.basis.size(), r.energyKept);
+        return r;
+    }
     if (mode.kind == ModeKind::Full) {
         for (double w : grid.wavelengths()) r.channelNames.push_back(fmt::format("{:g} nm", w));
         r.description = fmt::format("full spectral, {} bands {} nm", grid.bands(), grid.str());
@@ -136,10 +285,19 @@ Representation makeRepresentation(const Mode& mode, const Grid& grid, const Spec
 }
 
 std::vector<double> lightChannels(const Representation& r, const std::vector<double>& bands) {
+    if (r.mode.kind == ModeKind::Linear) return project(r, bands);
     return r.mode.spectral() ? bands : apply(r.lightAnalysis, bands);
 }
 
 SceneOnGrid represent(const SceneOnGrid& spectra, const Representation& r, const Scene& scene) {
+    if (r.mode.kind == ModeKind::Linear) {
+        // Peercy: lights are vectors in the basis; a material is the matrix ∫ e_i·ρ·e_j, which is
+        // what multiplying the full reflectance by the projected light and projecting the result
+        // computes. So: project the lights here, the rendered pixels after (projectCube).
+        SceneOnGrid out = spectra;
+        for (auto& e : out.lights) e = project(r, e);
+        return out;
+    }
     if (r.mode.spectral()) return spectra;
     SceneOnGrid out;
     out.grid = r.renderGrid();
