@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <memory>
 #include <numeric>
 #include <optional>
 
@@ -148,68 +149,109 @@ std::string spectralChannelName(double wavelength_nm) {
     return n;
 }
 
-ExrWriteReport writeSpectralExr(const fs::path& path, const SpectralCube& cube,
-                                const ExrWriteOptions& options) {
+struct SpectralExrWriter::Impl {
+    fs::path path;
+    int width = 0, height = 0, bands = 0, nextRow = 0;
+    bool half = false;
+    AtomicOutput out;
+    std::unique_ptr<OIIO::ImageOutput> writer;
+    ExrWriteReport report;
+    std::vector<::half> halves;  // Imath half, from OpenImageIO/half.h
+    explicit Impl(const fs::path& p) : path(p), out(p) {}
+};
+
+SpectralExrWriter::SpectralExrWriter(const fs::path& path, int width, int height, const Grid& grid,
+                                     const ExrWriteOptions& options)
+    : impl_(std::make_unique<Impl>(path)) {
     using namespace OIIO;
-    const int bands = cube.bands();
-    const size_t count = static_cast<size_t>(cube.width) * cube.height * bands;
-    if (cube.width <= 0 || cube.height <= 0 || bands <= 0 || cube.data.size() != count)
-        failRuntime("cannot write '{}': cube is {}×{} with {} bands but holds {} values", path.string(),
-                    cube.width, cube.height, bands, cube.data.size());
+    Impl& m = *impl_;
+    m.width = width;
+    m.height = height;
+    m.bands = grid.bands();
+    m.half = options.half;
+    if (width <= 0 || height <= 0 || m.bands <= 0)
+        failRuntime("cannot write '{}': a {}×{} cube with {} bands", path.string(), width, height, m.bands);
     if (!knownCompression(options.compression))
         failInput(Where{"", "compression"},
                   "unknown OpenEXR compression '{}' (none, rle, zips, zip, piz, pxr24, b44, b44a, "
                   "dwaa, dwab)",
                   options.compression);
-
-    ExrWriteReport report;
-    // Half: clamp finite overflow ourselves (a plain conversion would turn it into ±Inf) and
-    // convert once, so OpenImageIO writes the buffer as is.
-    std::vector<half> halves;
-    const void* pixels = cube.data.data();
-    TypeDesc pixelType = TypeDesc::FLOAT;
-    if (options.half) {
-        halves.resize(count);
-        for (size_t i = 0; i < count; ++i) {
-            float v = cube.data[i];
-            if (!std::isfinite(v)) {
-                ++report.nonFinite;
-            } else if (std::fabs(v) > kHalfMax) {
-                ++report.clampedToHalfMax;
-                v = std::copysign(kHalfMax, v);
-            }
-            halves[i] = half(v);
-        }
-        pixels = halves.data();
-        pixelType = TypeDesc::HALF;
-    } else {
-        for (float v : cube.data) report.nonFinite += !std::isfinite(v);
-    }
-
-    ImageSpec spec(cube.width, cube.height, bands, pixelType);
+    ImageSpec spec(width, height, m.bands, m.half ? TypeDesc::HALF : TypeDesc::FLOAT);
     spec.channelnames.clear();
-    for (int b = 0; b < bands; ++b) spec.channelnames.push_back(spectralChannelName(cube.grid.wavelength(b)));
+    for (int b = 0; b < m.bands; ++b) spec.channelnames.push_back(spectralChannelName(grid.wavelength(b)));
     spec.attribute("compression", options.compression);
     spec.attribute("spectralLayoutVersion", "1.0");
     spec.attribute("emissiveUnits", "W.m^-2.sr^-1");
-    spec.attribute("metamer:grid", cube.grid.str());
+    spec.attribute("metamer:grid", grid.str());
     spec.attribute("metamer:quantity", kQuantity);
     for (const auto& [key, value] : options.extraAttributes) spec.attribute(key, value);
+    m.writer = ImageOutput::create("openexr");
+    if (!m.writer) failRuntime("cannot write '{}': no OpenEXR writer: {}", path.string(), OIIO::geterror());
+    if (!m.writer->open(m.out.tempPath().string(), spec))
+        failRuntime("cannot write '{}': {}", path.string(), m.writer->geterror());
+}
 
-    AtomicOutput out(path);
-    auto writer = ImageOutput::create("openexr");
-    if (!writer) failRuntime("cannot write '{}': no OpenEXR writer: {}", path.string(), OIIO::geterror());
-    if (!writer->open(out.tempPath().string(), spec))
-        failRuntime("cannot write '{}': {}", path.string(), writer->geterror());
-    bool ok = writer->write_image(pixelType, pixels);  // whole image in one call: fastest path
-    std::string err = ok ? "" : writer->geterror();
-    if (!writer->close() && ok) {
-        ok = false;
-        err = writer->geterror();
+SpectralExrWriter::~SpectralExrWriter() {
+    // Not committed: close the writer; AtomicOutput then removes the temporary file.
+    if (impl_ && impl_->writer) impl_->writer->close();
+}
+
+void SpectralExrWriter::writeRows(int firstRow, int rows, const float* data) {
+    using namespace OIIO;
+    Impl& m = *impl_;
+    if (firstRow != m.nextRow || rows <= 0 || firstRow + rows > m.height)
+        failRuntime("cannot write '{}': rows {}..{} out of order (next is {}, height {})", m.path.string(), firstRow,
+                    firstRow + rows, m.nextRow, m.height);
+    const size_t count = size_t(m.width) * rows * m.bands;
+    const void* pixels = data;
+    TypeDesc pixelType = TypeDesc::FLOAT;
+    if (m.half) {
+        // Half: clamp finite overflow ourselves (a plain conversion would turn it into ±Inf) and
+        // convert once, so OpenImageIO writes the buffer as is.
+        m.halves.resize(count);
+        for (size_t i = 0; i < count; ++i) {
+            float v = data[i];
+            if (!std::isfinite(v)) {
+                ++m.report.nonFinite;
+            } else if (std::fabs(v) > kHalfMax) {
+                ++m.report.clampedToHalfMax;
+                v = std::copysign(kHalfMax, v);
+            }
+            m.halves[i] = half(v);
+        }
+        pixels = m.halves.data();
+        pixelType = TypeDesc::HALF;
+    } else {
+        for (size_t i = 0; i < count; ++i) m.report.nonFinite += !std::isfinite(data[i]);
     }
-    if (!ok) failRuntime("cannot write '{}': {}", path.string(), err);
-    out.commit();
-    return report;
+    // The whole image in one call when it is (the fastest path), else scanline blocks in order.
+    bool ok = rows == m.height ? m.writer->write_image(pixelType, pixels)
+                               : m.writer->write_scanlines(firstRow, firstRow + rows, 0, pixelType, pixels);
+    if (!ok) failRuntime("cannot write '{}': {}", m.path.string(), m.writer->geterror());
+    m.nextRow = firstRow + rows;
+}
+
+ExrWriteReport SpectralExrWriter::commit() {
+    Impl& m = *impl_;
+    if (m.nextRow != m.height)
+        failRuntime("cannot write '{}': {} of {} rows written", m.path.string(), m.nextRow, m.height);
+    bool ok = m.writer->close();
+    std::string err = ok ? "" : m.writer->geterror();
+    m.writer.reset();
+    if (!ok) failRuntime("cannot write '{}': {}", m.path.string(), err);
+    m.out.commit();
+    return m.report;
+}
+
+ExrWriteReport writeSpectralExr(const fs::path& path, const SpectralCube& cube,
+                                const ExrWriteOptions& options) {
+    const size_t count = static_cast<size_t>(cube.width) * cube.height * cube.bands();
+    if (cube.width <= 0 || cube.height <= 0 || cube.bands() <= 0 || cube.data.size() != count)
+        failRuntime("cannot write '{}': cube is {}×{} with {} bands but holds {} values", path.string(),
+                    cube.width, cube.height, cube.bands(), cube.data.size());
+    SpectralExrWriter writer(path, cube.width, cube.height, cube.grid, options);
+    writer.writeRows(0, cube.height, cube.data.data());
+    return writer.commit();
 }
 
 SpectralExrImage readSpectralExrImage(const fs::path& path) {

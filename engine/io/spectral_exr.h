@@ -6,6 +6,7 @@
 #include "spectral/cube.h"
 
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -31,6 +32,24 @@ std::string spectralChannelName(double wavelength_nm);
 // metamer:quantity, plus options.extraAttributes. Throws a runtime error naming the path.
 ExrWriteReport writeSpectralExr(const std::filesystem::path& path, const SpectralCube& cube,
                                 const ExrWriteOptions& options = {});
+
+// Writes a cube strip by strip (rows in order), for images larger than memory. The file appears
+// only at commit(); a writer destroyed before that leaves nothing behind (AtomicOutput).
+class SpectralExrWriter {
+public:
+    SpectralExrWriter(const std::filesystem::path& path, int width, int height, const Grid& grid,
+                      const ExrWriteOptions& options = {});
+    ~SpectralExrWriter();
+    SpectralExrWriter(const SpectralExrWriter&) = delete;
+    SpectralExrWriter& operator=(const SpectralExrWriter&) = delete;
+    // `rows` rows starting at `firstRow`, pixel-interleaved (width × rows × bands floats).
+    void writeRows(int firstRow, int rows, const float* data);
+    ExrWriteReport commit();
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
 
 enum class SpectralComponent {
     Emissive,    // S0.<λ>nm: spectral radiance
