@@ -1,0 +1,89 @@
+// libFuzzer target: the scene parser and --set overrides.
+//
+// Input layout: SCENE [\0 OVERRIDE [\0 OVERRIDE ...]]. SCENE is scene-file text given to
+// loadSceneFromString as if it were <tmp>/fuzz.json; each OVERRIDE is one --set KEY=VALUE string.
+// An empty SCENE (the input starts with \0) stands for scenes/spheres.json, so that overrides are
+// fuzzed against a scene that loads. Library names resolve in the real spectra library; relative
+// paths resolve in a private temporary folder holding copies of the test fixtures (local.csv,
+// bad.csv, cube.gltf, cube.glb, strip.gltf, ...) and of scenes/assets/, so the paths the seeds
+// name exist. A scene that loads is then resampled onto its grid, as both renderers do next.
+// Input errors (metamer::Error) are expected; anything else is a finding.
+#include "fuzz_support.h"
+
+#include "scene/scene_json.h"
+#include "scene/scene_on_grid.h"
+#include "spectral/library.h"
+
+#include <cstdint>
+#include <sstream>
+
+using namespace metamer;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Fixture {
+    fs::path sceneFile;   // <tmp>/fuzz.json (never written: only its folder matters)
+    SpectrumLibrary lib;  // the real library (METAMER_SPECTRA, else the source tree's spectra/)
+    std::string baseScene;
+};
+
+std::string readText(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+Fixture& fixture() {
+    static Fixture f = [] {
+        const fs::path src = METAMER_SOURCE_DIR;
+        const fs::path dir = fuzz::workDir();
+        const auto copy = fs::copy_options::overwrite_existing | fs::copy_options::recursive;
+        for (const auto& e : fs::directory_iterator(src / "tests" / "data" / "scene"))
+            if (e.is_regular_file() && e.path().extension() != ".py") fs::copy(e.path(), dir / e.path().filename(), copy);
+        fs::create_directories(dir / "assets");
+        for (const auto& e : fs::directory_iterator(src / "scenes" / "assets"))
+            if (e.path().extension() == ".gltf") fs::copy(e.path(), dir / "assets" / e.path().filename(), copy);
+        return Fixture{dir / "fuzz.json", SpectrumLibrary(), readText(src / "scenes" / "spheres.json")};
+    }();
+    return f;
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerInitialize(int*, char***) {
+    fuzz::silenceWarnings();
+    fixture();
+    return 0;
+}
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+    Fixture& f = fixture();
+    const std::string input(reinterpret_cast<const char*>(data), size);
+    size_t nul = input.find('\0');
+    std::string text = input.substr(0, nul);
+    std::vector<std::string> overrides;
+    while (nul != std::string::npos) {
+        size_t next = input.find('\0', nul + 1);
+        overrides.push_back(input.substr(nul + 1, next == std::string::npos ? std::string::npos : next - nul - 1));
+        nul = next;
+    }
+    if (text.empty() && !overrides.empty()) text = f.baseScene;
+
+    try {
+        Scene scene = loadSceneFromString(text, f.sceneFile, f.lib, overrides);
+        METAMER_FUZZ_CHECK(scene.camera.width >= 1 && scene.camera.height >= 1);
+        for (const Mesh& m : scene.meshes) {
+            METAMER_FUZZ_CHECK(m.material < scene.materials.size());
+            METAMER_FUZZ_CHECK(m.normals.size() == m.positions.size());
+            METAMER_FUZZ_CHECK(m.indices.size() % 3 == 0);
+            for (uint32_t i : m.indices) METAMER_FUZZ_CHECK(i < m.positions.size());
+        }
+        SceneOnGrid onGrid = resampleScene(scene, scene.grid);
+        METAMER_FUZZ_CHECK(onGrid.lights.size() == scene.lights.size());
+        METAMER_FUZZ_CHECK(onGrid.materials.size() == scene.materials.size());
+    } catch (const Error&) {
+    }
+    return 0;
+}
