@@ -148,6 +148,8 @@ struct SpectralPass::Impl {
     SpectralPassPlan plan;
     PackedScene packed;
     CameraMatrices camera;
+    glm::mat4 fullViewProjection{1.0f};
+    int rows = 0;
 
     vk::Buffer vertexBuffer, indexBuffer, lightBuffer, lightSpectraBuffer, materialBuffer, readbackBuffer;
     VkDeviceSize lightSpectraStride = 0, materialStride = 0;  // dynamic-offset strides, aligned
@@ -643,7 +645,9 @@ SpectralPass::SpectralPass(vk::Context& ctx, const Scene& scene, const SceneOnGr
     p.hasFluorescence = scene.hasFluorescence();
     p.ssaa = options.ssaa;
     p.targetWidth = uint32_t(scene.camera.width * options.ssaa);
-    p.targetHeight = uint32_t(scene.camera.height * options.ssaa);
+    if (options.stripRows < 0) failRuntime("strip rows must be ≥ 0, got {}", options.stripRows);
+    int rows = options.stripRows > 0 ? std::min(options.stripRows, scene.camera.height) : scene.camera.height;
+    p.targetHeight = uint32_t(rows * options.ssaa);
     p.targetBytes = size_t(p.targetWidth) * p.targetHeight * p.layers * 16;
     uint32_t maxDim = ctx.properties().limits.maxFramebufferWidth;
     if (p.targetWidth > maxDim || p.targetHeight > ctx.properties().limits.maxFramebufferHeight)
@@ -658,6 +662,9 @@ SpectralPass::SpectralPass(vk::Context& ctx, const Scene& scene, const SceneOnGr
                   scene.lights.size(), MAX_LIGHTS);
     m.packed = pack(scene, spectra, p.passes);
     m.camera = cameraMatrices(scene.camera, scene);
+    m.fullViewProjection = m.camera.viewProjection;
+    m.rows = rows;
+    if (options.stripRows > 0) setStrip(0);
     m.createBuffers();
     m.createTargets(options.readback, options.sampled);
     m.createLayouts();
@@ -679,6 +686,19 @@ void SpectralPass::render(SpectralCube& cube) {
     readback(cube);
 }
 
+int SpectralPass::rows() const { return impl_->rows; }
+
+void SpectralPass::setStrip(int firstRow) {
+    // Rows [r0, r0 + R) of an H-row image span clip-space y in [−1 + 2·r0/H, −1 + 2·(r0 + R)/H]
+    // (y down); scale and shift that range onto [−1, 1] so the strip fills the target.
+    Impl& m = *impl_;
+    double H = m.scene.camera.height, R = m.rows, r0 = firstRow;
+    glm::mat4 strip(1.0f);
+    strip[1][1] = float(H / R);
+    strip[3][1] = float((H - 2.0 * r0) / R - 1.0);
+    m.camera.viewProjection = strip * m.fullViewProjection;
+}
+
 void SpectralPass::draw() {
     Impl& m = *impl_;
     auto t0 = Clock::now();
@@ -695,9 +715,9 @@ VkImageLayout SpectralPass::targetLayout() const {
 void SpectralPass::readback(SpectralCube& cube) {
     Impl& m = *impl_;
     auto t1 = Clock::now();
-    if (cube.width != m.scene.camera.width || cube.height != m.scene.camera.height || !(cube.grid == m.grid) ||
+    if (cube.width != m.scene.camera.width || cube.height != m.rows || !(cube.grid == m.grid) ||
         cube.data.size() != size_t(cube.width) * cube.height * cube.bands())
-        cube = SpectralCube(m.scene.camera.width, m.scene.camera.height, m.grid);
+        cube = SpectralCube(m.scene.camera.width, m.rows, m.grid);
     m.readInto(cube);
     timings_.readback_ms = msSince(t1);
 }

@@ -24,6 +24,9 @@ struct SpectralPassOptions {
     int ssaa = 1;  // s×s samples per pixel, box-filtered (1, 2, 3 or 4)
     Readback readback = Readback::Auto;
     bool sampled = false;  // the target is also read by a later pass (the tonemap pass)
+    // Render the image in horizontal strips of this many rows (0: the whole image at once), for
+    // images larger than memory: setStrip() chooses the rows, readback() returns that strip.
+    int stripRows = 0;
 };
 
 // What this scene needs from the GPU: decided once, before any Vulkan object is made.
@@ -57,6 +60,11 @@ public:
 
     const SpectralPassPlan& plan() const { return plan_; }
     const SpectralPassTimings& timings() const { return timings_; }
+
+    // Strip mode: the rows [firstRow, firstRow + stripRows) that draw() renders next (rows past the
+    // image's bottom are rendered too and should be ignored).
+    void setStrip(int firstRow);
+    int rows() const;  // rows of the target and of readback()'s cube: stripRows, or the image height
 
     // Draws every band into the layered target and waits (no readback).
     void draw();
