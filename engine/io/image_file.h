@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -14,6 +15,23 @@ struct ImageFile {
     int width = 0, height = 0;
     std::vector<std::string> channels;                    // names, e.g. {"R","G","B"} or {"X","Y","Z"}
     std::vector<std::pair<std::string, std::string>> attributes;  // string metadata
+};
+
+// Writes an image strip by strip (rows in order); the file appears only at commit().
+class ImageFileWriter {
+public:
+    // bits: 8 or 16 for integer formats (PNG), 32 for float (EXR, zip).
+    ImageFileWriter(const std::filesystem::path& path, const ImageFile& image, int bits);
+    ~ImageFileWriter();
+    ImageFileWriter(const ImageFileWriter&) = delete;
+    ImageFileWriter& operator=(const ImageFileWriter&) = delete;
+    void writeRows(int firstRow, int rows, const std::vector<uint16_t>& pixels);  // 8/16 bits
+    void writeRows(int firstRow, int rows, const std::vector<float>& pixels);     // 32 bits
+    void commit();
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
 };
 
 // 8- or 16-bit integer pixels (PNG), `channels.size()` per pixel, row 0 at the top.
