@@ -92,6 +92,7 @@ struct DisplayImage {
     std::vector<float> xyz;        // 3 per pixel, scaled by xyzOutputScale (empty in ResponsesOnly)
     std::vector<uint16_t> counts;  // 3 per pixel, 0 .. 2^bits − 1 (empty in ResponsesOnly)
     size_t clippedPixels = 0;      // pixels whose linear display RGB left [0, 1]
+    std::vector<uint8_t> clipped;  // per pixel, 1 where clipped (empty in ResponsesOnly)
 };
 
 // The CPU reference of the tonemap pass, in double precision, on a cube already filtered to

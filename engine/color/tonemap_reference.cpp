@@ -15,6 +15,7 @@ DisplayImage tonemapReference(const TonemapPlan& plan, const SpectralCube& cube)
     if (colorimetric) {
         img.xyz.resize(n * 3);
         img.counts.resize(n * 3);
+        img.clipped.resize(n);
     }
     std::vector<size_t> clipped(std::max(1u, std::thread::hardware_concurrency()), 0);
     auto rows = [&](int t, int y0, int y1) {
@@ -28,6 +29,7 @@ DisplayImage tonemapReference(const TonemapPlan& plan, const SpectralCube& cube)
                 for (int c = 0; c < 3; ++c) img.xyz[3 * i + c] = float(xyz[c] * plan.xyzOutputScale);
                 EncodeResult e = encodeXyz(plan.display, plan.adaptation * xyz);
                 for (int c = 0; c < 3; ++c) img.counts[3 * i + c] = uint16_t(e.counts[c]);
+                img.clipped[i] = e.clipped;
                 clipped[t] += e.clipped;
             }
     };

@@ -302,7 +302,9 @@ struct TonemapPass::Impl {
         if (plan.mode != TonemapMode::ResponsesOnly) {
             img.xyz.resize(n * 3);
             img.counts.resize(n * 3);
+            img.clipped.resize(n);
             for (size_t i = 0; i < n; ++i) {
+                img.clipped[i] = counts[4 * i + 3] > 0.5f;
                 for (int c = 0; c < 3; ++c) {
                     img.xyz[3 * i + c] = xyz[4 * i + c];
                     img.counts[3 * i + c] = uint16_t(counts[4 * i + c]);
