@@ -25,6 +25,34 @@ extern "C" void onSignal(int sig) {
     _exit(128 + sig);
 }
 
+// Messages quote what the user's files contain (a binary file named .csv, a JSON string with
+// invalid UTF-8, a line with a carriage return): keep the error one printable line by writing
+// control characters and bytes that are not UTF-8 as \xNN.
+std::string printable(const std::string& s) {
+    std::string out;
+    for (size_t i = 0; i < s.size();) {
+        auto c = static_cast<unsigned char>(s[i]);
+        if (c >= 0x20 && c < 0x7f) {
+            out += char(c);
+            ++i;
+            continue;
+        }
+        size_t n = c >= 0xc2 && c <= 0xdf ? 2 : c >= 0xe0 && c <= 0xef ? 3 : c >= 0xf0 && c <= 0xf4 ? 4 : 0;
+        bool valid = n > 0 && i + n <= s.size();
+        for (size_t k = 1; valid && k < n; ++k) valid = (static_cast<unsigned char>(s[i + k]) & 0xc0) == 0x80;
+        if (valid) {
+            out.append(s, i, n);
+            i += n;
+        } else {
+            out += fmt::format("\\x{:02x}", c);
+            ++i;
+        }
+    }
+    return out;
+}
+
+void printError(const std::string& message) { std::fprintf(stderr, "metamer: %s\n", printable(message).c_str()); }
+
 void printTimings(const RenderJobResult& r) {
     const StageTimings& t = r.timings;
     std::printf("timings (ms): load %.1f  upload %.1f  shading %.1f  readback %.1f  tonemap %.1f  write %.1f  "
@@ -108,6 +136,11 @@ int main(int argc, char** argv) {
     render->add_option("--display", display, "display model: srgb or crt");
     render->add_option("--bits", bits, "display counts: 8 or 16 bits")->check(CLI::IsMember({8, 16}));
     render->add_option("--integration", integration, "riemann (default) or trapezoid");
+    double budgetMiB = 0;
+    render->add_option("--memory-budget", budgetMiB,
+                       "MiB the render may hold at once (default: a quarter of the machine's memory); a larger "
+                       "image is rendered in strips and streamed to the files")
+        ->check(CLI::PositiveNumber);
     render->add_option("--mode", job.mode, "representation: full (default), rgb, ac1c2[:N], linear:K (docs/representations.md)")
         ->capture_default_str();
     render->add_option("--xyz", xyz, "XYZ output scale: relative (white Y = 100) or absolute (cd/m²)");
@@ -120,6 +153,9 @@ int main(int argc, char** argv) {
     render->add_flag("--validation", job.validation, "enable Vulkan validation layers; any error fails the run");
     render->add_option("--device", job.device, "Vulkan device index or name substring (default: best; env METAMER_DEVICE)");
     render->add_flag("--verbose,-v", job.verbose, "print the chosen device and the render plan");
+    render->add_flag("--allow-outside-paths", job.allowOutsidePaths,
+                     "let the scene read files outside its own folder tree and the spectra library "
+                     "(docs/scene-format.md)");
 
     auto* devices = app.add_subcommand("devices", "list Vulkan devices and their scores");
 
@@ -135,9 +171,15 @@ int main(int argc, char** argv) {
 
     try {
         app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForAllHelp& e) {
+        return app.exit(e);
     } catch (const CLI::ParseError& e) {
-        int code = app.exit(e);
-        return code == 0 ? 0 : int(ExitCode::BadInput);
+        // A bad command line is bad input like any other: one "metamer: " line, exit code 2.
+        if (e.get_exit_code() == 0) return app.exit(e);
+        printError(e.what());
+        return int(ExitCode::BadInput);
     }
 
     try {
@@ -148,6 +190,7 @@ int main(int argc, char** argv) {
         job.backend = backend == "cpu" ? Backend::Cpu : Backend::Gpu;
         job.readback = readback == "map" ? Readback::Map : readback == "copy" ? Readback::Copy : Readback::Auto;
         job.coverage = strictCoverage ? CoveragePolicy::Error : CoveragePolicy::ZeroWithWarning;
+        if (budgetMiB > 0) job.memoryBudget = size_t(budgetMiB * (1 << 20));
         if (!detector.empty()) job.detector = detector;
         if (!adapt.empty()) job.adaptation = adapt;
         if (!display.empty()) job.display = display;
@@ -182,10 +225,13 @@ int main(int argc, char** argv) {
         }
         return 0;
     } catch (const Error& e) {
-        std::fprintf(stderr, "metamer: %s\n", e.what());
+        printError(e.what());
         return int(e.code());
+    } catch (const std::bad_alloc&) {
+        printError("out of memory");
+        return int(ExitCode::Failure);
     } catch (const std::exception& e) {
-        std::fprintf(stderr, "metamer: %s\n", e.what());
+        printError(e.what());
         return int(ExitCode::Failure);
     }
 }

@@ -4,6 +4,7 @@
 #include "io/quicklook_png.h"
 #include "io/spectral_exr.h"
 #include "reference/cpu_renderer.h"
+#include "render/strip_render.h"
 #include "render/tonemap_pass.h"
 #include "represent/representation.h"
 #include "scene/scene_json.h"
@@ -53,7 +54,38 @@ std::string detectorFileName(const std::string& name) {
     return s;
 }
 
+std::string gib(uint64_t bytes) { return fmt::format("{:.1f} GiB", double(bytes) / double(uint64_t(1) << 30)); }
+
 }  // namespace
+
+std::string RenderMemory::describe() const {
+    std::string parts = "cube " + gib(cube);
+    if (target) parts += ", GPU target " + gib(target);
+    if (display) parts += ", display " + gib(display);
+    return fmt::format("{} ({})", gib(total()), parts);
+}
+
+RenderMemory estimateRenderMemory(int width, int height, int bands, int ssaa, Backend backend, bool display) {
+    // 64-bit throughout: 16384² pixels × 4601 bands × 4 bytes is 4.9e12.
+    const uint64_t pixels = uint64_t(std::max(width, 0)) * uint64_t(std::max(height, 0));
+    const uint64_t s = uint64_t(std::max(ssaa, 1));
+    const uint64_t layers = (uint64_t(std::max(bands, 0)) + 3) / 4;  // 4 bands per RGBA32F layer
+    RenderMemory m;
+    m.cube = pixels * uint64_t(std::max(bands, 0)) * sizeof(float);
+    if (backend == Backend::Gpu) {
+        const uint64_t samples = pixels * s * s;
+        const uint64_t targetBytes = samples * layers * 4 * sizeof(float);
+        m.target = 2 * targetBytes + samples * sizeof(float);  // target, readback copy, depth
+    }
+    if (display) {
+        // The display image: up to 8 float responses, 3 float XYZ, 3 uint16 counts, a clip byte.
+        uint64_t perPixel = 8 * 4 + 3 * 4 + 3 * 2 + 1;
+        // GPU: 4 RGBA32F attachments and a host buffer they are read back into.
+        if (backend == Backend::Gpu) perPixel += 2 * 4 * 4 * sizeof(float);
+        m.display = pixels * perPixel;
+    }
+    return m;
+}
 
 TonemapSettings tonemapSettings(const RenderJob& job, const Scene& scene, OutputFiles* files) {
     const OutputSettings& o = scene.output;
@@ -87,7 +119,9 @@ RenderJobResult runRenderJob(const RenderJob& job) {
 
     auto t = Clock::now();
     SpectrumLibrary library;
-    Scene scene = loadScene(job.scene, library, job.overrides);
+    LoadOptions loadOptions;
+    loadOptions.allowOutsidePaths = job.allowOutsidePaths;
+    Scene scene = loadScene(job.scene, library, job.overrides, loadOptions);
     if (job.grid) scene.grid = *job.grid;
     SceneOnGrid spectra = resampleScene(scene, scene.grid, job.coverage);
     Representation representation =
@@ -97,6 +131,16 @@ RenderJobResult runRenderJob(const RenderJob& job) {
     OutputFiles files;
     TonemapSettings settings = tonemapSettings(job, scene, &files);
     bool display = files.png || files.xyz || files.responses;
+    // Refuse absurd sizes here, before anything that grows with the image is allocated.
+    RenderMemory memory =
+        estimateRenderMemory(scene.camera.width, scene.camera.height, scene.grid.bands(), job.ssaa, job.backend, display);
+    if (memory.total() > kMaxRenderMemory)
+        failInput(Where{scene.file.string(), "camera"},
+                  "a {}×{} render on {} bands{} would need about {}, more than the {} a render may use; "
+                  "reduce camera.width and camera.height or use a coarser grid",
+                  scene.camera.width, scene.camera.height, scene.grid.bands(),
+                  job.backend == Backend::Gpu && job.ssaa > 1 ? fmt::format(" with ssaa {}", job.ssaa) : "",
+                  memory.describe(), gib(kMaxRenderMemory));
     std::optional<TonemapPlan> plan;
     if (display) {
         // Names given in the scene are reported against the scene's output block.
@@ -104,7 +148,18 @@ RenderJobResult runRenderJob(const RenderJob& job) {
         try {
             plan = makeTonemapPlan(settings, scene, spectra, library, &representation);
         } catch (const Error& e) {
-            bool fromScene = (!job.detector && scene.output.detector && e.where().key == "--detector") ||
+            bool detectorFromScene = !job.detector && scene.output.detector;
+            // A csv: detector's own errors name its file and line; when the scene chose it, say where.
+            bool inDetectorFile = e.code() == ExitCode::BadInput && !e.where().file.empty() &&
+                                  e.where().file != scene.file.string();
+            if (detectorFromScene && inDetectorFile) throw Error(e.code(), sceneOut.child("detector"), e.what());
+            if (job.detector && inDetectorFile) throw Error(e.code(), Where{"", "--detector"}, e.what());
+            if (e.where().key == "--absolute") {
+                // Absolute XYZ with a non-CIE-1931 detector: blame the xyz choice where it was made.
+                Where at = !job.xyz && scene.output.xyz ? sceneOut.child("xyz") : Where{"", "--xyz"};
+                throw Error(e.code(), at, e.message());
+            }
+            bool fromScene = (detectorFromScene && e.where().key == "--detector") ||
                              (!job.display && scene.output.display && e.where().key == "--display");
             if (!fromScene) throw;
             throw Error(e.code(), sceneOut.child(e.where().key == "--detector" ? "detector" : "display"), e.message());
@@ -124,6 +179,68 @@ RenderJobResult runRenderJob(const RenderJob& job) {
     if (files.edges && job.backend != Backend::Cpu)
         failInput(Where{"", "--write"}, "the edges mask comes from the CPU reference's object ids; use --backend cpu");
 
+    // Larger than the memory budget: render in strips and stream every output (GPU backend).
+    size_t perRow = bytesPerRow(scene.camera.width, rendered.grid.bands(), job.ssaa, display,
+                                plan ? int(plan->detector.channels.size()) : 0);
+    size_t budget = job.memoryBudget ? job.memoryBudget : defaultMemoryBudget();
+    size_t needed = perRow * size_t(scene.camera.height);
+    if (needed > budget) {
+        auto mib = [](size_t b) { return double(b) / (1 << 20); };
+        std::string why = fmt::format("the render needs about {:.0f} MiB at once, over the budget of {:.0f} MiB",
+                                      mib(needed), mib(budget));
+        if (job.backend != Backend::Gpu)
+            failInput(Where{"", "--memory-budget"}, "{}; the CPU reference renders whole images (use the GPU backend, "
+                      "which renders in strips, or raise --memory-budget)", why);
+        if (files.edges || (files.png && responsesOnly) || job.frames > 1)
+            failInput(Where{"", "--memory-budget"}, "{}; strips cannot make the edges mask, a quick look or "
+                      "repeated frames", why);
+        // Half the budget per strip (the rest for the writers and the process), in whole 16-row EXR
+        // blocks when there is room.
+        int rows = int(std::max<size_t>(1, budget / 2 / perRow));
+        if (rows >= 16) rows -= rows % 16;
+        vk::ContextOptions co = vk::contextOptionsFromEnvironment();
+        co.validation = co.validation || job.validation;
+        if (!job.device.empty()) co.device = job.device;
+        co.verbose = job.verbose;
+        auto ctx = std::make_unique<vk::Context>(co);
+        std::string stem = job.scene.stem().string();
+        StripJob sj;
+        sj.scene = &scene;
+        sj.rendered = &rendered;
+        sj.representation = &representation;
+        sj.plan = plan ? &*plan : nullptr;
+        sj.context = ctx.get();
+        sj.stripRows = rows;
+        sj.ssaa = job.ssaa;
+        sj.readback = job.readback;
+        sj.half = job.half;
+        sj.compression = job.compression;
+        sj.provenance = {{"metamer:scene", job.scene.string()}, {"metamer:backend", "gpu"},
+                         {"metamer:grid", scene.grid.str()}, {"metamer:mode", representation.mode.name()}};
+        std::string tag = representation.mode.name();
+        std::replace(tag.begin(), tag.end(), ':', '-');
+        if (files.cube) sj.cube = job.outDir / (stem + (representation.mode.spectral() ? "" : "." + tag) + ".exr");
+        if (files.png) sj.png = job.outDir / (stem + ".png");
+        if (files.xyz && !responsesOnly) sj.xyz = job.outDir / (stem + ".xyz.exr");
+        if (files.responses) sj.responses = job.outDir / (stem + "." + detectorFileName(plan->detector.name) + ".exr");
+        t = Clock::now();
+        StripResult sr = renderInStrips(sj);
+        ctx.reset();
+        r.validationErrors = vk::Context::validationErrorsAtExit();
+        r.timings.shading_ms = sr.shading_ms;
+        r.timings.tonemap_ms = sr.tonemap_ms;
+        r.timings.readback_ms = sr.readback_ms;
+        r.timings.total_ms = msSince(start);
+        r.backendDescription = sr.description;
+        r.clampedToHalf = sr.clampedToHalf;
+        r.clippedPixels = sr.clippedPixels;
+        for (const auto& p : {sj.cube, sj.png, sj.xyz, sj.responses})
+            if (!p.empty()) r.written.push_back({p, fmt::format("written in {} strips of {} rows", sr.strips, rows)});
+        r.notes.push_back(why + fmt::format("; rendered in {} strips of {} rows and streamed to the files", sr.strips,
+                                            rows));
+        return r;
+    }
+
     SpectralCube cube;
     DisplayImage image;
     std::vector<uint16_t> edges;
@@ -134,6 +251,17 @@ RenderJobResult runRenderJob(const RenderJob& job) {
         co.verbose = job.verbose;
         auto ctx = std::make_unique<vk::Context>(co);
         {
+            // The supersampled target must fit the device's framebuffer; say so with the scene's key
+            // (the pass would refuse it too, but without naming the file).
+            const VkPhysicalDeviceLimits& lim = ctx->properties().limits;
+            uint64_t tw = uint64_t(scene.camera.width) * job.ssaa, th = uint64_t(scene.camera.height) * job.ssaa;
+            uint64_t maxW = std::min(lim.maxFramebufferWidth, lim.maxImageDimension2D);
+            uint64_t maxH = std::min(lim.maxFramebufferHeight, lim.maxImageDimension2D);
+            if (tw > maxW || th > maxH)
+                failInput(Where{scene.file.string(), "camera"},
+                          "a {}×{} render with ssaa {} needs a {}×{} target, beyond this device's largest framebuffer "
+                          "{}×{}; reduce camera.width and camera.height or --ssaa",
+                          scene.camera.width, scene.camera.height, job.ssaa, tw, th, maxW, maxH);
             SpectralPassOptions po;
             po.ssaa = job.ssaa;
             po.readback = job.readback;

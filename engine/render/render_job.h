@@ -42,10 +42,14 @@ struct RenderJob {
     std::string device;       // also METAMER_DEVICE
     bool verbose = false;
     int frames = 1;  // render this many times; timings report the first and the median of the rest
+    bool allowOutsidePaths = false;  // --allow-outside-paths: the scene may read files anywhere
 
     // The display path: each unset field comes from the scene's "output" block, else the default.
     std::optional<std::string> detector, adaptation, display, integration, xyz;
     std::optional<int> bits;
+    // Memory the render may hold at once, bytes (0: a quarter of the machine's memory). A larger
+    // image is rendered in strips and streamed to the files (GPU backend).
+    size_t memoryBudget = 0;
     std::string mode = "full";  // representation mode: full, rgb, ac1c2[:N] (represent/representation.h)
     std::optional<std::vector<std::string>> write;
 };
@@ -77,6 +81,27 @@ struct RenderJobResult {
     uint32_t validationErrors = 0;
     std::vector<std::string> notes;  // one line each, for the user
 };
+
+// The memory a render allocates that grows with the image, in bytes: what is checked against
+// kMaxRenderMemory before anything is allocated, so that an absurd size (a 16384² camera on a
+// 0.5 nm grid) is refused with the estimate rather than failing in the allocator or swapping the
+// machine to a halt. Deliberately simple and on the high side: it counts what the render path
+// allocates per pixel and ignores what does not grow with the image (meshes, spectra, shaders).
+struct RenderMemory {
+    uint64_t cube = 0;     // the spectral cube on the host: W·H·bands floats
+    uint64_t target = 0;   // GPU: the layered RGBA32F spectral target at the ssaa size, its depth
+                           // buffer and (when it cannot be mapped) a readback buffer of the same size
+    uint64_t display = 0;  // the display path: tonemap attachments and readback (GPU) and the
+                           // display image (responses up to 8 channels, XYZ, counts, clip mask)
+    uint64_t total() const { return cube + target + display; }
+    std::string describe() const;  // "41.2 GiB (cube 31.0 GiB, GPU target 10.1 GiB, display 0.1 GiB)"
+};
+
+// 64 GiB: more than a workstation can give one render (a 4096 × 4096 image on the default
+// 89-band grid needs about 12 GiB on the GPU path; 16384 × 16384 would need about 130 GiB).
+constexpr uint64_t kMaxRenderMemory = uint64_t(64) << 30;
+
+RenderMemory estimateRenderMemory(int width, int height, int bands, int ssaa, Backend backend, bool display);
 
 // Merges defaults < the scene's output block < the job's flags; names are checked here, with the
 // scene file and key (or the flag) in the error.
