@@ -7,6 +7,7 @@
 
 #include <sys/wait.h>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -195,4 +196,29 @@ TEST(Cli, DisplayPathErrorsNameTheFlagOrTheSceneKey) {
     CliRun absolute = run("render " + kScene + " --detector cie1964 --xyz absolute --out " + freshDir("abs").string());
     EXPECT_EQ(absolute.code, 2) << absolute.output;
     EXPECT_NE(absolute.output.find("CIE 1931"), std::string::npos) << absolute.output;
+}
+
+TEST(Cli, ImagesOverTheMemoryBudgetAreRenderedInStripsWithTheSameResult) {
+    fs::path whole = freshDir("budget-whole"), strips = freshDir("budget-strips");
+    std::string args = "render " + kScene + " --write cube,png,xyz --set camera.width=96 --set camera.height=80 --out ";
+    ASSERT_EQ(run(args + whole.string()).code, 0);
+    CliRun r = run(args + strips.string() + " --memory-budget 1");
+    ASSERT_EQ(r.code, 0) << r.output;
+    EXPECT_NE(r.output.find("strips of"), std::string::npos) << r.output;
+    // Same values (float rounding aside), same display counts.
+    SpectralCube a = readSpectralExr(strips / "small.exr"), b = readSpectralExr(whole / "small.exr");
+    ASSERT_EQ(a.data.size(), b.data.size());
+    double worst = 0;
+    for (size_t i = 0; i < a.data.size(); ++i)
+        worst = std::max(worst, double(std::fabs(a.data[i] - b.data[i])) / std::max(1e-6, double(std::fabs(b.data[i]))));
+    EXPECT_LT(worst, 1e-3);
+    CliRun png = run("compare " + (strips / "small.png").string() + " " + (whole / "small.png").string() + " -q");
+    EXPECT_NE(png.output.find("max abs 0,"), std::string::npos) << png.output;
+    // No temporary file left behind.
+    EXPECT_EQ(std::distance(fs::directory_iterator(strips), fs::directory_iterator()), 3);
+
+    CliRun cpu = run(args + freshDir("budget-cpu").string() + " --memory-budget 1 --backend cpu");
+    EXPECT_EQ(cpu.code, 2) << cpu.output;
+    EXPECT_NE(cpu.output.find("--memory-budget"), std::string::npos) << cpu.output;
+    EXPECT_NE(cpu.output.find("MiB"), std::string::npos) << cpu.output;
 }
