@@ -117,13 +117,10 @@ Run runConfiguration(vk::Context& ctx, const Scene& scene, const SpectrumLibrary
     run.row.mode = mode;
     run.row.stepNm = grid.step_nm;
     run.row.grid = grid.str();
-    // Modes that carry spectra but are not plain band spectra need a step after the render that
-    // the GPU display path does not take; they are not measured here rather than measured wrong.
-    if (mode.spectral() && mode.kind != ModeKind::Full)
-        failInput(Where{"", "--modes"}, "{}: the bench measures full, rgb and ac1c2[:N] only", mode.name());
     auto start = Clock::now();
     SceneOnGrid spectra = resampleScene(scene, grid);
-    Representation representation = makeRepresentation(mode, grid, library);
+    // linear:K analyses the scene's own spectra; the other modes ignore them.
+    Representation representation = makeRepresentation(mode, grid, library, &spectra);
     SceneOnGrid rendered = represent(spectra, representation, scene);
     run.row.channels = representation.channels();
     // The defaults of `metamer render`: CIE 1931, Bradford, sRGB. The XYZ compared is taken
@@ -145,7 +142,13 @@ Run runConfiguration(vk::Context& ctx, const Scene& scene, const SpectrumLibrary
     run.row.renderMsFirst = ms[0];
     // With one frame there is nothing after the first: its time stands for the median.
     run.row.renderMsMedian = ms.size() > 1 ? median({ms.begin() + 1, ms.end()}) : ms[0];
-    if (mode.spectral()) pass.readback(run.cube);  // outside the timing: only the RMSE needs it
+    if (mode.spectral()) {
+        // Outside the timing: only the RMSE needs the cube. linear:K's pixels are their projections
+        // onto the basis (Peercy's result; the display path gets the same through projected
+        // detector weights, so the timed frames need no projection).
+        pass.readback(run.cube);
+        projectCube(representation, run.cube.data, run.cube.bands());
+    }
     return run;
 }
 
@@ -175,10 +178,14 @@ void measureDeltaE(BenchRow& row, const DisplayImage& image, const Reference& re
     row.de2000P95 = percentile(std::move(de), 0.95);
 }
 
-// Exact band averages of the 1 nm reference onto a coarser grid. The reference's values are
-// themselves means over 1 nm bins [λ − ½, λ + ½], so a coarse band's mean is the overlap-weighted
-// sum of the bins it covers; where a band reaches past the reference's range (the first and last
-// bands of a coarse grid) it is the mean over the part covered. At 1 nm this is the identity.
+// Band averages of the 1 nm reference onto a coarser grid. The reference's values are means over
+// 1 nm bins [λ − ½, λ + ½], so a band whose edges fall on bin edges (odd steps: 1, 5 nm) is exactly
+// the mean of the bins it covers. An edge inside a bin (even steps: 2, 10, 20 nm) needs the mean
+// over part of the bin; taking the bin as constant there errs by the slope, which near the kinks of
+// the 5 nm illuminant tables exceeded the 2 nm grid's own error, so the part is taken as linear
+// with the centred slope of the neighbouring bins (exact for linear and quadratic radiance).
+// Where a band reaches past the reference's range (the first and last bands of a coarse grid) it
+// is the mean over the part covered. At 1 nm this is the identity.
 struct BandAverage {
     std::vector<int> first;                  // per coarse band: first fine band with weight
     std::vector<std::vector<double>> weight; // per coarse band: weights from `first` on (sum 1)
@@ -186,23 +193,33 @@ struct BandAverage {
 
 BandAverage bandAverage(const Grid& fine, const Grid& coarse) {
     BandAverage a;
-    double hf = 0.5 * fine.step_nm, hc = 0.5 * coarse.step_nm;
+    const int n = fine.bands();
+    const double h = fine.step_nm;
     for (int b = 0; b < coarse.bands(); ++b) {
-        double lo = coarse.wavelength(b) - hc, hi = coarse.wavelength(b) + hc;
-        std::vector<double> w;
-        int first = -1;
+        double lo = coarse.wavelength(b) - 0.5 * coarse.step_nm, hi = coarse.wavelength(b) + 0.5 * coarse.step_nm;
+        std::vector<double> w(size_t(n), 0.0);
         double total = 0;
-        for (int i = 0; i < fine.bands(); ++i) {
-            double overlap = std::min(hi, fine.wavelength(i) + hf) - std::max(lo, fine.wavelength(i) - hf);
-            if (overlap <= 1e-12) continue;
-            if (first < 0) first = i;
-            w.resize(size_t(i - first + 1), 0.0);
-            w[size_t(i - first)] = overlap;
+        for (int i = 0; i < n; ++i) {
+            double u = std::max(lo, fine.wavelength(i) - 0.5 * h), v = std::min(hi, fine.wavelength(i) + 0.5 * h);
+            double overlap = v - u;
+            if (overlap <= 1e-9 * h) continue;
             total += overlap;
+            w[size_t(i)] += overlap;
+            double shift = 0.5 * (u + v) - fine.wavelength(i);  // 0 for a whole bin
+            if (std::fabs(shift) < 1e-9 * h || n < 2) continue;
+            // slope × shift × overlap, with the slope from the neighbours (one-sided at the ends)
+            int i0 = std::max(i - 1, 0), i1 = std::min(i + 1, n - 1);
+            double k = overlap * shift / (double(i1 - i0) * h);
+            w[size_t(i1)] += k;
+            w[size_t(i0)] -= k;
         }
-        for (double& x : w) x /= total;
-        a.first.push_back(std::max(first, 0));
-        a.weight.push_back(std::move(w));
+        int first = 0, last = n - 1;
+        while (first < n - 1 && w[size_t(first)] == 0.0) ++first;
+        while (last > first && w[size_t(last)] == 0.0) --last;
+        std::vector<double> kept(w.begin() + first, w.begin() + last + 1);
+        for (double& x : kept) x /= total > 0 ? total : 1.0;
+        a.first.push_back(first);
+        a.weight.push_back(std::move(kept));
     }
     return a;
 }
