@@ -71,7 +71,7 @@ struct Tick {
 };
 std::vector<Tick> logTicks(const LogAxis& a) {
     std::vector<Tick> t;
-    bool dense = a.l1 - a.l0 <= 2.2;
+    bool dense = a.l1 - a.l0 <= 2.6;
     for (int e = int(std::floor(a.l0)); e <= int(std::ceil(a.l1)); ++e)
         for (int m = 1; m <= 9; ++m) {
             double v = m * std::pow(10.0, e);
