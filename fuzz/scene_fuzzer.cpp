@@ -14,6 +14,8 @@
 #include "scene/scene_on_grid.h"
 #include "spectral/library.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <sstream>
 
@@ -50,6 +52,60 @@ Fixture& fixture() {
     return f;
 }
 
+bool finite(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+bool unit(const glm::dvec3& v) { return finite(v) && std::fabs(glm::length(v) - 1.0) < 1e-6; }
+
+// What scene/scene.h promises of a loaded scene: world-space geometry in finite numbers, unit
+// normals and directions, indices in range, a camera with a defined view.
+void checkScene(const Scene& s) {
+    const Camera& c = s.camera;
+    METAMER_FUZZ_CHECK(c.width >= 1 && c.height >= 1);
+    METAMER_FUZZ_CHECK(finite(c.position) && finite(c.target) && unit(c.up));
+    const glm::dvec3 view = c.target - c.position;
+    METAMER_FUZZ_CHECK(finite(view) && glm::length(view) > 0.0);
+    for (const Light& l : s.lights) {
+        if (l.type == Light::Type::Directional) METAMER_FUZZ_CHECK(unit(l.direction));
+        if (l.type == Light::Type::Point) METAMER_FUZZ_CHECK(finite(l.position));
+        METAMER_FUZZ_CHECK(std::isfinite(l.scale) && l.scale >= 0);
+    }
+    for (const Mesh& m : s.meshes) {
+        METAMER_FUZZ_CHECK(m.material < s.materials.size());
+        METAMER_FUZZ_CHECK(m.normals.size() == m.positions.size());
+        METAMER_FUZZ_CHECK(m.indices.size() % 3 == 0);
+        for (uint32_t i : m.indices) METAMER_FUZZ_CHECK(i < m.positions.size());
+        for (const glm::dvec3& p : m.positions) METAMER_FUZZ_CHECK(finite(p));
+        for (const glm::dvec3& n : m.normals) METAMER_FUZZ_CHECK(unit(n));
+    }
+}
+
+bool allFinite(const std::vector<double>& v) {
+    return std::all_of(v.begin(), v.end(), [](double x) { return std::isfinite(x); });
+}
+
+// Spectra with values near the top of the double range (beyond 1e300) may overflow band sums;
+// the finiteness of everything else on the grid is checked.
+bool tame(const SceneSpectrum& s) {
+    if (s.spectrum.isConstant()) return true;
+    return std::all_of(s.spectrum.values.begin(), s.spectrum.values.end(),
+                       [](double x) { return std::fabs(x) < 1e300; });
+}
+
+void checkOnGrid(const Scene& scene, const SceneOnGrid& g) {
+    const size_t bands = static_cast<size_t>(scene.grid.bands());
+    for (const auto& e : g.lights) METAMER_FUZZ_CHECK(e.size() == bands && allFinite(e));
+    for (size_t i = 0; i < g.materials.size(); ++i) {
+        const Material& m = scene.materials[i];
+        const MaterialOnGrid& mg = g.materials[i];
+        METAMER_FUZZ_CHECK(mg.diffuse.size() == bands && mg.specular.size() == bands);
+        if (tame(m.diffuse)) METAMER_FUZZ_CHECK(allFinite(mg.diffuse));
+        if (tame(m.specular)) METAMER_FUZZ_CHECK(allFinite(mg.specular));
+        if (m.fluorescence) {
+            if (tame(m.fluorescence->excitation)) METAMER_FUZZ_CHECK(allFinite(mg.excitation));
+            if (tame(m.fluorescence->emission)) METAMER_FUZZ_CHECK(allFinite(mg.emission));
+        }
+    }
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
@@ -73,16 +129,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
 
     try {
         Scene scene = loadSceneFromString(text, f.sceneFile, f.lib, overrides);
-        METAMER_FUZZ_CHECK(scene.camera.width >= 1 && scene.camera.height >= 1);
-        for (const Mesh& m : scene.meshes) {
-            METAMER_FUZZ_CHECK(m.material < scene.materials.size());
-            METAMER_FUZZ_CHECK(m.normals.size() == m.positions.size());
-            METAMER_FUZZ_CHECK(m.indices.size() % 3 == 0);
-            for (uint32_t i : m.indices) METAMER_FUZZ_CHECK(i < m.positions.size());
-        }
+        checkScene(scene);
         SceneOnGrid onGrid = resampleScene(scene, scene.grid);
         METAMER_FUZZ_CHECK(onGrid.lights.size() == scene.lights.size());
         METAMER_FUZZ_CHECK(onGrid.materials.size() == scene.materials.size());
+        checkOnGrid(scene, onGrid);
     } catch (const Error&) {
     }
     return 0;

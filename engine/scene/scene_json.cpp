@@ -240,10 +240,15 @@ glm::vec<N, double> vector(const Json& v, const Where& w) {
 
 glm::dvec3 nonZeroDirection(const Json& v, const Where& w) {
     glm::dvec3 d = vector<3>(v, w);
-    double len = glm::length(d);
-    if (!(len > 0.0) || !std::isfinite(len)) failInput(w, "a direction must not be the zero vector");
-    return d / len;
+    // Divided by the largest component first, so that the length neither overflows ([1e200, 1e200,
+    // 0]) nor underflows to 0 (subnormal components) for a direction that is a valid one.
+    double big = std::max({std::fabs(d.x), std::fabs(d.y), std::fabs(d.z)});
+    if (!(big > 0.0)) failInput(w, "a direction must not be the zero vector");
+    d /= big;
+    return d / glm::length(d);
 }
+
+bool isFinite(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
 // One of `choices`, with a suggestion when it is a typo.
 std::string choice(const Json& v, const Where& w, const std::vector<std::string>& choices) {
@@ -352,6 +357,8 @@ private:
         c.target = vector<3>(require(v, w, "target", "[x, y, z] in metres"), w.child("target"));
         if (const Json* u = find(v, "up")) c.up = nonZeroDirection(*u, w.child("up"));
         glm::dvec3 view = c.target - c.position;
+        if (!std::isfinite(glm::length(view)))
+            failInput(w.child("target"), "the target is too far from the camera position (the distance overflows)");
         if (!(glm::length(view) > 0.0)) failInput(w.child("target"), "the target equals the camera position");
         if (glm::length(glm::cross(glm::normalize(view), glm::normalize(c.up))) < 1e-6)
             failInput(w.child("up"), "up is parallel to the view direction (target - position)");
@@ -502,6 +509,12 @@ private:
             }
             out.name = w.key;
         }
+        // Finite numbers can still make infinite geometry (a centre of 1e308 plus a radius of
+        // 1e308), and extreme scales can make the normals 0/0.
+        for (size_t i = 0; i < out.positions.size(); ++i)
+            if (!isFinite(out.positions[i]) || !isFinite(out.normals[i]))
+                failInput(w, "the object's geometry is not finite: its position, size or scale is too large or "
+                             "too small for double precision");
         out.material = materialRef(v, w);
         scene_.meshes.push_back(std::move(out));
     }

@@ -597,3 +597,53 @@ TEST(BundledScenes, FluorescentLightCanBeSwitched) {
         for (const auto& w : warnings.lines()) EXPECT_NE(w.find("lights.0.spectrum"), std::string::npos) << w;
     }
 }
+
+// ---- Extreme but finite numbers (found by fuzz/scene_fuzzer; seeds in fuzz/corpus/scene/) -----
+
+TEST(SceneJsonExtremes, DirectionsWithHugeOrSubnormalComponentsAreNormalized) {
+    Json d = baseScene();
+    d["lights"][1]["direction"] = parse("[0, -1e300, 1e300]");
+    d["objects"][1]["normal"] = parse("[0, 1e-320, 0]");
+    Scene s = load(d);
+    EXPECT_NEAR(s.lights[1].direction.y, -std::sqrt(0.5), 1e-15);
+    EXPECT_NEAR(s.lights[1].direction.z, std::sqrt(0.5), 1e-15);
+    EXPECT_EQ(s.meshes[1].normals[0], glm::dvec3(0, 1, 0));
+}
+
+TEST(SceneJsonExtremes, CameraDistanceThatOverflowsIsAnError) {
+    Json d = baseScene();
+    d["camera"]["position"] = parse("[1e308, 0, 0]");
+    d["camera"]["target"] = parse("[-1e308, 0, 0]");
+    std::string what = errorOf([&] { load(d); });
+    EXPECT_NE(what.find("camera.target: the target is too far from the camera position"), std::string::npos) << what;
+}
+
+TEST(SceneJsonExtremes, GeometryThatOverflowsIsAnError) {
+    Json d = baseScene();
+    d["objects"][0]["center"] = parse("[1e308, 0, 0]");
+    d["objects"][0]["radius"] = 1e308;
+    std::string what = errorOf([&] { load(d); });
+    EXPECT_NE(what.find("objects.0: the object's geometry is not finite"), std::string::npos) << what;
+
+    d = baseScene();
+    d["objects"][2]["scale"] = parse("[1e300, 1e-300, 1]");  // normals 0/0
+    what = errorOf([&] { load(d); });
+    EXPECT_NE(what.find("objects.2: the object's geometry is not finite"), std::string::npos) << what;
+}
+
+TEST(SceneJsonExtremes, TinyUniformScaleKeepsUnitNormals) {
+    Json d = baseScene();
+    d["objects"][2]["scale"] = 1e-120;  // the determinant (1e-360) underflows to 0
+    Scene s = load(d);
+    for (const auto& n : s.meshes[2].normals) EXPECT_NEAR(glm::length(n), 1.0, 1e-12);
+}
+
+TEST(SceneJsonExtremes, LightScaleThatOverflowsOnTheGridIsAnError) {
+    Json d = baseScene();
+    d["lights"][2]["scale"] = 1e307;  // × illuminant A's ~100 at 560 nm
+    Scene s = load(d);
+    std::string what = errorOf([&] { resampleScene(s, s.grid); });
+    EXPECT_NE(what.find("lights.2.spectrum: light spectrum 'illuminants/A' × scale 1e+307 overflows"),
+              std::string::npos)
+        << what;
+}

@@ -1,6 +1,7 @@
 #include "scene/scene_on_grid.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace metamer {
 
@@ -63,7 +64,12 @@ SceneOnGrid resampleScene(const Scene& scene, const Grid& grid, CoveragePolicy p
     out.wavelengths_nm = grid.wavelengths();
     for (const auto& light : scene.lights) {
         auto e = onGrid(light.spectrum, grid, policy, gaps);
-        for (double& v : e) v *= light.scale;
+        for (double& v : e) {
+            v *= light.scale;
+            if (!std::isfinite(v))
+                failInput(light.spectrum.where, "light spectrum '{}' × scale {:g} overflows a double",
+                          light.spectrum.spectrum.source, light.scale);
+        }
         out.lights.push_back(std::move(e));
     }
     for (const auto& m : scene.materials) {
@@ -80,8 +86,8 @@ SceneOnGrid resampleScene(const Scene& scene, const Grid& grid, CoveragePolicy p
             if (em.isConstant())
                 failInput(f.emission.where, "an emission spectrum must be sampled data, not a constant");
             double area = em.integral();
-            if (!(area > 0.0))
-                failInput(f.emission.where, "emission spectrum '{}' has no positive area", em.source);
+            if (!(area > 0.0) || !std::isfinite(area))
+                failInput(f.emission.where, "emission spectrum '{}' has no positive, finite area", em.source);
             g.emission = onGrid(f.emission, grid, policy, gaps);
             for (double& v : g.emission) v /= area;
             // Energy: what is absorbed for fluorescence cannot also be reflected.

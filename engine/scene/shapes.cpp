@@ -2,6 +2,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <utility>
@@ -92,7 +93,15 @@ glm::dmat4 objectTransform(const glm::dvec3& translate, const glm::dvec3& rotate
 }
 
 void transformMesh(Mesh& mesh, const glm::dmat4& m) {
+    // Normals transform by the inverse transpose of the linear part, up to a positive factor that
+    // normalizing removes; dividing the linear part by its largest entry first keeps the
+    // determinant from underflowing (a scale of 1e-120) or overflowing, which would make every
+    // normal 0/0.
     glm::dmat3 linear(m);
+    double big = 0.0;
+    for (int c = 0; c < 3; ++c)
+        for (int r = 0; r < 3; ++r) big = std::max(big, std::fabs(linear[c][r]));
+    if (big > 0.0 && std::isfinite(big)) linear /= big;
     glm::dmat3 normalMatrix = glm::transpose(glm::inverse(linear));
     for (auto& p : mesh.positions) p = glm::dvec3(m * glm::dvec4(p, 1.0));
     for (auto& n : mesh.normals) n = glm::normalize(normalMatrix * n);
