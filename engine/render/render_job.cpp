@@ -152,8 +152,12 @@ RenderJobResult runRenderJob(const RenderJob& job) {
             // A csv: detector's own errors name its file and line; when the scene chose it, say where.
             bool inDetectorFile = e.code() == ExitCode::BadInput && !e.where().file.empty() &&
                                   e.where().file != scene.file.string();
-            if (detectorFromScene && inDetectorFile) throw Error(e.code(), sceneOut.child("detector"), e.what());
-            if (job.detector && inDetectorFile) throw Error(e.code(), Where{"", "--detector"}, e.what());
+            if (inDetectorFile && (detectorFromScene || job.detector)) {
+                Where inFile = e.where();
+                inFile.key.clear();  // the file and line; the key is where the detector was chosen
+                throw Error(e.code(), detectorFromScene ? sceneOut.child("detector") : Where{"", "--detector"},
+                            inFile.str() + ": " + e.message());
+            }
             if (e.where().key == "--absolute") {
                 // Absolute XYZ with a non-CIE-1931 detector: blame the xyz choice where it was made.
                 Where at = !job.xyz && scene.output.xyz ? sceneOut.child("xyz") : Where{"", "--xyz"};

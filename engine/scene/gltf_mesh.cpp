@@ -12,12 +12,18 @@
 #include <cctype>
 #include <cmath>
 #include <cstring>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <sstream>
 
 namespace fs = std::filesystem;
 
 namespace metamer {
 
 namespace {
+
+constexpr int kMaxNodeDepth = 1000;  // far beyond any modelled hierarchy
 
 struct Reader {
     const tinygltf::Model& model;
@@ -60,10 +66,18 @@ struct Reader {
         v.count = a.count;
         v.componentType = a.componentType;
         if (a.count == 0) return v;
-        size_t viewEnd = std::min(bv.byteOffset + bv.byteLength, buf.data.size());
-        size_t first = bv.byteOffset + a.byteOffset;
-        size_t end = first + (a.count - 1) * v.stride + size_t(componentSize) * components;
-        if (end > viewEnd) fail("{}: accessor {} reads past the end of its buffer", what, index);
+        // Offsets and counts come from the file and can be anything up to 2^64: compare by
+        // subtraction so that no sum or product wraps around (a count of 2^62 times a 12-byte
+        // stride is 0 modulo 2^64, which a product-based check would accept).
+        const size_t bufferSize = buf.data.size();
+        if (bv.byteOffset > bufferSize) fail("{}: buffer view {} starts past the end of its buffer", what, a.bufferView);
+        const size_t viewEnd = bv.byteOffset + std::min(bv.byteLength, bufferSize - bv.byteOffset);
+        const size_t element = size_t(componentSize) * size_t(components);
+        if (a.byteOffset > viewEnd - bv.byteOffset || viewEnd - bv.byteOffset - a.byteOffset < element)
+            fail("{}: accessor {} reads past the end of its buffer", what, index);
+        const size_t first = bv.byteOffset + a.byteOffset;
+        if (a.count - 1 > (viewEnd - first - element) / v.stride)
+            fail("{}: accessor {} reads past the end of its buffer ({} elements)", what, index, a.count);
         v.data = buf.data.data() + first;
         return v;
     }
@@ -156,6 +170,8 @@ struct Reader {
             fail("node {} does not exist", nodeIndex);
         // glTF node graphs are trees; a deeper walk than there are nodes means a cycle.
         if (depth > static_cast<int>(model.nodes.size())) fail("the node hierarchy has a cycle");
+        // Each level is a stack frame here: a chain of a million nodes would overflow the stack.
+        if (depth > kMaxNodeDepth) fail("the node hierarchy is deeper than {} levels", kMaxNodeDepth);
         const tinygltf::Node& node = model.nodes[nodeIndex];
         glm::dmat4 world = parent * localMatrix(node);
         if (node.mesh >= 0) {
@@ -177,6 +193,73 @@ struct Reader {
     }
 };
 
+// File access for tinygltf: the buffers and images a glTF references are read only where the
+// scene may read (readable_paths.h). tinygltf joins a URI to the glTF's folder and, failing that,
+// to the current directory, and follows "../"; the callbacks see the joined path.
+struct FileAccess {
+    const ReadablePaths* readable = nullptr;
+    std::vector<std::string> refused;  // paths not read because they lie outside
+};
+
+bool fileExists(const std::string& path, void*) {
+    std::error_code ec;
+    return fs::exists(path, ec);
+}
+
+// glTF URIs are not shell words: no "~" or "$VAR" expansion.
+std::string expandFilePath(const std::string& path, void*) { return path; }
+
+bool readWholeFile(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* user) {
+    auto* access = static_cast<FileAccess*>(user);
+    if (access->readable && !access->readable->allows(path)) {
+        access->refused.push_back(path);
+        if (err) *err += "outside the folders the scene may read";
+        return false;
+    }
+    // Only regular files: a URI naming a FIFO or /dev/zero would block or never end.
+    std::error_code ec;
+    if (!fs::is_regular_file(path, ec)) {
+        if (err) *err += "not a regular file";
+        return false;
+    }
+    std::ifstream in(path, std::ios::binary);
+    if (!in) {
+        if (err) *err += "cannot open the file";
+        return false;
+    }
+    out->assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    return true;
+}
+
+// The deepest nesting of arrays and objects in JSON text (strings skipped). tinygltf converts
+// "extras" and "extensions" into its own values recursively, one stack frame per level, so a
+// file nesting 100 000 levels deep would crash it: such files are refused before it sees them.
+size_t jsonNesting(const unsigned char* text, size_t size) {
+    size_t depth = 0, deepest = 0;
+    bool inString = false;
+    for (size_t i = 0; i < size; ++i) {
+        unsigned char c = text[i];
+        if (inString) {
+            if (c == '\\') ++i;
+            else if (c == '"') inString = false;
+        } else if (c == '"') {
+            inString = true;
+        } else if (c == '[' || c == '{') {
+            deepest = std::max(deepest, ++depth);
+        } else if ((c == ']' || c == '}') && depth > 0) {
+            --depth;
+        }
+    }
+    return deepest;
+}
+
+constexpr size_t kMaxGltfJsonDepth = 64;  // glTF itself nests 5 levels; extras rarely a few more
+
+bool writeWholeFile(std::string* err, const std::string&, const std::vector<unsigned char>&, void*) {
+    if (err) *err += "metamer does not write glTF files";
+    return false;
+}
+
 // We only need geometry: skip decoding (and failing on) texture images.
 bool ignoreImage(tinygltf::Image*, const int, std::string*, std::string*, int, int,
                  const unsigned char*, int, void*) {
@@ -185,7 +268,7 @@ bool ignoreImage(tinygltf::Image*, const int, std::string*, std::string*, int, i
 
 }  // namespace
 
-Mesh loadGltfMesh(const fs::path& path, const Where& where) {
+Mesh loadGltfMesh(const fs::path& path, const Where& where, const ReadablePaths* readable) {
     std::string shown = path.string();
     std::error_code ec;
     if (!fs::exists(path, ec)) failInput(where, "mesh file '{}' not found", shown);
@@ -197,17 +280,63 @@ Mesh loadGltfMesh(const fs::path& path, const Where& where) {
 
     tinygltf::TinyGLTF loader;
     loader.SetImageLoader(ignoreImage, nullptr);
+    FileAccess access{readable, {}};
+    loader.SetFsCallbacks(tinygltf::FsCallbacks{fileExists, expandFilePath, readWholeFile, writeWholeFile, &access});
+
+    // Read the file here rather than by name in tinygltf, to look at its JSON before tinygltf does.
+    std::vector<unsigned char> bytes;
+    std::string readError;
+    if (!readWholeFile(&bytes, &readError, path.string(), &access)) {
+        if (!access.refused.empty()) failInput(where, "{}", readable->refusal(path, "mesh file", shown));
+        failInput(where, "mesh file '{}' cannot be read: {}", shown, readError);
+    }
+    if (bytes.size() > std::numeric_limits<unsigned int>::max())
+        failInput(where, "mesh file '{}' is larger than 4 GiB, more than glTF loading supports", shown);
+    const unsigned char* json = bytes.data();
+    size_t jsonSize = bytes.size();
+    if (ext == ".glb" && bytes.size() >= 20) {
+        // GLB: a 12-byte header, then the JSON chunk's length and type, then the JSON.
+        uint32_t chunkLength = 0;
+        std::memcpy(&chunkLength, bytes.data() + 12, 4);
+        json = bytes.data() + 20;
+        jsonSize = std::min<size_t>(chunkLength, bytes.size() - 20);
+    }
+    if (jsonNesting(json, jsonSize) > kMaxGltfJsonDepth)
+        failInput(where, "mesh file '{}': its JSON nests more than {} levels deep", shown, kMaxGltfJsonDepth);
+
     tinygltf::Model model;
     std::string err, warning;
-    bool ok = ext == ".glb" ? loader.LoadBinaryFromFile(&model, &err, &warning, path.string())
-                            : loader.LoadASCIIFromFile(&model, &err, &warning, path.string());
+    const std::string baseDir = path.parent_path().string();
+    const auto length = static_cast<unsigned int>(bytes.size());
+    bool ok = ext == ".glb"
+                  ? loader.LoadBinaryFromMemory(&model, &err, &warning, bytes.data(), length, baseDir)
+                  : loader.LoadASCIIFromString(&model, &err, &warning, reinterpret_cast<const char*>(bytes.data()),
+                                               length, baseDir);
     auto tidy = [](std::string s) {
         while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.pop_back();
         for (char& c : s)
             if (c == '\n') c = ';';
         return s;
     };
+    if (!ok && !access.refused.empty())
+        failInput(where, "mesh file '{}': {}", shown,
+                  readable->refusal(access.refused.front(), "referenced file", access.refused.front()));
     if (!ok) failInput(where, "mesh file '{}' is not valid glTF: {}", shown, tidy(err));
+    if (!access.refused.empty()) {
+        // Loading succeeded, so what was refused was not required: images, which tinygltf reads
+        // but we ignore. Say so once, in place of tinygltf's read-error lines about them.
+        std::string kept;
+        std::istringstream lines(warning);
+        for (std::string line; std::getline(lines, line);) {
+            bool aboutRefused = line.find("Failed to load external 'uri' for image") != std::string::npos;
+            for (const auto& r : access.refused) aboutRefused = aboutRefused || line.find(r) != std::string::npos;
+            if (!aboutRefused) kept += line + "\n";
+        }
+        warning = kept;
+        warn(where, fmt::format("mesh file '{}': image '{}' not read: it is outside the folders the scene may read "
+                                "(images are not used; --allow-outside-paths reads it anyway)",
+                                shown, access.refused.front()));
+    }
     if (!warning.empty()) warn(where, fmt::format("mesh file '{}': {}", shown, tidy(warning)));
     if (!model.extensionsRequired.empty())
         failInput(where, "mesh file '{}' requires the unsupported extension '{}'", shown,

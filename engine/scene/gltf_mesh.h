@@ -2,6 +2,7 @@
 #pragma once
 
 #include "core/error.h"
+#include "scene/readable_paths.h"
 #include "scene/scene.h"
 
 #include <filesystem>
@@ -15,6 +16,8 @@ namespace metamer {
 // Winding is kept as in the file (it defines the front face), except that a mirroring node
 // transform reverses it, as glTF specifies. Materials, textures, skins and animations are ignored.
 // Errors are input errors at `where` (the scene's object key) that name `path`.
-Mesh loadGltfMesh(const std::filesystem::path& path, const Where& where);
+// Files the glTF references (buffers, images) are read only where `readable` allows (null: any);
+// tinygltf would otherwise follow "../" in URIs and fall back to the current directory.
+Mesh loadGltfMesh(const std::filesystem::path& path, const Where& where, const ReadablePaths* readable = nullptr);
 
 }  // namespace metamer

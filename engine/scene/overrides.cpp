@@ -37,6 +37,12 @@ const char* typeName(const nlohmann::ordered_json& v) {
     }
 }
 
+// An override as quoted in a message: the whole of a 100 kB value would bury the message.
+std::string shortened(const std::string& text) {
+    constexpr size_t kShown = 60;
+    return text.size() <= kShown ? text : text.substr(0, kShown) + "…";
+}
+
 }  // namespace
 
 Override parseOverride(const std::string& text, const std::string& file) {
@@ -51,8 +57,19 @@ Override parseOverride(const std::string& text, const std::string& file) {
     for (const auto& part : splitKey(o.key))
         if (part.empty()) failInput(where, "--set {}: '{}' is not a key path like camera.width", text, o.key);
     // Bare words (illuminants/A) are not JSON; anything that is not JSON is taken as a string.
+    int depth = 0;
+    auto limitDepth = [&](int, nlohmann::json::parse_event_t event, nlohmann::ordered_json&) {
+        using E = nlohmann::json::parse_event_t;
+        if (event == E::object_start || event == E::array_start) {
+            if (++depth > kMaxJsonDepth)
+                failInput(where, "--set {}: the value nests more than {} levels deep", shortened(text), kMaxJsonDepth);
+        } else if (event == E::object_end || event == E::array_end) {
+            --depth;
+        }
+        return true;
+    };
     try {
-        o.value = nlohmann::ordered_json::parse(value);
+        o.value = nlohmann::ordered_json::parse(value, limitDepth);
     } catch (const nlohmann::json::exception&) {
         o.value = value;
     }

@@ -9,6 +9,11 @@
 
 namespace metamer {
 
+// How deeply a scene's JSON (and a --set value) may nest. Scenes nest 5 levels; copying or
+// destroying a JSON value recurses once per level, so a file of 100 000 '[' would overflow the
+// stack instead of being refused.
+constexpr int kMaxJsonDepth = 64;
+
 struct Override {
     std::string text;  // as given: "lights.0.scale=0.5"
     std::string key;   // "lights.0.scale"

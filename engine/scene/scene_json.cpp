@@ -2,6 +2,7 @@
 
 #include "scene/gltf_mesh.h"
 #include "scene/overrides.h"
+#include "scene/readable_paths.h"
 #include "scene/shapes.h"
 #include "spectral/csv.h"
 
@@ -31,9 +32,12 @@ class PathTracker {
 public:
     explicit PathTracker(std::string file) : file_(std::move(file)) {}
 
-    std::string path() const {
+    // The key path being parsed; its first `levels` parts when given (a path 64 levels deep is
+    // mostly noise).
+    std::string path(size_t levels = SIZE_MAX) const {
         std::string p;
         for (const auto& f : stack_) {
+            if (levels-- == 0) return p + ".…";
             std::string part = f.array ? std::to_string(f.count) : f.key;
             if (part.empty()) break;
             p += (p.empty() ? "" : ".") + part;
@@ -44,8 +48,13 @@ public:
     bool operator()(int, nlohmann::json::parse_event_t event, Json& parsed) {
         using E = nlohmann::json::parse_event_t;
         switch (event) {
-            case E::object_start: stack_.push_back({false}); break;
-            case E::array_start: stack_.push_back({true}); break;
+            case E::object_start:
+            case E::array_start:
+                if (stack_.size() >= size_t(kMaxJsonDepth))
+                    failInput(Where{file_, path(kShownDepth)}, "the JSON nests more than {} levels deep",
+                              kMaxJsonDepth);
+                stack_.push_back({event == E::array_start});
+                break;
             case E::key: {
                 Frame& f = stack_.back();
                 f.key = parsed.get<std::string>();
@@ -65,6 +74,8 @@ public:
     }
 
 private:
+    static constexpr size_t kShownDepth = 6;
+
     struct Frame {
         bool array = false;
         std::string key;  // the member being parsed; "" between members
@@ -270,7 +281,11 @@ bool endsWithCsv(const std::string& s) {
 
 class Loader {
 public:
-    Loader(const SpectrumLibrary& lib, const fs::path& file) : lib_(lib), file_(file), dir_(file.parent_path()) {}
+    Loader(const SpectrumLibrary& lib, const fs::path& file, const LoadOptions& options)
+        : lib_(lib),
+          file_(file),
+          dir_(file.parent_path()),
+          readable_(ReadablePaths::forScene(file, lib.root(), options.allowOutsidePaths)) {}
 
     Scene load(const Json& doc) {
         Where root{file_.string()};
@@ -322,7 +337,7 @@ private:
         checkKeys(v, w, {"detector", "adaptation", "display", "bits", "integration", "xyz", "write"});
         OutputSettings& o = scene_.output;
         o.where = w;
-        if (const Json* d = find(v, "detector")) o.detector = string(*d, w.child("detector"));
+        if (const Json* d = find(v, "detector")) o.detector = detector(string(*d, w.child("detector")), w.child("detector"));
         if (const Json* a = find(v, "adaptation")) o.adaptation = string(*a, w.child("adaptation"));
         if (const Json* d = find(v, "display")) o.display = string(*d, w.child("display"));
         if (const Json* b = find(v, "bits")) {
@@ -464,8 +479,10 @@ private:
         if (mesh) {
             checkKeys(v, w, {"mesh", "material", "translate", "rotate_deg", "scale"}, "a mesh object");
             std::string given = string(*mesh, w.child("mesh"));
+            if (given.empty()) failInput(w.child("mesh"), "expected a glTF file name, got an empty string");
             fs::path path = (dir_ / given).lexically_normal();
-            out = loadGltfMesh(path, w.child("mesh"));
+            readable_.check(path, w.child("mesh"), "mesh file", given);
+            out = loadGltfMesh(path, w.child("mesh"), &readable_);
             glm::dvec3 t(0.0), r(0.0), s(1.0);
             if (const Json* x = find(v, "translate")) t = vector<3>(*x, w.child("translate"));
             if (const Json* x = find(v, "rotate_deg")) r = vector<3>(*x, w.child("rotate_deg"));
@@ -536,6 +553,7 @@ private:
             if (name.empty()) failInput(w, "expected a spectrum name, got an empty string");
             if (endsWithCsv(name)) {
                 fs::path path = (dir_ / name).lexically_normal();
+                readable_.check(path, w, "spectrum file", name);
                 std::error_code ec;
                 if (!fs::is_regular_file(path, ec)) failInput(w, "spectrum file '{}' not found", path.string());
                 try {
@@ -591,9 +609,20 @@ private:
                                       s.spectrum.source, *hi, wl[hi - vals.begin()]));
     }
 
+    // A csv: detector in the scene is a file like any other the scene names: relative to the
+    // scene's folder, and subject to the same limits. Other names are checked by the display path.
+    std::string detector(const std::string& name, const Where& w) {
+        if (name.rfind("csv:", 0) != 0 || name.size() == 4) return name;
+        std::string given = name.substr(4);
+        fs::path path = (dir_ / given).lexically_normal();
+        readable_.check(path, w, "detector file", given);
+        return "csv:" + path.string();
+    }
+
     const SpectrumLibrary& lib_;
     fs::path file_;
     fs::path dir_;
+    ReadablePaths readable_;
     Scene scene_;
     std::vector<bool> used_;
 };
@@ -601,13 +630,13 @@ private:
 }  // namespace
 
 Scene loadSceneFromString(const std::string& text, const fs::path& file, const SpectrumLibrary& lib,
-                          const std::vector<std::string>& overrides) {
+                          const std::vector<std::string>& overrides, const LoadOptions& options) {
     std::string name = file.string();
     Json doc = parseJson(text, name);
     if (!doc.is_object()) failInput(Where{name}, "expected a JSON object at the top level, got {}", describe(doc));
     std::vector<Override> applied = applyOverrides(doc, overrides, name);
     try {
-        return Loader(lib, file).load(doc);
+        return Loader(lib, file, options).load(doc);
     } catch (const Error& e) {
         // An error in a value that came from --set should say so: the file is not at fault.
         const std::string& key = e.where().key;
@@ -618,14 +647,15 @@ Scene loadSceneFromString(const std::string& text, const fs::path& file, const S
     }
 }
 
-Scene loadScene(const fs::path& file, const SpectrumLibrary& lib, const std::vector<std::string>& overrides) {
+Scene loadScene(const fs::path& file, const SpectrumLibrary& lib, const std::vector<std::string>& overrides,
+                const LoadOptions& options) {
     std::error_code ec;
     if (!fs::is_regular_file(file, ec)) failInput(Where{file.string()}, "scene file not found");
     std::ifstream in(file, std::ios::binary);
     if (!in) failInput(Where{file.string()}, "cannot open the scene file");
     std::stringstream ss;
     ss << in.rdbuf();
-    return loadSceneFromString(ss.str(), file, lib, overrides);
+    return loadSceneFromString(ss.str(), file, lib, overrides, options);
 }
 
 }  // namespace metamer

@@ -11,13 +11,21 @@
 
 namespace metamer {
 
+struct LoadOptions {
+    // A scene may read files (CSV spectra, glTF meshes and their buffers and images, csv:
+    // detectors) only inside its own folder tree and the spectra library, unless this is set
+    // (--allow-outside-paths; docs/scene-format.md, "Paths and what a scene may read").
+    bool allowOutsidePaths = false;
+};
+
 // Reads `file`, applies `overrides` ("KEY=VALUE", as given to --set) and interprets the result.
 // Library names resolve through `lib`; CSV and mesh paths resolve against the file's folder.
 Scene loadScene(const std::filesystem::path& file, const SpectrumLibrary& lib,
-                const std::vector<std::string>& overrides = {});
+                const std::vector<std::string>& overrides = {}, const LoadOptions& options = {});
 
 // The same from text already in memory; `file` is used for messages and to resolve paths.
 Scene loadSceneFromString(const std::string& text, const std::filesystem::path& file,
-                          const SpectrumLibrary& lib, const std::vector<std::string>& overrides = {});
+                          const SpectrumLibrary& lib, const std::vector<std::string>& overrides = {},
+                          const LoadOptions& options = {});
 
 }  // namespace metamer

@@ -34,6 +34,16 @@ bool parseNumber(const std::string& text, double& out) {
     return end == text.c_str() + text.size() && errno != ERANGE;
 }
 
+// A field as quoted in a message: a binary file read as CSV has "fields" thousands of bytes long,
+// which would bury the message.
+std::string shownField(const std::string& field) {
+    constexpr size_t kShown = 40;
+    if (field.size() <= kShown) return "'" + field + "'";
+    size_t cut = kShown;
+    while (cut > 0 && (static_cast<unsigned char>(field[cut]) & 0xc0) == 0x80) --cut;  // whole UTF-8 characters
+    return "'" + field.substr(0, cut) + "…' (" + std::to_string(field.size()) + " characters)";
+}
+
 }  // namespace
 
 SpectralTable readSpectralTable(const std::filesystem::path& path, size_t minColumns) {
@@ -54,12 +64,12 @@ SpectralTable readSpectralTable(const std::filesystem::path& path, size_t minCol
         double w;
         if (!parseNumber(fields[0], w)) {
             if (sawData || sawHeader)
-                failInput(where, "'{}' is not a wavelength in nm", fields[0]);
+                failInput(where, "{} is not a wavelength in nm", shownField(fields[0]));
             sawHeader = true;  // first non-numeric line: the header
             t.columnNames.assign(fields.begin() + 1, fields.end());
             continue;
         }
-        if (fields.size() < 2) failInput(where, "expected wavelength_nm,value; got '{}'", line);
+        if (fields.size() < 2) failInput(where, "expected wavelength_nm,value; got {}", shownField(line));
         if (width == 0) {
             width = fields.size() - 1;
             if (width < minColumns)
@@ -69,7 +79,8 @@ SpectralTable readSpectralTable(const std::filesystem::path& path, size_t minCol
             failInput(where, "expected {} value column(s) as on the first data line, got {}", width,
                       fields.size() - 1);
         }
-        if (!std::isfinite(w) || w <= 0) failInput(where, "wavelength '{}' must be a positive finite number", fields[0]);
+        if (!std::isfinite(w) || w <= 0)
+            failInput(where, "wavelength {} must be a positive finite number", shownField(fields[0]));
         if (!t.wavelengths_nm.empty() && !(w > t.wavelengths_nm.back()))
             failInput(where, "wavelengths must increase strictly: {} nm follows {} nm", w,
                       t.wavelengths_nm.back());
@@ -77,7 +88,7 @@ SpectralTable readSpectralTable(const std::filesystem::path& path, size_t minCol
         for (size_t c = 0; c < width; ++c) {
             double v;
             if (!parseNumber(fields[c + 1], v) || !std::isfinite(v))
-                failInput(where, "column {}: '{}' is not a finite number", c + 2, fields[c + 1]);
+                failInput(where, "column {}: {} is not a finite number", c + 2, shownField(fields[c + 1]));
             t.columns[c].push_back(v);
         }
         sawData = true;
