@@ -18,6 +18,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <thread>
 
 namespace metamer {
@@ -61,11 +62,36 @@ PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes) {
         if (mesh.indices.empty()) continue;
         Draw d{uint32_t(p.indices.size()), uint32_t(mesh.indices.size()), int32_t(p.vertices.size() / 6),
                mesh.material};
-        for (size_t i = 0; i < mesh.positions.size(); ++i) {
-            for (int k = 0; k < 3; ++k) p.vertices.push_back(float(mesh.positions[i][k]));
-            for (int k = 0; k < 3; ++k) p.vertices.push_back(float(mesh.normals[i][k]));
+        auto vertex = [&p](const glm::dvec3& position, const glm::dvec3& normal) {
+            for (int k = 0; k < 3; ++k) p.vertices.push_back(float(position[k]));
+            for (int k = 0; k < 3; ++k) p.vertices.push_back(float(normal[k]));
+        };
+        // Normals of (nearly) zero length, or none at all, are allowed by the model: the reference
+        // then shades with the face normal (docs/physics.md, "Two-sided shading"). A triangle
+        // with no usable normal at any corner gets its own three vertices carrying the face
+        // normal, computed here in double; spectral.frag falls back to a screen-space face normal
+        // only where usable normals cancel, which is less precise (~1e-5 rad).
+        const bool hasNormals = mesh.normals.size() == mesh.positions.size();
+        auto usable = [&](uint32_t i) { return hasNormals && glm::length(mesh.normals[i]) > 1e-12; };
+        for (size_t i = 0; i < mesh.positions.size(); ++i)
+            vertex(mesh.positions[i], hasNormals ? mesh.normals[i] : glm::dvec3(0.0));
+        uint32_t next = uint32_t(mesh.positions.size());
+        for (size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
+            const uint32_t* tri = &mesh.indices[t];
+            if (usable(tri[0]) || usable(tri[1]) || usable(tri[2])) {
+                p.indices.insert(p.indices.end(), tri, tri + 3);
+                continue;
+            }
+            const glm::dvec3 &a = mesh.positions[tri[0]], &b = mesh.positions[tri[1]], &c = mesh.positions[tri[2]];
+            glm::dvec3 face = glm::cross(b - a, c - a);
+            const double len = glm::length(face);
+            face = len > 0.0 ? face / len : glm::dvec3(0.0);  // zero area: never rasterized
+            for (int k = 0; k < 3; ++k) {
+                vertex(mesh.positions[tri[k]], face);
+                p.indices.push_back(next++);
+            }
         }
-        p.indices.insert(p.indices.end(), mesh.indices.begin(), mesh.indices.end());
+        d.indexCount = uint32_t(p.indices.size()) - d.firstIndex;
         p.draws.push_back(d);
     }
     // Lights sorted by kind (the shader loops over each kind without branching).
@@ -83,6 +109,16 @@ PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes) {
         else if (light.type == Light::Type::Point)
             p.lights.lights[i].vector = glm::vec4(glm::vec3(light.position), 1.0f);
     }
+    // The shader holds E(λ) in float32: beyond its largest value E would become +Inf, and Inf × 0
+    // (a black band, a light behind the surface) NaN. Refused rather than rendered wrong.
+    for (size_t l = 0; l < scene.lights.size(); ++l)
+        for (size_t b = 0; b < g.lights[l].size(); ++b)
+            if (std::fabs(g.lights[l][b]) > double(std::numeric_limits<float>::max()))
+                failInput(scene.lights[l].spectrum.where,
+                          "light spectrum '{}' × scale {:g} is {:g} at {:g} nm, beyond the largest float32 ({:g}) "
+                          "the GPU path computes with",
+                          scene.lights[l].spectrum.spectrum.source, scene.lights[l].scale, g.lights[l][b],
+                          g.wavelengths_nm[b], double(std::numeric_limits<float>::max()));
     p.lightSpectra.resize(passes);
     for (int pass = 0; pass < passes; ++pass)
         for (size_t i = 0; i < order.size(); ++i)
@@ -98,12 +134,22 @@ PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes) {
         std::vector<float> coupling(MAX_LIGHTS, 0.0f);
         emissionOverLambda.assign(m.diffuse.size(), 0.0);
         if (m.fluorescent) {
-            for (size_t i = 0; i < m.emission.size(); ++i) emissionOverLambda[i] = m.emission[i] / g.wavelengths_nm[i];
+            double largest = 0.0;
+            for (size_t i = 0; i < m.emission.size(); ++i) {
+                emissionOverLambda[i] = m.emission[i] / g.wavelengths_nm[i];
+                largest = std::max(largest, emissionOverLambda[i]);
+            }
+            // The coupling is the radiance over ê/λ (~1e-5 nm⁻² for a dye), so in float32 it would
+            // overflow ~1e5 times sooner than the radiance does (at a light scale of ~1e35).
+            // Moving a power of two from ê/λ into it keeps both near the radiance's magnitude and
+            // leaves their product the same bit for bit.
+            const int shift = largest > 0.0 ? std::ilogb(largest) : 0;
+            for (double& v : emissionOverLambda) v = std::ldexp(v, -shift);
             for (size_t i = 0; i < order.size(); ++i) {
                 const auto& E = g.lights[order[i]];
                 double sum = 0.0;
                 for (size_t b = 0; b < E.size(); ++b) sum += m.excitation[b] * E[b] * g.wavelengths_nm[b];
-                coupling[i] = float(m.quantum_yield / M_PI * sum * g.grid.step_nm);
+                coupling[i] = float(std::ldexp(m.quantum_yield / M_PI * sum * g.grid.step_nm, shift));
             }
         }
         for (int pass = 0; pass < passes; ++pass) {
@@ -227,7 +273,7 @@ struct SpectralPass::Impl {
         cd.name = "spectral target";
         if (tryMap) {
             cd.tiling = VK_IMAGE_TILING_LINEAR;
-            cd.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | sampledBit;
+            cd.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT | sampledBit;
             cd.hostVisible = true;
             try {
                 color = vk::Image(ctx, cd);
@@ -239,7 +285,8 @@ struct SpectralPass::Impl {
         }
         if (!tryMap) {
             cd.tiling = VK_IMAGE_TILING_OPTIMAL;
-            cd.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | sampledBit;
+            cd.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
+                       VK_IMAGE_USAGE_TRANSFER_DST_BIT | sampledBit;
             cd.hostVisible = false;
             color = vk::Image(ctx, cd);
             plan.mappedReadback = false;
@@ -315,11 +362,14 @@ struct SpectralPass::Impl {
             VkAttachmentDescription a{};
             a.format = VK_FORMAT_R32G32B32A32_SFLOAT;
             a.samples = VK_SAMPLE_COUNT_1_BIT;
-            a.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+            // Cleared once per frame by vkCmdClearColorImage in record(), not by the render pass:
+            // lavapipe (Mesa 22.3) leaks about a target's size of memory per render-pass clear of
+            // array-layer views (measured: +20 MB per frame at 256² × 89 bands).
+            a.loadOp = VK_ATTACHMENT_LOAD_OP_LOAD;
             a.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
             a.stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
             a.stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
-            a.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+            a.initialLayout = VK_IMAGE_LAYOUT_GENERAL;
             a.finalLayout = finalLayout;
             descs.push_back(a);
             refs.push_back({i, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL});
@@ -468,6 +518,28 @@ struct SpectralPass::Impl {
         pc.cameraForward = glm::vec4(camera.forward, 0.0f);
         VkDeviceSize zero = 0;
         VkBuffer vb = vertexBuffer.handle();
+        {
+            // Zero every layer (background radiance is 0), in GENERAL, then let the colour passes load it.
+            VkImageSubresourceRange all{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, uint32_t(plan.layers)};
+            VkImageMemoryBarrier toClear{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
+            toClear.srcAccessMask = VK_ACCESS_HOST_READ_BIT | VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT;
+            toClear.dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+            toClear.oldLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+            toClear.newLayout = VK_IMAGE_LAYOUT_GENERAL;
+            toClear.srcQueueFamilyIndex = toClear.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+            toClear.image = color.handle();
+            toClear.subresourceRange = all;
+            vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr,
+                                 0, nullptr, 1, &toClear);
+            VkClearColorValue black{{0, 0, 0, 0}};
+            vkCmdClearColorImage(cmd, color.handle(), VK_IMAGE_LAYOUT_GENERAL, &black, 1, &all);
+            VkImageMemoryBarrier toDraw = toClear;
+            toDraw.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+            toDraw.dstAccessMask = VK_ACCESS_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
+            toDraw.oldLayout = VK_IMAGE_LAYOUT_GENERAL;
+            vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, 0, 0,
+                                 nullptr, 0, nullptr, 1, &toDraw);
+        }
         {
             VkClearValue clear{};
             clear.depthStencil = {1.0f, 0};

@@ -178,7 +178,9 @@ bool supportsLinearRenderTarget(const Context& ctx, VkFormat format, uint32_t wi
     vkGetPhysicalDeviceFormatProperties(ctx.physicalDevice(), format, &fp);
     if (!(fp.linearTilingFeatures & VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BIT)) return false;
     if (sampled && !(fp.linearTilingFeatures & VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT)) return false;
-    VkImageUsageFlags usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | (sampled ? VK_IMAGE_USAGE_SAMPLED_BIT : 0);
+    if (!(fp.linearTilingFeatures & VK_FORMAT_FEATURE_TRANSFER_DST_BIT)) return false;  // cleared by a transfer
+    VkImageUsageFlags usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT |
+                              (sampled ? VK_IMAGE_USAGE_SAMPLED_BIT : 0);
     VkImageFormatProperties ip;
     VkResult r = vkGetPhysicalDeviceImageFormatProperties(
         ctx.physicalDevice(), format, VK_IMAGE_TYPE_2D, VK_IMAGE_TILING_LINEAR, usage, 0, &ip);
