@@ -50,3 +50,31 @@ TEST(Strips, StripByStripEqualsTheWholeFrame) {
     }
     EXPECT_NO_VALIDATION_ERRORS(before);
 }
+
+// Resident memory must not grow with the number of frames (lavapipe leaked a target's size per
+// render-pass clear; the pass now clears with vkCmdClearColorImage).
+TEST(Strips, RepeatedFramesDoNotGrowMemory) {
+    auto residentBytes = [] {
+        std::FILE* f = std::fopen("/proc/self/statm", "r");
+        long pages = 0, resident = 0;
+        if (f) {
+            if (std::fscanf(f, "%ld %ld", &pages, &resident) != 2) resident = 0;
+            std::fclose(f);
+        }
+        return double(resident) * 4096.0;
+    };
+    Scene s = emptyScene(Grid{300, 740, 5}, perspectiveCamera({0, 0, 4}, {0, 0, 0}, {0, 1, 0}, 40, 256, 256));
+    s.materials.push_back(lambertian(0.5));
+    s.meshes.push_back(sphere({0, 0, 0}, 1.0, 32, 16, 0));
+    s.lights.push_back(directionalLight({0, 0, -1}, constantSpectrum(1.0), 1.0));
+    SceneOnGrid g = onGrid(s);
+    SpectralPass pass(gpu(), s, g);
+    SpectralCube cube;
+    for (int i = 0; i < 3; ++i) pass.render(cube);  // warm up: allocations that stay
+    double before = residentBytes();
+    for (int i = 0; i < 20; ++i) pass.render(cube);
+    double grown = residentBytes() - before;
+    std::printf("  resident memory after 20 more frames: %+.1f MiB (target %.1f MiB)\n", grown / 1048576.0,
+                double(pass.plan().targetBytes) / 1048576.0);
+    EXPECT_LT(grown, 2.0 * double(pass.plan().targetBytes));
+}
