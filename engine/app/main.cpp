@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <csignal>
 #include <cstdio>
+#include <sys/syscall.h>
 #include <unistd.h>
 
 using namespace metamer;
@@ -20,7 +21,19 @@ namespace {
 
 // An interrupted run leaves no partial output: temporary files are removed, finished files were
 // renamed into place atomically, earlier files are untouched.
+//
+// Output files are created only by the main thread, after their temporary name is registered.
+// The kernel may deliver SIGINT to any thread (the CPU renderer's, the driver's); handled there,
+// the unlink could run between the main thread's registering a name and creating the file, and
+// _exit would then leave that file behind. So a signal caught elsewhere is passed on to the main
+// thread, where the handler runs either before the file exists (and it never will) or after.
+pid_t gMainThread = 0;
+
 extern "C" void onSignal(int sig) {
+    if (pid_t(::syscall(SYS_gettid)) != gMainThread) {
+        ::syscall(SYS_tgkill, ::getpid(), gMainThread, sig);
+        return;
+    }
     removeLiveTempFiles();
     _exit(128 + sig);
 }
@@ -98,6 +111,7 @@ int listDevices() {
 }  // namespace
 
 int main(int argc, char** argv) {
+    gMainThread = pid_t(::syscall(SYS_gettid));
     std::signal(SIGINT, onSignal);
     std::signal(SIGTERM, onSignal);
 
