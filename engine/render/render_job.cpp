@@ -134,13 +134,17 @@ RenderJobResult runRenderJob(const RenderJob& job) {
     // Refuse absurd sizes here, before anything that grows with the image is allocated.
     RenderMemory memory =
         estimateRenderMemory(scene.camera.width, scene.camera.height, scene.grid.bands(), job.ssaa, job.backend, display);
-    if (memory.total() > kMaxRenderMemory)
+    // The GPU path renders in strips when memory is short (below), so for it only the files' size
+    // is a limit; the CPU reference holds the whole image.
+    bool tooLarge = job.backend == Backend::Cpu ? memory.total() > kMaxRenderMemory : memory.cube > kMaxStreamedCube;
+    if (tooLarge)
         failInput(Where{scene.file.string(), "camera"},
-                  "a {}×{} render on {} bands{} would need about {}, more than the {} a render may use; "
+                  "a {}×{} render on {} bands{} would need about {}, more than the {} a render may {}; "
                   "reduce camera.width and camera.height or use a coarser grid",
                   scene.camera.width, scene.camera.height, scene.grid.bands(),
                   job.backend == Backend::Gpu && job.ssaa > 1 ? fmt::format(" with ssaa {}", job.ssaa) : "",
-                  memory.describe(), gib(kMaxRenderMemory));
+                  memory.describe(), gib(job.backend == Backend::Cpu ? kMaxRenderMemory : kMaxStreamedCube),
+                  job.backend == Backend::Cpu ? "use" : "write as a cube");
     std::optional<TonemapPlan> plan;
     if (display) {
         // Names given in the scene are reported against the scene's output block.

@@ -100,6 +100,9 @@ struct RenderMemory {
 // 64 GiB: more than a workstation can give one render (a 4096 × 4096 image on the default
 // 89-band grid needs about 12 GiB on the GPU path; 16384 × 16384 would need about 130 GiB).
 constexpr uint64_t kMaxRenderMemory = uint64_t(64) << 30;
+// The GPU path streams images over the memory budget in strips; what it refuses is a cube file
+// beyond 64 GiB (8192² on the default grid is 22 GiB; 16384² would be 89 GiB).
+constexpr uint64_t kMaxStreamedCube = uint64_t(64) << 30;
 
 RenderMemory estimateRenderMemory(int width, int height, int bands, int ssaa, Backend backend, bool display);
 
