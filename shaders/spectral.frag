@@ -67,20 +67,52 @@ void addLight(int l, float diffuseWeight, float specularWeight) {
     }
 }
 
-// Blinn–Phong, energy-normalized: g·(N+8)/(8π)·(n·h)^N, with x^0 = 1 (also at x = 0).
+// (n·h)^N for unit n and h, with x^0 = 1 (also at x = 0). Near the lobe's peak n·h rounds to
+// within 2^-24 of 1, and pow() turns that into a relative error of N·2^-24 (1e-2 at N = 1e5,
+// 8e-2 at N = 1e6). For unit vectors 1 − n·h = |n − h|²/2, which keeps its relative precision as
+// h → n; so there the lobe is exp(N·ln(1 − s)) with ln(1 − s) = −(s + s²/2 + … + s⁶/6), whose
+// truncation (below s⁶/7 relative, 9e-9 at s = 1/16) is negligible. Docs: docs/numerics.md.
+float blinnPhongLobe(vec3 n, vec3 wPlusV, float gloss) {
+    if (gloss == 0.0) return 1.0;
+    // A light exactly opposite the eye (the shading normal faces both ways) has no half vector:
+    // no lobe, as in the reference, rather than normalize(0) = NaN.
+    if (!(dot(wPlusV, wPlusV) > 0.0)) return 0.0;
+    vec3 h = normalize(wPlusV);
+    float nh = dot(n, h);
+    if (nh <= 0.0) return 0.0;
+    vec3 d = n - h;
+    float s = 0.5 * dot(d, d);
+    if (s >= 0.0625) return pow(nh, gloss);
+    float lnOneMinusS = -s * (1.0 + s * (1.0 / 2.0 + s * (1.0 / 3.0 + s * (1.0 / 4.0 + s * (1.0 / 5.0 + s * (1.0 / 6.0))))));
+    return exp(gloss * lnOneMinusS);
+}
+
+// Blinn–Phong, energy-normalized: g·(N+8)/(8π)·(n·h)^N.
 float specularWeight(vec3 n, vec3 w, vec3 v, float g) {
     if (!HAS_SPECULAR || g <= 0.0) return 0.0;
     float gloss = M.params.x;
-    float nh = max(dot(n, normalize(w + v)), 0.0);
-    float lobe = gloss == 0.0 ? 1.0 : pow(nh, gloss);
-    return g * (gloss + 8.0) * (INV_PI / 8.0) * lobe * M.params.z;
+    return g * (gloss + 8.0) * (INV_PI / 8.0) * blinnPhongLobe(n, w + v, gloss) * M.params.z;
 }
 
 void main() {
-    vec3 n = normalize(worldNormal);
-    if (!gl_FrontFacing) n = -n;  // two-sided: a back face is shaded as seen from its front
+    // The face normal, from the position's screen-space derivatives: taken here, in uniform
+    // control flow, because derivatives are undefined inside a branch.
+    vec3 faceNormal = cross(dFdx(worldPosition), dFdy(worldPosition));
     vec3 v = pc.cameraPosition.w > 0.5 ? normalize(pc.cameraPosition.xyz - worldPosition)
                                         : -pc.cameraForward.xyz;
+    vec3 n;
+    if (dot(worldNormal, worldNormal) > 1e-24) {
+        n = normalize(worldNormal);
+        if (!gl_FrontFacing) n = -n;  // two-sided: a back face is shaded as seen from its front
+    } else {
+        // The vertex normals cancel here (opposite ones, or a zero-length one at its corner;
+        // triangles with no usable normal at all carry their face normal, see pack()), and
+        // normalize() would give NaN. As the reference does (docs/physics.md, "Two-sided
+        // shading"), shade with the face normal turned towards the eye; a face seen exactly
+        // edge-on has none, and takes v.
+        n = dot(faceNormal, faceNormal) > 0.0 ? normalize(faceNormal) : v;
+        if (dot(n, v) < 0.0) n = -n;
+    }
     [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) acc[k] = vec4(0.0);
     fluorescence = 0.0;
 
@@ -107,6 +139,8 @@ void main() {
         addLight(l, g * INV_PI, specularWeight(n, w, v, g));
         if (HAS_FLUORESCENCE) fluorescence += g * coupling(l);
     }
+    // ê/λ and the couplings come scaled by reciprocal powers of two (pack() in spectral_pass.cpp)
+    // so that neither overflows before their product does.
     if (HAS_FLUORESCENCE)
         [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) acc[k] += fluorescence * M.emissionOverLambda[k];
 

@@ -1,0 +1,740 @@
+// Numerical behaviour at the extremes (docs/numerics.md): grids from one band to 881 bands and from
+// 200 to 2500 nm, light scales over 24 decades, float16 output, needle lobes, grazing angles,
+// degenerate geometry, empty scenes, a camera inside an object and fluorescence at the edge of
+// its overlap with the light. Each test prints what it measured (the numbers docs/numerics.md
+// quotes) and checks the GPU path against the double-precision CPU reference.
+#include "io/spectral_exr.h"
+#include "reference/cpu_renderer.h"
+#include "render/camera_matrices.h"
+#include "render/spectral_pass.h"
+#include "scene/shapes.h"
+#include "spectral/library.h"
+#include "support/gpu.h"
+#include "support/scene_builders.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <limits>
+#include <numbers>
+#include <string>
+#include <unistd.h>
+#include <vector>
+
+using namespace metamer;
+using namespace metamer::test;
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kDeg = kPi / 180.0;
+
+// --- Measuring --------------------------------------------------------------------------------
+
+size_t nonFinite(const SpectralCube& c) {
+    return size_t(std::count_if(c.data.begin(), c.data.end(), [](float v) { return !std::isfinite(v); }));
+}
+
+size_t negative(const SpectralCube& c) {
+    return size_t(std::count_if(c.data.begin(), c.data.end(), [](float v) { return v < 0.0f; }));
+}
+
+// Which pixels and values a comparison counts.
+struct CompareRule {
+    // Relative error is taken against max(|reference|, floor × the band's largest reference
+    // value), so bands that are almost black do not turn float rounding into large ratios.
+    double floor = 1e-4;
+    // Values whose reference is below this fraction of the band's largest are skipped (for
+    // needle lobes, whose tails are all rounding).
+    double skipBelow = 0.0;
+};
+
+struct Measured {
+    double maxRelative = 0.0;
+    int pixels = 0;  // interior pixels compared
+    int worstX = -1, worstY = -1, worstBand = -1;
+};
+
+// Interior pixels (the pixel and its 8 neighbours see the same mesh in the reference): there the
+// rasterizer and the ray caster agree on which surface is seen, so the GPU differs from the
+// reference only by float rounding (docs/physics.md, "GPU path specifics").
+Measured compareInterior(const SpectralCube& gpuCube, const ReferenceImage& ref, CompareRule rule = {}) {
+    Measured m;
+    const SpectralCube& cpu = ref.cube;
+    const int W = cpu.width, H = cpu.height, B = cpu.bands();
+    std::vector<double> bandMax(size_t(B), 0.0);
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x)
+            for (int b = 0; b < B; ++b) bandMax[b] = std::max(bandMax[b], double(std::fabs(cpu.at(x, y, b))));
+    for (int y = 1; y + 1 < H; ++y)
+        for (int x = 1; x + 1 < W; ++x) {
+            const int32_t id = ref.objectId[size_t(y) * W + x];
+            if (id < 0) continue;
+            bool interior = true;
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) interior = interior && ref.objectId[size_t(y + dy) * W + x + dx] == id;
+            if (!interior) continue;
+            ++m.pixels;
+            for (int b = 0; b < B; ++b) {
+                const double r = cpu.at(x, y, b), g = gpuCube.at(x, y, b);
+                if (std::fabs(r) < rule.skipBelow * bandMax[b]) continue;
+                const double rel = std::fabs(g - r) / std::max(std::fabs(r), rule.floor * bandMax[b] + 1e-300);
+                // A NaN on either side must count as the worst error, not be skipped by `>`.
+                if (!(rel <= m.maxRelative)) {
+                    m.maxRelative = std::isnan(rel) ? INFINITY : rel;
+                    m.worstX = x;
+                    m.worstY = y;
+                    m.worstBand = b;
+                }
+            }
+        }
+    return m;
+}
+
+struct Rendered {
+    SpectralCube gpu;
+    ReferenceImage ref;
+    SpectralPassPlan plan;
+};
+
+// The scene through both renderers, failing the test on any validation error.
+Rendered renderBoth(const Scene& s, const SceneOnGrid& g, const SpectralPassOptions& opts = {}) {
+    const uint32_t before = gpu().validationErrors();
+    SpectralPass pass(gpu(), s, g, opts);
+    Rendered r{pass.render(), {}, pass.plan()};
+    ReferenceOptions ro;
+    ro.ssaa = opts.ssaa;
+    r.ref = renderReference(s, g, ro);
+    EXPECT_NO_VALIDATION_ERRORS(before);
+    return r;
+}
+
+// Prints one line: what, interior pixels, worst relative error and where.
+void report(const std::string& what, const Rendered& r, const Measured& m) {
+    std::printf("  [numerics] %-40s %4d bands %3d layers %2d passes: %5d interior px, max rel err %.3g (px %d,%d band %d)\n",
+                what.c_str(), r.plan.bands, r.plan.layers, r.plan.passes, m.pixels, m.maxRelative, m.worstX, m.worstY,
+                m.worstBand);
+    ::testing::Test::RecordProperty("max_relative_error_" + what, std::to_string(m.maxRelative));
+}
+
+// --- Scenes -----------------------------------------------------------------------------------
+
+// A smooth, daylight-shaped SPD over 300–800 nm (not a library file: tests stay independent of
+// the data).
+Spectrum daylightLike() {
+    std::vector<double> nm, v;
+    for (double l = 300; l <= 800; l += 5) {
+        nm.push_back(l);
+        v.push_back(60 + 40 * std::sin((l - 300) / 70.0) + 30 * std::exp(-0.5 * std::pow((l - 460) / 25, 2)));
+    }
+    return sampledSpectrum(nm, v, "daylight-like");
+}
+
+// A glossy sphere on a floor under an ambient, a directional and a point light: every term of
+// the shading (diffuse, specular, the three light kinds) on a curved and a flat surface.
+Scene sphereOnFloor(const Grid& grid, int px, double lightScale = 1.0) {
+    Scene s = emptyScene(grid, perspectiveCamera({0, 1.2, 4}, {0, 0, 0}, {0, 1, 0}, 35, px, px));
+    s.materials.push_back(glossy(gaussianSpectrum(520, 60, 0.7, 200, 2500, 1), constantSpectrum(0.05), 40, "green"));
+    s.materials.push_back(lambertian(0.5, "floor"));
+    s.meshes.push_back(sphere({0, 0, 0}, 0.8, 48, 24, 0));
+    s.meshes.push_back(quad({0, -0.8, 0}, {0, 1, 0}, 6, 6, 1));
+    s.lights.push_back(ambientLight(daylightLike(), 0.002 * lightScale));
+    s.lights.push_back(directionalLight({-0.4, -1, -0.5}, daylightLike(), 0.01 * lightScale));
+    s.lights.push_back(pointLight({1.5, 2, 2}, daylightLike(), 0.3 * lightScale));
+    return s;
+}
+
+// Warnings go to a function pointer; this collects them while a WarningCapture lives.
+std::vector<std::string>& capturedWarnings() {
+    static std::vector<std::string> lines;
+    return lines;
+}
+
+struct WarningCapture {
+    WarningSink previous;
+    WarningCapture() {
+        capturedWarnings().clear();
+        previous = setWarningSink([](const std::string& line) { capturedWarnings().push_back(line); });
+    }
+    ~WarningCapture() { setWarningSink(previous); }
+};
+
+// A folder of its own for files a test writes, removed afterwards.
+struct TempDir {
+    std::filesystem::path path;
+    TempDir() {
+        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+        path = std::filesystem::temp_directory_path() /
+               ("metamer-numerics-" + std::to_string(::getpid()) + "-" + info->name());
+        std::filesystem::remove_all(path);
+        std::filesystem::create_directories(path);
+    }
+    ~TempDir() { std::filesystem::remove_all(path); }
+};
+
+}  // namespace
+
+// --- Grids ------------------------------------------------------------------------------------
+
+TEST(Numerics, GridsFromHalfNanometreToSingleBandMatchReference) {
+    struct Case {
+        Grid grid;
+        int bands, layers, passes, px;
+    };
+    const Case cases[] = {
+        {Grid{300, 740, 0.5}, 881, 221, 28, 24},  // the finest step over the default range
+        {Grid{300, 740, 1}, 441, 111, 14, 24},
+        {Grid{555, 555, 1}, 1, 1, 1, 32},  // one band: one layer with three unused components
+        {Grid{555, 555, 0.5}, 1, 1, 1, 16},
+    };
+    for (const Case& c : cases) {
+        SCOPED_TRACE(c.grid.str());
+        Scene s = sphereOnFloor(c.grid, c.px);
+        Rendered r = renderBoth(s, onGrid(s));
+        EXPECT_EQ(r.plan.bands, c.bands);
+        EXPECT_EQ(r.plan.layers, c.layers);
+        EXPECT_EQ(r.plan.passes, c.passes);
+        ASSERT_EQ(r.gpu.bands(), c.bands);
+        ASSERT_EQ(r.gpu.data.size(), size_t(c.px) * c.px * c.bands);
+        EXPECT_EQ(nonFinite(r.gpu), 0u);
+        Measured m = compareInterior(r.gpu, r.ref);
+        report("grid " + c.grid.str(), r, m);
+        EXPECT_GE(m.pixels, c.px * c.px / 4);
+        EXPECT_LE(m.maxRelative, 1e-4);
+    }
+}
+
+// --- Wavelength range ---------------------------------------------------------------------------
+
+TEST(Numerics, FullRangeGridsWithTheEqualEnergyIlluminant) {
+    SpectrumLibrary lib;
+    const Spectrum& e = lib.get("illuminants/E", Where{});
+    ASSERT_LE(e.wavelengths_nm.front(), 200.0);
+    ASSERT_GE(e.wavelengths_nm.back(), 2500.0);
+    for (Grid grid : {Grid{200, 2500, 50}, Grid{1000, 2500, 10}}) {
+        SCOPED_TRACE(grid.str());
+        Scene s = emptyScene(grid, perspectiveCamera({0, 1.2, 4}, {0, 0, 0}, {0, 1, 0}, 35, 24, 24));
+        s.materials.push_back(glossy(constantSpectrum(0.6), constantSpectrum(0.3), 20, "grey"));
+        s.materials.push_back(lambertian(0.2, "floor"));
+        s.meshes.push_back(sphere({0, 0, 0}, 0.8, 48, 24, 0));
+        s.meshes.push_back(quad({0, -0.8, 0}, {0, 1, 0}, 6, 6, 1));
+        s.lights.push_back(directionalLight({-0.4, -1, -0.5}, e, 0.01));
+        s.lights.push_back(pointLight({1.5, 2, 2}, e, 0.3));
+        WarningCapture warnings;
+        SceneOnGrid g = onGrid(s);
+        EXPECT_TRUE(capturedWarnings().empty()) << capturedWarnings().front();
+        Rendered r = renderBoth(s, g);
+        EXPECT_EQ(nonFinite(r.gpu), 0u);
+        Measured m = compareInterior(r.gpu, r.ref);
+        report("E on " + grid.str(), r, m);
+        EXPECT_GE(m.pixels, 100);
+        EXPECT_LE(m.maxRelative, 1e-4);
+    }
+}
+
+TEST(Numerics, LightThatMissesPartOfTheRangeWarnsAndIsExactlyZeroThere) {
+    SpectrumLibrary lib;
+    const Spectrum& d65 = lib.get("illuminants/D65", Where{});
+    const double lo = d65.wavelengths_nm.front(), hi = d65.wavelengths_nm.back();
+    const Grid grid{200, 2500, 50};
+    Scene s = emptyScene(grid, orthographicCamera({0, 0, 4}, {0, 0, 0}, {0, 1, 0}, 1.0, 16, 16));
+    s.materials.push_back(glossy(constantSpectrum(0.6), constantSpectrum(0.3), 5, "grey"));
+    s.meshes.push_back(quad({0, 0, 0}, {0, 0, 1}, 4, 4, 0));
+    s.lights.push_back(directionalLight({-0.2, -0.1, -1}, d65, 0.01, "lights.0"));
+    s.lights.push_back(ambientLight(d65, 0.001, "lights.1"));
+
+    WarningCapture warnings;
+    SceneOnGrid g = onGrid(s);
+    // Two lights with the same data range: one grouped warning naming the spectrum and the range.
+    ASSERT_EQ(capturedWarnings().size(), 1u);
+    EXPECT_NE(capturedWarnings()[0].find("illuminants/D65"), std::string::npos) << capturedWarnings()[0];
+    EXPECT_NE(capturedWarnings()[0].find("bands outside the data are 0"), std::string::npos);
+
+    Rendered r = renderBoth(s, g);
+    Measured m = compareInterior(r.gpu, r.ref);
+    report("D65 on " + grid.str(), r, m);
+    EXPECT_LE(m.maxRelative, 1e-4);
+    // Bands whose interval [λ − Δλ/2, λ + Δλ/2] misses the data entirely hold exactly 0, on both
+    // renderers and in every pixel; bands with data are lit.
+    int uncovered = 0;
+    for (int b = 0; b < grid.bands(); ++b) {
+        const double l = grid.wavelength(b);
+        const bool outside = l + 0.5 * grid.step_nm <= lo || l - 0.5 * grid.step_nm >= hi;
+        uncovered += outside;
+        for (int y = 0; y < 16; ++y)
+            for (int x = 0; x < 16; ++x) {
+                if (outside) {
+                    ASSERT_EQ(r.gpu.at(x, y, b), 0.0f) << l << " nm";
+                    ASSERT_EQ(r.ref.cube.at(x, y, b), 0.0f) << l << " nm";
+                } else if (l >= lo && l <= hi) {
+                    ASSERT_GT(r.gpu.at(x, y, b), 0.0f) << l << " nm";
+                }
+            }
+    }
+    std::printf("  [numerics] D65 (%g–%g nm) on %s: %d of %d bands exactly 0\n", lo, hi, grid.str().c_str(), uncovered,
+                grid.bands());
+    EXPECT_EQ(uncovered, 47 - 11);  // 300–750 nm lit, 800 nm partly (its interval reaches 780 nm)
+
+    // The strict policy refuses the same scene; a grid the light misses entirely is always refused.
+    EXPECT_THROW(resampleScene(s, grid, CoveragePolicy::Error), Error);
+    Scene far = s;
+    far.grid = Grid{1000, 2500, 10};
+    try {
+        onGrid(far);
+        ADD_FAILURE() << "a light entirely outside the grid must be an input error";
+    } catch (const Error& err) {
+        EXPECT_EQ(err.code(), ExitCode::BadInput);
+    }
+}
+
+// --- Light scale and float16 output -------------------------------------------------------------
+
+TEST(Numerics, LightScalesFromOneEMinus12To1E12AreLinearAndFinite) {
+    const Grid grid{380, 720, 10};  // 35 bands: two passes, the second partly filled
+    Scene unit = sphereOnFloor(grid, 24);
+    // A fluorescent floor adds the coupling Σ a·E·λ·Δλ, the one place a light's whole spectrum is
+    // summed before the shader sees it.
+    unit.materials[1] = fluorescent(constantSpectrum(0.4), gaussianSpectrum(420, 20, 0.5),
+                                    gaussianSpectrum(520, 25), 0.8, "floor");
+    Rendered base = renderBoth(unit, onGrid(unit));
+    const float baseMax = *std::max_element(base.gpu.data.begin(), base.gpu.data.end());
+    TempDir tmp;
+    for (double scale : {1e-12, 1e-6, 1e-3, 1.0, 1e3, 1e6, 1e12}) {
+        SCOPED_TRACE(scale);
+        Scene s = sphereOnFloor(grid, 24, scale);
+        s.materials[1] = unit.materials[1];
+        Rendered r = renderBoth(s, onGrid(s));
+        EXPECT_EQ(nonFinite(r.gpu), 0u);
+        EXPECT_EQ(nonFinite(r.ref.cube), 0u);
+        EXPECT_EQ(negative(r.gpu), 0u);
+        Measured m = compareInterior(r.gpu, r.ref);
+        // Linearity: the GPU cube at this scale over scale × the GPU cube at scale 1, on every
+        // value that is not black (the ratio is exact up to float rounding of E and the products).
+        double worstRatio = 0.0;
+        for (size_t i = 0; i < r.gpu.data.size(); ++i)
+            if (base.gpu.data[i] > 1e-4f * baseMax)
+                worstRatio = std::max(worstRatio, std::fabs(r.gpu.data[i] / (scale * base.gpu.data[i]) - 1.0));
+        // float16: beyond 65504 clamped and counted; the rest rounded to 11 bits, or to the
+        // subnormal step 2⁻²⁴ below 2⁻¹⁴, and to 0 at or below 2⁻²⁵.
+        ExrWriteOptions half;
+        half.half = true;
+        half.compression = "none";
+        const auto file = tmp.path / "half.exr";
+        ExrWriteReport rep = writeSpectralExr(file, r.gpu, half);
+        SpectralCube back = readSpectralExr(file);
+        ASSERT_EQ(back.data.size(), r.gpu.data.size());
+        size_t over = 0, flushed = 0, subnormal = 0;
+        double worstHalf = 0.0, worstSubnormalAbs = 0.0;
+        for (size_t i = 0; i < back.data.size(); ++i) {
+            const float v = r.gpu.data[i], h = back.data[i];
+            if (v > 65504.0f) {
+                ++over;
+                ASSERT_EQ(h, 65504.0f);
+            } else if (v >= std::ldexp(1.0f, -14)) {
+                worstHalf = std::max(worstHalf, std::fabs(double(h) - v) / v);
+            } else if (v > 0.0f) {
+                worstSubnormalAbs = std::max(worstSubnormalAbs, std::fabs(double(h) - v));
+                flushed += h == 0.0f;
+                subnormal += h != 0.0f;
+                if (v <= std::ldexp(1.0f, -25)) ASSERT_EQ(h, 0.0f) << v;
+            }
+        }
+        EXPECT_EQ(rep.clampedToHalfMax, over);
+        EXPECT_EQ(rep.nonFinite, 0u);
+        EXPECT_LE(worstHalf, std::ldexp(1.0, -11));
+        EXPECT_LE(worstSubnormalAbs, std::ldexp(1.0, -25));
+        std::printf("  [numerics] scale %-6g max rel err %.3g, linearity %.3g, peak %.3g; half: %zu clamped, "
+                    "%zu subnormal, %zu flushed to 0 of %zu\n",
+                    scale, m.maxRelative, worstRatio, double(*std::max_element(r.gpu.data.begin(), r.gpu.data.end())),
+                    over, subnormal, flushed, r.gpu.data.size());
+        EXPECT_LE(m.maxRelative, 1e-4);
+        EXPECT_LE(worstRatio, 1e-5);
+    }
+}
+
+TEST(Numerics, LightScalesAtTheEdgesOfFloat32) {
+    // Beyond the range of interest: where float32 itself runs out. Radiance near 3e37 renders
+    // (fluorescence included: its coupling is scaled so it does not overflow first); a light
+    // beyond the largest float32 is refused by the GPU path; radiance below the smallest normal
+    // float32 (1.2e-38) flushes to 0 on the GPU, while the reference writes subnormals.
+    const Grid grid{380, 720, 10};
+    auto scene = [&](double scale) {
+        Scene s = sphereOnFloor(grid, 16, scale);
+        s.materials[1] = fluorescent(constantSpectrum(0.4), gaussianSpectrum(420, 20, 0.5),
+                                     gaussianSpectrum(520, 25), 0.8, "floor");
+        return s;
+    };
+    for (double scale : {1e-36, 1e-30, 1e30, 1e36}) {
+        SCOPED_TRACE(scale);
+        Scene s = scene(scale);
+        Rendered r = renderBoth(s, onGrid(s));
+        EXPECT_EQ(nonFinite(r.gpu), 0u);
+        EXPECT_EQ(nonFinite(r.ref.cube), 0u);
+        EXPECT_EQ(negative(r.gpu), 0u);
+        size_t flushed = 0;
+        for (size_t i = 0; i < r.gpu.data.size(); ++i) flushed += r.gpu.data[i] == 0.0f && r.ref.cube.data[i] != 0.0f;
+        Measured m = compareInterior(r.gpu, r.ref);
+        std::printf("  [numerics] scale %-6g max rel err %.3g, %zu values 0 on the GPU only (peak %.3g)\n", scale,
+                    m.maxRelative, flushed, double(*std::max_element(r.ref.cube.data.begin(), r.ref.cube.data.end())));
+        if (scale >= 1e-30) {
+            EXPECT_EQ(flushed, 0u);
+            EXPECT_LE(m.maxRelative, 1e-4);
+        }
+    }
+    Scene tooBright = scene(1e38);  // the point light's 0.3 × 1e38 × ~100 W·sr⁻¹·nm⁻¹
+    SceneOnGrid g = onGrid(tooBright);
+    try {
+        SpectralPass pass(gpu(), tooBright, g);
+        ADD_FAILURE() << "a light beyond float32 must be refused";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.code(), ExitCode::BadInput);
+        EXPECT_NE(std::string(e.what()).find("float32"), std::string::npos) << e.what();
+    }
+}
+
+// --- Gloss --------------------------------------------------------------------------------------
+
+// A mirror-like quad seen straight on (orthographic) under a point light 1 m above its centre:
+// n·h = cos(θ/2) with θ the light's angle from the normal, so the lobe is a disc around the
+// centre whose radius shrinks as 1/√N. The view is scaled to show the lobe over ~10 pixels.
+TEST(Numerics, GlossFromZeroToOneMillionStaysFiniteAndMatches) {
+    for (double gloss : {0.0, 1.0, 1e2, 1e3, 1e4, 1e5, 1e6}) {
+        SCOPED_TRACE(gloss);
+        const double width = gloss > 0 ? std::min(2.0, 12.0 * std::sqrt(8.0 / gloss)) : 2.0;  // metres
+        Scene s = emptyScene(Grid{400, 700, 20}, orthographicCamera({0, 0, 5}, {0, 0, 0}, {0, 1, 0}, width, 32, 32));
+        s.materials.push_back(glossy(constantSpectrum(0.0), constantSpectrum(1.0), gloss, "mirror"));
+        s.meshes.push_back(quad({0.013 * width, 0.007 * width, 0}, {0, 0, 1}, 4 * width, 4 * width));
+        s.lights.push_back(pointLight({0, 0, 1}, daylightLike(), 1.0));
+        Rendered r = renderBoth(s, onGrid(s));
+        EXPECT_EQ(nonFinite(r.gpu), 0u);
+        EXPECT_EQ(negative(r.gpu), 0u);
+        EXPECT_EQ(nonFinite(r.ref.cube), 0u);
+        CompareRule needle;
+        needle.floor = 0.0;
+        needle.skipBelow = 1e-3;
+        Measured m = compareInterior(r.gpu, r.ref, needle);
+        report("gloss " + fmt::format("{:g}", gloss), r, m);
+        EXPECT_GE(m.pixels, 500);
+        EXPECT_LE(m.maxRelative, 1e-4);
+    }
+}
+
+TEST(Numerics, GlossZeroIsAConstantLobeOfOneOverPi) {
+    // ρs = 1, ρd = 0: L = E·cos θ/π for every view, even where n·h = 0 (x⁰ = 1).
+    for (double thetaDeg : {0.0, 45.0, 89.9}) {
+        SCOPED_TRACE(thetaDeg);
+        const double theta = thetaDeg * kDeg;
+        Scene s = emptyScene(Grid{400, 700, 50}, perspectiveCamera({0, -3, 1}, {0, 0, 0}, {0, 0, 1}, 40, 16, 16));
+        s.materials.push_back(glossy(constantSpectrum(0.0), constantSpectrum(1.0), 0.0, "flat lobe"));
+        s.meshes.push_back(quad({0, 0, 0}, {0, 0, 1}, 40, 40));
+        s.lights.push_back(directionalLight({std::sin(theta), 0, -std::cos(theta)}, daylightLike(), 1.0));
+        SceneOnGrid g = onGrid(s);
+        Rendered r = renderBoth(s, g);
+        double worst = 0.0;
+        for (int y = 10; y < 16; ++y)  // the lower rows see the quad
+            for (int x = 0; x < 16; ++x)
+                for (int b = 0; b < r.gpu.bands(); ++b) {
+                    const double expected = g.lights[0][b] * std::cos(theta) / kPi;
+                    worst = std::max(worst, std::fabs(r.gpu.at(x, y, b) - expected) / expected);
+                }
+        std::printf("  [numerics] gloss 0 lit at %g°: max rel err vs E·cosθ/π %.3g\n", thetaDeg, worst);
+        EXPECT_LE(worst, 1e-5);
+    }
+}
+
+// --- Grazing angles -----------------------------------------------------------------------------
+
+TEST(Numerics, QuadSeenAndLitAtGrazingAngles) {
+    const double a = 89.9 * kDeg;  // from the normal
+    // The quad lies in z = 0, long along y so that seen at 89.9° it still fills the view: 20 m
+    // foreshortened by cos 89.9° = 1.7e-3 is 3.5 cm, the view is 1 cm.
+    auto make = [&](bool perspective) {
+        const glm::dvec3 eye = 20.0 * glm::dvec3(0, -std::sin(a), std::cos(a));
+        Camera cam = perspective ? perspectiveCamera(eye, {0, 0, 0}, {0, 0, 1}, 0.03, 24, 24)
+                                 : orthographicCamera(eye, {0, 0, 0}, {0, 0, 1}, 0.01, 24, 24);
+        Scene s = emptyScene(Grid{400, 700, 10}, cam);
+        s.materials.push_back(glossy(constantSpectrum(0.5), constantSpectrum(0.5), 50, "paint"));
+        s.meshes.push_back(quad({0, 0, 0}, {0, 0, 1}, 1, 20));
+        // Lit at 89.9° from the mirror direction (n·h = 1), from the side, and by a point light
+        // 1 cm above the surface.
+        s.lights.push_back(directionalLight({0, std::sin(a), -std::cos(a)}, daylightLike(), 1.0));
+        s.lights.push_back(directionalLight({std::sin(a), 0, -std::cos(a)}, daylightLike(), 1.0));
+        s.lights.push_back(pointLight({0.3, 0.5, 0.01}, daylightLike(), 0.01));
+        return s;
+    };
+    for (bool perspective : {false, true}) {
+        Scene s = make(perspective);
+        Rendered r = renderBoth(s, onGrid(s));
+        EXPECT_EQ(nonFinite(r.gpu), 0u);
+        EXPECT_EQ(negative(r.gpu), 0u);
+        EXPECT_EQ(nonFinite(r.ref.cube), 0u);
+        Measured m = compareInterior(r.gpu, r.ref);
+        report(perspective ? "grazing 89.9°, perspective" : "grazing 89.9°, orthographic", r, m);
+        EXPECT_GE(m.pixels, 22 * 22);
+        EXPECT_LE(m.maxRelative, 1e-4);
+    }
+}
+
+TEST(Numerics, LightExactlyOppositeTheEyeHasNoHalfVector) {
+    // The eye looks along -z at a quad facing it, whose vertex normals point away (-z), towards a
+    // light that travels along +z: the shading normal faces the light (n·w = 1) and w + v is
+    // exactly the zero vector. There is no half vector; the lobe is 0 (as in the reference), not
+    // normalize(0) = NaN. The same happens near the silhouette of a smooth mesh lit from behind.
+    Scene s = emptyScene(Grid{400, 700, 50}, orthographicCamera({0, 0, 5}, {0, 0, 0}, {0, 1, 0}, 2.0, 16, 16));
+    s.materials.push_back(glossy(constantSpectrum(0.5), constantSpectrum(0.5), 30, "paint"));
+    Mesh m = quad({0, 0, 0}, {0, 0, 1}, 4, 4);
+    m.normals.assign(4, glm::dvec3(0, 0, -1));
+    s.meshes.push_back(m);
+    s.lights.push_back(directionalLight({0, 0, 1}, daylightLike(), 1.0));
+    SceneOnGrid g = onGrid(s);
+    Rendered r = renderBoth(s, g);
+    EXPECT_EQ(nonFinite(r.gpu), 0u);
+    EXPECT_EQ(nonFinite(r.ref.cube), 0u);
+    Measured m2 = compareInterior(r.gpu, r.ref);
+    report("w + v = 0 (no half vector)", r, m2);
+    EXPECT_LE(m2.maxRelative, 1e-4);
+    for (int b = 0; b < r.gpu.bands(); ++b) {
+        const double diffuseOnly = 0.5 * g.lights[0][b] / kPi;
+        EXPECT_NEAR(r.gpu.at(8, 8, b), diffuseOnly, 1e-6 * diffuseOnly);
+    }
+}
+
+// --- Degenerate geometry ------------------------------------------------------------------------
+
+TEST(Numerics, DegenerateTrianglesRenderNothingAndHarmNothing) {
+    // In front of a lit quad: triangles with a repeated vertex, all three vertices equal, three
+    // collinear vertices (exactly, in binary) and a sliver 1e-12 m wide.
+    Scene s = emptyScene(Grid{400, 700, 10}, perspectiveCamera({0, 0, 4}, {0, 0, 0}, {0, 1, 0}, 30, 32, 32));
+    s.materials.push_back(glossy(constantSpectrum(0.6), constantSpectrum(0.2), 30, "wall"));
+    s.meshes.push_back(quad({0, 0, 0}, {0, 0, 1}, 3, 3, 0, glm::dvec3(0), "wall"));
+    s.lights.push_back(pointLight({0.5, 0.5, 2}, daylightLike(), 1.0));
+    s.lights.push_back(directionalLight({0, 0, -1}, daylightLike(), 0.01));
+    const Scene clean = s;
+
+    Mesh bad;
+    bad.name = "degenerates";
+    bad.positions = {{-0.5, -0.5, 1}, {0.5, 0.5, 1}, {0.25, -0.25, 1}, {0.75, -0.75, 1}, {1.25, -1.25, 1},
+                     {-1, 0.25, 1}, {1, 0.25, 1}, {0, 0.25 + 1e-12, 1}};
+    bad.indices = {0, 0, 1,  // repeated vertex
+                   2, 2, 2,  // one point
+                   2, 3, 4,  // collinear, exactly
+                   0, 1, 1,  // a segment traversed back
+                   5, 6, 7};  // a sliver 1e-12 m high and 2 m long
+    bad.normals = smoothNormals(bad.positions, bad.indices);
+    bad.material = 0;
+    s.meshes.push_back(bad);
+
+    Rendered withBad = renderBoth(s, onGrid(s));
+    Rendered without = renderBoth(clean, onGrid(clean));
+    EXPECT_EQ(nonFinite(withBad.gpu), 0u);
+    EXPECT_EQ(nonFinite(withBad.ref.cube), 0u);
+    // Nothing of the degenerate mesh is seen: the images equal the clean scene's, value for value
+    // (the sliver's height is far below a pixel's 4 mm at the wall).
+    size_t gpuDiffer = 0, refDiffer = 0;
+    for (size_t i = 0; i < withBad.gpu.data.size(); ++i) {
+        gpuDiffer += withBad.gpu.data[i] != without.gpu.data[i];
+        refDiffer += withBad.ref.cube.data[i] != without.ref.cube.data[i];
+    }
+    Measured m = compareInterior(withBad.gpu, withBad.ref);
+    report("degenerate triangles + quad", withBad, m);
+    std::printf("  [numerics] degenerate triangles: %zu GPU and %zu reference values differ from the clean scene\n",
+                gpuDiffer, refDiffer);
+    EXPECT_EQ(gpuDiffer, 0u);
+    EXPECT_EQ(refDiffer, 0u);
+    EXPECT_GE(m.pixels, 400);
+    EXPECT_LE(m.maxRelative, 1e-4);
+}
+
+TEST(Numerics, ZeroLengthMissingAndCancellingNormalsFallBackToTheFaceNormal) {
+    // docs/physics.md: if the vertex normals cancel, the shading normal is the face normal. The
+    // loaders never produce such meshes (glTF rejects zero-length normals, shapes compute theirs),
+    // but a Mesh built in code can: both renderers must shade it as a flat face, not as NaN.
+    auto scene = [](Mesh m) {
+        Scene s = emptyScene(Grid{400, 700, 10}, perspectiveCamera({0.3, 0.2, 3}, {0, 0, 0}, {0, 1, 0}, 40, 24, 24));
+        s.materials.push_back(glossy(constantSpectrum(0.5), constantSpectrum(0.3), 20, "paint"));
+        m.material = 0;
+        s.meshes.push_back(std::move(m));
+        s.lights.push_back(pointLight({0.5, 1, 2}, daylightLike(), 1.0));
+        s.lights.push_back(directionalLight({0.2, -0.3, -1}, daylightLike(), 0.01));
+        return s;
+    };
+    const Mesh flat = quad({0, 0, 0}, {0, 0, 1}, 3, 3);
+    Rendered expected = [&] {
+        Scene s = scene(flat);
+        return renderBoth(s, onGrid(s));
+    }();
+
+    Mesh zero = flat;
+    zero.normals.assign(4, glm::dvec3(0.0));
+    Mesh missing = flat;
+    missing.normals.clear();
+    Mesh cancelling = flat;  // opposite normals on the two ends of the shared diagonal
+    cancelling.normals = {{0, 0, 1}, {0, 0, 1}, {0, 0, -1}, {0, 0, 1}};
+    struct Case {
+        const char* what;
+        Mesh mesh;
+    };
+    // The quad's own error (1.0e-4 on lavapipe) sits on its diagonal, where a point light and a
+    // highlight make the radiance vary fastest (docs/numerics.md, "The error floor").
+    const Measured unitNormals = compareInterior(expected.gpu, expected.ref);
+    report("unit normals (the same quad)", expected, unitNormals);
+    EXPECT_LE(unitNormals.maxRelative, 2e-4);
+    for (const Case& c : {Case{"zero-length normals", zero}, Case{"no normals", missing}}) {
+        SCOPED_TRACE(c.what);
+        Scene s = scene(c.mesh);
+        Rendered r = renderBoth(s, onGrid(s));
+        EXPECT_EQ(nonFinite(r.gpu), 0u);
+        EXPECT_EQ(nonFinite(r.ref.cube), 0u);
+        // Shaded exactly as the quad with its unit normals, on both renderers.
+        EXPECT_EQ(r.gpu.data, expected.gpu.data);
+        EXPECT_EQ(r.ref.cube.data, expected.ref.cube.data);
+        Measured m = compareInterior(r.gpu, r.ref);
+        report(c.what, r, m);
+        EXPECT_LE(m.maxRelative, 2e-4);
+    }
+    {
+        // Where the interpolated normal passes through zero the face normal takes over; on either
+        // side it flips between +z and -z, so a pixel whose centre lies within rounding of that
+        // line may be lit on one renderer and dark on the other: only finiteness is asserted,
+        // the agreement is printed.
+        Scene s = scene(cancelling);
+        Rendered r = renderBoth(s, onGrid(s));
+        EXPECT_EQ(nonFinite(r.gpu), 0u);
+        EXPECT_EQ(nonFinite(r.ref.cube), 0u);
+        Measured m = compareInterior(r.gpu, r.ref);
+        report("cancelling normals", r, m);
+    }
+}
+
+// --- Empty scenes -------------------------------------------------------------------------------
+
+TEST(Numerics, EmptyScenesAreExactlyBlackOnBothRenderers) {
+    const Grid grid{300, 740, 5};  // three passes
+    const Camera cam = perspectiveCamera({0, 0, 3}, {0, 0, 0}, {0, 1, 0}, 40, 16, 16);
+    Scene nothing = emptyScene(grid, cam);
+    Scene lightsOnly = nothing;
+    lightsOnly.lights.push_back(directionalLight({0, 0, -1}, daylightLike(), 1.0));
+    lightsOnly.lights.push_back(ambientLight(daylightLike(), 1.0));
+    Scene objectsOnly = nothing;
+    objectsOnly.materials.push_back(glossy(constantSpectrum(0.5), constantSpectrum(0.5), 10, "grey"));
+    objectsOnly.meshes.push_back(sphere({0, 0, 0}, 1, 16, 8, 0));
+    Scene emptyMesh = lightsOnly;  // a mesh without triangles
+    emptyMesh.materials.push_back(lambertian(0.5));
+    emptyMesh.meshes.push_back(Mesh{});
+    for (const Scene* s : {&nothing, &lightsOnly, &objectsOnly, &emptyMesh}) {
+        Rendered r = renderBoth(*s, onGrid(*s));
+        ASSERT_EQ(r.gpu.data.size(), size_t(16 * 16 * 89));
+        size_t nonzero = 0;
+        for (size_t i = 0; i < r.gpu.data.size(); ++i)
+            nonzero += (r.gpu.data[i] != 0.0f) + (r.ref.cube.data[i] != 0.0f);
+        EXPECT_EQ(nonzero, 0u);
+    }
+}
+
+// --- Camera inside an object ----------------------------------------------------------------------
+
+TEST(Numerics, CameraInsideASphereSeesItsInside) {
+    // The camera at the centre of a sphere: every ray hits a back face, shaded as its front
+    // (two-sided). The GPU's near plane is 1e-5 of the far distance here (1e-5 m), far nearer
+    // than the 1 m wall.
+    Scene s = emptyScene(Grid{400, 700, 10}, perspectiveCamera({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, 70, 32, 32));
+    s.materials.push_back(glossy(constantSpectrum(0.5), constantSpectrum(0.2), 20, "inside"));
+    s.meshes.push_back(sphere({0, 0, 0}, 1.0, 64, 32, 0));
+    s.lights.push_back(pointLight({0.2, 0.3, 0.1}, daylightLike(), 1.0));
+    s.lights.push_back(ambientLight(daylightLike(), 0.001));
+    const CameraMatrices cm = cameraMatrices(s.camera, s);
+    Rendered r = renderBoth(s, onGrid(s));
+    EXPECT_EQ(nonFinite(r.gpu), 0u);
+    EXPECT_EQ(negative(r.gpu), 0u);
+    size_t dark = 0;
+    for (int y = 0; y < 32; ++y)
+        for (int x = 0; x < 32; ++x) dark += r.gpu.at(x, y, 15) == 0.0f;
+    EXPECT_EQ(dark, 0u) << "every pixel sees the lit inside";
+    Measured m = compareInterior(r.gpu, r.ref);
+    report(fmt::format("inside a sphere (near {:.3g} m)", cm.near_m), r, m);
+    EXPECT_LE(cm.near_m, 1e-4);
+    EXPECT_GE(m.pixels, 500);
+    EXPECT_LE(m.maxRelative, 1e-4);
+}
+
+TEST(Numerics, NearPlaneClipsWhatIsNearerThanItOnTheGpuOnly) {
+    // The documented difference (docs/physics.md, "Near plane"): in a scene 100 m deep the near
+    // plane is 1e-5 of the far distance, about 1 mm; a wall 0.1 mm in front of the camera is
+    // clipped by the GPU, which sees the far wall through it, while the reference sees it.
+    Scene s = emptyScene(Grid{400, 700, 50}, perspectiveCamera({0, 0, 0}, {0, 0, -1}, {0, 1, 0}, 40, 16, 16));
+    s.materials.push_back(lambertian(0.8, "near"));
+    s.materials.push_back(lambertian(0.2, "far"));
+    s.meshes.push_back(quad({0, 0, -1e-4}, {0, 0, 1}, 1, 1, 0));
+    s.meshes.push_back(quad({0, 0, -100}, {0, 0, 1}, 500, 500, 1));
+    s.lights.push_back(ambientLight(daylightLike(), 1.0));
+    SceneOnGrid g = onGrid(s);
+    const CameraMatrices cm = cameraMatrices(s.camera, s);
+    Rendered r = renderBoth(s, g);
+    const double nearRadiance = 0.8 * g.lights[0][3] / kPi, farRadiance = 0.2 * g.lights[0][3] / kPi;
+    std::printf("  [numerics] near plane %.3g m, far %.3g m: wall at 1e-4 m — reference %.4g (the wall), GPU %.4g\n",
+                cm.near_m, cm.far_m, r.ref.cube.at(8, 8, 3), r.gpu.at(8, 8, 3));
+    EXPECT_GT(cm.near_m, 1e-4);
+    EXPECT_NEAR(r.ref.cube.at(8, 8, 3), nearRadiance, 1e-6 * nearRadiance);
+    EXPECT_NEAR(r.gpu.at(8, 8, 3), farRadiance, 1e-5 * farRadiance);
+}
+
+// --- Fluorescence at the edge of overlap ----------------------------------------------------------
+
+TEST(Numerics, FluorescenceFromASingleOverlappingBandAndFromNone) {
+    // 5 nm grid. The excitation ends inside band 505 ([502.5, 507.5] nm); the light starts either
+    // inside band 510 (no band holds both: no emission at all) or inside band 505 (exactly one
+    // band does: the emission is Φ/π·a·E·λ·Δλ of that band times ê/λ).
+    const Grid grid{400, 700, 5};
+    const double phi = 0.9;
+    WarningCapture quiet;  // the boxes cover part of the grid, as intended
+    auto scene = [&](double lightStart) {
+        Scene s = emptyScene(grid, orthographicCamera({0, 0, 4}, {0, 0, 0}, {0, 1, 0}, 1.0, 8, 8));
+        s.materials.push_back(fluorescent(constantSpectrum(0.0), boxSpectrum(450, 507, 0.8, 0.1),
+                                          gaussianSpectrum(600, 20), phi, "dye"));
+        s.meshes.push_back(quad({0, 0, 0}, {0, 0, 1}, 4, 4));
+        s.lights.push_back(directionalLight({0, 0, -1}, boxSpectrum(lightStart, 650, 2.0, 0.1), 1.0));
+        return s;
+    };
+    {
+        Scene s = scene(508.0);
+        SceneOnGrid g = onGrid(s);
+        int both = 0;
+        for (int b = 0; b < grid.bands(); ++b) both += g.materials[0].excitation[b] * g.lights[0][b] != 0.0;
+        ASSERT_EQ(both, 0);
+        ASSERT_GT(g.materials[0].excitation[(505 - 400) / 5], 0.0);
+        ASSERT_GT(g.lights[0][(510 - 400) / 5], 0.0);
+        Rendered r = renderBoth(s, g);
+        size_t nonzero = 0;
+        for (size_t i = 0; i < r.gpu.data.size(); ++i)
+            nonzero += (r.gpu.data[i] != 0.0f) + (r.ref.cube.data[i] != 0.0f);
+        EXPECT_EQ(nonzero, 0u) << "adjacent bands, no overlap: no fluorescence";
+    }
+    {
+        Scene s = scene(507.0);
+        SceneOnGrid g = onGrid(s);
+        const int k = (505 - 400) / 5;
+        int both = 0;
+        for (int b = 0; b < grid.bands(); ++b) both += g.materials[0].excitation[b] * g.lights[0][b] != 0.0;
+        ASSERT_EQ(both, 1);
+        const double coupling = phi / kPi * g.materials[0].excitation[k] * g.lights[0][k] * 505.0 * grid.step_nm;
+        Rendered r = renderBoth(s, g);
+        double worst = 0.0;
+        for (int b = 0; b < grid.bands(); ++b) {
+            const double expected = coupling * g.materials[0].emission[b] / g.wavelengths_nm[b];
+            for (int y = 0; y < 8; ++y)
+                for (int x = 0; x < 8; ++x) {
+                    if (expected == 0.0) {
+                        ASSERT_EQ(r.gpu.at(x, y, b), 0.0f);
+                        continue;
+                    }
+                    worst = std::max(worst, std::fabs(r.gpu.at(x, y, b) - expected) / expected);
+                    worst = std::max(worst, std::fabs(r.ref.cube.at(x, y, b) - expected) / expected);
+                }
+        }
+        std::printf("  [numerics] fluorescence from one overlapping band (a·E = %.3g at 505 nm): max rel err %.3g\n",
+                    g.materials[0].excitation[k] * g.lights[0][k], worst);
+        EXPECT_GT(r.gpu.at(4, 4, (600 - 400) / 5), 0.0f);
+        EXPECT_LE(worst, 1e-5);
+    }
+}
