@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Installs everything Metamer needs on Debian 12 (bookworm): the build tools, Vulkan with Mesa's
-# lavapipe software rasterizer and the validation layers, the libraries, and a Python virtual
-# environment with colour-science (the independent oracle some tests use). Runs as root; safe to
-# run again (apt-get and pip skip what is already there).
+# lavapipe software rasterizer and the validation layers, the libraries, clang with libFuzzer (for
+# ci/fuzz.sh), and a Python virtual environment with colour-science (the independent oracle some
+# tests use). Runs as root; safe to run again (apt-get and pip skip what is already there).
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 
@@ -14,6 +14,7 @@ packages=(
   libopenimageio-dev openimageio-tools
   libglfw3-dev xvfb fonts-dejavu-core
   libgtest-dev
+  clang libclang-rt-14-dev
   python3 python3-venv python3-pip python3-openimageio python3-numpy
 )
 
