@@ -35,12 +35,27 @@ bool hasLayer(const char* name) {
                        [&](const VkLayerProperties& l) { return std::strcmp(l.layerName, name) == 0; });
 }
 
-// A device we can render with: a graphics queue and RGBA32F + D32 render targets.
-bool usable(VkPhysicalDevice pd, uint32_t* family) {
+bool hasDeviceExtension(VkPhysicalDevice pd, const char* name) {
+    uint32_t n = 0;
+    vkEnumerateDeviceExtensionProperties(pd, nullptr, &n, nullptr);
+    std::vector<VkExtensionProperties> ext(n);
+    vkEnumerateDeviceExtensionProperties(pd, nullptr, &n, ext.data());
+    return std::any_of(ext.begin(), ext.end(),
+                       [&](const VkExtensionProperties& e) { return std::strcmp(e.extensionName, name) == 0; });
+}
+
+// A device we can render with: a graphics queue and RGBA32F + D32 render targets; with a surface,
+// also VK_KHR_swapchain and a queue family that presents to it (the graphics family preferred).
+bool usable(VkPhysicalDevice pd, uint32_t* family, VkSurfaceKHR surface = VK_NULL_HANDLE,
+            uint32_t* presentFamily = nullptr) {
     uint32_t n = 0;
     vkGetPhysicalDeviceQueueFamilyProperties(pd, &n, nullptr);
     std::vector<VkQueueFamilyProperties> families(n);
     vkGetPhysicalDeviceQueueFamilyProperties(pd, &n, families.data());
+    auto presents = [&](uint32_t i) {
+        VkBool32 ok = VK_FALSE;
+        return vkGetPhysicalDeviceSurfaceSupportKHR(pd, i, surface, &ok) == VK_SUCCESS && ok;
+    };
     bool found = false;
     for (uint32_t i = 0; i < n && !found; ++i)
         if (families[i].queueFlags & VK_QUEUE_GRAPHICS_BIT) {
@@ -48,6 +63,28 @@ bool usable(VkPhysicalDevice pd, uint32_t* family) {
             found = true;
         }
     if (!found) return false;
+    if (surface) {
+        if (!hasDeviceExtension(pd, VK_KHR_SWAPCHAIN_EXTENSION_NAME)) return false;
+        // A graphics family that also presents, else the first that presents.
+        bool both = false;
+        for (uint32_t i = 0; i < n && !both; ++i)
+            if ((families[i].queueFlags & VK_QUEUE_GRAPHICS_BIT) && presents(i)) {
+                *family = i;
+                if (presentFamily) *presentFamily = i;
+                both = true;
+            }
+        if (!both) {
+            bool any = false;
+            for (uint32_t i = 0; i < n && !any; ++i)
+                if (presents(i)) {
+                    if (presentFamily) *presentFamily = i;
+                    any = true;
+                }
+            if (!any) return false;
+        }
+    } else if (presentFamily) {
+        *presentFamily = *family;
+    }
     VkFormatProperties color{}, depth{};
     vkGetPhysicalDeviceFormatProperties(pd, VK_FORMAT_R32G32B32A32_SFLOAT, &color);
     vkGetPhysicalDeviceFormatProperties(pd, VK_FORMAT_D32_SFLOAT, &depth);
@@ -91,7 +128,7 @@ ContextOptions contextOptionsFromEnvironment() {
     return o;
 }
 
-std::vector<DeviceInfo> Context::listDevices(VkInstance instance) {
+std::vector<DeviceInfo> Context::listDevices(VkInstance instance, VkSurfaceKHR surface) {
     uint32_t n = 0;
     vkEnumeratePhysicalDevices(instance, &n, nullptr);
     std::vector<VkPhysicalDevice> pds(n);
@@ -101,7 +138,7 @@ std::vector<DeviceInfo> Context::listDevices(VkInstance instance) {
         VkPhysicalDeviceProperties p;
         vkGetPhysicalDeviceProperties(pds[i], &p);
         uint32_t family;
-        DeviceInfo d{i, p.deviceName, p.deviceType, usable(pds[i], &family) ? scoreType(p.deviceType) : 0};
+        DeviceInfo d{i, p.deviceName, p.deviceType, usable(pds[i], &family, surface) ? scoreType(p.deviceType) : 0};
         out.push_back(d);
     }
     return out;
@@ -137,6 +174,7 @@ Context::Context(const ContextOptions& options) {
     app.pApplicationName = "metamer";
     app.apiVersion = VK_API_VERSION_1_1;
     std::vector<const char*> extensions, layers;
+    for (const auto& e : options.instanceExtensions) extensions.push_back(e.c_str());
     if (validation_) {
         extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
         layers.push_back(kValidationLayer);
@@ -172,8 +210,13 @@ Context::Context(const ContextOptions& options) {
                 vkGetInstanceProcAddr(instance_, "vkSetDebugUtilsObjectNameEXT"));
         }
 
+        if (options.createSurface) {
+            surface_ = options.createSurface(instance_);
+            if (!surface_) failRuntime("Vulkan: the window's surface could not be created");
+        }
+
         // Choose the device.
-        auto devices = listDevices(instance_);
+        auto devices = listDevices(instance_, surface_);
         if (devices.empty()) failNoDevice("the Vulkan loader found no device (is mesa-vulkan-drivers installed?)");
         std::string all;
         for (const auto& d : devices)
@@ -194,13 +237,14 @@ Context::Context(const ContextOptions& options) {
             }
             if (!chosen) failNoDevice(fmt::format("METAMER_DEVICE='{}' matches none of: {}", options.device, all));
             if (chosen->score == 0)
-                failNoDevice(fmt::format("device '{}' lacks a graphics queue or RGBA32F/D32 render targets",
-                                         chosen->name));
+                failNoDevice(fmt::format("device '{}' lacks a graphics queue or RGBA32F/D32 render targets{}",
+                                         chosen->name, surface_ ? " or cannot present to the window" : ""));
         } else {
             for (const auto& d : devices)
                 if (d.score > 0 && (!chosen || d.score > chosen->score)) chosen = &d;
             if (!chosen)
-                failNoDevice(fmt::format("none has a graphics queue and RGBA32F/D32 render targets ({})", all));
+                failNoDevice(fmt::format("none has a graphics queue and RGBA32F/D32 render targets{} ({})",
+                                         surface_ ? " and presents to the window" : "", all));
         }
         info_ = *chosen;
         uint32_t n = 0;
@@ -208,7 +252,7 @@ Context::Context(const ContextOptions& options) {
         std::vector<VkPhysicalDevice> pds(n);
         vkEnumeratePhysicalDevices(instance_, &n, pds.data());
         physical_ = pds[info_.index];
-        usable(physical_, &queueFamily_);
+        usable(physical_, &queueFamily_, surface_, &presentFamily_);
         vkGetPhysicalDeviceProperties(physical_, &properties_);
         vkGetPhysicalDeviceMemoryProperties(physical_, &memory_);
         if (options.verbose)
@@ -216,15 +260,24 @@ Context::Context(const ContextOptions& options) {
                          typeName(info_.type));
 
         float priority = 1.0f;
-        VkDeviceQueueCreateInfo qci{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
-        qci.queueFamilyIndex = queueFamily_;
-        qci.queueCount = 1;
-        qci.pQueuePriorities = &priority;
+        VkDeviceQueueCreateInfo qci[2] = {{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO},
+                                          {VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO}};
+        qci[0].queueFamilyIndex = queueFamily_;
+        qci[0].queueCount = 1;
+        qci[0].pQueuePriorities = &priority;
+        qci[1] = qci[0];
+        qci[1].queueFamilyIndex = presentFamily_;
+        const char* swapchain = VK_KHR_SWAPCHAIN_EXTENSION_NAME;
         VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
-        dci.queueCreateInfoCount = 1;
-        dci.pQueueCreateInfos = &qci;
+        dci.queueCreateInfoCount = presentFamily_ == queueFamily_ ? 1 : 2;
+        dci.pQueueCreateInfos = qci;
+        if (surface_) {
+            dci.enabledExtensionCount = 1;
+            dci.ppEnabledExtensionNames = &swapchain;
+        }
         VK_CHECK(vkCreateDevice(physical_, &dci, nullptr, &device_));
         vkGetDeviceQueue(device_, queueFamily_, 0, &queue_);
+        vkGetDeviceQueue(device_, presentFamily_, 0, &presentQueue_);
 
         VkCommandPoolCreateInfo pci{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
         pci.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
@@ -244,6 +297,7 @@ void Context::release() {
         if (commandPool_) vkDestroyCommandPool(device_, commandPool_, nullptr);
         vkDestroyDevice(device_, nullptr);  // the layers report leaked children here
     }
+    if (surface_) vkDestroySurfaceKHR(instance_, surface_, nullptr);
     if (messenger_) {
         auto destroy = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(
             vkGetInstanceProcAddr(instance_, "vkDestroyDebugUtilsMessengerEXT"));
@@ -252,6 +306,7 @@ void Context::release() {
     if (instance_) vkDestroyInstance(instance_, nullptr);
     device_ = VK_NULL_HANDLE;
     commandPool_ = VK_NULL_HANDLE;
+    surface_ = VK_NULL_HANDLE;
     messenger_ = VK_NULL_HANDLE;
     instance_ = VK_NULL_HANDLE;
 }

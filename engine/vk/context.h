@@ -1,5 +1,7 @@
-// The Vulkan instance and device, headless (no window-system extensions). Devices are scored
-// discrete > integrated > virtual > CPU; METAMER_DEVICE (an index or a name substring) overrides.
+// The Vulkan instance and device: headless by default (no window-system extensions), or able to
+// present to a window's surface when ContextOptions asks for it (the preview, engine/preview).
+// Devices are scored discrete > integrated > virtual > CPU; METAMER_DEVICE (an index or a name
+// substring) overrides.
 // With validation on, every validation error is counted (and printed); tests require zero,
 // including the leak reports the layers make when the device is destroyed.
 #pragma once
@@ -7,6 +9,7 @@
 #include "vk/check.h"
 
 #include <atomic>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -19,6 +22,14 @@ struct ContextOptions {
     // Default: $METAMER_DEVICE.
     std::string device;
     bool verbose = false;  // print the chosen device
+
+    // Presentation (empty: headless). The window system's instance extensions (e.g. from
+    // glfwGetRequiredInstanceExtensions), and a function that makes the window's surface once the
+    // instance exists. The device is then chosen among those that can present to that surface and
+    // have VK_KHR_swapchain (enabled), and the Context owns the surface (destroyed before the
+    // instance).
+    std::vector<std::string> instanceExtensions;
+    std::function<VkSurfaceKHR(VkInstance)> createSurface;
 };
 
 ContextOptions contextOptionsFromEnvironment();
@@ -44,6 +55,11 @@ public:
     VkQueue queue() const { return queue_; }
     uint32_t queueFamily() const { return queueFamily_; }
     VkCommandPool commandPool() const { return commandPool_; }
+    // With a surface (ContextOptions::createSurface): the surface, and a queue that presents to it
+    // (the graphics queue itself when its family can present, as on every driver seen so far).
+    VkSurfaceKHR surface() const { return surface_; }
+    VkQueue presentQueue() const { return presentQueue_; }
+    uint32_t presentFamily() const { return presentFamily_; }
     const VkPhysicalDeviceProperties& properties() const { return properties_; }
     const VkPhysicalDeviceMemoryProperties& memoryProperties() const { return memory_; }
     const DeviceInfo& deviceInfo() const { return info_; }
@@ -65,7 +81,8 @@ public:
     // Debug name on any object (no-op without validation).
     void setName(VkObjectType type, uint64_t handle, const char* name) const;
 
-    static std::vector<DeviceInfo> listDevices(VkInstance instance);
+    // With a surface, a device that cannot present to it (or lacks VK_KHR_swapchain) scores 0.
+    static std::vector<DeviceInfo> listDevices(VkInstance instance, VkSurfaceKHR surface = VK_NULL_HANDLE);
 
 private:
     void release();
@@ -81,6 +98,9 @@ private:
     VkDevice device_ = VK_NULL_HANDLE;
     VkQueue queue_ = VK_NULL_HANDLE;
     uint32_t queueFamily_ = 0;
+    VkSurfaceKHR surface_ = VK_NULL_HANDLE;
+    VkQueue presentQueue_ = VK_NULL_HANDLE;
+    uint32_t presentFamily_ = 0;
     VkCommandPool commandPool_ = VK_NULL_HANDLE;
     VkPhysicalDeviceProperties properties_{};
     VkPhysicalDeviceMemoryProperties memory_{};
