@@ -4,6 +4,7 @@
 #include "io/quicklook_png.h"
 #include "io/spectral_exr.h"
 #include "reference/cpu_renderer.h"
+#include "render/render_setup.h"
 #include "render/strip_render.h"
 #include "render/tonemap_pass.h"
 #include "represent/representation.h"
@@ -118,16 +119,13 @@ RenderJobResult runRenderJob(const RenderJob& job) {
     auto start = Clock::now();
 
     auto t = Clock::now();
-    SpectrumLibrary library;
-    LoadOptions loadOptions;
-    loadOptions.allowOutsidePaths = job.allowOutsidePaths;
-    Scene scene = loadScene(job.scene, library, job.overrides, loadOptions);
-    if (job.grid) scene.grid = *job.grid;
-    SceneOnGrid spectra = resampleScene(scene, scene.grid, job.coverage);
-    Representation representation =
-        makeRepresentation(parseMode(job.mode, Where{"", "--mode"}), scene.grid, library, &spectra);
+    // The scene with the job's overrides and grid, on the grid, in the job's representation.
+    std::unique_ptr<LoadedScene> loaded = loadJobScene(job);
+    SpectrumLibrary& library = loaded->library;
+    Scene& scene = loaded->scene;
+    Representation& representation = loaded->representation;
     // What the renderers see: the spectra in the mode's channels (the same spectra in full mode).
-    SceneOnGrid rendered = represent(spectra, representation, scene);
+    SceneOnGrid& rendered = loaded->rendered;
     OutputFiles files;
     TonemapSettings settings = tonemapSettings(job, scene, &files);
     bool display = files.png || files.xyz || files.responses;
@@ -147,31 +145,7 @@ RenderJobResult runRenderJob(const RenderJob& job) {
                   job.backend == Backend::Cpu ? "use" : "write as a cube");
     std::optional<TonemapPlan> plan;
     if (display) {
-        // Names given in the scene are reported against the scene's output block.
-        Where sceneOut = scene.output.where.file.empty() ? Where{scene.file.string(), "output"} : scene.output.where;
-        try {
-            plan = makeTonemapPlan(settings, scene, spectra, library, &representation);
-        } catch (const Error& e) {
-            bool detectorFromScene = !job.detector && scene.output.detector;
-            // A csv: detector's own errors name its file and line; when the scene chose it, say where.
-            bool inDetectorFile = e.code() == ExitCode::BadInput && !e.where().file.empty() &&
-                                  e.where().file != scene.file.string();
-            if (inDetectorFile && (detectorFromScene || job.detector)) {
-                Where inFile = e.where();
-                inFile.key.clear();  // the file and line; the key is where the detector was chosen
-                throw Error(e.code(), detectorFromScene ? sceneOut.child("detector") : Where{"", "--detector"},
-                            inFile.str() + ": " + e.message());
-            }
-            if (e.where().key == "--absolute") {
-                // Absolute XYZ with a non-CIE-1931 detector: blame the xyz choice where it was made.
-                Where at = !job.xyz && scene.output.xyz ? sceneOut.child("xyz") : Where{"", "--xyz"};
-                throw Error(e.code(), at, e.message());
-            }
-            bool fromScene = (detectorFromScene && e.where().key == "--detector") ||
-                             (!job.display && scene.output.display && e.where().key == "--display");
-            if (!fromScene) throw;
-            throw Error(e.code(), sceneOut.child(e.where().key == "--detector" ? "detector" : "display"), e.message());
-        }
+        plan = makeJobTonemapPlan(job, *loaded, settings);
         r.displayDescription = plan->description;
         r.xyzUnits = plan->xyzUnits;
         if (plan->camera) r.cameraFitRmsDeltaE = plan->camera->rmsDeltaE2000;
@@ -206,11 +180,7 @@ RenderJobResult runRenderJob(const RenderJob& job) {
         // blocks when there is room.
         int rows = int(std::max<size_t>(1, budget / 2 / perRow));
         if (rows >= 16) rows -= rows % 16;
-        vk::ContextOptions co = vk::contextOptionsFromEnvironment();
-        co.validation = co.validation || job.validation;
-        if (!job.device.empty()) co.device = job.device;
-        co.verbose = job.verbose;
-        auto ctx = std::make_unique<vk::Context>(co);
+        auto ctx = std::make_unique<vk::Context>(jobContextOptions(job));
         std::string stem = job.scene.stem().string();
         StripJob sj;
         sj.scene = &scene;
@@ -253,11 +223,7 @@ RenderJobResult runRenderJob(const RenderJob& job) {
     DisplayImage image;
     std::vector<uint16_t> edges;
     if (job.backend == Backend::Gpu) {
-        vk::ContextOptions co = vk::contextOptionsFromEnvironment();
-        co.validation = co.validation || job.validation;
-        if (!job.device.empty()) co.device = job.device;
-        co.verbose = job.verbose;
-        auto ctx = std::make_unique<vk::Context>(co);
+        auto ctx = std::make_unique<vk::Context>(jobContextOptions(job));
         {
             // The supersampled target must fit the device's framebuffer; say so with the scene's key
             // (the pass would refuse it too, but without naming the file).

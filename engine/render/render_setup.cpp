@@ -1,0 +1,57 @@
+#include "render/render_setup.h"
+
+#include "scene/scene_json.h"
+
+namespace metamer {
+
+std::unique_ptr<LoadedScene> loadJobScene(const RenderJob& job) {
+    auto l = std::make_unique<LoadedScene>();
+    LoadOptions loadOptions;
+    loadOptions.allowOutsidePaths = job.allowOutsidePaths;
+    l->scene = loadScene(job.scene, l->library, job.overrides, loadOptions);
+    if (job.grid) l->scene.grid = *job.grid;
+    l->spectra = resampleScene(l->scene, l->scene.grid, job.coverage);
+    l->representation =
+        makeRepresentation(parseMode(job.mode, Where{"", "--mode"}), l->scene.grid, l->library, &l->spectra);
+    l->rendered = represent(l->spectra, l->representation, l->scene);
+    return l;
+}
+
+TonemapPlan makeJobTonemapPlan(const RenderJob& job, const LoadedScene& loaded, const TonemapSettings& settings) {
+    const Scene& scene = loaded.scene;
+    // Names given in the scene are reported against the scene's output block.
+    Where sceneOut = scene.output.where.file.empty() ? Where{scene.file.string(), "output"} : scene.output.where;
+    try {
+        return makeTonemapPlan(settings, scene, loaded.spectra, loaded.library, &loaded.representation);
+    } catch (const Error& e) {
+        bool detectorFromScene = !job.detector && scene.output.detector;
+        // A csv: detector's own errors name its file and line; when the scene chose it, say where.
+        bool inDetectorFile = e.code() == ExitCode::BadInput && !e.where().file.empty() &&
+                              e.where().file != scene.file.string();
+        if (inDetectorFile && (detectorFromScene || job.detector)) {
+            Where inFile = e.where();
+            inFile.key.clear();  // the file and line; the key is where the detector was chosen
+            throw Error(e.code(), detectorFromScene ? sceneOut.child("detector") : Where{"", "--detector"},
+                        inFile.str() + ": " + e.message());
+        }
+        if (e.where().key == "--absolute") {
+            // Absolute XYZ with a non-CIE-1931 detector: blame the xyz choice where it was made.
+            Where at = !job.xyz && scene.output.xyz ? sceneOut.child("xyz") : Where{"", "--xyz"};
+            throw Error(e.code(), at, e.message());
+        }
+        bool fromScene = (detectorFromScene && e.where().key == "--detector") ||
+                         (!job.display && scene.output.display && e.where().key == "--display");
+        if (!fromScene) throw;
+        throw Error(e.code(), sceneOut.child(e.where().key == "--detector" ? "detector" : "display"), e.message());
+    }
+}
+
+vk::ContextOptions jobContextOptions(const RenderJob& job) {
+    vk::ContextOptions co = vk::contextOptionsFromEnvironment();
+    co.validation = co.validation || job.validation;
+    if (!job.device.empty()) co.device = job.device;
+    co.verbose = job.verbose;
+    return co;
+}
+
+}  // namespace metamer
