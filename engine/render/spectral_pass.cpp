@@ -771,6 +771,15 @@ void SpectralPass::setStrip(int firstRow) {
     m.camera.viewProjection = strip * m.fullViewProjection;
 }
 
+void SpectralPass::setCamera(const Camera& camera) {
+    Impl& m = *impl_;
+    if (camera.width != m.scene.camera.width || camera.height != m.scene.camera.height)
+        failRuntime("SpectralPass::setCamera: the image is {}×{}, the camera asks for {}×{}", m.scene.camera.width,
+                    m.scene.camera.height, camera.width, camera.height);
+    m.camera = cameraMatrices(camera, m.scene);
+    m.fullViewProjection = m.camera.viewProjection;
+}
+
 void SpectralPass::draw() {
     Impl& m = *impl_;
     auto t0 = Clock::now();

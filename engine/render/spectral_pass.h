@@ -66,6 +66,10 @@ public:
     void setStrip(int firstRow);
     int rows() const;  // rows of the target and of readback()'s cube: stripRows, or the image height
 
+    // Moves the camera for the next draw() (the preview's orbit, pan and zoom): `camera` must keep
+    // the image size the pass was made for. In strip mode, call setStrip() again afterwards.
+    void setCamera(const Camera& camera);
+
     // Draws every band into the layered target and waits (no readback).
     void draw();
     // Reads the target drawn last into `cube` (reusing its memory when it has the right size).
