@@ -31,6 +31,23 @@ using mat4 = glm::mat4;
 #define BINDING_LIGHT_SPECTRA 1   // GpuLightSpectraBlock, dynamic offset: this pass's bands
 #define BINDING_MATERIAL 2        // GpuMaterialBlock, dynamic offset: this pass's bands of this material
 
+// Descriptor set 1 of the spectral pass: the draw's material's textures (one set per material),
+// RGBA32F 2D-array images read with texelFetch (bilinear filtering is done in the shader, in
+// float, exactly as the CPU reference does it in double). Reflectance textures hold the grid's
+// bands 4 per layer, like the target; the normal map is one layer of tangent-space xyz.
+// Untextured slots hold a 1×1 placeholder that is never read.
+#define TEXTURE_BINDING_DIFFUSE 0
+#define TEXTURE_BINDING_SPECULAR 1
+#define TEXTURE_BINDING_NORMAL 2
+#define TEXTURE_BINDINGS 3
+
+// Vertex attributes of the spectral pass (one interleaved buffer, 12 floats per vertex).
+#define VERTEX_POSITION 0  // vec3, world space, metres
+#define VERTEX_NORMAL 1    // vec3, world space
+#define VERTEX_UV 2        // vec2, texture coordinates (u right, v down the image)
+#define VERTEX_TANGENT 3   // vec4: xyz world-space tangent (direction of +u), w: bitangent sign
+#define VERTEX_FLOATS 12
+
 // Specialization constants of spectral.frag: the shader is specialized to the scene. Lights are
 // sorted ambient, then directional, then point, so each kind is a loop without branches.
 #define SPEC_AMBIENT_COUNT 0
@@ -38,6 +55,8 @@ using mat4 = glm::mat4;
 #define SPEC_POINT_COUNT 2
 #define SPEC_HAS_SPECULAR 3       // any material with a specular lobe
 #define SPEC_HAS_FLUORESCENCE 4   // any fluorescent material
+#define SPEC_HAS_TEXTURES 5       // any material with a diffuse or specular texture
+#define SPEC_HAS_NORMAL_MAPS 6    // any material with a normal (or bump) map
 
 struct GpuLight {
     vec4 vector;  // directional: xyz = unit vector towards the light; point: xyz = position (m)
@@ -58,6 +77,8 @@ struct GpuMaterialBlock {
     vec4 specular[MAX_OUTPUTS];            // ρs
     vec4 emissionOverLambda[MAX_OUTPUTS];  // ê(λ)/λ, nm⁻² (0 for non-fluorescent materials)
     vec4 params;                           // x: gloss N; y: 1 if fluorescent; z: 1 if specular
+    vec4 textures;                         // x, y, z: 1 if the diffuse, specular, normal texture is
+                                           // used; w: the texture layer of this pass's first vec4
     vec4 coupling[MAX_LIGHTS / 4];         // per light: (Φ/π)·Σ a·E·λ·Δλ (fluorescence)
 };
 
@@ -117,7 +138,7 @@ struct TonemapParams {
 static_assert(sizeof(TonemapParams) == 16 * 20 + 16, "std140 layout");
 static_assert(sizeof(GpuLightBlock) == 16 * MAX_LIGHTS, "std140 layout");
 static_assert(sizeof(GpuLightSpectraBlock) == 16384, "must fit the minimum maxUniformBufferRange");
-static_assert(sizeof(GpuMaterialBlock) == 16 * (3 * MAX_OUTPUTS + 1 + MAX_LIGHTS / 4), "std140 layout");
+static_assert(sizeof(GpuMaterialBlock) == 16 * (3 * MAX_OUTPUTS + 2 + MAX_LIGHTS / 4), "std140 layout");
 static_assert(sizeof(SpectralPushConstants) == 96, "push constants must match GLSL");
 }  // namespace metamer::gpu
 #endif

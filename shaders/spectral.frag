@@ -18,15 +18,23 @@ layout(constant_id = SPEC_DIRECTIONAL_COUNT) const int DIRECTIONAL_COUNT = 0;
 layout(constant_id = SPEC_POINT_COUNT) const int POINT_COUNT = 0;
 layout(constant_id = SPEC_HAS_SPECULAR) const bool HAS_SPECULAR = true;
 layout(constant_id = SPEC_HAS_FLUORESCENCE) const bool HAS_FLUORESCENCE = true;
+layout(constant_id = SPEC_HAS_TEXTURES) const bool HAS_TEXTURES = false;
+layout(constant_id = SPEC_HAS_NORMAL_MAPS) const bool HAS_NORMAL_MAPS = false;
 
 layout(set = 0, binding = BINDING_LIGHTS, std140) uniform Lights { GpuLightBlock L; };
 layout(set = 0, binding = BINDING_LIGHT_SPECTRA, std140) uniform LightSpectra { GpuLightSpectraBlock E; };
 layout(set = 0, binding = BINDING_MATERIAL, std140) uniform Material { GpuMaterialBlock M; };
 
+layout(set = 1, binding = TEXTURE_BINDING_DIFFUSE) uniform sampler2DArray diffuseTexture;
+layout(set = 1, binding = TEXTURE_BINDING_SPECULAR) uniform sampler2DArray specularTexture;
+layout(set = 1, binding = TEXTURE_BINDING_NORMAL) uniform sampler2DArray normalTexture;
+
 layout(push_constant) uniform Push { SpectralPushConstants pc; };
 
 layout(location = 0) in vec3 worldPosition;
 layout(location = 1) in vec3 worldNormal;
+layout(location = 2) in vec2 uv;
+layout(location = 3) in vec4 worldTangent;
 
 layout(location = 0) out vec4 out0;
 #if OUTPUT_COUNT > 1
@@ -58,11 +66,74 @@ float fluorescence;      // Σ_l g_l·coupling_l: scales ê(λ)/λ
 
 float coupling(int l) { return M.coupling[l / 4][l % 4]; }
 
+// Textured reflectance at this fragment (HAS_TEXTURES only): the material's spectra times the
+// textures' bands.
+vec4 texturedDiffuse[OUTPUT_COUNT];
+vec4 texturedSpecular[OUTPUT_COUNT];
+vec4 diffuseAt(int k) { return HAS_TEXTURES ? texturedDiffuse[k] : M.diffuse[k]; }
+vec4 specularAt(int k) { return HAS_TEXTURES ? texturedSpecular[k] : M.specular[k]; }
+
+// Bilinear filtering by hand, so that it is float arithmetic the CPU reference can match (the
+// sampler's own filtering uses the device's sub-texel precision, 8 bits on lavapipe). Texel
+// centres lie at (i + ½)/W; coordinates repeat. docs/physics.md, "Textures".
+struct Bilinear {
+    ivec2 x, y;  // the two columns and rows
+    vec2 f;      // weights of the second column and row
+};
+Bilinear bilinearAt(vec2 size) {
+    vec2 p = fract(uv) * size - 0.5;
+    vec2 p0 = floor(p);
+    Bilinear b;
+    b.f = p - p0;
+    ivec2 i0 = ivec2(p0), n = ivec2(size);
+    ivec2 a = (i0 % n + n) % n, c = (i0 + 1) % n;
+    b.x = ivec2(a.x, c.x);
+    b.y = ivec2(a.y, c.y);
+    return b;
+}
+vec4 fetchBilinear(sampler2DArray t, Bilinear b, int layer) {
+    vec4 t00 = texelFetch(t, ivec3(b.x[0], b.y[0], layer), 0), t10 = texelFetch(t, ivec3(b.x[1], b.y[0], layer), 0);
+    vec4 t01 = texelFetch(t, ivec3(b.x[0], b.y[1], layer), 0), t11 = texelFetch(t, ivec3(b.x[1], b.y[1], layer), 0);
+    return mix(mix(t00, t10, b.f.x), mix(t01, t11, b.f.x), b.f.y);
+}
+
+void sampleTextures() {
+    int layer0 = int(M.textures.w);
+    if (M.textures.x > 0.5) {
+        Bilinear b = bilinearAt(vec2(textureSize(diffuseTexture, 0).xy));
+        [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k)
+            texturedDiffuse[k] = M.diffuse[k] * fetchBilinear(diffuseTexture, b, layer0 + k);
+    } else {
+        [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) texturedDiffuse[k] = M.diffuse[k];
+    }
+    if (HAS_SPECULAR && M.textures.y > 0.5) {
+        Bilinear b = bilinearAt(vec2(textureSize(specularTexture, 0).xy));
+        [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k)
+            texturedSpecular[k] = M.specular[k] * fetchBilinear(specularTexture, b, layer0 + k);
+    } else {
+        [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) texturedSpecular[k] = M.specular[k];
+    }
+}
+
+// The shading normal perturbed by the normal map: m (bilinear, renormalized) in the frame
+// (t, b, n) with t the tangent made perpendicular to n and b = cross(n, t)·w. Where the tangent
+// is missing (zero) or parallel to n, n is kept.
+vec3 normalMapped(vec3 n) {
+    vec3 t = worldTangent.xyz - n * dot(n, worldTangent.xyz);
+    if (!(dot(t, t) > 1e-12)) return n;
+    t = normalize(t);
+    vec3 b = cross(n, t) * (worldTangent.w < 0.0 ? -1.0 : 1.0);
+    vec3 m = fetchBilinear(normalTexture, bilinearAt(vec2(textureSize(normalTexture, 0).xy)), 0).xyz;
+    if (!(dot(m, m) > 1e-12)) return n;
+    m = normalize(m);
+    return normalize(t * m.x + b * m.y + n * m.z);
+}
+
 // Adds light l's reflected radiance with geometric weights: diffuse g/π, specular lobe weight.
 void addLight(int l, float diffuseWeight, float specularWeight) {
     [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) {
-        vec4 reflectance = M.diffuse[k] * diffuseWeight;
-        if (HAS_SPECULAR) reflectance += M.specular[k] * specularWeight;
+        vec4 reflectance = diffuseAt(k) * diffuseWeight;
+        if (HAS_SPECULAR) reflectance += specularAt(k) * specularWeight;
         acc[k] += E.lightBands[l * MAX_OUTPUTS + k] * reflectance;
     }
 }
@@ -104,6 +175,8 @@ void main() {
     vec3 n;
     if (dot(worldNormal, worldNormal) > 1e-24) {
         n = normalize(worldNormal);
+        // The map perturbs the front side's normal; a back face then sees it mirrored, whole.
+        if (HAS_NORMAL_MAPS && M.textures.z > 0.5) n = normalMapped(n);
         if (!gl_FrontFacing) n = -n;  // two-sided: a back face is shaded as seen from its front
     } else {
         // The vertex normals cancel here (opposite ones, or a zero-length one at its corner;
@@ -116,6 +189,7 @@ void main() {
     }
     [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) acc[k] = vec4(0.0);
     fluorescence = 0.0;
+    if (HAS_TEXTURES) sampleTextures();
 
     // Ambient: irradiance on every surface, no cosine, no specular.
     [[unroll]] for (int i = 0; i < AMBIENT_COUNT; ++i) {

@@ -1,14 +1,18 @@
 #version 450
 // The spectral pass's vertex stage: world-space positions and normals (meshes are transformed on
-// load), projected by the camera.
+// load), projected by the camera; texture coordinates and tangents pass through.
 #extension GL_GOOGLE_include_directive : require
 #include "interface.h"
 
-layout(location = 0) in vec3 inPosition;
-layout(location = 1) in vec3 inNormal;
+layout(location = VERTEX_POSITION) in vec3 inPosition;
+layout(location = VERTEX_NORMAL) in vec3 inNormal;
+layout(location = VERTEX_UV) in vec2 inUv;
+layout(location = VERTEX_TANGENT) in vec4 inTangent;
 
 layout(location = 0) out vec3 worldPosition;
 layout(location = 1) out vec3 worldNormal;
+layout(location = 2) out vec2 uv;
+layout(location = 3) out vec4 worldTangent;
 
 layout(push_constant) uniform Push { SpectralPushConstants pc; };
 
@@ -18,5 +22,7 @@ invariant gl_Position;
 void main() {
     worldPosition = inPosition;
     worldNormal = inNormal;
+    uv = inUv;
+    worldTangent = inTangent;
     gl_Position = pc.viewProjection * vec4(inPosition, 1.0);
 }

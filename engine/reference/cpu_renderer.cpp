@@ -27,6 +27,15 @@ void checkOnGrid(const Scene& scene, const SceneOnGrid& g) {
     for (const auto& e : g.lights)
         if (!sized(e)) failRuntime("reference renderer: a light spectrum has the wrong band count");
     for (const auto& m : g.materials) {
+        auto texture = [&](int i, bool normals) {
+            if (i < 0) return;
+            if (size_t(i) >= g.textures.size() || g.textures[size_t(i)].normals != normals ||
+                g.textures[size_t(i)].channels != (normals ? 3 : int(n)))
+                failRuntime("reference renderer: a material's texture {} does not match the resampled textures", i);
+        };
+        texture(m.diffuseTexture, false);
+        texture(m.specularTexture, false);
+        texture(m.normalTexture, true);
         if (!sized(m.diffuse) || !sized(m.specular) ||
             (m.fluorescent && (!sized(m.excitation) || !sized(m.emission))))
             failRuntime("reference renderer: a material spectrum has the wrong band count");
@@ -44,6 +53,10 @@ void checkMeshes(const Scene& scene) {
         if (!mesh.normals.empty() && mesh.normals.size() != mesh.positions.size())
             failInput(w, "mesh '{}' has {} normals for {} positions", mesh.name, mesh.normals.size(),
                       mesh.positions.size());
+        if ((!mesh.uvs.empty() && mesh.uvs.size() != mesh.positions.size()) ||
+            (!mesh.tangents.empty() && mesh.tangents.size() != mesh.positions.size()))
+            failInput(w, "mesh '{}' has {} texture coordinates and {} tangents for {} positions", mesh.name,
+                      mesh.uvs.size(), mesh.tangents.size(), mesh.positions.size());
         if (mesh.indices.size() % 3 != 0)
             failInput(w, "mesh '{}' has {} indices, not a multiple of 3", mesh.name, mesh.indices.size());
         for (uint32_t i : mesh.indices)
@@ -51,6 +64,19 @@ void checkMeshes(const Scene& scene) {
                 failInput(w, "mesh '{}' has index {} but {} positions", mesh.name, i,
                           mesh.positions.size());
     }
+}
+
+// Bilinear filtering of a texture at texture coordinates uv (docs/physics.md, "Textures"): texel
+// centres at (i + ½)/W, coordinates repeating; `out` gets the texture's channels.
+void bilinear(const TextureOnGrid& t, const glm::dvec2& uv, double* out) {
+    const double px = (uv.x - std::floor(uv.x)) * t.width - 0.5, py = (uv.y - std::floor(uv.y)) * t.height - 0.5;
+    const double x0 = std::floor(px), y0 = std::floor(py), fx = px - x0, fy = py - y0;
+    auto wrap = [](long i, int n) { return int(((i % n) + n) % n); };
+    const int xa = wrap(long(x0), t.width), xb = wrap(long(x0) + 1, t.width);
+    const int ya = wrap(long(y0), t.height), yb = wrap(long(y0) + 1, t.height);
+    const float *t00 = t.texel(xa, ya), *t10 = t.texel(xb, ya), *t01 = t.texel(xa, yb), *t11 = t.texel(xb, yb);
+    for (int c = 0; c < t.channels; ++c)
+        out[c] = (1 - fy) * ((1 - fx) * t00[c] + fx * t10[c]) + fy * ((1 - fx) * t01[c] + fx * t11[c]);
 }
 
 }  // namespace
@@ -158,16 +184,54 @@ void ReferenceRenderer::shade(const RayHit& hit, const Ray& ray, double* radianc
     const glm::dvec3 p = b0 * tri.p0 + b1 * tri.p1 + b2 * tri.p2;
     const glm::dvec3 ng = glm::normalize(glm::cross(tri.p1 - tri.p0, tri.p2 - tri.p0));
     glm::dvec3 n = ng;
+    bool mappable = true;  // normal maps apply unless usable vertex normals cancel here
     if (!mesh.normals.empty()) {
         const uint32_t* idx = &mesh.indices[3 * static_cast<size_t>(tri.triangle)];
         const glm::dvec3 s =
             b0 * mesh.normals[idx[0]] + b1 * mesh.normals[idx[1]] + b2 * mesh.normals[idx[2]];
         // Opposing vertex normals can cancel; the face normal is then the only sensible choice.
-        if (glm::length(s) > 1e-12) n = glm::normalize(s);
+        if (glm::length(s) > 1e-12) {
+            n = glm::normalize(s);
+        } else {
+            bool anyUsable = false;
+            for (int k = 0; k < 3; ++k) anyUsable = anyUsable || glm::length(mesh.normals[idx[k]]) > 1e-12;
+            mappable = !anyUsable;
+        }
+    }
+    const MaterialOnGrid& mat = onGrid_.materials[material];
+    const uint32_t* corner = &mesh.indices[3 * static_cast<size_t>(tri.triangle)];
+    glm::dvec2 uv(0.0);
+    if (!mesh.uvs.empty()) uv = b0 * mesh.uvs[corner[0]] + b1 * mesh.uvs[corner[1]] + b2 * mesh.uvs[corner[2]];
+    // Normal mapping, on the front side's normal: the map's vector m in the frame (t, b, n), t the
+    // interpolated tangent made perpendicular to n, b = cross(n, t)·w.
+    if (mat.normalTexture >= 0 && !mesh.tangents.empty() && mappable) {
+        const glm::dvec4 t4 = b0 * mesh.tangents[corner[0]] + b1 * mesh.tangents[corner[1]] + b2 * mesh.tangents[corner[2]];
+        glm::dvec3 t = glm::dvec3(t4) - n * glm::dot(n, glm::dvec3(t4));
+        double m[3];
+        bilinear(onGrid_.textures[size_t(mat.normalTexture)], uv, m);
+        glm::dvec3 mv(m[0], m[1], m[2]);
+        if (glm::dot(t, t) > 1e-12 && glm::dot(mv, mv) > 1e-12) {
+            t = glm::normalize(t);
+            const glm::dvec3 b = glm::cross(n, t) * (t4.w < 0.0 ? -1.0 : 1.0);
+            mv = glm::normalize(mv);
+            n = glm::normalize(t * mv.x + b * mv.y + n * mv.z);
+        }
     }
     const glm::dvec3 v = -ray.direction;
     // Two-sided: a back face is shaded as if seen from its front.
     if (glm::dot(ng, v) < 0.0) n = -n;
+
+    // Textured reflectance: the texture's bands multiply the material's (precomputed) terms.
+    thread_local std::vector<double> diffuseTex, specularTex;
+    const bool diffuseTextured = mat.diffuseTexture >= 0, specularTextured = mat.specularTexture >= 0;
+    if (diffuseTextured) {
+        diffuseTex.resize(bands_);
+        bilinear(onGrid_.textures[size_t(mat.diffuseTexture)], uv, diffuseTex.data());
+    }
+    if (specularTextured) {
+        specularTex.resize(bands_);
+        bilinear(onGrid_.textures[size_t(mat.specularTexture)], uv, specularTex.data());
+    }
 
     const double gloss = onGrid_.materials[material].gloss;
     for (size_t l = 0; l < scene_.lights.size(); ++l) {
@@ -200,10 +264,16 @@ void ReferenceRenderer::shade(const RayHit& hit, const Ray& ray, double* radianc
         }
         const size_t o = termOffset(material, l);
         const double* d = &diffuseTerm_[o];
-        for (int b = 0; b < bands_; ++b) radiance[b] += gDiffuse * d[b];
+        if (diffuseTextured)
+            for (int b = 0; b < bands_; ++b) radiance[b] += gDiffuse * d[b] * diffuseTex[b];
+        else
+            for (int b = 0; b < bands_; ++b) radiance[b] += gDiffuse * d[b];
         if (gSpecular != 0.0) {
             const double* s = &specularTerm_[o];
-            for (int b = 0; b < bands_; ++b) radiance[b] += gSpecular * s[b];
+            if (specularTextured)
+                for (int b = 0; b < bands_; ++b) radiance[b] += gSpecular * s[b] * specularTex[b];
+            else
+                for (int b = 0; b < bands_; ++b) radiance[b] += gSpecular * s[b];
         }
         if (hasFluorescence_[material]) {
             const double* f = &fluorescenceTerm_[o];

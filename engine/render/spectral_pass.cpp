@@ -15,6 +15,7 @@
 #include "spectral.vert.spv.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -38,7 +39,7 @@ struct Draw {
 
 // Everything the fragment shader reads, packed per pass for the uniform blocks of interface.h.
 struct PackedScene {
-    std::vector<float> vertices;  // position xyz, normal xyz
+    std::vector<float> vertices;  // VERTEX_FLOATS each: position xyz, normal xyz, uv, tangent xyzw
     std::vector<uint32_t> indices;
     std::vector<Draw> draws;
     int ambient = 0, directional = 0, point = 0;  // light counts, in this order in every block
@@ -60,11 +61,30 @@ PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes) {
     PackedScene p;
     for (const auto& mesh : scene.meshes) {
         if (mesh.indices.empty()) continue;
-        Draw d{uint32_t(p.indices.size()), uint32_t(mesh.indices.size()), int32_t(p.vertices.size() / 6),
-               mesh.material};
-        auto vertex = [&p](const glm::dvec3& position, const glm::dvec3& normal) {
-            for (int k = 0; k < 3; ++k) p.vertices.push_back(float(position[k]));
+        Draw d{uint32_t(p.indices.size()), uint32_t(mesh.indices.size()),
+               int32_t(p.vertices.size() / VERTEX_FLOATS), mesh.material};
+        // Refused here as the reference refuses them: the shader would read past the arrays.
+        Where where{scene.file.string(), "objects"};
+        if (mesh.material >= scene.materials.size())
+            failInput(where, "mesh '{}' uses material {} but there are {}", mesh.name, mesh.material,
+                      scene.materials.size());
+        if (!mesh.normals.empty() && mesh.normals.size() != mesh.positions.size())
+            failInput(where, "mesh '{}' has {} normals for {} positions", mesh.name, mesh.normals.size(),
+                      mesh.positions.size());
+        if ((!mesh.uvs.empty() && mesh.uvs.size() != mesh.positions.size()) ||
+            (!mesh.tangents.empty() && mesh.tangents.size() != mesh.positions.size()))
+            failInput(where, "mesh '{}' has {} texture coordinates and {} tangents for {} positions", mesh.name,
+                      mesh.uvs.size(), mesh.tangents.size(), mesh.positions.size());
+        for (uint32_t i : mesh.indices)
+            if (i >= mesh.positions.size())
+                failInput(where, "mesh '{}' has index {} but {} positions", mesh.name, i, mesh.positions.size());
+        auto vertex = [&p, &mesh](uint32_t i, const glm::dvec3& normal) {
+            glm::dvec2 uv = mesh.uvs.empty() ? glm::dvec2(0.0) : mesh.uvs[i];
+            glm::dvec4 t = mesh.tangents.empty() ? glm::dvec4(0.0) : mesh.tangents[i];
+            for (int k = 0; k < 3; ++k) p.vertices.push_back(float(mesh.positions[i][k]));
             for (int k = 0; k < 3; ++k) p.vertices.push_back(float(normal[k]));
+            for (int k = 0; k < 2; ++k) p.vertices.push_back(float(uv[k]));
+            for (int k = 0; k < 4; ++k) p.vertices.push_back(float(t[k]));
         };
         // Normals of (nearly) zero length, or none at all, are allowed by the model: the reference
         // then shades with the face normal (docs/physics.md, "Two-sided shading"). A triangle
@@ -74,7 +94,7 @@ PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes) {
         const bool hasNormals = mesh.normals.size() == mesh.positions.size();
         auto usable = [&](uint32_t i) { return hasNormals && glm::length(mesh.normals[i]) > 1e-12; };
         for (size_t i = 0; i < mesh.positions.size(); ++i)
-            vertex(mesh.positions[i], hasNormals ? mesh.normals[i] : glm::dvec3(0.0));
+            vertex(uint32_t(i), hasNormals ? mesh.normals[i] : glm::dvec3(0.0));
         uint32_t next = uint32_t(mesh.positions.size());
         for (size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
             const uint32_t* tri = &mesh.indices[t];
@@ -87,7 +107,7 @@ PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes) {
             const double len = glm::length(face);
             face = len > 0.0 ? face / len : glm::dvec3(0.0);  // zero area: never rasterized
             for (int k = 0; k < 3; ++k) {
-                vertex(mesh.positions[tri[k]], face);
+                vertex(tri[k], face);
                 p.indices.push_back(next++);
             }
         }
@@ -158,6 +178,8 @@ PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes) {
             scatterBands(m.specular, pass, b.specular);
             scatterBands(emissionOverLambda, pass, b.emissionOverLambda);
             b.params = glm::vec4(float(m.gloss), m.fluorescent ? 1.0f : 0.0f, specular ? 1.0f : 0.0f, 0.0f);
+            b.textures = glm::vec4(m.diffuseTexture >= 0 ? 1.0f : 0.0f, m.specularTexture >= 0 ? 1.0f : 0.0f,
+                                   m.normalTexture >= 0 ? 1.0f : 0.0f, float(pass * MAX_OUTPUTS));
             for (int l = 0; l < MAX_LIGHTS; ++l) b.coupling[l / 4][l % 4] = coupling[l];
         }
     }
@@ -200,6 +222,13 @@ struct SpectralPass::Impl {
     vk::Buffer vertexBuffer, indexBuffer, lightBuffer, lightSpectraBuffer, materialBuffer, readbackBuffer;
     VkDeviceSize lightSpectraStride = 0, materialStride = 0;  // dynamic-offset strides, aligned
     vk::Image color, depth;
+    // Textures (one image per SceneOnGrid texture, then a placeholder) and one descriptor set of
+    // set 1 per material.
+    std::vector<vk::Image> textures;
+    VkSampler textureSampler = VK_NULL_HANDLE;
+    VkDescriptorSetLayout textureSetLayout = VK_NULL_HANDLE;
+    std::vector<VkDescriptorSet> materialSets;
+    std::vector<std::array<int, 3>> materialTextures;  // per material: diffuse, specular, normal texture
     VkDescriptorSetLayout setLayout = VK_NULL_HANDLE;
     VkPipelineLayout pipelineLayout = VK_NULL_HANDLE;
     VkDescriptorPool descriptorPool = VK_NULL_HANDLE;
@@ -227,6 +256,8 @@ struct SpectralPass::Impl {
         if (descriptorPool) vkDestroyDescriptorPool(d, descriptorPool, nullptr);
         if (pipelineLayout) vkDestroyPipelineLayout(d, pipelineLayout, nullptr);
         if (setLayout) vkDestroyDescriptorSetLayout(d, setLayout, nullptr);
+        if (textureSetLayout) vkDestroyDescriptorSetLayout(d, textureSetLayout, nullptr);
+        if (textureSampler) vkDestroySampler(d, textureSampler, nullptr);
     }
 
     VkDeviceSize aligned(VkDeviceSize size) const {
@@ -256,6 +287,69 @@ struct SpectralPass::Impl {
         materialStride = aligned(sizeof(gpu::GpuMaterialBlock));
         materialBuffer = uniforms(packed.materials.data(), sizeof(gpu::GpuMaterialBlock), packed.materials.size(),
                                   materialStride, "materials");
+    }
+
+    // Each texture as an RGBA32F 2D-array image, 4 channels per layer (zero-padded), copied from a
+    // staging buffer; the last image is a 1×1 placeholder for untextured slots.
+    void createTextures(const SceneOnGrid& g) {
+        std::vector<const TextureOnGrid*> list;
+        for (const auto& t : g.textures) list.push_back(&t);
+        TextureOnGrid placeholder;
+        placeholder.width = placeholder.height = 1;
+        placeholder.channels = 4;
+        placeholder.data.assign(4, 0.0f);
+        list.push_back(&placeholder);
+        const auto& limits = ctx.properties().limits;
+        for (const TextureOnGrid* t : list) {
+            uint32_t layers = uint32_t((t->channels + 3) / 4);
+            if (uint32_t(t->width) > limits.maxImageDimension2D || uint32_t(t->height) > limits.maxImageDimension2D ||
+                layers > limits.maxImageArrayLayers)
+                failInput(Where{scene.file.string(), "materials"},
+                          "a {}×{} texture with {} layers exceeds the device's limits ({} texels per side, {} layers)",
+                          t->width, t->height, layers, limits.maxImageDimension2D, limits.maxImageArrayLayers);
+            vk::ImageDesc d;
+            d.width = uint32_t(t->width);
+            d.height = uint32_t(t->height);
+            d.layers = layers;
+            d.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+            d.name = "texture";
+            vk::Image image(ctx, d);
+            // Layer-major staging: layer l holds channels 4l..4l+3 of every texel.
+            const size_t texels = size_t(t->width) * t->height;
+            vk::Buffer staging(ctx, texels * layers * 16, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, "texture staging");
+            float* out = static_cast<float*>(staging.mapped());
+            for (uint32_t l = 0; l < layers; ++l)
+                for (size_t p = 0; p < texels; ++p)
+                    for (int c = 0; c < 4; ++c) {
+                        int ch = int(l) * 4 + c;
+                        out[(l * texels + p) * 4 + c] = ch < t->channels ? t->data[p * t->channels + ch] : 0.0f;
+                    }
+            staging.upload(out, 0, 0);  // flushes non-coherent memory
+            ctx.submitAndWait([&](VkCommandBuffer cmd) {
+                VkImageMemoryBarrier b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
+                b.srcAccessMask = 0;
+                b.dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+                b.oldLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+                b.newLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
+                b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+                b.image = image.handle();
+                b.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, layers};
+                vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0,
+                                     nullptr, 0, nullptr, 1, &b);
+                VkBufferImageCopy region{};
+                region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, layers};
+                region.imageExtent = {d.width, d.height, 1};
+                vkCmdCopyBufferToImage(cmd, staging.handle(), image.handle(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1,
+                                       &region);
+                b.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+                b.dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
+                b.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
+                b.newLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
+                vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT, 0, 0,
+                                     nullptr, 0, nullptr, 1, &b);
+            });
+            textures.push_back(std::move(image));
+        }
     }
 
     void createTargets(Readback mode, bool sampled) {
@@ -314,18 +408,28 @@ struct SpectralPass::Impl {
         VK_CHECK(vkCreateDescriptorSetLayout(d, &sl, nullptr, &setLayout));
         VkPushConstantRange range{VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
                                   sizeof(gpu::SpectralPushConstants)};
+        VkDescriptorSetLayoutBinding textureBindings[TEXTURE_BINDINGS];
+        for (uint32_t i = 0; i < TEXTURE_BINDINGS; ++i)
+            textureBindings[i] = {i, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr};
+        VkDescriptorSetLayoutCreateInfo tl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+        tl.bindingCount = TEXTURE_BINDINGS;
+        tl.pBindings = textureBindings;
+        VK_CHECK(vkCreateDescriptorSetLayout(d, &tl, nullptr, &textureSetLayout));
+        VkDescriptorSetLayout layouts[2] = {setLayout, textureSetLayout};
         VkPipelineLayoutCreateInfo pl{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-        pl.setLayoutCount = 1;
-        pl.pSetLayouts = &setLayout;
+        pl.setLayoutCount = 2;
+        pl.pSetLayouts = layouts;
         pl.pushConstantRangeCount = 1;
         pl.pPushConstantRanges = &range;
         VK_CHECK(vkCreatePipelineLayout(d, &pl, nullptr, &pipelineLayout));
 
-        VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1},
-                                         {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC, 2}};
+        const uint32_t materialCount = uint32_t(std::max<size_t>(1, scene.materials.size()));
+        VkDescriptorPoolSize sizes[3] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1},
+                                         {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC, 2},
+                                         {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, TEXTURE_BINDINGS * materialCount}};
         VkDescriptorPoolCreateInfo pci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-        pci.maxSets = 1;
-        pci.poolSizeCount = 2;
+        pci.maxSets = 1 + materialCount;
+        pci.poolSizeCount = 3;
         pci.pPoolSizes = sizes;
         VK_CHECK(vkCreateDescriptorPool(d, &pci, nullptr, &descriptorPool));
         VkDescriptorSetAllocateInfo ai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
@@ -346,6 +450,42 @@ struct SpectralPass::Impl {
             writes[i].pBufferInfo = &infos[i];
         }
         vkUpdateDescriptorSets(d, 3, writes, 0, nullptr);
+
+        // Set 1 per material: its textures, or the placeholder (texelFetch ignores the sampler's
+        // filter; it must still be a valid sampler).
+        VkSamplerCreateInfo sci{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+        sci.magFilter = sci.minFilter = VK_FILTER_NEAREST;
+        sci.mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
+        sci.addressModeU = sci.addressModeV = sci.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+        VK_CHECK(vkCreateSampler(d, &sci, nullptr, &textureSampler));
+        std::vector<VkDescriptorSetLayout> setLayouts(materialCount, textureSetLayout);
+        materialSets.resize(materialCount);
+        VkDescriptorSetAllocateInfo mai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+        mai.descriptorPool = descriptorPool;
+        mai.descriptorSetCount = materialCount;
+        mai.pSetLayouts = setLayouts.data();
+        VK_CHECK(vkAllocateDescriptorSets(d, &mai, materialSets.data()));
+        for (uint32_t m = 0; m < materialCount; ++m) {
+            int slot[TEXTURE_BINDINGS] = {-1, -1, -1};
+            if (m < materialTextures.size()) {
+                slot[TEXTURE_BINDING_DIFFUSE] = materialTextures[m][0];
+                slot[TEXTURE_BINDING_SPECULAR] = materialTextures[m][1];
+                slot[TEXTURE_BINDING_NORMAL] = materialTextures[m][2];
+            }
+            VkDescriptorImageInfo images[TEXTURE_BINDINGS];
+            VkWriteDescriptorSet tw[TEXTURE_BINDINGS];
+            for (uint32_t i = 0; i < TEXTURE_BINDINGS; ++i) {
+                vk::Image& image = slot[i] >= 0 ? textures[size_t(slot[i])] : textures.back();
+                images[i] = {textureSampler, image.layerView(~0u), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+                tw[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+                tw[i].dstSet = materialSets[m];
+                tw[i].dstBinding = i;
+                tw[i].descriptorCount = 1;
+                tw[i].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+                tw[i].pImageInfo = &images[i];
+            }
+            vkUpdateDescriptorSets(d, TEXTURE_BINDINGS, tw, 0, nullptr);
+        }
 
         vert = vk::createShaderModule(d, kSpirv_spectral_vert, sizeof(kSpirv_spectral_vert));
     }
@@ -416,16 +556,19 @@ struct SpectralPass::Impl {
     VkPipeline makePipeline(VkRenderPass renderPass, uint32_t attachments) {
         struct Spec {
             int32_t ambient, directional, point;
-            VkBool32 hasSpecular, hasFluorescence;
-        } spec{packed.ambient, packed.directional, packed.point, plan.hasSpecular, plan.hasFluorescence};
-        VkSpecializationMapEntry entries[5] = {
+            VkBool32 hasSpecular, hasFluorescence, hasTextures, hasNormalMaps;
+        } spec{packed.ambient, packed.directional, packed.point, plan.hasSpecular, plan.hasFluorescence,
+               scene.hasTextures(), scene.hasNormalMaps()};
+        VkSpecializationMapEntry entries[7] = {
             {SPEC_AMBIENT_COUNT, offsetof(Spec, ambient), 4},
             {SPEC_DIRECTIONAL_COUNT, offsetof(Spec, directional), 4},
             {SPEC_POINT_COUNT, offsetof(Spec, point), 4},
             {SPEC_HAS_SPECULAR, offsetof(Spec, hasSpecular), 4},
             {SPEC_HAS_FLUORESCENCE, offsetof(Spec, hasFluorescence), 4},
+            {SPEC_HAS_TEXTURES, offsetof(Spec, hasTextures), 4},
+            {SPEC_HAS_NORMAL_MAPS, offsetof(Spec, hasNormalMaps), 4},
         };
-        VkSpecializationInfo si{5, entries, sizeof(Spec), &spec};
+        VkSpecializationInfo si{7, entries, sizeof(Spec), &spec};
         bool prePass = attachments == 0;
         VkShaderModule frag = VK_NULL_HANDLE;
         if (!prePass) {
@@ -438,8 +581,11 @@ struct SpectralPass::Impl {
         d.vertex = vert;
         d.fragment = frag;
         d.fragmentSpecialization = &si;
-        d.bindings = {{0, 6 * sizeof(float), VK_VERTEX_INPUT_RATE_VERTEX}};
-        d.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}, {1, 0, VK_FORMAT_R32G32B32_SFLOAT, 3 * sizeof(float)}};
+        d.bindings = {{0, VERTEX_FLOATS * sizeof(float), VK_VERTEX_INPUT_RATE_VERTEX}};
+        d.attributes = {{VERTEX_POSITION, 0, VK_FORMAT_R32G32B32_SFLOAT, 0},
+                        {VERTEX_NORMAL, 0, VK_FORMAT_R32G32B32_SFLOAT, 3 * sizeof(float)},
+                        {VERTEX_UV, 0, VK_FORMAT_R32G32_SFLOAT, 6 * sizeof(float)},
+                        {VERTEX_TANGENT, 0, VK_FORMAT_R32G32B32A32_SFLOAT, 8 * sizeof(float)}};
         d.width = plan.targetWidth;
         d.height = plan.targetHeight;
         d.colorAttachments = attachments;
@@ -585,6 +731,8 @@ struct SpectralPass::Impl {
                                            uint32_t((p * materials + d.material) * materialStride)};
                     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelineLayout, 0, 1,
                                             &descriptorSet, 2, offsets);
+                    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelineLayout, 1, 1,
+                                            &materialSets[d.material], 0, nullptr);
                     vkCmdDrawIndexed(cmd, d.indexCount, 1, d.firstIndex, d.vertexOffset, 0);
                 }
             }
@@ -738,6 +886,9 @@ SpectralPass::SpectralPass(vk::Context& ctx, const Scene& scene, const SceneOnGr
     m.rows = rows;
     if (options.stripRows > 0) setStrip(0);
     m.createBuffers();
+    for (const MaterialOnGrid& mat : spectra.materials)
+        m.materialTextures.push_back({mat.diffuseTexture, mat.specularTexture, mat.normalTexture});
+    m.createTextures(spectra);
     m.createTargets(options.readback, options.sampled);
     m.createLayouts();
     m.createPasses();

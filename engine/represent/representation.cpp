@@ -312,7 +312,30 @@ SceneOnGrid represent(const SceneOnGrid& spectra, const Representation& r, const
         if (src.fluorescent)
             warn(Where{scene.file.string(), "materials." + scene.materials[m].name + ".fluorescence"},
                  fmt::format("the {} mode has no wavelengths: fluorescence is left out", r.mode.name()));
+        g.diffuseTexture = src.diffuseTexture;
+        g.specularTexture = src.specularTexture;
+        g.normalTexture = src.normalTexture;
         out.materials.push_back(std::move(g));
+    }
+    // Reflectance textures are analysed texel by texel, as the materials' spectra are; normal maps
+    // are geometry and stay as they are.
+    for (const TextureOnGrid& t : spectra.textures) {
+        if (t.normals) {
+            out.textures.push_back(t);
+            continue;
+        }
+        TextureOnGrid c;
+        c.width = t.width;
+        c.height = t.height;
+        c.channels = int(r.reflectanceAnalysis.size());
+        c.data.resize(size_t(t.width) * t.height * c.channels);
+        std::vector<double> v(t.channels);
+        for (size_t p = 0; p < size_t(t.width) * t.height; ++p) {
+            for (int b = 0; b < t.channels; ++b) v[b] = t.data[p * t.channels + b];
+            std::vector<double> a = metamer::apply(r.reflectanceAnalysis, v);  // not std::apply (ADL)
+            for (int k = 0; k < c.channels; ++k) c.data[p * c.channels + k] = float(a[k]);
+        }
+        out.textures.push_back(std::move(c));
     }
     return out;
 }

@@ -15,6 +15,7 @@
 #include <fstream>
 #include <iterator>
 #include <limits>
+#include <optional>
 #include <sstream>
 
 namespace fs = std::filesystem;
@@ -97,6 +98,47 @@ struct Reader {
         return out;
     }
 
+    // TEXCOORD_n: float, or unsigned byte/short normalized to [0, 1] (glTF allows all three).
+    std::vector<glm::dvec2> vec2s(int index, const std::string& what) const {
+        View v = view(index, TINYGLTF_TYPE_VEC2, what);
+        std::vector<glm::dvec2> out(v.count);
+        for (size_t i = 0; i < v.count; ++i) {
+            const unsigned char* p = v.data + i * v.stride;
+            switch (v.componentType) {
+                case TINYGLTF_COMPONENT_TYPE_FLOAT: {
+                    float f[2];
+                    std::memcpy(f, p, sizeof f);
+                    if (!std::isfinite(f[0]) || !std::isfinite(f[1])) fail("{}: element {} is not finite", what, i);
+                    out[i] = glm::dvec2(f[0], f[1]);
+                    break;
+                }
+                case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: out[i] = glm::dvec2(p[0], p[1]) / 255.0; break;
+                case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+                    uint16_t x[2];
+                    std::memcpy(x, p, sizeof x);
+                    out[i] = glm::dvec2(x[0], x[1]) / 65535.0;
+                    break;
+                }
+                default: fail("{}: texture coordinates must be float or normalized unsigned byte/short", what);
+            }
+        }
+        return out;
+    }
+
+    std::vector<glm::dvec4> vec4s(int index, const std::string& what) const {
+        View v = view(index, TINYGLTF_TYPE_VEC4, what);
+        if (v.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT) fail("{}: expected 32-bit float components", what);
+        std::vector<glm::dvec4> out(v.count);
+        for (size_t i = 0; i < v.count; ++i) {
+            float f[4];
+            std::memcpy(f, v.data + i * v.stride, sizeof f);
+            for (float x : f)
+                if (!std::isfinite(x)) fail("{}: element {} is not finite", what, i);
+            out[i] = glm::dvec4(f[0], f[1], f[2], f[3]);
+        }
+        return out;
+    }
+
     std::vector<uint32_t> indices(int index, const std::string& what) const {
         View v = view(index, TINYGLTF_TYPE_SCALAR, what);
         std::vector<uint32_t> out(v.count);
@@ -150,7 +192,82 @@ struct Reader {
         } else {
             m.normals = smoothNormals(m.positions, m.indices);
         }
+        if (auto uv = prim.attributes.find("TEXCOORD_0"); uv != prim.attributes.end()) {
+            m.uvs = vec2s(uv->second, what + " TEXCOORD_0");
+            if (m.uvs.size() != m.positions.size())
+                fail("{}: {} texture coordinates for {} positions", what, m.uvs.size(), m.positions.size());
+            if (auto tan = prim.attributes.find("TANGENT"); tan != prim.attributes.end()) {
+                m.tangents = vec4s(tan->second, what + " TANGENT");
+                if (m.tangents.size() != m.positions.size())
+                    fail("{}: {} tangents for {} positions", what, m.tangents.size(), m.positions.size());
+                for (auto& t : m.tangents) {
+                    // Unit xyz and w = ±1 by the specification; a zero one means "none here".
+                    double len = glm::length(glm::dvec3(t));
+                    t = len > 0.0 ? glm::dvec4(glm::dvec3(t) / len, t.w < 0.0 ? -1.0 : 1.0) : glm::dvec4(0.0);
+                }
+            } else {
+                m.tangents = tangentsFromUvs(m.positions, m.normals, m.uvs, m.indices);
+            }
+        }
+        m.material = prim.material >= 0 ? uint32_t(prim.material) : kNoGltfMaterial;
         return m;
+    }
+
+    // A texture reference of a material: the image's file (external URIs only), else nothing with
+    // a warning.
+    std::optional<fs::path> image(const tinygltf::TextureInfo& info, const std::string& what, const std::string& dir) const {
+        if (info.index < 0) return std::nullopt;
+        if (size_t(info.index) >= model.textures.size()) fail("{}: texture {} does not exist", what, info.index);
+        int source = model.textures[info.index].source;
+        if (source < 0 || size_t(source) >= model.images.size()) fail("{}: texture {} has no image", what, info.index);
+        if (info.texCoord != 0)
+            warn(where, fmt::format("mesh file '{}': {} uses TEXCOORD_{}; only TEXCOORD_0 is read, so it is used "
+                                    "instead", path, what, info.texCoord));
+        const tinygltf::Image& img = model.images[source];
+        if (img.uri.empty() || img.uri.rfind("data:", 0) == 0) {
+            warn(where, fmt::format("mesh file '{}': {} is embedded in the file; only images in files of their own "
+                                    "are read, so it is left out",
+                                    path, what));
+            return std::nullopt;
+        }
+        std::string uri = img.uri;
+        // URIs are percent-encoded; the common case is a space.
+        for (size_t k; (k = uri.find("%20")) != std::string::npos;) uri.replace(k, 3, " ");
+        return (fs::path(dir) / uri).lexically_normal();
+    }
+
+    GltfMaterial material(int index, const std::string& dir) const {
+        const tinygltf::Material& m = model.materials[index];
+        GltfMaterial g;
+        g.index = index;
+        g.name = m.name.empty() ? fmt::format("material{}", index) : m.name;
+        std::string what = fmt::format("material {} ('{}')", index, g.name);
+        const auto& pbr = m.pbrMetallicRoughness;
+        if (pbr.baseColorFactor.size() == 4)
+            g.baseColorFactor = glm::dvec4(pbr.baseColorFactor[0], pbr.baseColorFactor[1], pbr.baseColorFactor[2],
+                                           pbr.baseColorFactor[3]);
+        for (int c = 0; c < 4; ++c)
+            if (!(g.baseColorFactor[c] >= 0.0 && g.baseColorFactor[c] <= 1.0))
+                fail("{}: baseColorFactor component {} is {}; expected [0, 1]", what, c, g.baseColorFactor[c]);
+        g.metallic = pbr.metallicFactor;
+        g.roughness = pbr.roughnessFactor;
+        if (!(g.metallic >= 0.0 && g.metallic <= 1.0)) fail("{}: metallicFactor {} is outside [0, 1]", what, g.metallic);
+        if (!(g.roughness >= 0.0 && g.roughness <= 1.0)) fail("{}: roughnessFactor {} is outside [0, 1]", what, g.roughness);
+        g.baseColorTexture = image(pbr.baseColorTexture, what + " baseColorTexture", dir);
+        if (pbr.metallicRoughnessTexture.index >= 0)
+            warn(where, fmt::format("mesh file '{}': {} has a metallicRoughnessTexture; its factors are used, the "
+                                    "texture is not",
+                                    path, what));
+        tinygltf::TextureInfo normalInfo;
+        normalInfo.index = m.normalTexture.index;
+        normalInfo.texCoord = m.normalTexture.texCoord;
+        g.normalTexture = image(normalInfo, what + " normalTexture", dir);
+        g.normalScale = m.normalTexture.scale;
+        if (m.emissiveFactor.size() == 3 && (m.emissiveFactor[0] > 0 || m.emissiveFactor[1] > 0 || m.emissiveFactor[2] > 0))
+            warn(where, fmt::format("mesh file '{}': {} is emissive; Metamer has no emitting surfaces, so the "
+                                    "emission is left out",
+                                    path, what));
+        return g;
     }
 
     static glm::dmat4 localMatrix(const tinygltf::Node& n) {
@@ -165,7 +282,7 @@ struct Reader {
         return m;
     }
 
-    void visit(int nodeIndex, const glm::dmat4& parent, int depth, Mesh& out) const {
+    void visit(int nodeIndex, const glm::dmat4& parent, int depth, std::vector<Mesh>& out) const {
         if (nodeIndex < 0 || static_cast<size_t>(nodeIndex) >= model.nodes.size())
             fail("node {} does not exist", nodeIndex);
         // glTF node graphs are trees; a deeper walk than there are nodes means a cycle.
@@ -183,10 +300,7 @@ struct Reader {
             for (size_t p = 0; p < model.meshes[node.mesh].primitives.size(); ++p) {
                 Mesh m = primitive(node.mesh, static_cast<int>(p));
                 transformMesh(m, world);
-                uint32_t base = static_cast<uint32_t>(out.positions.size());
-                out.positions.insert(out.positions.end(), m.positions.begin(), m.positions.end());
-                out.normals.insert(out.normals.end(), m.normals.begin(), m.normals.end());
-                for (uint32_t i : m.indices) out.indices.push_back(base + i);
+                out.push_back(std::move(m));
             }
         }
         for (int child : node.children) visit(child, world, depth + 1, out);
@@ -268,7 +382,7 @@ bool ignoreImage(tinygltf::Image*, const int, std::string*, std::string*, int, i
 
 }  // namespace
 
-Mesh loadGltfMesh(const fs::path& path, const Where& where, const ReadablePaths* readable) {
+GltfModel loadGltf(const fs::path& path, const Where& where, const ReadablePaths* readable) {
     std::string shown = path.string();
     std::error_code ec;
     if (!fs::exists(path, ec)) failInput(where, "mesh file '{}' not found", shown);
@@ -356,10 +470,50 @@ Mesh loadGltfMesh(const fs::path& path, const Where& where, const ReadablePaths*
         for (size_t i = 0; i < model.nodes.size(); ++i)
             if (!isChild[i]) roots.push_back(static_cast<int>(i));
     }
-    Mesh out;
-    for (int r : roots) reader.visit(r, glm::dmat4(1.0), 0, out);
-    if (out.indices.empty()) reader.fail("the default scene contains no triangles");
+    GltfModel out;
+    for (int r : roots) reader.visit(r, glm::dmat4(1.0), 0, out.meshes);
+    size_t triangles = 0;
+    for (const Mesh& m : out.meshes) triangles += m.indices.size();
+    if (triangles == 0) reader.fail("the default scene contains no triangles");
+    for (size_t i = 0; i < model.materials.size(); ++i) out.materials.push_back(reader.material(int(i), baseDir));
+    for (const Mesh& m : out.meshes)
+        if (m.material != kNoGltfMaterial && m.material >= out.materials.size())
+            reader.fail("a primitive uses material {} but the file has {}", m.material, out.materials.size());
     return out;
+}
+
+Mesh mergeMeshes(const std::vector<Mesh>& parts) {
+    Mesh out;
+    bool uvs = false, tangents = false;
+    for (const Mesh& m : parts) {
+        uvs = uvs || !m.uvs.empty();
+        tangents = tangents || !m.tangents.empty();
+    }
+    for (const Mesh& m : parts) {
+        uint32_t base = static_cast<uint32_t>(out.positions.size());
+        out.positions.insert(out.positions.end(), m.positions.begin(), m.positions.end());
+        out.normals.insert(out.normals.end(), m.normals.begin(), m.normals.end());
+        // A part without texture coordinates (or tangents) gets zeros: no texture detail, no
+        // normal mapping there.
+        if (uvs) {
+            if (m.uvs.empty())
+                out.uvs.resize(out.positions.size(), glm::dvec2(0.0));
+            else
+                out.uvs.insert(out.uvs.end(), m.uvs.begin(), m.uvs.end());
+        }
+        if (tangents) {
+            if (m.tangents.empty())
+                out.tangents.resize(out.positions.size(), glm::dvec4(0.0));
+            else
+                out.tangents.insert(out.tangents.end(), m.tangents.begin(), m.tangents.end());
+        }
+        for (uint32_t i : m.indices) out.indices.push_back(base + i);
+    }
+    return out;
+}
+
+Mesh loadGltfMesh(const fs::path& path, const Where& where, const ReadablePaths* readable) {
+    return mergeMeshes(loadGltf(path, where, readable).meshes);
 }
 
 }  // namespace metamer

@@ -6,6 +6,9 @@
 #include "scene/scene.h"
 
 #include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
 
 namespace metamer {
 
@@ -14,10 +17,38 @@ namespace metamer {
 // metres, +y up). Only TRIANGLES primitives are accepted. NORMAL is used when present, else
 // area-weighted smooth normals are computed per primitive; missing indices are generated.
 // Winding is kept as in the file (it defines the front face), except that a mirroring node
-// transform reverses it, as glTF specifies. Materials, textures, skins and animations are ignored.
+// transform reverses it, as glTF specifies. Materials, skins and animations are ignored.
 // Errors are input errors at `where` (the scene's object key) that name `path`.
 // Files the glTF references (buffers, images) are read only where `readable` allows (null: any);
 // tinygltf would otherwise follow "../" in URIs and fall back to the current directory.
+// A glTF metallic–roughness material, as the file gives it (scene/gltf_material.h turns it into
+// a spectral Material).
+struct GltfMaterial {
+    int index = 0;
+    std::string name;                        // the file's name, or "material<index>"
+    glm::dvec4 baseColorFactor{1.0};         // linear RGBA
+    std::optional<std::filesystem::path> baseColorTexture;  // sRGB-encoded image
+    double metallic = 1.0, roughness = 1.0;  // glTF's defaults
+    std::optional<std::filesystem::path> normalTexture;
+    double normalScale = 1.0;
+};
+
+// Primitives use this as their material when the file gives none.
+constexpr uint32_t kNoGltfMaterial = 0xffffffffu;
+
+struct GltfModel {
+    std::vector<Mesh> meshes;  // one per primitive instance; Mesh::material = the glTF material index
+    std::vector<GltfMaterial> materials;
+};
+
+// Every primitive as its own mesh, with its glTF material, texture coordinates (TEXCOORD_0) and
+// tangents (TANGENT, else from the UVs: shapes.h, tangentsFromUvs). Texture images are named,
+// not read (only images in files of their own; embedded ones are left out with a warning).
+GltfModel loadGltf(const std::filesystem::path& path, const Where& where, const ReadablePaths* readable = nullptr);
+
+// Meshes joined into one (parts without UVs or tangents get zeros).
+Mesh mergeMeshes(const std::vector<Mesh>& parts);
+
 Mesh loadGltfMesh(const std::filesystem::path& path, const Where& where, const ReadablePaths* readable = nullptr);
 
 }  // namespace metamer

@@ -14,6 +14,18 @@ bool Scene::hasSpecular() const {
     return false;
 }
 
+bool Scene::hasTextures() const {
+    for (const auto& m : materials)
+        if (m.textures.diffuse >= 0 || m.textures.specular >= 0) return true;
+    return false;
+}
+
+bool Scene::hasNormalMaps() const {
+    for (const auto& m : materials)
+        if (m.textures.normal >= 0) return true;
+    return false;
+}
+
 size_t Scene::triangleCount() const {
     size_t n = 0;
     for (const auto& m : meshes) n += m.indices.size() / 3;

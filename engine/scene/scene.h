@@ -56,12 +56,39 @@ struct Fluorescence {
     double quantum_yield = 1.0;
 };
 
+// A texture as read from its file (scene/texture.h), before it meets the render grid. Texel
+// (i, j) covers [i, i+1]×[j, j+1] in pixels; row 0 is the top of the image, which is where
+// texture coordinate v = 0 lies (glTF's convention: u right, v down).
+struct Texture {
+    enum class Kind {
+        Spectral,  // reflectance per wavelength (a reflective spectral EXR, T.<λ>nm channels)
+        Rgb,       // linear RGB reflectance (sRGB-encoded files are decoded on load), up-sampled
+                   // to spectra on the grid (spectral/rgb_upsampling.h)
+        Normal,    // tangent-space unit normals (x right, y up in the image, z out of the surface)
+    };
+    Kind kind = Kind::Spectral;
+    std::filesystem::path file;
+    Where where;  // the scene key it came from, for messages
+    int width = 0, height = 0, channels = 0;
+    std::vector<double> wavelengths_nm;  // Spectral: one per channel, increasing
+    std::vector<float> texels;           // width × height × channels, row 0 at the top
+};
+
+// Textures of a material: indices into Scene::textures, -1 for none.
+struct MaterialTextures {
+    int diffuse = -1;   // multiplies ρd (the material's diffuse spectrum is the tint; 1 if unset)
+    int specular = -1;  // multiplies ρs
+    int normal = -1;    // perturbs the shading normal (a normal map, or a bump map converted to one)
+    bool any() const { return diffuse >= 0 || specular >= 0 || normal >= 0; }
+};
+
 struct Material {
     std::string name;
     SceneSpectrum diffuse;    // ρd(λ), Lambertian reflectance factor
     SceneSpectrum specular;   // ρs(λ), Blinn–Phong lobe weight (normal-incidence reflectance)
     double gloss = 0.0;       // Blinn–Phong exponent n (≥ 0)
     std::optional<Fluorescence> fluorescence;
+    MaterialTextures textures;
 
     bool hasSpecular() const {
         return !(specular.spectrum.isConstant() && *specular.spectrum.constant == 0.0);
@@ -73,6 +100,12 @@ struct Material {
 struct Mesh {
     std::vector<glm::dvec3> positions;
     std::vector<glm::dvec3> normals;
+    // Texture coordinates per vertex (u right, v down the image; repeat outside [0, 1]) and
+    // tangents (xyz: the direction of increasing u, w = ±1: the bitangent cross(n, t)·w points up
+    // the image, i.e. towards decreasing v). Either may be empty: no UVs, no textures; no
+    // tangents, no normal mapping.
+    std::vector<glm::dvec2> uvs;
+    std::vector<glm::dvec4> tangents;
     std::vector<uint32_t> indices;  // 3 per triangle, counter-clockwise seen from the normal side
     uint32_t material = 0;          // index into Scene::materials
     std::string name;               // "objects.2" (+ " (assets/teapot.gltf)")
@@ -94,10 +127,13 @@ struct Scene {
     Camera camera;
     std::vector<Light> lights;
     std::vector<Material> materials;
+    std::vector<Texture> textures;
     std::vector<Mesh> meshes;
 
     bool hasFluorescence() const;
     bool hasSpecular() const;
+    bool hasTextures() const;
+    bool hasNormalMaps() const;
     size_t triangleCount() const;
 };
 

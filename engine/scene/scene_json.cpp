@@ -4,6 +4,7 @@
 #include "scene/overrides.h"
 #include "scene/readable_paths.h"
 #include "scene/shapes.h"
+#include "scene/texture.h"
 #include "spectral/csv.h"
 
 #include <nlohmann/json.hpp>
@@ -419,13 +420,25 @@ private:
         if (name.find('.') != std::string::npos)
             failInput(w, "a material name must not contain '.' (key paths use it)");
         asObject(v, w);
-        checkKeys(v, w, {"diffuse", "specular", "gloss", "fluorescence"});
+        checkKeys(v, w, {"diffuse", "specular", "gloss", "fluorescence", "textures"});
         Material m;
         m.name = name;
-        m.diffuse = spectrum(require(v, w, "diffuse", "a spectrum; 0 for none"), w.child("diffuse"),
-                             SpectrumKind::Reflectance);
+        if (const Json* t = find(v, "textures")) m.textures = readTextures(*t, w.child("textures"));
+        if (m.textures.diffuse >= 0 && !find(v, "diffuse")) {
+            // A diffuse texture is the reflectance; "diffuse" would tint it.
+            m.diffuse.spectrum = Spectrum::makeConstant(1.0);
+            m.diffuse.kind = SpectrumKind::Reflectance;
+            m.diffuse.where = w.child("diffuse");
+        } else {
+            m.diffuse = spectrum(require(v, w, "diffuse", "a spectrum; 0 for none"), w.child("diffuse"),
+                                 SpectrumKind::Reflectance);
+        }
         if (const Json* s = find(v, "specular")) {
             m.specular = spectrum(*s, w.child("specular"), SpectrumKind::Reflectance);
+        } else if (m.textures.specular >= 0) {
+            m.specular.spectrum = Spectrum::makeConstant(1.0);
+            m.specular.kind = SpectrumKind::Reflectance;
+            m.specular.where = w.child("specular");
         } else {
             m.specular.spectrum = Spectrum::makeConstant(0.0);
             m.specular.kind = SpectrumKind::Reflectance;
@@ -450,6 +463,70 @@ private:
         }
         scene_.materials.push_back(std::move(m));
     }
+
+    // "textures": {"diffuse": T, "specular": T, "normal": T, "bump": {"file": ..., "scale": s}}
+    // where T is a file name or {"file": ..., "encoding": "auto"|"srgb"|"linear"}.
+    MaterialTextures readTextures(const Json& v, const Where& w) {
+        asObject(v, w);
+        checkKeys(v, w, {"diffuse", "specular", "normal", "bump"}, "a material's textures");
+        if (find(v, "normal") && find(v, "bump"))
+            failInput(w.child("bump"), "a material has either a normal map or a bump map, not both");
+        MaterialTextures t;
+        if (const Json* x = find(v, "diffuse")) t.diffuse = textureRef(*x, w.child("diffuse"), TextureRole::Reflectance);
+        if (const Json* x = find(v, "specular"))
+            t.specular = textureRef(*x, w.child("specular"), TextureRole::Reflectance);
+        if (const Json* x = find(v, "normal")) t.normal = textureRef(*x, w.child("normal"), TextureRole::Normal);
+        if (const Json* x = find(v, "bump")) t.normal = textureRef(*x, w.child("bump"), TextureRole::Height);
+        return t;
+    }
+
+    int textureRef(const Json& v, const Where& w, TextureRole role) {
+        std::string given;
+        TextureEncoding encoding = TextureEncoding::Auto;
+        double scale = 1.0;
+        if (v.is_string()) {
+            given = v.get<std::string>();
+            if (role == TextureRole::Height)
+                failInput(w, "expected {{\"file\": \"...\", \"scale\": s}}: a bump map needs its scale (height in "
+                             "texel widths per unit value)");
+        } else if (v.is_object()) {
+            if (role == TextureRole::Height)
+                checkKeys(v, w, {"file", "scale"}, "a bump map");
+            else if (role == TextureRole::Normal)
+                checkKeys(v, w, {"file"}, "a normal map");
+            else
+                checkKeys(v, w, {"file", "encoding"}, "a texture");
+            given = string(require(v, w, "file", "a texture file name"), w.child("file"));
+            if (const Json* e = find(v, "encoding")) {
+                std::string c = choice(*e, w.child("encoding"), {"auto", "srgb", "linear"});
+                encoding = c == "srgb" ? TextureEncoding::Srgb : c == "linear" ? TextureEncoding::Linear : TextureEncoding::Auto;
+            }
+            if (role == TextureRole::Height)
+                scale = numberIn(require(v, w, "scale", "the height, in texel widths, of a value step of 1"),
+                                 w.child("scale"), -1e6, 1e6, false, false);
+        } else {
+            failInput(w, "expected a texture file name or {{\"file\": ...}}, got {}", describe(v));
+        }
+        Where fw = v.is_object() ? w.child("file") : w;
+        if (given.empty()) failInput(fw, "expected a texture file name, got an empty string");
+        fs::path path = (dir_ / given).lexically_normal();
+        readable_.check(path, fw, "texture file", given);
+        for (size_t i = 0; i < textureKeys_.size(); ++i)
+            if (textureKeys_[i].path == path && textureKeys_[i].role == role && textureKeys_[i].encoding == encoding &&
+                textureKeys_[i].scale == scale)
+                return int(i);
+        scene_.textures.push_back(loadTexture(path, role, encoding, scale, fw));
+        scene_.textures.back().where = fw;
+        textureKeys_.push_back({path, role, encoding, scale});
+        return int(scene_.textures.size() - 1);
+    }
+    struct TextureKey {
+        fs::path path;
+        TextureRole role;
+        TextureEncoding encoding;
+        double scale;
+    };
+    std::vector<TextureKey> textureKeys_;
 
     uint32_t materialRef(const Json& obj, const Where& w) {
         Where mw = w.child("material");
@@ -533,6 +610,12 @@ private:
                 failInput(w, "the object's geometry is not finite: its position, size or scale is too large or "
                              "too small for double precision");
         out.material = materialRef(v, w);
+        const MaterialTextures& tex = scene_.materials[out.material].textures;
+        if (tex.any() && out.uvs.empty())
+            failInput(w.child("material"),
+                      "material '{}' has textures but this object has no texture coordinates (spheres have none; use "
+                      "a quad or a glTF mesh with TEXCOORD_0)",
+                      scene_.materials[out.material].name);
         scene_.meshes.push_back(std::move(out));
     }
 

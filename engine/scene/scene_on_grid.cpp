@@ -1,7 +1,12 @@
 #include "scene/scene_on_grid.h"
 
+#include "spectral/library.h"
+#include "spectral/rgb_upsampling.h"
+
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <unordered_map>
 
 namespace metamer {
 
@@ -55,7 +60,89 @@ void warnGaps(const std::vector<Gap>& gaps, const Grid& grid) {
     }
 }
 
+// A spectral texture's texels onto the grid. resample() is linear in the data's values, so the
+// band values of every texel are one matrix times its channels: column i is the resampled "hat"
+// that is 1 at channel i's wavelength and 0 at the others.
+TextureOnGrid spectralTextureOnGrid(const Texture& t, const Grid& grid, CoveragePolicy policy, std::vector<Gap>& gaps,
+                                    std::vector<SceneSpectrum>& keepAlive) {
+    const int bands = grid.bands(), n = t.channels;
+    SceneSpectrum probe;
+    probe.kind = SpectrumKind::Reflectance;
+    probe.where = t.where;
+    probe.spectrum.wavelengths_nm = t.wavelengths_nm;
+    probe.spectrum.values.assign(n, 1.0);
+    probe.spectrum.source = t.file.filename().string();
+    keepAlive.push_back(probe);  // gaps point at it until warnGaps
+    onGrid(keepAlive.back(), grid, policy, gaps);  // coverage: errors and grouped warnings
+    std::vector<double> m(size_t(bands) * n, 0.0);  // [band][channel]
+    for (int i = 0; i < n; ++i) {
+        Spectrum hat;
+        hat.wavelengths_nm = t.wavelengths_nm;
+        hat.values.assign(n, 0.0);
+        hat.values[i] = 1.0;
+        std::vector<double> col = resample(hat, grid);
+        for (int b = 0; b < bands; ++b) m[size_t(b) * n + i] = col[b];
+    }
+    TextureOnGrid out;
+    out.width = t.width;
+    out.height = t.height;
+    out.channels = bands;
+    out.data.resize(size_t(t.width) * t.height * bands);
+    for (size_t p = 0; p < size_t(t.width) * t.height; ++p) {
+        const float* in = &t.texels[p * n];
+        float* o = &out.data[p * bands];
+        for (int b = 0; b < bands; ++b) {
+            double sum = 0.0;
+            const double* row = &m[size_t(b) * n];
+            for (int i = 0; i < n; ++i) sum += row[i] * in[i];
+            o[b] = float(sum);
+        }
+    }
+    return out;
+}
+
+// An RGB texture up-sampled texel by texel (spectral/rgb_upsampling.h); 8-bit images have few
+// distinct colours, so each colour is up-sampled once.
+TextureOnGrid rgbTextureOnGrid(const Texture& t, const Grid& grid, const RgbUpsampler& up) {
+    const int bands = grid.bands();
+    TextureOnGrid out;
+    out.width = t.width;
+    out.height = t.height;
+    out.channels = bands;
+    out.data.resize(size_t(t.width) * t.height * bands);
+    std::unordered_map<uint64_t, size_t> seen;  // colour → texel that has its bands
+    auto key = [](const float* c) {
+        uint64_t h = 1469598103934665603ull;
+        for (int k = 0; k < 3; ++k) {
+            uint32_t bits;
+            std::memcpy(&bits, &c[k], 4);
+            h = (h ^ bits) * 1099511628211ull;
+        }
+        return h;
+    };
+    for (size_t p = 0; p < size_t(t.width) * t.height; ++p) {
+        const float* c = &t.texels[p * 3];
+        float* o = &out.data[p * bands];
+        auto [it, fresh] = seen.try_emplace(key(c), p);
+        const float* done = fresh ? nullptr : &t.texels[it->second * 3];
+        if (done && done[0] == c[0] && done[1] == c[1] && done[2] == c[2]) {
+            std::memcpy(o, &out.data[it->second * bands], sizeof(float) * bands);
+            continue;
+        }
+        std::vector<double> v = up.bands(glm::dvec3(c[0], c[1], c[2]), grid);
+        for (int b = 0; b < bands; ++b) o[b] = float(v[b]);
+    }
+    return out;
+}
+
 }  // namespace
+
+uint64_t textureMemory(const Scene& scene, const Grid& grid) {
+    uint64_t bytes = 0;
+    for (const Texture& t : scene.textures)
+        bytes += uint64_t(t.width) * t.height * (t.kind == Texture::Kind::Normal ? 3 : grid.bands()) * 4;
+    return bytes;
+}
 
 SceneOnGrid resampleScene(const Scene& scene, const Grid& grid, CoveragePolicy policy) {
     std::vector<Gap> gaps;
@@ -72,8 +159,33 @@ SceneOnGrid resampleScene(const Scene& scene, const Grid& grid, CoveragePolicy p
         }
         out.lights.push_back(std::move(e));
     }
+    if (uint64_t bytes = textureMemory(scene, grid); bytes > kMaxTextureMemory)
+        failInput(Where{scene.file.string(), "materials"},
+                  "the scene's textures would take {:.1f} GiB on the grid {} nm ({} bands × 4 bytes per texel); the "
+                  "limit is {} GiB: use smaller textures or a coarser grid",
+                  double(bytes) / double(1 << 30), grid.str(), grid.bands(), kMaxTextureMemory >> 30);
+    std::vector<SceneSpectrum> textureProbes;
+    textureProbes.reserve(scene.textures.size());
+    for (const Texture& t : scene.textures) {
+        if (t.kind == Texture::Kind::Spectral) {
+            out.textures.push_back(spectralTextureOnGrid(t, grid, policy, gaps, textureProbes));
+        } else if (t.kind == Texture::Kind::Rgb) {
+            out.textures.push_back(rgbTextureOnGrid(t, grid, RgbUpsampler::srgb(SpectrumLibrary())));
+        } else {
+            TextureOnGrid n;
+            n.width = t.width;
+            n.height = t.height;
+            n.channels = 3;
+            n.normals = true;
+            n.data = t.texels;
+            out.textures.push_back(std::move(n));
+        }
+    }
     for (const auto& m : scene.materials) {
         MaterialOnGrid g;
+        g.diffuseTexture = m.textures.diffuse;
+        g.specularTexture = m.textures.specular;
+        g.normalTexture = m.textures.normal;
         g.diffuse = onGrid(m.diffuse, grid, policy, gaps);
         g.specular = onGrid(m.specular, grid, policy, gaps);
         g.gloss = m.gloss;

@@ -5,6 +5,7 @@
 
 #include "scene/scene.h"
 
+#include <cstdint>
 #include <vector>
 
 namespace metamer {
@@ -13,6 +14,20 @@ enum class CoveragePolicy {
     ZeroWithWarning,  // bands outside a spectrum's data are 0, with one warning per spectrum
     Error,            // --strict-coverage: any band outside a spectrum's data is an input error
 };
+
+// A texture on the render grid: reflectance per band (spectral and RGB textures; RGB ones
+// up-sampled per texel) or unit tangent-space normals (3 channels). [row][column][channel], row 0
+// the top of the image.
+struct TextureOnGrid {
+    int width = 0, height = 0, channels = 0;
+    bool normals = false;
+    std::vector<float> data;
+    const float* texel(int x, int y) const { return &data[(size_t(y) * width + x) * channels]; }
+};
+
+// Textures on the grid take W·H·bands floats each: beyond this in all the render is refused
+// (with the estimate) before any is made.
+constexpr uint64_t kMaxTextureMemory = uint64_t(8) << 30;
 
 struct MaterialOnGrid {
     std::vector<double> diffuse;   // ρd per band
@@ -24,6 +39,8 @@ struct MaterialOnGrid {
     // Σ ê·Δλ = 1 when the grid covers the emission.
     std::vector<double> emission;
     double quantum_yield = 0.0;
+    // Indices into SceneOnGrid::textures, -1 for none (scene/scene.h, MaterialTextures).
+    int diffuseTexture = -1, specularTexture = -1, normalTexture = -1;
 };
 
 struct SceneOnGrid {
@@ -31,7 +48,11 @@ struct SceneOnGrid {
     std::vector<double> wavelengths_nm;
     std::vector<std::vector<double>> lights;  // spectrum × scale per band, per light
     std::vector<MaterialOnGrid> materials;
+    std::vector<TextureOnGrid> textures;  // one per Scene::textures entry
 };
+
+// Bytes the scene's textures take on `grid` (float per band per texel; normals 3 floats).
+uint64_t textureMemory(const Scene& scene, const Grid& grid);
 
 // Resamples every spectrum of `scene` onto `grid`. A spectrum whose data miss the grid entirely
 // is always an error (it is surely a mistake); a partial miss follows `policy`.

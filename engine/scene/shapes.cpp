@@ -79,6 +79,10 @@ Mesh makeQuad(const glm::dvec3& center, const glm::dvec3& normal, const glm::dve
     // right × up = normal, so (-,-), (+,-), (+,+), (-,+) runs counter-clockwise about it.
     mesh.positions = {center - r - u, center + r - u, center + r + u, center - r + u};
     mesh.normals.assign(4, a.normal);
+    // The image stands upright on the quad: u runs along "right", v down along −"up"; so the
+    // tangent is "right" and cross(normal, right) = up is the bitangent with w = +1.
+    mesh.uvs = {{0, 1}, {1, 1}, {1, 0}, {0, 0}};
+    mesh.tangents.assign(4, glm::dvec4(a.right, 1.0));
     mesh.indices = {0, 1, 2, 0, 2, 3};
     return mesh;
 }
@@ -105,8 +109,46 @@ void transformMesh(Mesh& mesh, const glm::dmat4& m) {
     glm::dmat3 normalMatrix = glm::transpose(glm::inverse(linear));
     for (auto& p : mesh.positions) p = glm::dvec3(m * glm::dvec4(p, 1.0));
     for (auto& n : mesh.normals) n = glm::normalize(normalMatrix * n);
+    // Tangents lie in the surface and move with it; a mirror reverses the bitangent's handedness.
+    const double handedness = glm::determinant(linear) < 0.0 ? -1.0 : 1.0;
+    for (auto& t : mesh.tangents) {
+        glm::dvec3 v = linear * glm::dvec3(t);
+        double len = glm::length(v);
+        t = glm::dvec4(len > 0.0 ? v / len : glm::dvec3(0.0), t.w * handedness);
+    }
     if (glm::determinant(linear) < 0.0)
         for (size_t t = 0; t + 2 < mesh.indices.size(); t += 3) std::swap(mesh.indices[t + 1], mesh.indices[t + 2]);
+}
+
+std::vector<glm::dvec4> tangentsFromUvs(const std::vector<glm::dvec3>& positions, const std::vector<glm::dvec3>& normals,
+                                        const std::vector<glm::dvec2>& uvs, const std::vector<uint32_t>& indices) {
+    std::vector<glm::dvec3> tSum(positions.size(), glm::dvec3(0.0)), vSum(positions.size(), glm::dvec3(0.0));
+    for (size_t t = 0; t + 2 < indices.size(); t += 3) {
+        uint32_t a = indices[t], b = indices[t + 1], c = indices[t + 2];
+        glm::dvec3 e1 = positions[b] - positions[a], e2 = positions[c] - positions[a];
+        glm::dvec2 d1 = uvs[b] - uvs[a], d2 = uvs[c] - uvs[a];
+        double det = d1.x * d2.y - d2.x * d1.y;
+        if (!(std::fabs(det) > 0.0)) continue;  // no UV area: no direction of u
+        // ∂p/∂u and ∂p/∂v on this triangle, weighted by its area (|e1 × e2|/2) through 1/det.
+        glm::dvec3 dpdu = (e1 * d2.y - e2 * d1.y) / det, dpdv = (e2 * d1.x - e1 * d2.x) / det;
+        double area = 0.5 * glm::length(glm::cross(e1, e2));
+        for (uint32_t i : {a, b, c}) {
+            tSum[i] += area * dpdu;
+            vSum[i] += area * dpdv;
+        }
+    }
+    std::vector<glm::dvec4> out(positions.size(), glm::dvec4(0.0));
+    for (size_t i = 0; i < positions.size(); ++i) {
+        const glm::dvec3& n = normals[i];
+        glm::dvec3 t = tSum[i] - n * glm::dot(n, tSum[i]);
+        double len = glm::length(t);
+        if (!(len > 1e-12 * (glm::length(tSum[i]) + 1e-300))) continue;  // none: no normal mapping here
+        t /= len;
+        // The bitangent cross(n, t)·w points up the image, towards decreasing v.
+        double w = glm::dot(glm::cross(n, t), vSum[i]) > 0.0 ? -1.0 : 1.0;
+        out[i] = glm::dvec4(t, w);
+    }
+    return out;
 }
 
 std::vector<glm::dvec3> smoothNormals(const std::vector<glm::dvec3>& positions,

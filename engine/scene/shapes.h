@@ -44,6 +44,14 @@ glm::dmat4 objectTransform(const glm::dvec3& translate, const glm::dvec3& rotate
 // counter-clockwise seen from the normal side. Precondition: m is invertible.
 void transformMesh(Mesh& mesh, const glm::dmat4& m);
 
+// Per-vertex tangents from texture coordinates (when a glTF file has none): the area-weighted
+// ∂p/∂u of the triangles around each vertex, made perpendicular to its normal; w = ±1 so that
+// cross(n, t)·w points towards decreasing v (up the image), the handedness glTF uses. A vertex
+// whose triangles have no UV area gets (0, 0, 0, 0): no normal mapping there. (Not MikkTSpace:
+// a normal map baked against MikkTSpace tangents shows small differences on curved meshes.)
+std::vector<glm::dvec4> tangentsFromUvs(const std::vector<glm::dvec3>& positions, const std::vector<glm::dvec3>& normals,
+                                        const std::vector<glm::dvec2>& uvs, const std::vector<uint32_t>& indices);
+
 // Area-weighted smooth vertex normals: each vertex gets the normalized sum of the (unnormalized)
 // cross products of the triangles that use it. A vertex no triangle with area uses gets +z.
 std::vector<glm::dvec3> smoothNormals(const std::vector<glm::dvec3>& positions,

@@ -1,0 +1,184 @@
+#include "scene/texture.h"
+
+#include "color/srgb.h"
+#include "io/spectral_exr.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <cmath>
+
+namespace metamer {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// Every texel finite; reflectance outside [0, 1] is suspicious but can be measurement noise, so
+// it is a warning with a count and the first offender (as for sampled spectra).
+void checkReflectance(const Texture& t, const Where& where) {
+    size_t outside = 0, first = 0;
+    for (size_t i = 0; i < t.texels.size(); ++i) {
+        float v = t.texels[i];
+        if (!std::isfinite(v)) {
+            size_t texel = i / t.channels;
+            failInput(where, "texture '{}': texel ({}, {}) channel {} is {}; expected a finite reflectance",
+                      t.file.string(), texel % t.width, texel / t.width, i % t.channels, v);
+        }
+        if ((v < 0.0f || v > 1.0f) && outside++ == 0) first = i;
+    }
+    if (outside > 0) {
+        size_t texel = first / t.channels;
+        warn(where, fmt::format("texture '{}': {} value(s) outside [0, 1] (first: texel ({}, {}) channel {} = {:g}); "
+                                "used as given",
+                                t.file.string(), outside, texel % t.width, texel / t.width, first % t.channels,
+                                t.texels[first]));
+    }
+}
+
+void checkSize(int width, int height, const fs::path& path, const Where& where) {
+    if (width < 1 || height < 1 || width > kMaxTextureSide || height > kMaxTextureSide)
+        failInput(where, "texture '{}' is {}×{} texels; expected 1 to {} per side", path.string(), width, height,
+                  kMaxTextureSide);
+}
+
+Texture readSpectral(const fs::path& path, const Where& where) {
+    SpectralExrImage image;
+    try {
+        image = readSpectralExrImage(path);
+    } catch (const Error& e) {
+        failInput(where, "{}", e.what());
+    }
+    if (image.component != SpectralComponent::Reflective)
+        failInput(where,
+                  "texture '{}' holds emissive channels (S0.<λ>nm: radiance); a reflectance texture has T.<λ>nm "
+                  "channels",
+                  path.string());
+    Texture t;
+    t.kind = Texture::Kind::Spectral;
+    t.file = path;
+    t.width = image.cube.width;
+    t.height = image.cube.height;
+    checkSize(t.width, t.height, path, where);
+    t.wavelengths_nm = image.cube.grid.wavelengths();
+    t.channels = int(t.wavelengths_nm.size());
+    if (t.channels < 2)
+        failInput(where, "texture '{}' has one spectral channel ({:g} nm); a reflectance spectrum needs at least two",
+                  path.string(), t.wavelengths_nm[0]);
+    t.texels = std::move(image.cube.data);
+    checkReflectance(t, where);
+    return t;
+}
+
+// Any image OpenImageIO reads, as float RGB (grey is replicated, alpha and other channels are
+// dropped), with its encoding decided.
+std::vector<float> readRgb(const fs::path& path, TextureEncoding encoding, const Where& where, int& width,
+                           int& height, bool& wasFloat) {
+    auto in = OIIO::ImageInput::open(path.string());
+    if (!in) failInput(where, "texture '{}' is not a readable image: {}", path.string(), OIIO::geterror());
+    const OIIO::ImageSpec spec = in->spec();
+    if (spec.deep) failInput(where, "texture '{}': deep images are not supported", path.string());
+    if (spec.depth > 1) failInput(where, "texture '{}': volume images are not supported", path.string());
+    checkSize(spec.width, spec.height, path, where);
+    const int n = spec.nchannels;
+    if (n != 1 && n != 3 && n != 4)
+        failInput(where, "texture '{}' has {} channels; expected 1 (grey), 3 (RGB) or 4 (RGBA)", path.string(), n);
+    width = spec.width;
+    height = spec.height;
+    wasFloat = spec.format.is_floating_point();
+    std::vector<float> raw(size_t(width) * height * n);
+    if (!in->read_image(0, 0, 0, n, OIIO::TypeDesc::FLOAT, raw.data()))
+        failInput(where, "texture '{}': cannot read pixels: {}", path.string(), in->geterror());
+    bool srgb = encoding == TextureEncoding::Srgb || (encoding == TextureEncoding::Auto && !wasFloat);
+    std::vector<float> rgb(size_t(width) * height * 3);
+    for (size_t p = 0; p < size_t(width) * height; ++p)
+        for (int c = 0; c < 3; ++c) {
+            float v = raw[p * n + (n == 1 ? 0 : c)];
+            rgb[p * 3 + c] = srgb ? float(srgbDecode(double(v))) : v;
+        }
+    return rgb;
+}
+
+}  // namespace
+
+std::vector<float> heightToNormals(const std::vector<float>& h, int w, int ht, double scale) {
+    std::vector<float> n(size_t(w) * ht * 3);
+    auto at = [&](int x, int y) { return double(h[size_t((y + ht) % ht) * w + size_t((x + w) % w)]); };
+    for (int y = 0; y < ht; ++y)
+        for (int x = 0; x < w; ++x) {
+            double dx = 0.5 * (at(x + 1, y) - at(x - 1, y));
+            double dyUp = 0.5 * (at(x, y - 1) - at(x, y + 1));  // row 0 is the top: up is −y
+            double nx = -scale * dx, ny = -scale * dyUp, nz = 1.0;
+            double len = std::sqrt(nx * nx + ny * ny + nz * nz);
+            float* o = &n[(size_t(y) * w + x) * 3];
+            o[0] = float(nx / len);
+            o[1] = float(ny / len);
+            o[2] = float(nz / len);
+        }
+    return n;
+}
+
+Texture loadTexture(const fs::path& path, TextureRole role, TextureEncoding encoding, double bumpScale,
+                    const Where& where) {
+    std::error_code ec;
+    if (!fs::exists(path, ec)) failInput(where, "texture file '{}' not found", path.string());
+    if (!fs::is_regular_file(path, ec)) failInput(where, "texture '{}' is not a file", path.string());
+
+    if (role == TextureRole::Reflectance) {
+        // A spectral EXR is recognised by its channels; anything else is an RGB image.
+        auto in = OIIO::ImageInput::open(path.string());
+        if (in && std::string(in->format_name()) == "openexr") {
+            bool spectral = false;
+            for (const auto& name : in->spec().channelnames)
+                spectral = spectral || name.rfind("T.", 0) == 0 || name.rfind("S0.", 0) == 0;
+            in->close();
+            if (spectral) {
+                if (encoding == TextureEncoding::Srgb)
+                    failInput(where, "texture '{}' is spectral; \"encoding\": \"srgb\" applies to RGB images only",
+                              path.string());
+                return readSpectral(path, where);
+            }
+        }
+    }
+
+    Texture t;
+    t.file = path;
+    bool wasFloat = false;
+    // Normal and height maps are data, never sRGB-encoded, whatever the file type.
+    TextureEncoding e = role == TextureRole::Reflectance ? encoding : TextureEncoding::Linear;
+    if (role != TextureRole::Reflectance && encoding == TextureEncoding::Srgb)
+        failInput(where, "texture '{}': a {} map is data and is read linearly; remove \"encoding\"", path.string(),
+                  role == TextureRole::Normal ? "normal" : "bump");
+    std::vector<float> rgb = readRgb(path, e, where, t.width, t.height, wasFloat);
+    t.channels = 3;
+    if (role == TextureRole::Reflectance) {
+        t.kind = Texture::Kind::Rgb;
+        t.texels = std::move(rgb);
+        checkReflectance(t, where);
+        return t;
+    }
+    for (size_t i = 0; i < rgb.size(); ++i)
+        if (!std::isfinite(rgb[i]))
+            failInput(where, "texture '{}': texel ({}, {}) is not finite", path.string(), (i / 3) % t.width,
+                      (i / 3) / t.width);
+    t.kind = Texture::Kind::Normal;
+    if (role == TextureRole::Height) {
+        std::vector<float> h(size_t(t.width) * t.height);
+        for (size_t p = 0; p < h.size(); ++p) h[p] = rgb[p * 3];  // the first (or only) channel
+        t.texels = heightToNormals(h, t.width, t.height, bumpScale);
+        return t;
+    }
+    // Normal map: stored as (n + 1)/2; decoded and renormalized here, so that the renderers only
+    // interpolate and renormalize. A texel that decodes to (almost) zero is the unperturbed normal.
+    t.texels.resize(rgb.size());
+    for (size_t p = 0; p < rgb.size(); p += 3) {
+        double x = 2.0 * rgb[p] - 1.0, y = 2.0 * rgb[p + 1] - 1.0, z = 2.0 * rgb[p + 2] - 1.0;
+        double len = std::sqrt(x * x + y * y + z * z);
+        if (!(len > 1e-6)) x = 0, y = 0, z = 1, len = 1;
+        t.texels[p] = float(x / len);
+        t.texels[p + 1] = float(y / len);
+        t.texels[p + 2] = float(z / len);
+    }
+    return t;
+}
+
+}  // namespace metamer

@@ -1,0 +1,38 @@
+// Texture files of a material (docs/scene-format.md, "Textures"): reflective spectral EXRs, RGB
+// images and normal or bump maps, read into a Texture (scene/scene.h). Resampling onto the render
+// grid and RGB up-sampling happen later, in scene/scene_on_grid.
+#pragma once
+
+#include "core/error.h"
+#include "scene/scene.h"
+
+#include <filesystem>
+
+namespace metamer {
+
+enum class TextureRole {
+    Reflectance,  // diffuse or specular: a spectral EXR (T.<λ>nm channels) or an RGB image
+    Normal,       // a tangent-space normal map: RGB = (n + 1)/2, +y up the image (glTF's convention)
+    Height,       // a bump map: one channel of height in [0, 1], turned into a normal map
+};
+
+enum class TextureEncoding {
+    Auto,    // sRGB for 8- and 16-bit integer files (PNG, JPEG, TIFF), linear for float files (EXR)
+    Srgb,    // the sRGB transfer function (IEC 61966-2-1) is removed on load
+    Linear,  // values are linear reflectance as stored
+};
+
+// Largest texture side, texels (larger files are refused with their size).
+constexpr int kMaxTextureSide = 16384;
+
+// Reads `path` for `role`. `bumpScale` (Height only) is the height difference, in texel widths,
+// that a value step of 1 in the file stands for: the bump's slope is bumpScale × the value's
+// central difference per texel. Input errors name `where` (the scene key) and the file.
+Texture loadTexture(const std::filesystem::path& path, TextureRole role, TextureEncoding encoding,
+                    double bumpScale, const Where& where);
+
+// A height field (width × height values, row 0 at the top, repeating at the edges) turned into
+// tangent-space unit normals: n ∝ (−s·∂h/∂x, s·∂h/∂y_up, 1) with central differences per texel.
+std::vector<float> heightToNormals(const std::vector<float>& height, int width, int height_px, double scale);
+
+}  // namespace metamer
