@@ -38,7 +38,7 @@ constexpr double kCentre = 0.5 * (RgbUpsampler::kFitMinNm + RgbUpsampler::kFitMa
 constexpr double kHalfWidth = 0.5 * (RgbUpsampler::kFitMaxNm - RgbUpsampler::kFitMinNm);
 
 // Bump when the table's meaning changes (weights, model, layout); old files are then rebuilt.
-constexpr std::uint32_t kFormatVersion = 1;
+constexpr std::uint32_t kFormatVersion = 2;
 constexpr char kMagic[8] = {'M', 'T', 'R', 'G', 'B', 'S', 'I', 'G'};
 
 // CIE 15:2004 constants of CIELAB, as color/lab.cpp writes them.
@@ -485,6 +485,16 @@ RgbUpsampler RgbUpsampler::build(const SpectrumLibrary& library, int resolution,
     };
     runPhase(worker);
     runPhase(columnWorker);
+    // The z = 0 layer is black whatever x and y say. Its fits converge (L* → 0), but only the
+    // visible part goes to 0: past 780 nm, where D65 is 0, the solver leaves the spectrum free
+    // and some nodes rose to ρ = 1 at 830 nm. Store the exact black instead.
+    for (int l = 0; l < 3; ++l)
+        for (int yi = 0; yi < res; ++yi)
+            for (int xi = 0; xi < res; ++xi) {
+                double* out = &up.table_[up.offset(l, xi, yi, 0)];
+                const glm::dvec3 black = nmToU(kBlack);
+                out[0] = black[0], out[1] = black[1], out[2] = black[2];
+            }
 
     up.source_ = "built in memory";
     if (stats) {

@@ -277,7 +277,13 @@ TEST(RgbUpsampling, EveryTableSpectrumIsBoundedAndEveryNodeMatchesItsColour) {
                     }
                     ASSERT_GE(lo, 0.0);
                     ASSERT_LE(hi, 1.0);
-                    if (lo > 0.0 && hi < 1.0) ++open;
+                    if (zi == 0) {
+                        ASSERT_EQ(hi, 0.0);  // the black layer is exactly black
+                    } else {
+                        ASSERT_GT(lo, 0.0);
+                        ASSERT_LT(hi, 1.0);
+                        ++open;
+                    }
                     ++nodes;
                     // The colour of every 7th node (the full check takes seconds).
                     if ((xi + 3 * yi + 5 * zi + l) % 7 == 0) {
@@ -289,6 +295,7 @@ TEST(RgbUpsampling, EveryTableSpectrumIsBoundedAndEveryNodeMatchesItsColour) {
     // Conversion to nm coefficients and back costs a little precision: ΔE*ab 1e-6 at a node
     // becomes a few 1e-6 here.
     EXPECT_LT(worst, 1e-4);
+    EXPECT_EQ(open, nodes - 3L * res * res);
     std::printf("nodes: %ld, spectra strictly inside (0, 1): %ld; largest node ΔE*ab %.2e\n", nodes, open, worst);
 }
 
