@@ -1,5 +1,6 @@
 #include "scene/scene_json.h"
 
+#include "scene/gltf_material.h"
 #include "scene/gltf_mesh.h"
 #include "scene/overrides.h"
 #include "scene/readable_paths.h"
@@ -309,13 +310,14 @@ public:
                 readMaterial(it.key(), it.value(), mw.child(it.key()));
         }
         used_.assign(scene_.materials.size(), false);
+        declaredMaterials_ = scene_.materials.size();
         if (const Json* o = find(doc, "objects")) {
             const Json& objects = asArray(*o, root.child("objects"));
             for (size_t i = 0; i < objects.size(); ++i) readObject(objects[i], root.child("objects").index(i));
         }
         if (scene_.lights.empty()) warn(root.child("lights"), "the scene has no lights; it will render black");
         if (scene_.meshes.empty()) warn(root.child("objects"), "the scene has no objects");
-        for (size_t i = 0; i < used_.size(); ++i)
+        for (size_t i = 0; i < declaredMaterials_; ++i)
             if (!used_[i]) warn(root.child("materials").child(scene_.materials[i].name), "material is not used by any object");
         return std::move(scene_);
     }
@@ -528,6 +530,60 @@ private:
     };
     std::vector<TextureKey> textureKeys_;
 
+    // The scene material for a glTF material: one of the scene's own with the same name (an
+    // override), else the glTF material converted (scene/gltf_material.h), made once per file and
+    // material.
+    uint32_t gltfMaterialRef(const GltfModel& model, uint32_t index, const fs::path& path, const Where& w) {
+        GltfMaterial g;  // glTF's default material when a primitive names none
+        if (index != kNoGltfMaterial) g = model.materials[index];
+        else g.name = "gltf-default";
+        for (size_t i = 0; i < declaredMaterials_; ++i)
+            if (scene_.materials[i].name == g.name) {
+                used_[i] = true;
+                return uint32_t(i);
+            }
+        for (const auto& c : converted_)
+            if (c.path == path && c.index == index) return c.material;
+        const RgbUpsampler& up = RgbUpsampler::srgb(lib_);
+        Where mw = w.child(fmt::format("materials.{}", g.name));
+        Material m = materialFromGltf(g, up, mw);
+        if (g.baseColorTexture) {
+            readable_.check(*g.baseColorTexture, w, "texture file", g.baseColorTexture->string());
+            Texture tex = loadTexture(*g.baseColorTexture, TextureRole::Reflectance, TextureEncoding::Srgb, 1.0, mw);
+            if (tex.kind == Texture::Kind::Rgb)  // glTF: base colour = factor × texel, in linear RGB
+                for (size_t p = 0; p < tex.texels.size(); p += 3)
+                    for (int c = 0; c < 3; ++c) tex.texels[p + c] *= float(g.baseColorFactor[c]);
+            tex.where = mw;
+            scene_.textures.push_back(std::move(tex));
+            m.textures.diffuse = int(scene_.textures.size() - 1);
+        }
+        if (g.normalTexture) {
+            readable_.check(*g.normalTexture, w, "texture file", g.normalTexture->string());
+            Texture tex = loadTexture(*g.normalTexture, TextureRole::Normal, TextureEncoding::Auto, 1.0, mw);
+            // normalTexture.scale multiplies the map's x and y before renormalizing.
+            for (size_t p = 0; p < tex.texels.size(); p += 3) {
+                glm::dvec3 n(tex.texels[p] * g.normalScale, tex.texels[p + 1] * g.normalScale, tex.texels[p + 2]);
+                n = glm::length(n) > 0.0 ? glm::normalize(n) : glm::dvec3(0, 0, 1);
+                for (int c = 0; c < 3; ++c) tex.texels[p + c] = float(n[c]);
+            }
+            tex.where = mw;
+            scene_.textures.push_back(std::move(tex));
+            m.textures.normal = int(scene_.textures.size() - 1);
+        }
+        scene_.materials.push_back(std::move(m));
+        used_.push_back(true);
+        uint32_t added = uint32_t(scene_.materials.size() - 1);
+        converted_.push_back({path, index, added});
+        return added;
+    }
+    struct ConvertedMaterial {
+        fs::path path;
+        uint32_t index;
+        uint32_t material;
+    };
+    std::vector<ConvertedMaterial> converted_;
+    size_t declaredMaterials_ = 0;  // materials from the scene's "materials" (the rest come from glTF files)
+
     uint32_t materialRef(const Json& obj, const Where& w) {
         Where mw = w.child("material");
         std::string name = string(require(obj, w, "material", "a material name"), mw);
@@ -559,7 +615,14 @@ private:
             if (given.empty()) failInput(w.child("mesh"), "expected a glTF file name, got an empty string");
             fs::path path = (dir_ / given).lexically_normal();
             readable_.check(path, w.child("mesh"), "mesh file", given);
-            out = loadGltfMesh(path, w.child("mesh"), &readable_);
+            // Without "material" the file's own materials are used (each overridable by a scene
+            // material of the same name); with it, the whole mesh takes that material.
+            const bool ownMaterials = !find(v, "material");
+            GltfModel model;
+            if (ownMaterials)
+                model = loadGltf(path, w.child("mesh"), &readable_);
+            else
+                out = loadGltfMesh(path, w.child("mesh"), &readable_);
             glm::dvec3 t(0.0), r(0.0), s(1.0);
             if (const Json* x = find(v, "translate")) t = vector<3>(*x, w.child("translate"));
             if (const Json* x = find(v, "rotate_deg")) r = vector<3>(*x, w.child("rotate_deg"));
@@ -572,6 +635,23 @@ private:
                 else
                     failInput(sw, "expected a number or an array of 3 numbers, got {}", describe(*x));
                 if (!(s.x > 0 && s.y > 0 && s.z > 0)) failInput(sw, "scale factors must be > 0");
+            }
+            if (ownMaterials) {
+                for (Mesh& part : model.meshes) {
+                    transformMesh(part, objectTransform(t, r, s));
+                    part.name = w.key + " (" + given + ")";
+                    for (size_t i = 0; i < part.positions.size(); ++i)
+                        if (!isFinite(part.positions[i]) || !isFinite(part.normals[i]))
+                            failInput(w, "the object's geometry is not finite: its position, size or scale is too "
+                                         "large or too small for double precision");
+                    part.material = gltfMaterialRef(model, part.material, path, w.child("mesh"));
+                    if (scene_.materials[part.material].textures.any() && part.uvs.empty())
+                        failInput(w.child("mesh"),
+                                  "mesh file '{}': a primitive with material '{}' has textures but no TEXCOORD_0",
+                                  given, scene_.materials[part.material].name);
+                    scene_.meshes.push_back(std::move(part));
+                }
+                return;
             }
             transformMesh(out, objectTransform(t, r, s));
             out.name = w.key + " (" + given + ")";
