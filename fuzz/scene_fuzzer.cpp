@@ -5,7 +5,7 @@
 // An empty SCENE (the input starts with \0) stands for scenes/spheres.json, so that overrides are
 // fuzzed against a scene that loads. Library names resolve in the real spectra library; relative
 // paths resolve in a private temporary folder holding copies of the test fixtures (local.csv,
-// bad.csv, cube.gltf, cube.glb, strip.gltf, ...) and of scenes/assets/, so the paths the seeds
+// bad.csv, cube.gltf, cube.glb, strip.gltf, ...) and of scenes/assets/ (meshes, buffers, textures), so the paths the seeds
 // name exist. A scene that loads is then resampled onto its grid, as both renderers do next.
 // Input errors (metamer::Error) are expected; anything else is a finding.
 #include "fuzz_support.h"
@@ -46,7 +46,7 @@ Fixture& fixture() {
             if (e.is_regular_file() && e.path().extension() != ".py") fs::copy(e.path(), dir / e.path().filename(), copy);
         fs::create_directories(dir / "assets");
         for (const auto& e : fs::directory_iterator(src / "scenes" / "assets"))
-            if (e.path().extension() == ".gltf") fs::copy(e.path(), dir / "assets" / e.path().filename(), copy);
+            if (e.path().extension() != ".py") fs::copy(e.path(), dir / "assets" / e.path().filename(), copy);
         return Fixture{dir / "fuzz.json", SpectrumLibrary(), readText(src / "scenes" / "spheres.json")};
     }();
     return f;
