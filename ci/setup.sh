@@ -12,7 +12,7 @@ packages=(
   glslang-tools spirv-tools
   libglm-dev libfmt-dev nlohmann-json3-dev libcli11-dev libtinygltf-dev
   libopenimageio-dev openimageio-tools
-  libglfw3-dev xvfb fonts-dejavu-core
+  libglfw3-dev libimgui-dev xvfb fonts-dejavu-core
   libgtest-dev
   clang libclang-rt-14-dev
   python3 python3-venv python3-pip python3-openimageio python3-numpy

@@ -2,6 +2,7 @@
 // per error, map errors to exit codes (README.md, "Exit codes").
 #include "app/bench_command.h"    // metamer bench
 #include "app/compare_command.h"  // metamer compare
+#include "app/preview_command.h"  // metamer preview
 #include "core/error.h"
 #include "io/atomic_file.h"
 #include "render/render_job.h"
@@ -183,6 +184,11 @@ int main(int argc, char** argv) {
     auto* bench = addBenchCommand(app, benchArgs);
     // --- end metamer bench
 
+    // --- metamer preview (engine/app/preview_command.cpp, docs/preview.md)
+    PreviewArgs previewArgs;
+    auto* preview = addPreviewCommand(app, previewArgs);
+    // --- end metamer preview
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
@@ -200,6 +206,7 @@ int main(int argc, char** argv) {
         if (devices->parsed()) return listDevices();
         if (compare->parsed()) return runCompare(compareArgs);  // metamer compare
         if (bench->parsed()) return runBenchCommand(benchArgs);  // metamer bench
+        if (preview->parsed()) return runPreviewCommand(previewArgs);  // metamer preview
 
         job.backend = backend == "cpu" ? Backend::Cpu : Backend::Gpu;
         job.readback = readback == "map" ? Readback::Map : readback == "copy" ? Readback::Copy : Readback::Auto;

@@ -17,6 +17,7 @@ enum class ExitCode : int {
     Failure = 1,    // a runtime failure that is not the user's input (I/O error, driver error)
     BadInput = 2,   // the scene, a spectrum file or the command line is wrong
     NoDevice = 3,   // no usable Vulkan device
+    NoDisplay = 4,  // `metamer preview`: no display to open a window on (no DISPLAY, GLFW cannot start)
 };
 
 // Where in the user's input something went wrong. Any field may be empty.

@@ -1,0 +1,98 @@
+#include "app/preview_command.h"
+
+#include "core/error.h"
+#include "preview/preview.h"
+
+#include <cstdio>
+
+namespace metamer {
+
+CLI::App* addPreviewCommand(CLI::App& app, PreviewArgs& a) {
+    auto* c = app.add_subcommand("preview",
+                                 "open a window with the scene's display image and live controls (docs/preview.md)");
+    c->add_option("scene", a.scene, "scene file (JSON, docs/scene-format.md)")->required();
+    c->add_option("--set", a.overrides, "override a scene value: KEY=VALUE, e.g. lights.0.spectrum=illuminants/A")
+        ->take_all();
+    c->add_option("--split", a.split,
+                  "show a second view to the right with this change: KEY=VALUE (a --set), or detector=, adapt=, "
+                  "display=, mode=, grid=")
+        ->take_all();
+    c->add_option("--grid", a.grid, "spectral grid START:END:STEP in nm (overrides the scene)");
+    c->add_option("--mode", a.mode, "representation: full (default), rgb, ac1c2[:N], linear:K")->capture_default_str();
+    c->add_option("--detector", a.detector, "cie1931, cie1964, camera:<name> or film:<name>");
+    c->add_option("--adapt", a.adapt, "chromatic adaptation: none, vonkries-xyz, vonkries, bradford, cat02, cat16");
+    c->add_option("--display", a.display, "display model: srgb or crt");
+    c->add_option("--bits", a.bits, "display counts of saved PNGs: 8 or 16 (the window shows 8)")
+        ->check(CLI::IsMember({8, 16}));
+    c->add_option("--integration", a.integration, "riemann (default) or trapezoid");
+    c->add_option("--ssaa", a.ssaa, "supersampling: N×N samples per pixel (1-4)")->check(CLI::Range(1, 4));
+    c->add_option("--frames", a.frames,
+                  "render N frames without waiting for input, print the median frame time and close")
+        ->check(CLI::Range(1, 100000));
+    c->add_option("--screenshot", a.screenshot,
+                  "write the last frame's view region(s) as shown, an 8-bit PNG at the scene's size");
+    c->add_option("--window-screenshot", a.windowScreenshot, "write the last frame's whole window, UI included");
+    c->add_option("--probe", a.probe, "probe pixel X,Y (row 0 at the top), as if the cursor were there");
+    c->add_option("--pin", a.pin, "pin the second probe at pixel X,Y");
+    c->add_option("--out,-o", a.out, "folder that Save (S) writes into")->capture_default_str();
+    c->add_flag("--save", a.save, "save each view's cube and PNG when the window closes");
+    c->add_flag("--no-watch", a.noWatch, "do not reload the scene file when it changes on disk");
+    c->add_flag("--validation", a.validation, "enable Vulkan validation layers; any error fails the run");
+    c->add_option("--device", a.device, "Vulkan device index or name substring (default: best; env METAMER_DEVICE)");
+    c->add_flag("--verbose,-v", a.verbose, "print the chosen device");
+    c->add_flag("--allow-outside-paths", a.allowOutsidePaths,
+                "let the scene read files outside its own folder tree and the spectra library");
+    return c;
+}
+
+int runPreviewCommand(const PreviewArgs& a) {
+    preview::PreviewOptions o;
+    RenderJob& job = o.job;
+    job.scene = a.scene;
+    job.overrides = a.overrides;
+    if (!a.grid.empty()) job.grid = Grid::parse(a.grid, Where{"", "--grid"});
+    job.mode = a.mode;
+    if (!a.detector.empty()) job.detector = a.detector;
+    if (!a.adapt.empty()) job.adaptation = a.adapt;
+    if (!a.display.empty()) job.display = a.display;
+    if (!a.integration.empty()) job.integration = a.integration;
+    if (a.bits) job.bits = a.bits;
+    job.ssaa = a.ssaa;
+    job.validation = a.validation;
+    job.device = a.device;
+    job.verbose = a.verbose;
+    job.allowOutsidePaths = a.allowOutsidePaths;
+    o.split = a.split;
+    o.frames = a.frames;
+    o.screenshot = a.screenshot;
+    o.windowScreenshot = a.windowScreenshot;
+    o.outDir = a.out;
+    o.saveAtEnd = a.save;
+    if (!a.probe.empty()) o.probe = preview::parsePixel(a.probe, "--probe");
+    if (!a.pin.empty()) o.pin = preview::parsePixel(a.pin, "--pin");
+    o.watch = !a.noWatch;
+
+    preview::PreviewReport r = preview::runPreview(o);
+    if (r.frames > 0) {
+        std::printf("preview: %d×%d px, %d bands, on %s (present mode %s)\n", r.width, r.height, r.bands,
+                    r.device.c_str(), r.presentMode.c_str());
+        std::printf("%s\n", r.views.c_str());
+        std::printf("frames: %d; first frame %.1f ms (includes shader compilation)", r.frames, r.first_ms);
+        if (r.frames > 1)
+            std::printf("; median of the other %d: %.1f ms per frame (shading %.1f, tonemap %.1f, probe %.1f, "
+                        "present %.1f)",
+                        r.frames - 1, r.median_ms, r.medianShading_ms, r.medianTonemap_ms, r.medianProbe_ms,
+                        r.medianPresent_ms);
+        std::printf("\n");
+    }
+    for (const auto& p : r.probes) std::printf("%s\n", p.c_str());
+    for (const auto& w : r.written) std::printf("wrote %s (%s)\n", w.first.c_str(), w.second.c_str());
+    for (const auto& n : r.notes) std::printf("note: %s\n", n.c_str());
+    if (r.validationErrors) {
+        std::fprintf(stderr, "metamer: %u Vulkan validation error(s) (see above)\n", r.validationErrors);
+        return int(ExitCode::Failure);
+    }
+    return 0;
+}
+
+}  // namespace metamer

@@ -1,0 +1,30 @@
+// `metamer preview SCENE`: the interactive spectral preview window (engine/preview,
+// docs/preview.md). Registered on the main CLI11 app by main.cpp; errors are thrown as
+// metamer::Error and mapped to exit codes there (no display: exit 4).
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <string>
+#include <vector>
+
+namespace metamer {
+
+struct PreviewArgs {
+    std::string scene;
+    std::vector<std::string> overrides, split;
+    std::string grid, mode = "full", detector, adapt, display, integration;
+    int bits = 0, ssaa = 1, frames = 0;
+    std::string screenshot, windowScreenshot, out = "out", probe, pin;
+    bool save = false, noWatch = false, validation = false, verbose = false, allowOutsidePaths = false;
+    std::string device;
+};
+
+// Adds the `preview` subcommand to `app`, filling `args` when parsed.
+CLI::App* addPreviewCommand(CLI::App& app, PreviewArgs& args);
+
+// Opens the window (until it is closed, or for --frames N frames), prints the figures and what
+// was written; returns 0, or 1 when the validation layers reported errors.
+int runPreviewCommand(const PreviewArgs& args);
+
+}  // namespace metamer

@@ -1,0 +1,89 @@
+// The pieces of the preview that need no window: --set/--split bookkeeping, the grid-step
+// choices, pixel arguments and the file watch.
+#include "preview/file_watch.h"
+#include "preview/preview.h"
+#include "preview/settings_panel.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <unistd.h>
+
+using namespace metamer;
+using namespace metamer::preview;
+namespace fs = std::filesystem;
+
+TEST(PreviewSettings, AnEditedOverrideReplacesTheEarlierOneAndComesLast) {
+    std::vector<std::string> o = {"lights.0.scale=2", "camera.width=64"};
+    setOverride(o, "lights.0.scale", "3");
+    EXPECT_EQ(o, (std::vector<std::string>{"camera.width=64", "lights.0.scale=3"}));
+    setOverride(o, "lights.0.spectrum", "illuminants/A");
+    EXPECT_EQ(o.back(), "lights.0.spectrum=illuminants/A");
+    EXPECT_EQ(o.size(), 3u);
+    setOverride(o, "lights.0", "{}");  // a prefix of other keys is its own key
+    EXPECT_EQ(o.size(), 4u);
+}
+
+TEST(PreviewSettings, GridStepKeepsTheStartAndTheLastWholeBand) {
+    Grid g{380, 780, 5};
+    EXPECT_EQ(gridWithStep(g, 20), (Grid{380, 780, 20}));
+    EXPECT_EQ(gridWithStep(g, 50), (Grid{380, 780, 50}));
+    Grid three = gridWithStep(g, 3);  // 400 nm is not a whole number of 3 nm steps
+    EXPECT_EQ(three.end_nm, 779.0);
+    EXPECT_NO_THROW(three.validate(Where{}));
+    EXPECT_EQ(gridWithStep(Grid{300, 740, 5}, 0.5).bands(), 881);
+}
+
+TEST(PreviewSettings, SplitSettingsSetDisplayFieldsOrSceneOverrides) {
+    RenderJob left;
+    left.overrides = {"lights.0.spectrum=illuminants/D65"};
+    RenderJob right = splitJob(left, {"lights.0.spectrum=illuminants/A", "detector=cie1964", "adapt=cat16",
+                                      "display=crt", "mode=rgb", "grid=400:700:10"});
+    EXPECT_EQ(right.overrides, (std::vector<std::string>{"lights.0.spectrum=illuminants/A"}));
+    EXPECT_EQ(*right.detector, "cie1964");
+    EXPECT_EQ(*right.adaptation, "cat16");
+    EXPECT_EQ(*right.display, "crt");
+    EXPECT_EQ(right.mode, "rgb");
+    EXPECT_EQ(*right.grid, (Grid{400, 700, 10}));
+    try {
+        splitJob(left, {"no-equals-sign"});
+        FAIL();
+    } catch (const Error& e) {
+        EXPECT_EQ(e.code(), ExitCode::BadInput);
+        EXPECT_EQ(e.where().key, "--split");
+    }
+}
+
+TEST(PreviewSettings, PixelArguments) {
+    EXPECT_EQ(parsePixel("12,34", "--probe"), glm::ivec2(12, 34));
+    for (const char* bad : {"12", "12,", "a,b", "-1,3", "1,2,3", "1,2x"}) {
+        try {
+            parsePixel(bad, "--pin");
+            ADD_FAILURE() << bad;
+        } catch (const Error& e) {
+            EXPECT_EQ(e.code(), ExitCode::BadInput);
+            EXPECT_EQ(e.where().key, "--pin");
+        }
+    }
+}
+
+TEST(PreviewSettings, FileWatchSeesAChangeOnceAndAReplacedFile) {
+    fs::path dir = fs::temp_directory_path() / ("metamer_watch_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    fs::path f = dir / "scene.json";
+    std::ofstream(f) << "{}";
+    FileWatch w(f, 0.0);
+    EXPECT_FALSE(w.changed());
+    std::ofstream(f) << "{\"a\": 1}";  // a different size
+    EXPECT_TRUE(w.changed());
+    EXPECT_FALSE(w.changed());
+    // Replaced by rename, as editors save: a new time (set explicitly; file times are coarse).
+    fs::path tmp = dir / "scene.json.tmp";
+    std::ofstream(tmp) << "{\"a\": 2}";
+    fs::last_write_time(tmp, fs::last_write_time(f) + std::chrono::seconds(2));
+    fs::rename(tmp, f);
+    EXPECT_TRUE(w.changed());
+    fs::remove(f);  // missing for a moment: no change reported yet
+    EXPECT_FALSE(w.changed());
+    fs::remove_all(dir);
+}

@@ -1,0 +1,149 @@
+#include "preview/settings_panel.h"
+
+#include "color/detector.h"
+
+#include <imgui.h>
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace metamer::preview {
+
+namespace {
+
+// A combo over `items`; `current` is listed first when it is not among them. Returns the new
+// choice, or "" when nothing was chosen.
+std::string combo(const char* label, const std::string& current, const std::vector<std::string>& items) {
+    std::string chosen;
+    if (ImGui::BeginCombo(label, current.c_str())) {
+        std::vector<std::string> all = items;
+        if (std::find(all.begin(), all.end(), current) == all.end()) all.insert(all.begin(), current);
+        for (const auto& item : all)
+            if (ImGui::Selectable(item.c_str(), item == current) && item != current) chosen = item;
+        ImGui::EndCombo();
+    }
+    return chosen;
+}
+
+const char* lightType(Light::Type t) {
+    switch (t) {
+        case Light::Type::Ambient: return "ambient";
+        case Light::Type::Directional: return "directional";
+        case Light::Type::Point: return "point";
+    }
+    return "?";
+}
+
+}  // namespace
+
+void setOverride(std::vector<std::string>& overrides, const std::string& key, const std::string& value) {
+    std::string prefix = key + "=";
+    auto it = std::find_if(overrides.begin(), overrides.end(),
+                           [&](const std::string& o) { return o.rfind(prefix, 0) == 0; });
+    if (it != overrides.end()) {
+        // Later overrides win: move the edited one to the end.
+        overrides.erase(it);
+    }
+    overrides.push_back(prefix + value);
+}
+
+Grid gridWithStep(const Grid& grid, double step_nm) {
+    Grid g = grid;
+    g.step_nm = step_nm;
+    double k = std::floor((grid.end_nm - grid.start_nm) / step_nm + 1e-9);
+    g.end_nm = grid.start_nm + std::max(0.0, k) * step_nm;
+    return g;
+}
+
+SettingsPanel::SettingsPanel(const SpectrumLibrary& library) {
+    for (const auto& n : library.names())
+        if (n.rfind("illuminants/", 0) == 0) lightSpectra_.push_back(n);
+    detectors_ = detectorNames(library);
+}
+
+bool SettingsPanel::draw(const View& view, RenderJob& job) {
+    job = view.job();
+    bool changed = false;
+    const Scene& scene = view.scene();
+    const TonemapPlan& plan = view.plan();
+
+    if (ImGui::CollapsingHeader("Lights", ImGuiTreeNodeFlags_DefaultOpen)) {
+        for (size_t i = 0; i < scene.lights.size(); ++i) {
+            const Light& light = scene.lights[i];
+            ImGui::PushID(int(i));
+            ImGui::Text("%s (%s)", light.name.c_str(), lightType(light.type));
+            std::string pick = combo("spectrum", light.spectrum.spectrum.source, lightSpectra_);
+            if (!pick.empty()) {
+                setOverride(job.overrides, light.name + ".spectrum", pick);
+                changed = true;
+            }
+            double scale = light.scale;
+            ImGui::SetNextItemWidth(ImGui::GetContentRegionAvail().x * 0.45f);
+            if (ImGui::InputDouble("scale", &scale, 0.0, 0.0, "%.6g", ImGuiInputTextFlags_EnterReturnsTrue) &&
+                scale != light.scale) {
+                setOverride(job.overrides, light.name + ".scale", fmt::format("{:.9g}", scale));
+                changed = true;
+            }
+            ImGui::SameLine();
+            if (ImGui::SmallButton("\u00d7\u00bd")) {  // ×½
+                setOverride(job.overrides, light.name + ".scale", fmt::format("{:.9g}", light.scale * 0.5));
+                changed = true;
+            }
+            ImGui::SameLine();
+            if (ImGui::SmallButton("\u00d72")) {  // ×2
+                setOverride(job.overrides, light.name + ".scale", fmt::format("{:.9g}", light.scale * 2.0));
+                changed = true;
+            }
+            ImGui::PopID();
+        }
+        if (scene.lights.empty()) ImGui::TextDisabled("the scene has no lights");
+    }
+
+    if (ImGui::CollapsingHeader("Detector and display", ImGuiTreeNodeFlags_DefaultOpen)) {
+        std::string pick = combo("detector", plan.detector.name, detectors_);
+        if (!pick.empty()) {
+            job.detector = pick;
+            changed = true;
+        }
+        static const std::vector<std::string> adaptations = {"none", "vonkries-xyz", "vonkries", "bradford", "cat02",
+                                                             "cat16"};
+        pick = combo("adaptation", adaptationName(plan.settings.adaptation), adaptations);
+        if (!pick.empty()) {
+            job.adaptation = pick;
+            changed = true;
+        }
+        static const std::vector<std::string> displays = {"srgb", "crt"};
+        pick = combo("display", plan.settings.display, displays);
+        if (!pick.empty()) {
+            job.display = pick;
+            changed = true;
+        }
+    }
+
+    if (ImGui::CollapsingHeader("Spectra", ImGuiTreeNodeFlags_DefaultOpen)) {
+        static const std::vector<std::string> modes = {"full",    "rgb",      "ac1c2:3",  "ac1c2:4",
+                                                       "ac1c2:6", "ac1c2:8",  "linear:3", "linear:6",
+                                                       "linear:9", "linear:12"};
+        std::string pick = combo("mode", view.loaded().representation.mode.name(), modes);
+        if (!pick.empty()) {
+            job.mode = pick;
+            changed = true;
+        }
+        const Grid& grid = scene.grid;
+        static const std::vector<double> steps = {0.5, 1, 2, 5, 10, 20, 50};
+        std::vector<std::string> stepNames;
+        for (double s : steps) stepNames.push_back(fmt::format("{:g} nm", s));
+        pick = combo("grid step", fmt::format("{:g} nm", grid.step_nm), stepNames);
+        if (!pick.empty()) {
+            double step = std::stod(pick);
+            job.grid = gridWithStep(grid, step);
+            changed = true;
+        }
+        ImGui::TextDisabled("%d bands, %g–%g nm", grid.bands(), grid.start_nm, grid.end_nm);
+    }
+    return changed;
+}
+
+}  // namespace metamer::preview

@@ -1,0 +1,34 @@
+// The live controls of one view: each light's spectrum (from the library) and scale, the detector,
+// chromatic adaptation, display model, representation mode and grid step. They edit a copy of
+// the view's RenderJob; the session hands the edited job to View::update(), which re-renders.
+#pragma once
+
+#include "preview/view.h"
+#include "spectral/library.h"
+
+#include <string>
+#include <vector>
+
+namespace metamer::preview {
+
+// Sets KEY=VALUE in `overrides`, replacing an earlier override of the same key (so repeated
+// edits do not pile up) or appending it.
+void setOverride(std::vector<std::string>& overrides, const std::string& key, const std::string& value);
+
+// The grid step's choices: the grid from `grid.start_nm` with this step, ending at the last band
+// centre that is not past `grid.end_nm`.
+Grid gridWithStep(const Grid& grid, double step_nm);
+
+class SettingsPanel {
+public:
+    explicit SettingsPanel(const SpectrumLibrary& library);
+    // Draws the controls for `view` into the current ImGui window. Returns true when the user
+    // changed something; `job` then holds the new settings (a copy of view.job() with the edit).
+    bool draw(const View& view, RenderJob& job);
+
+private:
+    std::vector<std::string> lightSpectra_;  // library illuminants
+    std::vector<std::string> detectors_;
+};
+
+}  // namespace metamer::preview

@@ -1,0 +1,41 @@
+// The preview's window: GLFW with no client API (Vulkan draws into it), its Vulkan surface and
+// its input. No display (no DISPLAY, or GLFW cannot start) is Error(ExitCode::NoDisplay).
+#pragma once
+
+#include <vulkan/vulkan.h>
+
+#include <string>
+#include <vector>
+
+struct GLFWwindow;
+
+namespace metamer::preview {
+
+class Window {
+public:
+    // Opens a hidden width × height window (screen coordinates); show() maps it.
+    Window(int width, int height, const std::string& title);
+    ~Window();
+    Window(const Window&) = delete;
+    Window& operator=(const Window&) = delete;
+
+    GLFWwindow* handle() const { return window_; }
+    // The instance extensions GLFW needs to make a surface (VK_KHR_surface and the platform's).
+    std::vector<std::string> requiredInstanceExtensions() const;
+    VkSurfaceKHR createSurface(VkInstance instance) const;
+
+    void show();
+    void resize(int width, int height);
+    bool closeRequested() const;
+    void requestClose();
+    // Framebuffer size in pixels (what the swapchain must match); 0 × 0 while minimized.
+    VkExtent2D framebufferSize() const;
+    // Framebuffer pixels per screen coordinate (mouse positions are in screen coordinates).
+    float pixelScale() const;
+    void setTitle(const std::string& title);
+
+private:
+    GLFWwindow* window_ = nullptr;
+};
+
+}  // namespace metamer::preview
