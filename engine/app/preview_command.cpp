@@ -77,6 +77,8 @@ int runPreviewCommand(const PreviewArgs& a) {
         std::printf("preview: %d×%d px, %d bands, on %s (present mode %s)\n", r.width, r.height, r.bands,
                     r.device.c_str(), r.presentMode.c_str());
         std::printf("%s\n", r.views.c_str());
+        std::printf("views built in %.0f ms (scene, spectra, display plan, GPU passes: the cost of a light, mode "
+                    "or grid change)\n", r.build_ms);
         std::printf("frames: %d; first frame %.1f ms (includes shader compilation)", r.frames, r.first_ms);
         if (r.frames > 1)
             std::printf("; median of the other %d: %.1f ms per frame (shading %.1f, tonemap %.1f, probe %.1f, "

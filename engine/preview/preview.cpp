@@ -103,6 +103,8 @@ private:
     bool statusError_ = false;
     // Last frame's figures, for the panel.
     double frame_ms_ = 0, shading_ms_ = 0, tonemap_ms_ = 0, probe_ms_ = 0, present_ms_ = 0;
+    double rebuild_ms_ = 0;   // the last settings change or reload: scene, spectra, plan, GPU objects
+    double excluded_ms_ = 0;  // this iteration's saving, reloading and rebuilding: not frame time
     std::vector<std::pair<std::filesystem::path, std::string>> written_;
 };
 
@@ -165,6 +167,15 @@ void Session::status(const std::string& message, bool error) {
 }
 
 void Session::update(size_t view, const RenderJob& job) {
+    auto t0 = Clock::now();
+    struct Exclude {
+        Session& s;
+        Clock::time_point t0;
+        ~Exclude() {
+            s.rebuild_ms_ = msSince(t0);
+            s.excluded_ms_ += s.rebuild_ms_;
+        }
+    } exclude{*this, t0};
     try {
         int w = views_[view]->width(), h = views_[view]->height();
         views_[view]->update(job);
@@ -194,6 +205,7 @@ void Session::setSplit(bool on) {
 }
 
 void Session::reload() {
+    auto t0 = Clock::now();
     bool failed = false;
     for (auto& v : views_) {
         try {
@@ -208,9 +220,17 @@ void Session::reload() {
     setCameraAll();
     layout();
     if (!failed) status("reloaded " + o_.job.scene.string() + (cameraMoved_ ? " (keeping the view)" : ""), false);
+    rebuild_ms_ = msSince(t0);
+    excluded_ms_ += rebuild_ms_;
 }
 
 void Session::save() {
+    auto t0 = Clock::now();
+    struct Exclude {
+        Session& s;
+        Clock::time_point t0;
+        ~Exclude() { s.excluded_ms_ += msSince(t0); }
+    } exclude{*this, t0};
     try {
         std::filesystem::create_directories(o_.outDir);
         std::string stem = o_.job.scene.stem().string() + "-preview";
@@ -273,16 +293,17 @@ void Session::handleImageInput() {
         camera_ = zoom(camera_, std::pow(0.85, double(io.MouseWheel)));
         moved = true;
     }
-    if (!io.WantCaptureKeyboard) {
-        if (ImGui::IsKeyPressed(GLFW_KEY_R, false)) {
+    for (int key : window_.takeKeyPresses()) {
+        if (io.WantCaptureKeyboard) continue;  // typing into a field
+        if (key == GLFW_KEY_R) {
             camera_ = fileCamera_;
             cameraMoved_ = false;
             setCameraAll();
         }
-        if (ImGui::IsKeyPressed(GLFW_KEY_U, false)) pin_.reset();
-        if (ImGui::IsKeyPressed(GLFW_KEY_S, false)) save();
-        if (ImGui::IsKeyPressed(GLFW_KEY_F5, false)) reload();
-        if (ImGui::IsKeyPressed(GLFW_KEY_ESCAPE, false)) window_.requestClose();
+        if (key == GLFW_KEY_U) pin_.reset();
+        if (key == GLFW_KEY_S) save();
+        if (key == GLFW_KEY_F5) reload();
+        if (key == GLFW_KEY_ESCAPE) window_.requestClose();
     }
     if (moved) {
         cameraMoved_ = true;
@@ -302,6 +323,10 @@ void Session::drawControls() {
     ImGui::Text("%d\u00d7%d px, %d bands (%s nm)", left.width(), left.height(), left.scene().grid.bands(),
                 left.scene().grid.str().c_str());
     ImGui::Text("frame %.1f ms", frame_ms_);
+    if (rebuild_ms_ > 0) {
+        ImGui::SameLine();
+        ImGui::TextDisabled("(last rebuild %.0f ms)", rebuild_ms_);
+    }
     ImGui::TextDisabled("shading %.1f  tonemap %.1f  probe %.1f  present %.1f ms", shading_ms_, tonemap_ms_, probe_ms_,
                         present_ms_);
     ImGui::TextDisabled("%s, present %s", ctx_->deviceInfo().name.c_str(), presenter_->swapchain().presentModeName());
@@ -502,9 +527,7 @@ PreviewReport Session::run() {
     report.width = views_[0]->width();
     report.height = views_[0]->height();
     report.bands = views_[0]->scene().grid.bands();
-    for (size_t i = 0; i < views_.size(); ++i)
-        report.views += fmt::format("{}{}: {}", i ? "; " : "", views_.size() > 1 ? (i ? "right" : "left") : "view",
-                                    views_[i]->plan().description);
+    for (const auto& v : views_) report.build_ms += v->timings().build_ms;
     if (o_.pin) pin_ = o_.pin;
     if (o_.job.verbose)
         std::fprintf(stderr, "metamer: preview window open (%s)%s\n", report.device.c_str(),
@@ -520,6 +543,7 @@ PreviewReport Session::run() {
         if (scripted_ || needRender_ || dragging_) glfwPollEvents();
         else glfwWaitEventsTimeout(0.25);
         auto t0 = Clock::now();
+        excluded_ms_ = 0;
         if (watchFile_ && watch_->changed()) reload();
 
         ui_->newFrame();
@@ -544,10 +568,13 @@ PreviewReport Session::run() {
             if (!scripted_) glfwWaitEventsTimeout(0.05);  // minimized, or the swapchain was remade
             continue;
         }
-        present_ms_ = msSince(tq);
-        probe_ms_ = probeMs;
-        frame_ms_ = msSince(t0);
+        const double presentMs = msSince(tq);
+        // The panel's figures are those of the last frame that rendered (an idle frame only
+        // redraws the panels); saving, reloading and rebuilding are not frame time.
         if (rendered) {
+            probe_ms_ = probeMs;
+            present_ms_ = presentMs;
+            frame_ms_ = msSince(t0) - excluded_ms_;
             frames.push_back(frame_ms_);
             shading.push_back(shading_ms_);
             tonemap.push_back(tonemap_ms_);
@@ -557,7 +584,10 @@ PreviewReport Session::run() {
         lastPoints = std::move(points);
         ++shown;
     }
-    // The probes and screenshots of the last frame shown.
+    // The settings, probes and screenshots of the last frame shown.
+    for (size_t i = 0; i < views_.size(); ++i)
+        report.views += fmt::format("{}{}: {}", i ? "; " : "", views_.size() > 1 ? (i ? "right" : "left") : "view",
+                                    views_[i]->plan().description);
     for (const auto& p : lastPoints)
         report.probes.push_back((views_.size() > 1 ? (p.view ? "right " : "left ") : std::string()) +
                                 (p.pinned ? "pin " : "") + describeProbe(p.readout));

@@ -43,6 +43,7 @@ struct PreviewReport {
     // copying into the swapchain, drawing the UI and presenting.
     double first_ms = 0, median_ms = 0, medianShading_ms = 0, medianTonemap_ms = 0, medianProbe_ms = 0,
            medianPresent_ms = 0;
+    double build_ms = 0;  // making the views at the start: what a light, mode or grid change costs
     std::vector<std::string> probes;  // describeProbe() lines, at the end
     std::vector<std::pair<std::filesystem::path, std::string>> written;
     std::vector<std::string> notes;

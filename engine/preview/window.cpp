@@ -42,6 +42,20 @@ Window::Window(int width, int height, const std::string& title) {
         glfwTerminate();
         throw Error(ExitCode::NoDisplay, Where{}, "the preview window could not be created: " + why);
     }
+    // Installed before Dear ImGui's, which calls it after its own.
+    glfwSetWindowUserPointer(window_, this);
+    glfwSetKeyCallback(window_, onKey);
+}
+
+void Window::onKey(GLFWwindow* window, int key, int, int action, int) {
+    auto* self = static_cast<Window*>(glfwGetWindowUserPointer(window));
+    if (self && action == GLFW_PRESS) self->keys_.push_back(key);
+}
+
+std::vector<int> Window::takeKeyPresses() {
+    std::vector<int> keys;
+    keys.swap(keys_);
+    return keys;
 }
 
 Window::~Window() {

@@ -34,8 +34,14 @@ public:
     float pixelScale() const;
     void setTitle(const std::string& title);
 
+    // Keys pressed since the last call (GLFW key codes), in order. Kept here because Dear ImGui
+    // 1.86 reads key state once per frame and misses a press and release that fall within one.
+    std::vector<int> takeKeyPresses();
+
 private:
+    static void onKey(GLFWwindow* window, int key, int scancode, int action, int mods);
     GLFWwindow* window_ = nullptr;
+    std::vector<int> keys_;
 };
 
 }  // namespace metamer::preview
