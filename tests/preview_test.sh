@@ -16,6 +16,14 @@ python=$3
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 export XDG_RUNTIME_DIR=${XDG_RUNTIME_DIR:-/tmp} METAMER_VALIDATION=1
+# ci/sanitize.sh preloads the Vulkan drivers and the validation layer so that LeakSanitizer can
+# name their frames. With the layer's library preloaded, GLFW 3.3 finds no Vulkan
+# (glfwVulkanSupported is false; measured), so it is left out of the preload here: the loader
+# still loads it (METAMER_VALIDATION=1), and the drivers stay preloaded.
+if [ -n "${LD_PRELOAD:-}" ]; then
+    LD_PRELOAD=$(tr ':' '\n' <<<"$LD_PRELOAD" | grep -v 'VkLayer_' | paste -sd: -)
+    export LD_PRELOAD
+fi
 scene=$src/scenes/metamers.json
 check() { "$python" "$src/tests/preview_check.py" "$@"; }
 fail() { echo "FAIL: $*"; exit 1; }

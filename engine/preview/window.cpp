@@ -32,7 +32,9 @@ Window::Window(int width, int height, const std::string& title) {
     if (!glfwVulkanSupported()) {
         glfwTerminate();
         throw Error(ExitCode::NoDevice, Where{},
-                    "no usable Vulkan device: GLFW finds no Vulkan loader (install libvulkan1 and mesa-vulkan-drivers)");
+                    "no usable Vulkan device: GLFW finds no Vulkan loader or no surface extension for this "
+                    "display (install libvulkan1 and mesa-vulkan-drivers)" +
+                        (gLastGlfwError.empty() ? std::string() : ": " + gLastGlfwError));
     }
     glfwWindowHint(GLFW_CLIENT_API, GLFW_NO_API);
     glfwWindowHint(GLFW_VISIBLE, GLFW_FALSE);
