@@ -112,4 +112,72 @@ Spectrum readSpectrumCsv(const std::filesystem::path& path) {
     return s;
 }
 
+BispectralMatrix readBispectralCsv(const std::filesystem::path& path) {
+    Where where{path.string(), "", 0};
+    std::ifstream in(path);
+    if (!in) failInput(where, "cannot open Donaldson matrix file");
+    BispectralMatrix d;
+    d.source = path.string();
+    std::string raw;
+    int lineNo = 0;
+    bool sawHeader = false;
+    while (std::getline(in, raw)) {
+        ++lineNo;
+        where.line = lineNo;
+        std::string line = trim(raw);
+        if (line.empty() || line[0] == '#') continue;
+        auto fields = splitFields(line);
+        double x;
+        if (!sawHeader) {
+            // The header: a label for the λin column, then λout in nm.
+            if (parseNumber(fields[0], x))
+                failInput(where,
+                          "expected a header row: a label (e.g. 'nm') then the emission wavelengths λout in nm; "
+                          "the first field {} is a number",
+                          shownField(fields[0]));
+            for (size_t c = 1; c < fields.size(); ++c) {
+                if (!parseNumber(fields[c], x))
+                    failInput(where, "column {}: {} is not an emission wavelength in nm", c + 1, shownField(fields[c]));
+                if (!std::isfinite(x) || x <= 0)
+                    failInput(where, "column {}: emission wavelength {} must be a positive finite number", c + 1,
+                              shownField(fields[c]));
+                if (!d.out_nm.empty() && !(x > d.out_nm.back()))
+                    failInput(where, "column {}: emission wavelengths must increase strictly: {:g} nm follows {:g} nm",
+                              c + 1, x, d.out_nm.back());
+                d.out_nm.push_back(x);
+            }
+            if (d.out_nm.size() < 2)
+                failInput(where, "the header lists {} emission wavelength(s); a Donaldson matrix needs at least 2",
+                          d.out_nm.size());
+            sawHeader = true;
+            continue;
+        }
+        if (!parseNumber(fields[0], x))
+            failInput(where, "column 1: {} is not an excitation wavelength in nm", shownField(fields[0]));
+        if (!std::isfinite(x) || x <= 0)
+            failInput(where, "column 1: excitation wavelength {} must be a positive finite number", shownField(fields[0]));
+        if (!d.in_nm.empty() && !(x > d.in_nm.back()))
+            failInput(where, "excitation wavelengths must increase strictly: {:g} nm follows {:g} nm", x, d.in_nm.back());
+        if (fields.size() - 1 != d.out_nm.size())
+            failInput(where, "expected {} values (one per emission wavelength in the header), got {}", d.out_nm.size(),
+                      fields.size() - 1);
+        d.in_nm.push_back(x);
+        for (size_t c = 1; c < fields.size(); ++c) {
+            double v;
+            if (!parseNumber(fields[c], v) || !std::isfinite(v))
+                failInput(where, "column {}: {} is not a finite number", c + 1, shownField(fields[c]));
+            if (v < 0)
+                failInput(where, "column {}: {:g} is negative; a Donaldson matrix holds re-radiated power (≥ 0)", c + 1, v);
+            d.values.push_back(v);
+        }
+    }
+    where.line = 0;
+    if (!sawHeader)
+        failInput(where, "empty: expected a header row (a label, then the emission wavelengths λout in nm) and one row "
+                         "per excitation wavelength λin");
+    if (d.in_nm.size() < 2)
+        failInput(where, "needs at least 2 excitation rows (λin,D...) below the header, found {}", d.in_nm.size());
+    return d;
+}
+
 }  // namespace metamer

@@ -3,6 +3,7 @@
 // lines starting with '#' and blank lines are ignored. Errors name the file and line.
 #pragma once
 
+#include "spectral/bispectral.h"
 #include "spectral/spectrum.h"
 
 #include <filesystem>
@@ -23,5 +24,12 @@ SpectralTable readSpectralTable(const std::filesystem::path& path, size_t minCol
 
 // Reads a single-spectrum CSV (exactly one value column).
 Spectrum readSpectrumCsv(const std::filesystem::path& path);
+
+// Reads a Donaldson matrix (docs/scene-format.md, "Donaldson matrix files"): a header row whose
+// first field is a label (any text, or empty) followed by the emission wavelengths λout in nm,
+// then one row per excitation wavelength λin: `λin,D(λin, λout₁),D(λin, λout₂),...` in nm⁻¹.
+// '#' comment lines and blank lines are skipped. Every error names the file, and the line and
+// column where one cell is at fault.
+BispectralMatrix readBispectralCsv(const std::filesystem::path& path);
 
 }  // namespace metamer
