@@ -332,4 +332,116 @@ SpectralCube readSpectralExr(const fs::path& path) {
     return std::move(image.cube);
 }
 
+namespace {
+
+// "T.400nm.500nm" (any number of dots after T and between the two quantities, ',' or '.' as the
+// decimal separator) -> (400, 500). Splits at each '.' in turn: exactly one split gives two
+// wavelengths, since a decimal point cannot end a quantity (it has no unit yet).
+std::optional<std::pair<double, double>> bispectralPairOf(const std::string& name) {
+    if (name.size() < 2 || name[0] != 'T' || name[1] != '.') return std::nullopt;
+    std::string_view rest(name);
+    rest.remove_prefix(1);
+    while (!rest.empty() && rest.front() == '.') rest.remove_prefix(1);
+    for (size_t p = rest.find('.'); p != std::string_view::npos; p = rest.find('.', p + 1)) {
+        auto in = parseWavelength(rest.substr(0, p));
+        if (!in) continue;
+        std::string_view second = rest.substr(p + 1);
+        while (!second.empty() && second.front() == '.') second.remove_prefix(1);
+        if (auto out = parseWavelength(second)) return std::make_pair(*in, *out);
+    }
+    return std::nullopt;
+}
+
+// The distinct values of `v` (sorted), merging those closer than the channels' 1e-4 nm tolerance.
+std::vector<double> axisOf(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    std::vector<double> axis;
+    for (double x : v)
+        if (axis.empty() || x - axis.back() >= kGridTolerance_nm) axis.push_back(x);
+    return axis;
+}
+
+size_t indexOn(const std::vector<double>& axis, double x) {
+    auto it = std::lower_bound(axis.begin(), axis.end(), x - kGridTolerance_nm);
+    return size_t(it - axis.begin());
+}
+
+}  // namespace
+
+BispectralExr readBispectralExr(const fs::path& path) {
+    using namespace OIIO;
+    Where where{path.string()};
+    std::error_code ec;
+    if (!fs::exists(path, ec)) failInput(where, "file not found");
+    if (fs::is_directory(path, ec)) failInput(where, "is a folder, not an OpenEXR file");
+    auto in = ImageInput::open(path.string());
+    if (!in) failInput(where, "not a readable OpenEXR file: {}", OIIO::geterror());
+    if (std::string(in->format_name()) != "openexr")
+        failInput(where, "not an OpenEXR file (it reads as {})", in->format_name());
+    const ImageSpec& spec = in->spec();
+    if (spec.deep) failInput(where, "deep OpenEXR images are not supported");
+    if (spec.width != 1 || spec.height != 1 || spec.depth > 1)
+        failInput(where,
+                  "is a {}×{} image; a Donaldson matrix file must be 1×1 (one material: bispectral textures are not "
+                  "supported)",
+                  spec.width, spec.height);
+
+    BispectralExr result;
+    struct PairChannel {
+        double in, out;
+        int index;
+    };
+    std::vector<PairChannel> pairs;
+    for (int c = 0; c < spec.nchannels; ++c) {
+        const std::string& name = spec.channelnames[c];
+        if (auto p = bispectralPairOf(name))
+            pairs.push_back({p->first, p->second, c});
+        else if (bandOf(name, "T"))
+            ++result.reflectiveChannels;
+        else
+            ++result.otherChannels;
+    }
+    if (pairs.empty()) {
+        std::string names;
+        for (int c = 0; c < spec.nchannels && c < 8; ++c) names += (c ? ", " : "") + spec.channelnames[c];
+        if (spec.nchannels > 8) names += ", ...";
+        failInput(where, "no bispectral channels (expected T.<λin>nm.<λout>nm; found {})",
+                  names.empty() ? std::string("none") : names);
+    }
+    std::vector<float> pixel(size_t(spec.nchannels));
+    if (!in->read_image(0, 0, 0, spec.nchannels, TypeDesc::FLOAT, pixel.data()))
+        failInput(where, "cannot read pixels: {}", in->geterror());
+
+    BispectralMatrix& d = result.matrix;
+    d.source = path.string();
+    std::vector<double> ins, outs;
+    for (const auto& p : pairs) {
+        ins.push_back(p.in);
+        outs.push_back(p.out);
+    }
+    d.in_nm = axisOf(ins);
+    d.out_nm = axisOf(outs);
+    if (d.in_nm.size() < 2 || d.out_nm.size() < 2)
+        failInput(where,
+                  "its bispectral channels name {} excitation and {} emission wavelength(s); a Donaldson matrix needs "
+                  "at least 2 of each",
+                  d.in_nm.size(), d.out_nm.size());
+    d.values.assign(d.in_nm.size() * d.out_nm.size(), 0.0);
+    std::vector<int> owner(d.values.size(), -1);
+    for (const auto& p : pairs) {
+        const std::string& name = spec.channelnames[p.index];
+        const size_t k = indexOn(d.in_nm, p.in) * d.out_nm.size() + indexOn(d.out_nm, p.out);
+        if (owner[k] >= 0)
+            failInput(where, "channels '{}' and '{}' both hold D({:g} nm, {:g} nm)", spec.channelnames[owner[k]], name,
+                      p.in, p.out);
+        owner[k] = p.index;
+        const double v = pixel[size_t(p.index)];
+        if (!std::isfinite(v)) failInput(where, "channel '{}': {} is not a finite number", name, v);
+        if (v < 0)
+            failInput(where, "channel '{}': {:g} is negative; a Donaldson matrix holds re-radiated power (≥ 0)", name, v);
+        d.values[k] = v;
+    }
+    return result;
+}
+
 }  // namespace metamer

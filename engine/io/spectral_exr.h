@@ -3,6 +3,7 @@
 // T.<λ>nm (reflective), with a comma as the decimal separator. See docs/io.md.
 #pragma once
 
+#include "spectral/bispectral.h"
 #include "spectral/cube.h"
 
 #include <filesystem>
@@ -69,5 +70,18 @@ SpectralExrImage readSpectralExrImage(const std::filesystem::path& path);
 
 // The same, for callers that only take emissive data: a file with only T channels is an error.
 SpectralCube readSpectralExr(const std::filesystem::path& path);
+
+// A Donaldson matrix stored as a bispectral image in the same layout: a 1×1 image whose channels
+// T.<λin><unit>.<λout><unit> hold D(λin, λout) in nm⁻¹ (docs/scene-format.md, "Donaldson matrix
+// files"). The two axes are the distinct wavelengths named; a pair with no channel is 0. Reflective
+// T.<λ>nm channels (the diagonal's reflectance) and any other channel are not part of D: they are
+// counted, for the caller to warn about, and ignored. Input errors name the file and, for a bad
+// value, the channel.
+struct BispectralExr {
+    BispectralMatrix matrix;
+    size_t reflectiveChannels = 0;  // T.<λ>nm: reflectance, which belongs in the material's diffuse
+    size_t otherChannels = 0;       // R, G, B, S0..S3, ...
+};
+BispectralExr readBispectralExr(const std::filesystem::path& path);
 
 }  // namespace metamer

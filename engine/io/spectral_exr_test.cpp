@@ -330,3 +330,74 @@ TEST_F(SpectralExr, DISABLED_WriteSpeed1024x1024x89) {
         }
     }
 }
+
+// --- Bispectral images: Donaldson matrices ------------------------------------------------------
+
+namespace {
+
+void writeExr(const fs::path& file, int w, int h, const std::vector<std::string>& names, const std::vector<float>& px) {
+    OIIO::ImageSpec spec(w, h, int(names.size()), OIIO::TypeDesc::FLOAT);
+    spec.channelnames = names;
+    auto out = OIIO::ImageOutput::create(file.string());
+    ASSERT_TRUE(out->open(file.string(), spec));
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, px.data()));
+    out->close();
+}
+
+}  // namespace
+
+TEST_F(SpectralExr, ReadsBispectralChannelsAsADonaldsonMatrix) {
+    // Comma and dot decimals, extra dots, micrometres; a pair with no channel is 0; reflective and
+    // RGB channels are counted, not read into D.
+    fs::path file = dir / "donaldson.exr";
+    writeExr(file, 1, 1,
+             {"R", "T.400nm.500nm", "T.400nm.0.51um", "T..410,5nm..500nm", "T.400,000000nm", "S0.500nm"},
+             {9, 0.25f, 0.5f, 0.125f, 0.9f, 7});
+    BispectralExr r = readBispectralExr(file);
+    EXPECT_EQ(r.reflectiveChannels, 1u);
+    EXPECT_EQ(r.otherChannels, 2u);
+    const BispectralMatrix& d = r.matrix;
+    EXPECT_EQ(d.in_nm, (std::vector<double>{400, 410.5}));
+    ASSERT_EQ(d.out_nm.size(), 2u);
+    EXPECT_DOUBLE_EQ(d.out_nm[0], 500);
+    EXPECT_NEAR(d.out_nm[1], 510, 1e-9);
+    EXPECT_EQ(d.values, (std::vector<double>{0.25, 0.5, 0.125, 0.0}));
+    EXPECT_NO_THROW(d.validate(Where{file.string()}));
+}
+
+TEST_F(SpectralExr, BispectralErrorsNameTheFileAndChannel) {
+    auto expectError = [&](const std::string& name, int w, const std::vector<std::string>& channels,
+                           const std::vector<float>& px, const std::string& what) {
+        fs::path file = dir / name;
+        writeExr(file, w, 1, channels, px);
+        try {
+            readBispectralExr(file);
+            ADD_FAILURE() << name << " was accepted";
+        } catch (const Error& e) {
+            EXPECT_EQ(e.code(), ExitCode::BadInput) << e.what();
+            EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
+            EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+        }
+    };
+    const std::vector<std::string> four = {"T.400nm.500nm", "T.400nm.510nm", "T.410nm.500nm", "T.410nm.510nm"};
+    expectError("texture.exr", 2, four, std::vector<float>(8, 0.1f), "is a 2×1 image; a Donaldson matrix file must be 1×1");
+    expectError("nan.exr", 1, four, {0.1f, NAN, 0.1f, 0.1f}, "channel 'T.400nm.510nm': nan is not a finite number");
+    expectError("negative.exr", 1, four, {0.1f, 0.1f, -2.0f, 0.1f}, "channel 'T.410nm.500nm': -2 is negative");
+    expectError("duplicate.exr", 1, {"T.400nm.500nm", "T.400,0nm.500nm", "T.410nm.510nm"}, {0.1f, 0.2f, 0.3f},
+                "both hold D(400 nm, 500 nm)");
+    expectError("reflective.exr", 1, {"T.400nm", "T.410nm"}, {0.5f, 0.6f},
+                "no bispectral channels (expected T.<λin>nm.<λout>nm; found T.400nm, T.410nm)");
+    expectError("one-row.exr", 1, {"T.400nm.500nm", "T.400nm.510nm"}, {0.1f, 0.2f},
+                "name 1 excitation and 2 emission wavelength(s)");
+    fs::path png = dir / "image.exr";
+    {
+        std::ofstream(png, std::ios::binary) << "not an image at all";
+    }
+    try {
+        readBispectralExr(png);
+        ADD_FAILURE();
+    } catch (const Error& e) {
+        EXPECT_EQ(e.code(), ExitCode::BadInput);
+        EXPECT_NE(std::string(e.what()).find("image.exr"), std::string::npos) << e.what();
+    }
+}
