@@ -4,6 +4,7 @@
 #pragma once
 
 #include "core/error.h"
+#include "spectral/bispectral.h"
 #include "spectral/grid.h"
 #include "spectral/spectrum.h"
 
@@ -50,10 +51,21 @@ struct Light {
     std::string name;  // "lights.1"
 };
 
+// A Donaldson matrix D(λin, λout) as read (nm⁻¹, spectral/bispectral.h), its scale factor and
+// the key path it came from.
+struct SceneMatrix {
+    BispectralMatrix matrix;
+    double scale = 1.0;  // multiplies D
+    Where where;         // "materials.NAME.fluorescence.matrix"
+};
+
+// Either the rank-one form (excitation, emission, quantum yield) or a Donaldson matrix: when
+// `matrix` is set, the other members are unused.
 struct Fluorescence {
     SceneSpectrum excitation;  // absorptance a(λ), 0..1
     SceneSpectrum emission;    // emission shape, any scale; normalized to unit integral
     double quantum_yield = 1.0;
+    std::optional<SceneMatrix> matrix;
 };
 
 // A texture as read from its file (scene/texture.h), before it meets the render grid. Texel

@@ -1,5 +1,6 @@
 #include "scene/scene_json.h"
 
+#include "io/spectral_exr.h"
 #include "scene/gltf_material.h"
 #include "scene/gltf_mesh.h"
 #include "scene/overrides.h"
@@ -453,14 +454,32 @@ private:
         if (const Json* f = find(v, "fluorescence")) {
             Where fw = w.child("fluorescence");
             asObject(*f, fw);
-            checkKeys(*f, fw, {"excitation", "emission", "quantum_yield"});
             Fluorescence fl;
-            fl.excitation = spectrum(require(*f, fw, "excitation", "a spectrum"), fw.child("excitation"),
-                                     SpectrumKind::Excitation);
-            fl.emission = spectrum(require(*f, fw, "emission", "a spectrum"), fw.child("emission"),
-                                   SpectrumKind::Emission);
-            fl.quantum_yield = numberIn(require(*f, fw, "quantum_yield", "a number in [0, 1]"),
-                                        fw.child("quantum_yield"), 0, 1, false, false);
+            if (const Json* mx = find(*f, "matrix")) {
+                // A Donaldson matrix holds the excitation, the emission and the yield together.
+                for (const char* k : {"excitation", "emission", "quantum_yield"})
+                    if (find(*f, k))
+                        failInput(fw.child(k),
+                                  "not allowed with 'matrix': a fluorescence is either a Donaldson matrix or an "
+                                  "excitation/emission pair with a quantum_yield, not both");
+                checkKeys(*f, fw, {"matrix", "scale"}, "a Donaldson-matrix fluorescence");
+                fl.matrix = matrix(*mx, fw.child("matrix"));
+                if (const Json* sc = find(*f, "scale"))
+                    fl.matrix->scale = numberIn(*sc, fw.child("scale"), 0, INFINITY, false, true);
+            } else {
+                if (find(*f, "scale"))
+                    failInput(fw.child("scale"),
+                              "'scale' goes with 'matrix'; an excitation/emission fluorescence is scaled by its "
+                              "quantum_yield");
+                checkKeys(*f, fw, {"excitation", "emission", "quantum_yield"}, "an excitation/emission fluorescence",
+                          {"matrix"});
+                fl.excitation = spectrum(require(*f, fw, "excitation", "a spectrum"), fw.child("excitation"),
+                                         SpectrumKind::Excitation);
+                fl.emission = spectrum(require(*f, fw, "emission", "a spectrum"), fw.child("emission"),
+                                       SpectrumKind::Emission);
+                fl.quantum_yield = numberIn(require(*f, fw, "quantum_yield", "a number in [0, 1]"),
+                                            fw.child("quantum_yield"), 0, 1, false, false);
+            }
             m.fluorescence = std::move(fl);
         }
         scene_.materials.push_back(std::move(m));
@@ -755,6 +774,60 @@ private:
         }
         if (!s.spectrum.isConstant()) checkValues(s);
         return s;
+    }
+
+    // "matrix": a .csv or .exr file relative to the scene, or a library name (NAME.csv, else
+    // NAME.exr, under the spectra library).
+    SceneMatrix matrix(const Json& v, const Where& w) {
+        if (!v.is_string())
+            failInput(w, "expected a Donaldson matrix: a .csv or .exr file, or a library name; got {}", describe(v));
+        std::string name = v.get<std::string>();
+        if (name.empty()) failInput(w, "expected a Donaldson matrix file name, got an empty string");
+        auto endsWith = [&](const char* ext) {
+            std::string tail = name.size() >= 4 ? name.substr(name.size() - 4) : "";
+            std::transform(tail.begin(), tail.end(), tail.begin(), [](unsigned char c) { return std::tolower(c); });
+            return tail == ext;
+        };
+        bool exr = endsWith(".exr");
+        fs::path path;
+        std::error_code ec;
+        if (exr || endsWith(".csv")) {
+            path = (dir_ / name).lexically_normal();
+            readable_.check(path, w, "Donaldson matrix file", name);
+            if (!fs::is_regular_file(path, ec)) failInput(w, "Donaldson matrix file '{}' not found", path.string());
+        } else {
+            fs::path base = (lib_.root() / name).lexically_normal();
+            fs::path csv = base.string() + ".csv", exrPath = base.string() + ".exr";
+            if (fs::is_regular_file(csv, ec)) {
+                path = csv;
+            } else if (fs::is_regular_file(exrPath, ec)) {
+                path = exrPath;
+                exr = true;
+            } else {
+                failInput(w, "no Donaldson matrix '{}' in the spectra library ({}): neither {}.csv nor {}.exr exists", name,
+                          lib_.root().string(), name, name);
+            }
+            readable_.check(path, w, "Donaldson matrix file", name);
+        }
+        SceneMatrix m;
+        m.where = w;
+        try {
+            if (exr) {
+                BispectralExr read = readBispectralExr(path);
+                m.matrix = std::move(read.matrix);
+                if (read.reflectiveChannels > 0)
+                    warn(w, fmt::format("Donaldson matrix '{}': {} reflective T.<λ>nm channel(s) ignored; the "
+                                        "material's reflectance is its 'diffuse'",
+                                        name, read.reflectiveChannels));
+            } else {
+                m.matrix = readBispectralCsv(path);
+            }
+            m.matrix.validate(Where{path.string()});
+        } catch (const Error& e) {
+            failInput(w, "{}", e.what());
+        }
+        m.matrix.source = name;
+        return m;
     }
 
     // Sampled data outside the physical range is suspicious but can be legitimate (noisy

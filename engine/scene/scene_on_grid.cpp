@@ -135,6 +135,55 @@ TextureOnGrid rgbTextureOnGrid(const Texture& t, const Grid& grid, const RgbUpsa
     return out;
 }
 
+// The Donaldson matrix on the grid, with the coverage policy applied to each axis as to a
+// spectrum: entirely outside is an error, partly outside a warning (or an error when strict).
+std::vector<double> matrixOnGrid(const SceneMatrix& m, const Grid& grid, CoveragePolicy policy) {
+    const BispectralMatrix& d = m.matrix;
+    const CoverageGap in = coverageOf(d.in_nm, grid), out = coverageOf(d.out_nm, grid);
+    for (const auto& [gap, axis] : {std::pair{in, "excitation (λin)"}, std::pair{out, "emission (λout)"}})
+        if (!gap.overlaps)
+            failInput(m.where, "Donaldson matrix '{}': its {} wavelengths cover {:g}–{:g} nm, entirely outside the grid "
+                      "{:g}–{:g} nm",
+                      d.source, axis, gap.data_lo, gap.data_hi, grid.start_nm, grid.end_nm);
+    if (!in.covered || !out.covered) {
+        std::string what = fmt::format(
+            "Donaldson matrix '{}' covers λin {:g}–{:g} nm and λout {:g}–{:g} nm but the grid is {:g}–{:g} nm",
+            d.source, in.data_lo, in.data_hi, out.data_lo, out.data_hi, grid.start_nm, grid.end_nm);
+        if (policy == CoveragePolicy::Error) failInput(m.where, "{} (--strict-coverage)", what);
+        warn(m.where, what + "; bands outside the data are 0");
+    }
+    std::vector<double> r = resampleMatrix(d, grid);
+    for (double& v : r) {
+        v *= m.scale;
+        if (!std::isfinite(v))
+            failInput(m.where, "Donaldson matrix '{}' × scale {:g} overflows a double", d.source, m.scale);
+    }
+    return r;
+}
+
+// Photons: what a matrix material re-emits per photon it receives at λi is
+// Σ_o D̄(i, o)·(λo/λi)·Δλ (= Φ·a(λi) for the rank-one form), and with what it reflects that cannot
+// exceed 1. Only the emission inside the grid is counted. A diffuse texture's reflectance is known
+// only per texel, so with one only the re-emitted photons are checked.
+void photonBalance(const MaterialOnGrid& g, const std::vector<double>& nm, double step, const Where& where) {
+    const size_t n = nm.size();
+    double worst = 0.0, worstNm = 0.0;
+    for (size_t i = 0; i < n; ++i) {
+        double yield = 0.0;
+        for (size_t o = 0; o < n; ++o) yield += g.donaldson[i * n + o] * nm[o] / nm[i] * step;
+        const double reflected = g.diffuseTexture >= 0 ? 0.0 : g.diffuse[i];
+        if (reflected + yield > worst) {
+            worst = reflected + yield;
+            worstNm = nm[i];
+        }
+    }
+    if (worst > 1.0 + 1e-9)
+        warn(where, fmt::format("diffuse + photons re-emitted per photon received = {:.3f} > 1 at {:g} nm: the "
+                                "material reflects and re-emits more light than it receives (does the matrix carry "
+                                "the reflectance on its diagonal?)",
+                                worst, worstNm));
+}
+
 }  // namespace
 
 uint64_t textureMemory(const Scene& scene, const Grid& grid) {
@@ -189,7 +238,11 @@ SceneOnGrid resampleScene(const Scene& scene, const Grid& grid, CoveragePolicy p
         g.diffuse = onGrid(m.diffuse, grid, policy, gaps);
         g.specular = onGrid(m.specular, grid, policy, gaps);
         g.gloss = m.gloss;
-        if (m.fluorescence) {
+        if (m.fluorescence && m.fluorescence->matrix) {
+            g.fluorescent = true;
+            g.donaldson = matrixOnGrid(*m.fluorescence->matrix, grid, policy);
+            photonBalance(g, out.wavelengths_nm, grid.step_nm, m.fluorescence->matrix->where);
+        } else if (m.fluorescence) {
             const Fluorescence& f = *m.fluorescence;
             g.fluorescent = true;
             g.quantum_yield = f.quantum_yield;

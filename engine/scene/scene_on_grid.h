@@ -41,6 +41,12 @@ struct MaterialOnGrid {
     double quantum_yield = 0.0;
     // Indices into SceneOnGrid::textures, -1 for none (scene/scene.h, MaterialTextures).
     int diffuseTexture = -1, specularTexture = -1, normalTexture = -1;
+    // A matrix material (Fluorescence::matrix): the Donaldson matrix on the grid, the mean of
+    // scale·D over band i of λin × band o of λout at donaldson[i·N + o] (N bands), nm⁻¹. Empty for
+    // the rank-one form above, which is the matrix D = Φ·a(λin)·ê(λout)·λin/λout
+    // (docs/physics.md, "Fluorescence"); excitation and emission are then empty instead.
+    std::vector<double> donaldson;
+    bool isMatrix() const { return !donaldson.empty(); }
 };
 
 struct SceneOnGrid {
