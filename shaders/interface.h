@@ -30,6 +30,8 @@ using mat4 = glm::mat4;
 #define BINDING_LIGHTS 0          // GpuLightBlock (static)
 #define BINDING_LIGHT_SPECTRA 1   // GpuLightSpectraBlock, dynamic offset: this pass's bands
 #define BINDING_MATERIAL 2        // GpuMaterialBlock, dynamic offset: this pass's bands of this material
+#define BINDING_FLUORESCENCE 3    // GpuFluorescenceBlock, dynamic offset: this pass's bands of this material's
+                                  // fluorescence under every light (read when SPEC_FLUORESCENCE_SPECTRA)
 
 // Descriptor set 1 of the spectral pass: the draw's material's textures (one set per material),
 // RGBA32F 2D-array images read with texelFetch (bilinear filtering is done in the shader, in
@@ -57,6 +59,8 @@ using mat4 = glm::mat4;
 #define SPEC_HAS_FLUORESCENCE 4   // any fluorescent material
 #define SPEC_HAS_TEXTURES 5       // any material with a diffuse or specular texture
 #define SPEC_HAS_NORMAL_MAPS 6    // any material with a normal (or bump) map
+#define SPEC_FLUORESCENCE_SPECTRA 7  // any Donaldson-matrix material: every fluorescent material's emission
+                                     // comes from per-light spectra (GpuFluorescenceBlock), not coupling × ê/λ
 
 struct GpuLight {
     vec4 vector;  // directional: xyz = unit vector towards the light; point: xyz = position (m)
@@ -80,6 +84,19 @@ struct GpuMaterialBlock {
     vec4 textures;                         // x, y, z: 1 if the diffuse, specular, normal texture is
                                            // used; w: the texture layer of this pass's first vec4
     vec4 coupling[MAX_LIGHTS / 4];         // per light: (Φ/π)·Σ a·E·λ·Δλ (fluorescence)
+};
+
+// Fluorescence as per-light spectra, for scenes with a Donaldson-matrix material (a matrix does
+// not factor into a coupling × a shape). It is view-independent per (material, light):
+// F_l(λo) = (1/π)·Σᵢ D(λᵢ, λo)·E_l(λᵢ)·Δλ, the fluorescent radiance per unit geometric factor
+// (W·sr⁻¹·m⁻²·nm⁻¹ for ambient and directional lights, W·sr⁻¹·nm⁻¹ for point lights), computed
+// in double on the CPU for the matrix and the rank-one form alike; the shader adds g_l·F_l.
+// emitted[l * MAX_OUTPUTS + k] holds bands 4k..4k+3 of this pass under light l. Records are laid
+// out for the scene's light count (n lights: n·MAX_OUTPUTS vec4), the binding's range is the
+// whole block and the shader reads only lights < n. Non-fluorescent materials share a record of
+// zeros; scenes without matrices bind one such record and never read it.
+struct GpuFluorescenceBlock {
+    vec4 emitted[MAX_LIGHTS * MAX_OUTPUTS];
 };
 
 struct SpectralPushConstants {
@@ -139,6 +156,7 @@ static_assert(sizeof(TonemapParams) == 16 * 20 + 16, "std140 layout");
 static_assert(sizeof(GpuLightBlock) == 16 * MAX_LIGHTS, "std140 layout");
 static_assert(sizeof(GpuLightSpectraBlock) == 16384, "must fit the minimum maxUniformBufferRange");
 static_assert(sizeof(GpuMaterialBlock) == 16 * (3 * MAX_OUTPUTS + 2 + MAX_LIGHTS / 4), "std140 layout");
+static_assert(sizeof(GpuFluorescenceBlock) == 16384, "must fit the minimum maxUniformBufferRange");
 static_assert(sizeof(SpectralPushConstants) == 96, "push constants must match GLSL");
 }  // namespace metamer::gpu
 #endif

@@ -20,10 +20,12 @@ layout(constant_id = SPEC_HAS_SPECULAR) const bool HAS_SPECULAR = true;
 layout(constant_id = SPEC_HAS_FLUORESCENCE) const bool HAS_FLUORESCENCE = true;
 layout(constant_id = SPEC_HAS_TEXTURES) const bool HAS_TEXTURES = false;
 layout(constant_id = SPEC_HAS_NORMAL_MAPS) const bool HAS_NORMAL_MAPS = false;
+layout(constant_id = SPEC_FLUORESCENCE_SPECTRA) const bool FLUORESCENCE_SPECTRA = false;
 
 layout(set = 0, binding = BINDING_LIGHTS, std140) uniform Lights { GpuLightBlock L; };
 layout(set = 0, binding = BINDING_LIGHT_SPECTRA, std140) uniform LightSpectra { GpuLightSpectraBlock E; };
 layout(set = 0, binding = BINDING_MATERIAL, std140) uniform Material { GpuMaterialBlock M; };
+layout(set = 0, binding = BINDING_FLUORESCENCE, std140) uniform Fluorescence { GpuFluorescenceBlock F; };
 
 layout(set = 1, binding = TEXTURE_BINDING_DIFFUSE) uniform sampler2DArray diffuseTexture;
 layout(set = 1, binding = TEXTURE_BINDING_SPECULAR) uniform sampler2DArray specularTexture;
@@ -62,7 +64,7 @@ layout(location = 7) out vec4 out7;
 const float INV_PI = 0.31830988618379067;
 
 vec4 acc[OUTPUT_COUNT];  // this pass's bands, 4 per attachment
-float fluorescence;      // Σ_l g_l·coupling_l: scales ê(λ)/λ
+float fluorescence;      // rank-one form: Σ_l g_l·coupling_l, scales ê(λ)/λ
 
 float coupling(int l) { return M.coupling[l / 4][l % 4]; }
 
@@ -138,6 +140,16 @@ void addLight(int l, float diffuseWeight, float specularWeight) {
     }
 }
 
+// Light l's fluorescence with geometric factor g: the rank-one form sums g·coupling_l (times ê/λ
+// at the end); with a Donaldson matrix in the scene, every fluorescent material adds g·F_l(λ).
+void addFluorescence(int l, float g) {
+    if (!HAS_FLUORESCENCE) return;
+    if (FLUORESCENCE_SPECTRA)
+        [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) acc[k] += g * F.emitted[l * MAX_OUTPUTS + k];
+    else
+        fluorescence += g * coupling(l);
+}
+
 // (n·h)^N for unit n and h, with x^0 = 1 (also at x = 0). Near the lobe's peak n·h rounds to
 // within 2^-24 of 1, and pow() turns that into a relative error of N·2^-24 (1e-2 at N = 1e5,
 // 8e-2 at N = 1e6). For unit vectors 1 − n·h = |n − h|²/2, which keeps its relative precision as
@@ -195,14 +207,14 @@ void main() {
     [[unroll]] for (int i = 0; i < AMBIENT_COUNT; ++i) {
         int l = i;
         addLight(l, INV_PI, 0.0);
-        if (HAS_FLUORESCENCE) fluorescence += coupling(l);
+        addFluorescence(l, 1.0);
     }
     [[unroll]] for (int i = 0; i < DIRECTIONAL_COUNT; ++i) {
         int l = AMBIENT_COUNT + i;
         vec3 w = L.lights[l].vector.xyz;
         float g = max(dot(n, w), 0.0);
         addLight(l, g * INV_PI, specularWeight(n, w, v, g));
-        if (HAS_FLUORESCENCE) fluorescence += g * coupling(l);
+        addFluorescence(l, g);
     }
     // Point: E = I·cosθ/d².
     [[unroll]] for (int i = 0; i < POINT_COUNT; ++i) {
@@ -212,11 +224,11 @@ void main() {
         vec3 w = d * inversesqrt(d2);
         float g = max(dot(n, w), 0.0) / d2;
         addLight(l, g * INV_PI, specularWeight(n, w, v, g));
-        if (HAS_FLUORESCENCE) fluorescence += g * coupling(l);
+        addFluorescence(l, g);
     }
     // ê/λ and the couplings come scaled by reciprocal powers of two (pack() in spectral_pass.cpp)
     // so that neither overflows before their product does.
-    if (HAS_FLUORESCENCE)
+    if (HAS_FLUORESCENCE && !FLUORESCENCE_SPECTRA)
         [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) acc[k] += fluorescence * M.emissionOverLambda[k];
 
     out0 = acc[0];

@@ -36,8 +36,9 @@ void checkOnGrid(const Scene& scene, const SceneOnGrid& g) {
         texture(m.diffuseTexture, false);
         texture(m.specularTexture, false);
         texture(m.normalTexture, true);
-        if (!sized(m.diffuse) || !sized(m.specular) ||
-            (m.fluorescent && (!sized(m.excitation) || !sized(m.emission))))
+        const bool fluorescenceSized =
+            !m.fluorescent || (m.isMatrix() ? m.donaldson.size() == n * n : sized(m.excitation) && sized(m.emission));
+        if (!sized(m.diffuse) || !sized(m.specular) || !fluorescenceSized)
             failRuntime("reference renderer: a material spectrum has the wrong band count");
     }
 }
@@ -138,6 +139,16 @@ ReferenceRenderer::ReferenceRenderer(const Scene& scene, const SceneOnGrid& onGr
                 specularTerm_[o + b] = mat.specular[b] * e[b] * lobeNorm;
             }
             if (!mat.fluorescent) continue;
+            if (mat.isMatrix()) {
+                // The Donaldson matrix (nm⁻¹) re-radiates E(λi)·Δλ from each band into every band:
+                // L_f(λo) = (1/π)·Σᵢ D(λi, λo)·E(λi)·Δλ.
+                for (int out = 0; out < bands_; ++out) {
+                    double sum = 0.0;
+                    for (int in = 0; in < bands_; ++in) sum += mat.donaldson[size_t(in) * bands_ + out] * e[in];
+                    fluorescenceTerm_[o + out] = sum * step / kPi;
+                }
+                continue;
+            }
             // Absorbed photons ∝ S = Σ a·E·λ·Δλ (the Riemann sum over the render grid); a fraction
             // Φ is re-emitted with shape ê, each photon at λ carrying energy ∝ 1/λ.
             double s = 0.0;

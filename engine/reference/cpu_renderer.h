@@ -71,7 +71,8 @@ private:
 
     // View-independent spectra per (material, light), flattened [material][light][band]:
     // diffuse ρd·E/π; specular ρs·E·(N+8)/(8π); fluorescence (Φ/π)·ê(λ)/λ·S with
-    // S = Σ a·E·λ·Δλ. Each is scaled per hit by its geometric factor.
+    // S = Σ a·E·λ·Δλ, or for a Donaldson matrix (1/π)·Σᵢ D(λi, λ)·E(λi)·Δλ. Each is scaled per hit
+    // by its geometric factor.
     std::vector<double> diffuseTerm_, specularTerm_, fluorescenceTerm_;
     std::vector<bool> hasSpecular_, hasFluorescence_;  // per material
     size_t termOffset(uint32_t material, size_t light) const {

@@ -46,6 +46,15 @@ struct PackedScene {
     gpu::GpuLightBlock lights{};
     std::vector<gpu::GpuLightSpectraBlock> lightSpectra;  // per pass
     std::vector<gpu::GpuMaterialBlock> materials;         // per pass × material: [pass][material]
+    // Fluorescence as per-light spectra (scenes with a Donaldson matrix; interface.h,
+    // GpuFluorescenceBlock): records of lightSlots × MAX_OUTPUTS vec4; per pass, record 0 is zeros
+    // (non-fluorescent materials, and the only record when fluorescenceSpectra is false) and record
+    // 1 + j the j-th fluorescent material's. [pass][record][light][k].
+    bool fluorescenceSpectra = false;
+    int lightSlots = 1;  // max(1, light count)
+    int fluorescenceRecords = 1;                  // per pass
+    std::vector<uint32_t> fluorescenceRecord;     // per material: its record in every pass
+    std::vector<glm::vec4> fluorescence;
 };
 
 // Band b of pass p lives at vec4 k = (b - 32p) / 4, component (b - 32p) % 4; bands past the grid are 0.
@@ -56,6 +65,9 @@ void scatterBands(const std::vector<double>& values, int pass, glm::vec4* dst) {
             dst[k][c] = b < values.size() ? float(values[b]) : 0.0f;
         }
 }
+
+void packFluorescence(PackedScene& p, const Scene& scene, const SceneOnGrid& g, const std::vector<size_t>& order,
+                      int passes);
 
 PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes) {
     PackedScene p;
@@ -144,6 +156,10 @@ PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes) {
         for (size_t i = 0; i < order.size(); ++i)
             scatterBands(g.lights[order[i]], pass, &p.lightSpectra[pass].lightBands[i * MAX_OUTPUTS]);
 
+    // A Donaldson matrix does not factor into a coupling × a shape: a scene with one renders every
+    // fluorescent material from per-light spectra; other scenes keep the cheaper rank-one form.
+    p.fluorescenceSpectra = std::any_of(g.materials.begin(), g.materials.end(),
+                                        [](const MaterialOnGrid& m) { return m.fluorescent && m.isMatrix(); });
     p.materials.resize(size_t(passes) * g.materials.size());
     std::vector<double> emissionOverLambda;
     for (size_t mi = 0; mi < g.materials.size(); ++mi) {
@@ -153,7 +169,7 @@ PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes) {
         // so the shader only multiplies by the light's geometric factor.
         std::vector<float> coupling(MAX_LIGHTS, 0.0f);
         emissionOverLambda.assign(m.diffuse.size(), 0.0);
-        if (m.fluorescent) {
+        if (m.fluorescent && !p.fluorescenceSpectra) {
             double largest = 0.0;
             for (size_t i = 0; i < m.emission.size(); ++i) {
                 emissionOverLambda[i] = m.emission[i] / g.wavelengths_nm[i];
@@ -183,7 +199,71 @@ PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes) {
             for (int l = 0; l < MAX_LIGHTS; ++l) b.coupling[l / 4][l % 4] = coupling[l];
         }
     }
+    packFluorescence(p, scene, g, order, passes);
     return p;
+}
+
+// The fluorescent radiance per unit geometric factor of every fluorescent material under every
+// light, F_l(λo) = (1/π)·Σᵢ D(λᵢ, λo)·E_l(λᵢ)·Δλ, in double, then rounded once to float. The
+// rank-one form is the matrix D = Φ·a(λᵢ)·ê(λo)·λᵢ/λo, which factors the sum:
+// F_l(λo) = (Φ/π)·ê(λo)/λo·Σᵢ a·E_l·λᵢ·Δλ. F is a radiance (× d² for a point light), so it is no
+// nearer float32's limits than the image itself; a value beyond them is refused, as a light is.
+void packFluorescence(PackedScene& p, const Scene& scene, const SceneOnGrid& g, const std::vector<size_t>& order,
+                      int passes) {
+    const size_t n = g.wavelengths_nm.size(), lights = order.size();
+    const double step = g.grid.step_nm;
+    p.lightSlots = std::max<int>(1, int(lights));
+    p.fluorescenceRecord.assign(g.materials.size(), 0);
+    std::vector<std::vector<double>> emitted;  // per fluorescent material: [light][band]
+    for (size_t mi = 0; mi < g.materials.size(); ++mi) {
+        const MaterialOnGrid& m = g.materials[mi];
+        if (!m.fluorescent || !p.fluorescenceSpectra) continue;
+        p.fluorescenceRecord[mi] = uint32_t(emitted.size() + 1);
+        std::vector<double> f(lights * n, 0.0);
+        for (size_t i = 0; i < lights; ++i) {
+            const std::vector<double>& E = g.lights[order[i]];
+            double* out = &f[i * n];
+            if (m.isMatrix()) {
+                for (size_t in = 0; in < n; ++in) {
+                    const double e = E[in] * step / M_PI;
+                    if (e == 0.0) continue;
+                    const double* row = &m.donaldson[in * n];
+                    for (size_t o = 0; o < n; ++o) out[o] += row[o] * e;
+                }
+            } else {
+                double absorbed = 0.0;  // Σ a·E·λ·Δλ
+                for (size_t b = 0; b < n; ++b) absorbed += m.excitation[b] * E[b] * g.wavelengths_nm[b] * step;
+                for (size_t o = 0; o < n; ++o)
+                    out[o] = m.quantum_yield / M_PI * m.emission[o] / g.wavelengths_nm[o] * absorbed;
+            }
+            for (size_t o = 0; o < n; ++o)
+                if (!(std::fabs(out[o]) <= double(std::numeric_limits<float>::max()))) {
+                    const Fluorescence& fl = *scene.materials[mi].fluorescence;
+                    failInput(fl.matrix ? fl.matrix->where : fl.excitation.where,
+                              "the fluorescence of material '{}' under {} is {:g} W·sr⁻¹·m⁻²·nm⁻¹ per unit geometric "
+                              "factor at {:g} nm, beyond the largest float32 ({:g}) the GPU path computes with",
+                              scene.materials[mi].name, scene.lights[order[i]].name, out[o], g.wavelengths_nm[o],
+                              double(std::numeric_limits<float>::max()));
+                }
+        }
+        emitted.push_back(std::move(f));
+    }
+    p.fluorescenceRecords = int(emitted.size()) + 1;
+    const size_t recordVec4 = size_t(p.lightSlots) * MAX_OUTPUTS;
+    if (!p.fluorescenceSpectra) {  // never read: one record of zeros for the binding
+        p.fluorescence.assign(recordVec4, glm::vec4(0.0f));
+        return;
+    }
+    p.fluorescence.assign(size_t(passes) * p.fluorescenceRecords * recordVec4, glm::vec4(0.0f));
+    std::vector<double> bands(n);
+    for (int pass = 0; pass < passes; ++pass)
+        for (size_t r = 1; r < size_t(p.fluorescenceRecords); ++r)
+            for (size_t i = 0; i < lights; ++i) {
+                const double* src = &emitted[r - 1][i * n];
+                bands.assign(src, src + n);
+                glm::vec4* dst = &p.fluorescence[((size_t(pass) * p.fluorescenceRecords + r) * p.lightSlots + i) * MAX_OUTPUTS];
+                scatterBands(bands, pass, dst);
+            }
 }
 
 struct SpirvCode {
@@ -205,7 +285,8 @@ std::string SpectralPassPlan::describe() const {
     return fmt::format("{} bands in {} RGBA32F layers, a depth pre-pass + {} colour pass(es) of ≤{} attachments, {}×{} target ({} MiB), "
                        "{} light(s), specular {}, fluorescence {}, ssaa {}, readback by {}",
                        bands, layers, passes, MAX_OUTPUTS, targetWidth, targetHeight, targetBytes >> 20,
-                       lightCount, hasSpecular ? "on" : "off", hasFluorescence ? "on" : "off", ssaa,
+                       lightCount, hasSpecular ? "on" : "off",
+                       !hasFluorescence ? "off" : fluorescenceSpectra ? "on (per-light spectra)" : "on (rank one)", ssaa,
                        mappedReadback ? "mapping a linear image" : "copy");
 }
 
@@ -219,8 +300,9 @@ struct SpectralPass::Impl {
     glm::mat4 fullViewProjection{1.0f};
     int rows = 0;
 
-    vk::Buffer vertexBuffer, indexBuffer, lightBuffer, lightSpectraBuffer, materialBuffer, readbackBuffer;
-    VkDeviceSize lightSpectraStride = 0, materialStride = 0;  // dynamic-offset strides, aligned
+    vk::Buffer vertexBuffer, indexBuffer, lightBuffer, lightSpectraBuffer, materialBuffer, fluorescenceBuffer,
+        readbackBuffer;
+    VkDeviceSize lightSpectraStride = 0, materialStride = 0, fluorescenceStride = 0;  // dynamic-offset strides
     vk::Image color, depth;
     // Textures (one image per SceneOnGrid texture, then a placeholder) and one descriptor set of
     // set 1 per material.
@@ -287,6 +369,19 @@ struct SpectralPass::Impl {
         materialStride = aligned(sizeof(gpu::GpuMaterialBlock));
         materialBuffer = uniforms(packed.materials.data(), sizeof(gpu::GpuMaterialBlock), packed.materials.size(),
                                   materialStride, "materials");
+        // Fluorescence records are sized to the scene's lights, but bound with the whole block's
+        // range: the buffer extends past the last record so that range stays inside it.
+        const size_t recordBytes = size_t(packed.lightSlots) * MAX_OUTPUTS * sizeof(glm::vec4);
+        const size_t records = packed.fluorescence.size() / (size_t(packed.lightSlots) * MAX_OUTPUTS);
+        fluorescenceStride = aligned(recordBytes);
+        fluorescenceBuffer = vk::Buffer(ctx, (records - 1) * fluorescenceStride + sizeof(gpu::GpuFluorescenceBlock),
+                                        VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, "fluorescence");
+        std::vector<char> zeros(sizeof(gpu::GpuFluorescenceBlock) - recordBytes, 0);
+        for (size_t r = 0; r < records; ++r)
+            fluorescenceBuffer.upload(&packed.fluorescence[r * packed.lightSlots * MAX_OUTPUTS], recordBytes,
+                                      r * fluorescenceStride);
+        if (!zeros.empty())  // the tail past the last record: never read, but defined
+            fluorescenceBuffer.upload(zeros.data(), zeros.size(), (records - 1) * fluorescenceStride + recordBytes);
     }
 
     // Each texture as an RGBA32F 2D-array image, 4 channels per layer (zero-padded), copied from a
@@ -397,13 +492,15 @@ struct SpectralPass::Impl {
 
     void createLayouts() {
         VkDevice d = ctx.device();
-        VkDescriptorSetLayoutBinding bindings[3] = {
+        constexpr int kBindings = 4;
+        VkDescriptorSetLayoutBinding bindings[kBindings] = {
             {BINDING_LIGHTS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
             {BINDING_LIGHT_SPECTRA, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
             {BINDING_MATERIAL, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
+            {BINDING_FLUORESCENCE, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
         };
         VkDescriptorSetLayoutCreateInfo sl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-        sl.bindingCount = 3;
+        sl.bindingCount = kBindings;
         sl.pBindings = bindings;
         VK_CHECK(vkCreateDescriptorSetLayout(d, &sl, nullptr, &setLayout));
         VkPushConstantRange range{VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
@@ -425,7 +522,7 @@ struct SpectralPass::Impl {
 
         const uint32_t materialCount = uint32_t(std::max<size_t>(1, scene.materials.size()));
         VkDescriptorPoolSize sizes[3] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1},
-                                         {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC, 2},
+                                         {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC, 3},
                                          {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, TEXTURE_BINDINGS * materialCount}};
         VkDescriptorPoolCreateInfo pci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
         pci.maxSets = 1 + materialCount;
@@ -437,11 +534,13 @@ struct SpectralPass::Impl {
         ai.descriptorSetCount = 1;
         ai.pSetLayouts = &setLayout;
         VK_CHECK(vkAllocateDescriptorSets(d, &ai, &descriptorSet));
-        VkDescriptorBufferInfo infos[3] = {{lightBuffer.handle(), 0, sizeof(gpu::GpuLightBlock)},
-                                           {lightSpectraBuffer.handle(), 0, sizeof(gpu::GpuLightSpectraBlock)},
-                                           {materialBuffer.handle(), 0, sizeof(gpu::GpuMaterialBlock)}};
-        VkWriteDescriptorSet writes[3];
-        for (int i = 0; i < 3; ++i) {
+        VkDescriptorBufferInfo infos[kBindings] = {
+            {lightBuffer.handle(), 0, sizeof(gpu::GpuLightBlock)},
+            {lightSpectraBuffer.handle(), 0, sizeof(gpu::GpuLightSpectraBlock)},
+            {materialBuffer.handle(), 0, sizeof(gpu::GpuMaterialBlock)},
+            {fluorescenceBuffer.handle(), 0, sizeof(gpu::GpuFluorescenceBlock)}};
+        VkWriteDescriptorSet writes[kBindings];
+        for (int i = 0; i < kBindings; ++i) {
             writes[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
             writes[i].dstSet = descriptorSet;
             writes[i].dstBinding = bindings[i].binding;
@@ -449,7 +548,7 @@ struct SpectralPass::Impl {
             writes[i].descriptorType = bindings[i].descriptorType;
             writes[i].pBufferInfo = &infos[i];
         }
-        vkUpdateDescriptorSets(d, 3, writes, 0, nullptr);
+        vkUpdateDescriptorSets(d, kBindings, writes, 0, nullptr);
 
         // Set 1 per material: its textures, or the placeholder (texelFetch ignores the sampler's
         // filter; it must still be a valid sampler).
@@ -556,10 +655,10 @@ struct SpectralPass::Impl {
     VkPipeline makePipeline(VkRenderPass renderPass, uint32_t attachments) {
         struct Spec {
             int32_t ambient, directional, point;
-            VkBool32 hasSpecular, hasFluorescence, hasTextures, hasNormalMaps;
+            VkBool32 hasSpecular, hasFluorescence, hasTextures, hasNormalMaps, fluorescenceSpectra;
         } spec{packed.ambient, packed.directional, packed.point, plan.hasSpecular, plan.hasFluorescence,
-               scene.hasTextures(), scene.hasNormalMaps()};
-        VkSpecializationMapEntry entries[7] = {
+               scene.hasTextures(), scene.hasNormalMaps(), plan.fluorescenceSpectra};
+        VkSpecializationMapEntry entries[8] = {
             {SPEC_AMBIENT_COUNT, offsetof(Spec, ambient), 4},
             {SPEC_DIRECTIONAL_COUNT, offsetof(Spec, directional), 4},
             {SPEC_POINT_COUNT, offsetof(Spec, point), 4},
@@ -567,8 +666,9 @@ struct SpectralPass::Impl {
             {SPEC_HAS_FLUORESCENCE, offsetof(Spec, hasFluorescence), 4},
             {SPEC_HAS_TEXTURES, offsetof(Spec, hasTextures), 4},
             {SPEC_HAS_NORMAL_MAPS, offsetof(Spec, hasNormalMaps), 4},
+            {SPEC_FLUORESCENCE_SPECTRA, offsetof(Spec, fluorescenceSpectra), 4},
         };
-        VkSpecializationInfo si{7, entries, sizeof(Spec), &spec};
+        VkSpecializationInfo si{8, entries, sizeof(Spec), &spec};
         bool prePass = attachments == 0;
         VkShaderModule frag = VK_NULL_HANDLE;
         if (!prePass) {
@@ -726,11 +826,16 @@ struct SpectralPass::Impl {
                                    sizeof(pc), &pc);
                 size_t materials = packed.materials.size() / passes.size();
                 for (const Draw& d : packed.draws) {
-                    // This pass's bands of the light spectra and of the draw's material.
-                    uint32_t offsets[2] = {uint32_t(p * lightSpectraStride),
-                                           uint32_t((p * materials + d.material) * materialStride)};
+                    // This pass's bands of the light spectra, of the draw's material and of its
+                    // fluorescence.
+                    uint32_t offsets[3] = {
+                        uint32_t(p * lightSpectraStride), uint32_t((p * materials + d.material) * materialStride),
+                        packed.fluorescenceSpectra
+                            ? uint32_t((p * packed.fluorescenceRecords + packed.fluorescenceRecord[d.material]) *
+                                       fluorescenceStride)
+                            : 0u};
                     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelineLayout, 0, 1,
-                                            &descriptorSet, 2, offsets);
+                                            &descriptorSet, 3, offsets);
                     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelineLayout, 1, 1,
                                             &materialSets[d.material], 0, nullptr);
                     vkCmdDrawIndexed(cmd, d.indexCount, 1, d.firstIndex, d.vertexOffset, 0);
@@ -881,6 +986,7 @@ SpectralPass::SpectralPass(vk::Context& ctx, const Scene& scene, const SceneOnGr
         failInput(Where{scene.file.string(), "lights"}, "{} lights; the GPU path supports at most {}",
                   scene.lights.size(), MAX_LIGHTS);
     m.packed = pack(scene, spectra, p.passes);
+    m.plan.fluorescenceSpectra = m.packed.fluorescenceSpectra;
     m.camera = cameraMatrices(scene.camera, scene);
     m.fullViewProjection = m.camera.viewProjection;
     m.rows = rows;

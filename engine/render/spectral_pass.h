@@ -37,6 +37,7 @@ struct SpectralPassPlan {
     int lightCount = 0;
     bool hasSpecular = false;
     bool hasFluorescence = false;
+    bool fluorescenceSpectra = false;  // a Donaldson matrix: fluorescence as per-light spectra (interface.h)
     int ssaa = 1;
     uint32_t targetWidth = 0, targetHeight = 0;  // render-target size (× ssaa)
     bool mappedReadback = false;

@@ -168,8 +168,21 @@ void linearBasis(Representation& r, const SceneOnGrid& spectra) {
             add(sp);
         }
     }
-    for (const auto& m : spectra.materials)
-        if (m.fluorescent) add(m.emission);
+    for (const auto& m : spectra.materials) {
+        if (!m.fluorescent) continue;
+        if (!m.isMatrix()) {
+            add(m.emission);
+            continue;
+        }
+        // A Donaldson matrix's emission shape depends on the light: add what each light makes it emit.
+        const size_t n = spectra.wavelengths_nm.size();
+        for (const auto& e : spectra.lights) {
+            std::vector<double> f(n, 0.0);
+            for (size_t i = 0; i < n; ++i)
+                for (size_t o = 0; o < n; ++o) f[o] += m.donaldson[i * n + o] * e[i];
+            add(f);
+        }
+    }
     size_t n = samples.size();
     if (n == 0) failInput(Where{"", "--mode"}, "linear: the scene has no light to analyse");
     std::vector<std::vector<double>> gram(n, std::vector<double>(n, 0.0));

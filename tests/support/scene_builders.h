@@ -90,6 +90,17 @@ inline Material fluorescent(Spectrum diffuse, Spectrum excitation, Spectrum emis
     return m;
 }
 
+// A fluorescent material given by a Donaldson matrix D(λin, λout) in nm⁻¹, times `scale`, as a
+// scene's "fluorescence": {"matrix": ..., "scale": ...}.
+inline Material donaldsonMaterial(Spectrum diffuse, BispectralMatrix d, double scale = 1.0,
+                                  std::string name = "donaldson") {
+    Material m = lambertian(std::move(diffuse), name);
+    Fluorescence f;
+    f.matrix = SceneMatrix{std::move(d), scale, Where{"", "materials." + name + ".fluorescence.matrix", 0}};
+    m.fluorescence = std::move(f);
+    return m;
+}
+
 // --- Lights ------------------------------------------------------------------------------------
 // spectrum × scale: ambient and directional, irradiance in W·m⁻²·nm⁻¹; point, intensity in
 // W·sr⁻¹·nm⁻¹.
