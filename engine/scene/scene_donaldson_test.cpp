@@ -245,3 +245,46 @@ TEST_F(SceneDonaldson, PhotonBalanceAndOverflow) {
     write(root / "scene" / "big.csv", matrixCsv({300, 500}, {400, 700}, 100));
     expectError(scene({{"matrix", "big.csv"}, {"scale", 1e308}}), "× scale 1e+308 overflows a double", true);
 }
+
+TEST(BundledDonaldson, TheTwoFluorophorePaintChangesColourWithTheExcitation) {
+    // scenes/fluorescent-matrix.json's paint (spectra/README.md, "Donaldson matrices"): excited in
+    // the UV it emits mostly the brightener's violet-blue, in the green only the dye's pink. In a
+    // rank-one matrix every row would have the same shape.
+    const fs::path root = METAMER_SOURCE_DIR;
+    SpectrumLibrary lib(root / "spectra");
+    if (!lib.contains("fluorescent/brightened_pink_donaldson")) GTEST_SKIP() << "no matrix in the library yet";
+    CaptureWarnings quiet;
+    const Scene s = loadScene(root / "scenes" / "fluorescent-matrix.json", lib);
+    const SceneOnGrid g = resampleScene(s, s.grid, CoveragePolicy::Error);
+    EXPECT_TRUE(quiet.lines().empty()) << quiet.lines().front();
+    size_t m = 0;
+    while (m < s.materials.size() && s.materials[m].name != "brightened_pink") ++m;
+    ASSERT_LT(m, s.materials.size());
+    ASSERT_TRUE(g.materials[m].isMatrix());
+    const std::vector<double>& nm = g.wavelengths_nm;
+    const size_t n = nm.size();
+    auto row = [&](double in) {
+        const size_t i = size_t(std::lround((in - nm[0]) / s.grid.step_nm));
+        return std::vector<double>(g.materials[m].donaldson.begin() + i * n, g.materials[m].donaldson.begin() + (i + 1) * n);
+    };
+    auto peak = [&](const std::vector<double>& r) { return nm[size_t(std::max_element(r.begin(), r.end()) - r.begin())]; };
+    auto redShare = [&](const std::vector<double>& r) {
+        double red = 0, all = 0;
+        for (size_t o = 0; o < n; ++o) {
+            all += r[o];
+            if (nm[o] > 520) red += r[o];
+        }
+        return red / all;
+    };
+    const std::vector<double> uv = row(360), green = row(540);
+    EXPECT_NEAR(peak(uv), 440, 10);
+    EXPECT_NEAR(peak(green), 580, 10);
+    EXPECT_LT(redShare(uv), 0.3);
+    EXPECT_GT(redShare(green), 0.99);
+    // Photons: with the diffuse, at most what the material receives at every λin.
+    for (size_t i = 0; i < n; ++i) {
+        double yield = 0;
+        for (size_t o = 0; o < n; ++o) yield += g.materials[m].donaldson[i * n + o] * nm[o] / nm[i] * s.grid.step_nm;
+        EXPECT_LE(g.materials[m].diffuse[i] + yield, 0.91) << nm[i] << " nm";
+    }
+}
