@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """Writes the binary and glTF helper files of the bad-input corpus (tests/bad-inputs/README.md):
-a PNG under other names, a truncated GLB and glTF files that are valid JSON but wrong inside.
+a PNG under other names, a truncated GLB, glTF files that are valid JSON but wrong inside and
+bispectral OpenEXR files that are valid images but wrong Donaldson matrices.
 Standard library only. Run from anywhere: python3 tests/bad-inputs/files/make_files.py"""
 
 import base64
@@ -60,6 +61,29 @@ def glb(doc, data):
     return struct.pack("<III", 0x46546C67, 2, 12 + len(chunks)) + chunks
 
 
+def exr(channels, width=1, height=1):
+    """An uncompressed scanline OpenEXR of float32 channels {name: [values, row by row]}: magic,
+    version 2, the required header attributes, the offset table and one block per scanline."""
+    def attribute(name, kind, data):
+        return name.encode() + b"\0" + kind.encode() + b"\0" + struct.pack("<i", len(data)) + data
+    names = sorted(channels, key=lambda n: n.encode())  # OpenEXR keeps channels sorted by name
+    chlist = b"".join(n.encode() + b"\0" + struct.pack("<iB3xii", 2, 0, 1, 1) for n in names) + b"\0"
+    box = struct.pack("<iiii", 0, 0, width - 1, height - 1)
+    header = (attribute("channels", "chlist", chlist) + attribute("compression", "compression", b"\0") +
+              attribute("dataWindow", "box2i", box) + attribute("displayWindow", "box2i", box) +
+              attribute("lineOrder", "lineOrder", b"\0") + attribute("pixelAspectRatio", "float", struct.pack("<f", 1)) +
+              attribute("screenWindowCenter", "v2f", struct.pack("<ff", 0, 0)) +
+              attribute("screenWindowWidth", "float", struct.pack("<f", 1)) + b"\0")
+    start = 8 + len(header) + 8 * height
+    blocks = b""
+    offsets = []
+    for y in range(height):
+        data = b"".join(struct.pack(f"<{width}f", *channels[n][y * width:(y + 1) * width]) for n in names)
+        offsets.append(start + len(blocks))
+        blocks += struct.pack("<ii", y, len(data)) + data
+    return struct.pack("<ii", 20000630, 2) + header + struct.pack(f"<{height}Q", *offsets) + blocks
+
+
 def main():
     image = png()
     write("binary.csv", image)  # a PNG named .csv
@@ -93,6 +117,15 @@ def main():
     doc["accessors"][1]["count"] = 2
     write("lines.gltf", json.dumps(doc, indent=1))
 
+
+    # Bispectral images (Donaldson matrices): a texture, a NaN, reflective channels only, and two
+    # names for one (λin, λout) pair.
+    four = ["T.400nm.500nm", "T.400nm.600nm", "T.450nm.500nm", "T.450nm.600nm"]
+    write("donaldson-texture.exr", exr({n: [0.001, 0.002] for n in four}, width=2))
+    write("donaldson-nan.exr", exr(dict(zip(four, [[0.001], [float("nan")], [0.002], [0.003]]))))
+    write("donaldson-reflective.exr", exr({"T.400nm": [0.5], "T.500nm": [0.6]}))
+    write("donaldson-duplicate.exr", exr({"T.400nm.500nm": [0.001], "T.400,0nm.500nm": [0.002],
+                                          "T.450nm.600nm": [0.003]}))
 
     # A scene nesting 20 000 levels deep (the case itself lives beside this folder).
     with open(os.path.join(HERE, "..", "syntax-deep-nesting.json"), "w") as f:
