@@ -5,9 +5,12 @@
 // for matrix scenes under every light kind and many passes (and, disabled by default, 128
 // lights), and light scales over 24 decades stay finite and linear (docs/physics.md,
 // "Fluorescence").
+#include "color/tonemap.h"
 #include "reference/cpu_renderer.h"
 #include "render/spectral_pass.h"
+#include "represent/representation.h"
 #include "scene/scene_json.h"
+#include "spectral/csv.h"
 #include "spectral/library.h"
 #include "support/gpu.h"
 #include "support/scene_builders.h"
@@ -419,4 +422,41 @@ TEST(Donaldson, LightScalesOverTwentyFourDecadesStayFiniteAndLinear) {
         // below the smallest normal float (1.2e-38) and are flushed (docs/numerics.md).
         if (scale >= 1e-12 && scale <= 1e12) EXPECT_LE(linearity, 1e-5);
     }
+}
+
+TEST(Donaldson, LinearModeAnalysesTheMatrixEmissionUnderEachLight) {
+    // linear:K builds its basis from the scene's spectra; a matrix's contribution is what it emits
+    // under each light (its shape changes with the light). The library's two-fluorophore paint on a
+    // card under D65 spans three dimensions (the light, the light the base reflects, the
+    // fluorescence), so linear:3 must reproduce the full-spectral XYZ; without the emission in the
+    // analysis it could not represent the fluorescence at all.
+    SpectrumLibrary lib;
+    if (!lib.contains("fluorescent/brightened_pink_donaldson")) GTEST_SKIP() << "no matrix in the library yet";
+    Scene scene = emptyScene(Grid{300, 780, 5}, orthographicCamera({0, 0, 4}, {0, 0, 0}, {0, 1, 0}, 1.0, 12, 8));
+    scene.materials.push_back(donaldsonMaterial(lib.get("fluorescent/brightened_pink_base", Where{}),
+                                                readBispectralCsv(lib.root() / "fluorescent" / "brightened_pink_donaldson.csv"),
+                                                1.0, "paint"));
+    scene.meshes.push_back(quad({0, 0, 0}, {0, 0, 1}, 4, 4));
+    scene.lights.push_back(directionalLight({0, -0.5, -1}, lib.get("illuminants/D65", Where{}), 0.01, "lights.0"));
+    const SceneOnGrid spectra = onGrid(scene);
+    auto render = [&](const std::string& mode) {
+        WarningCapture quiet;
+        Representation rep = makeRepresentation(parseMode(mode, Where{}), scene.grid, lib, &spectra);
+        const SceneOnGrid rendered = represent(spectra, rep, scene);
+        const TonemapPlan plan = makeTonemapPlan(TonemapSettings{}, scene, spectra, lib, &rep);
+        return tonemapReference(plan, renderReference(scene, rendered).cube);
+    };
+    const DisplayImage full = render("full"), linear = render("linear:3"), two = render("linear:2");
+    auto worst = [&](const DisplayImage& d) {
+        double w = 0.0;
+        for (size_t i = 0; i < full.xyz.size(); ++i)
+            w = std::max(w, std::fabs(double(d.xyz[i]) - full.xyz[i]) / std::max(1.0, double(full.xyz[i])));
+        return w;
+    };
+    std::printf("  matrix paint under D65, worst XYZ difference against full (white Y = 100): linear:3 %.3g, "
+                "linear:2 %.3g\n",
+                worst(linear), worst(two));
+    EXPECT_GT(full.xyz[1], 10.0);
+    EXPECT_LT(worst(linear), 1e-5);
+    EXPECT_GT(worst(two), 1e-3);
 }
