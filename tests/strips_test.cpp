@@ -54,6 +54,11 @@ TEST(Strips, StripByStripEqualsTheWholeFrame) {
 // Resident memory must not grow with the number of frames (lavapipe leaked a target's size per
 // render-pass clear; the pass now clears with vkCmdClearColorImage).
 TEST(Strips, RepeatedFramesDoNotGrowMemory) {
+#if defined(__SANITIZE_ADDRESS__)
+    // AddressSanitizer keeps freed memory in quarantine (256 MiB by default) to catch use after
+    // free, so resident memory grows by design; LeakSanitizer checks leaks in that build instead.
+    GTEST_SKIP() << "resident memory is not meaningful under AddressSanitizer";
+#endif
     auto residentBytes = [] {
         std::FILE* f = std::fopen("/proc/self/statm", "r");
         long pages = 0, resident = 0;

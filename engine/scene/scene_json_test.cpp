@@ -508,6 +508,7 @@ void libraryNames(const Json& v, std::vector<std::string>& out) {
     static const std::set<std::string> keys = {"spectrum", "diffuse", "specular", "excitation", "emission"};
     if (v.is_object()) {
         for (auto it = v.begin(); it != v.end(); ++it) {
+            if (it.key() == "textures") continue;  // file names, not spectra
             if (keys.count(it.key()) && it.value().is_string()) {
                 std::string s = it.value().get<std::string>();
                 if (s.size() < 4 || s.substr(s.size() - 4) != ".csv") out.push_back(s);

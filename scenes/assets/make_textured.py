@@ -142,7 +142,7 @@ def write_panel(name):
         for i in range(cols):
             a, b = j * (cols + 1) + i, j * (cols + 1) + i + 1
             c, d = a + cols + 1, b + cols + 1
-            indices += [a, c, b, b, c, d]  # counter-clockwise seen from the normal side
+            indices += [a, b, c, b, d, c]  # counter-clockwise seen from the normal side
     primitive(positions, normals, uvs, indices, 0)
     # The brass bar: a box 0.12 high and deep along the panel's chord at its foot.
     positions, normals, indices = [], [], []
