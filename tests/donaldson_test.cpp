@@ -13,6 +13,7 @@
 #include "spectral/csv.h"
 #include "spectral/library.h"
 #include "support/gpu.h"
+#include "support/interior_comparison.h"
 #include "support/scene_builders.h"
 
 #include <gtest/gtest.h>
@@ -57,36 +58,6 @@ Rendered renderBoth(const Scene& s, const SceneOnGrid& g) {
     r.ref = renderReference(s, g);
     EXPECT_NO_VALIDATION_ERRORS(before);
     return r;
-}
-
-// Max relative difference of `a` from `b` over pixels whose 3×3 neighbourhood sees one mesh in
-// `ids`, against max(|b|, floor × the band's largest |b|).
-double maxRelative(const SpectralCube& a, const SpectralCube& b, const std::vector<int32_t>& ids, int* pixels = nullptr,
-                   double floor = 1e-4) {
-    const int W = b.width, H = b.height, B = b.bands();
-    std::vector<double> bandMax(size_t(B), 0.0);
-    for (int y = 0; y < H; ++y)
-        for (int x = 0; x < W; ++x)
-            for (int k = 0; k < B; ++k) bandMax[k] = std::max(bandMax[k], double(std::fabs(b.at(x, y, k))));
-    double worst = 0.0;
-    int count = 0;
-    for (int y = 1; y + 1 < H; ++y)
-        for (int x = 1; x + 1 < W; ++x) {
-            const int32_t id = ids[size_t(y) * W + x];
-            if (id < 0) continue;
-            bool interior = true;
-            for (int dy = -1; dy <= 1; ++dy)
-                for (int dx = -1; dx <= 1; ++dx) interior = interior && ids[size_t(y + dy) * W + x + dx] == id;
-            if (!interior) continue;
-            ++count;
-            for (int k = 0; k < B; ++k) {
-                const double ref = b.at(x, y, k);
-                worst = std::max(worst, std::fabs(a.at(x, y, k) - ref) /
-                                            std::max(std::fabs(ref), floor * bandMax[k] + 1e-300));
-            }
-        }
-    if (pixels) *pixels = count;
-    return worst;
 }
 
 Spectrum daylightLike() {
@@ -354,11 +325,10 @@ TEST(Donaldson, GpuMatchesReferenceForAMatrixSceneUnderEveryLightKind) {
         const SceneOnGrid g = onGrid(s);
         ASSERT_TRUE(g.materials[0].isMatrix());
         const Rendered r = renderBoth(s, g);
-        int pixels = 0;
-        const double worst = maxRelative(r.gpu, r.ref.cube, r.ref.objectId, &pixels);
-        std::printf("  %s: %d interior pixels, max relative error %.3g\n", r.plan.c_str(), pixels, worst);
-        EXPECT_GE(pixels, 1500);
-        EXPECT_LE(worst, 1e-4);
+        const InteriorComparison c = compareInterior(r.gpu, r.ref);
+        std::printf("  %s: %d interior pixels, max relative error %.3g\n", r.plan.c_str(), c.pixels, c.maxRelative);
+        EXPECT_GE(c.pixels, 1500);
+        EXPECT_LE(c.maxRelative, 1e-4);
     }
 }
 
@@ -382,11 +352,10 @@ TEST(Donaldson, DISABLED_AllOneHundredTwentyEightLightsFillTheFluorescenceRecord
         s.lights.push_back(pointLight({3 * std::cos(i * 1.5), 2 * std::sin(i * 1.5), 2}, daylightLike(), 0.1,
                                       "point" + std::to_string(i)));
     const Rendered r = renderBoth(s, onGrid(s));
-    int pixels = 0;
-    const double worst = maxRelative(r.gpu, r.ref.cube, r.ref.objectId, &pixels);
-    std::printf("  %s: %d interior pixels, max relative error %.3g\n", r.plan.c_str(), pixels, worst);
-    EXPECT_GE(pixels, 300);
-    EXPECT_LE(worst, 1e-4);
+    const InteriorComparison c = compareInterior(r.gpu, r.ref);
+    std::printf("  %s: %d interior pixels, max relative error %.3g\n", r.plan.c_str(), c.pixels, c.maxRelative);
+    EXPECT_GE(c.pixels, 300);
+    EXPECT_LE(c.maxRelative, 1e-4);
 }
 
 TEST(Donaldson, LightScalesOverTwentyFourDecadesStayFiniteAndLinear) {
@@ -414,7 +383,7 @@ TEST(Donaldson, LightScalesOverTwentyFourDecadesStayFiniteAndLinear) {
         for (size_t i = 0; i < r.gpu.data.size(); ++i)
             if (base.gpu.data[i] > 1e-4f * baseMax)
                 linearity = std::max(linearity, std::fabs(r.gpu.data[i] / (scale * base.gpu.data[i]) - 1.0));
-        const double worst = maxRelative(r.gpu, r.ref.cube, r.ref.objectId);
+        const double worst = compareInterior(r.gpu, r.ref).maxRelative;
         std::printf("  matrix fluorescence at light scale %-6g: max rel err %.3g, linearity %.3g\n", scale, worst,
                     linearity);
         EXPECT_LE(worst, 1e-4);

@@ -3,6 +3,7 @@
 #include "reference/cpu_renderer.h"
 #include "render/spectral_pass.h"
 #include "support/gpu.h"
+#include "support/interior_comparison.h"
 #include "support/scene_builders.h"
 
 #include <algorithm>
@@ -13,47 +14,6 @@ using namespace metamer::test;
 
 namespace {
 
-struct Comparison {
-    double maxRelative = 0;  // over interior pixels and bands
-    int interiorPixels = 0;
-    int worstX = -1, worstY = -1, worstBand = -1;
-};
-
-// Interior: the pixel and its 8 neighbours all see the same mesh (edges differ by coverage).
-// Relative error is taken against max(|reference|, 1e-4 × the band's largest value), so bands
-// that are almost black do not turn float rounding into large ratios.
-Comparison compare(const SpectralCube& gpu, const ReferenceImage& ref) {
-    Comparison c;
-    const SpectralCube& cpu = ref.cube;
-    int W = cpu.width, H = cpu.height, B = cpu.bands();
-    std::vector<double> bandMax(B, 0.0);
-    for (int y = 0; y < H; ++y)
-        for (int x = 0; x < W; ++x)
-            for (int b = 0; b < B; ++b) bandMax[b] = std::max(bandMax[b], double(std::fabs(cpu.at(x, y, b))));
-    for (int y = 1; y + 1 < H; ++y)
-        for (int x = 1; x + 1 < W; ++x) {
-            int32_t id = ref.objectId[size_t(y) * W + x];
-            if (id < 0) continue;
-            bool interior = true;
-            for (int dy = -1; dy <= 1; ++dy)
-                for (int dx = -1; dx <= 1; ++dx)
-                    interior = interior && ref.objectId[size_t(y + dy) * W + x + dx] == id;
-            if (!interior) continue;
-            ++c.interiorPixels;
-            for (int b = 0; b < B; ++b) {
-                double r = cpu.at(x, y, b), g = gpu.at(x, y, b);
-                double rel = std::fabs(g - r) / std::max(std::fabs(r), 1e-4 * bandMax[b] + 1e-30);
-                if (rel > c.maxRelative) {
-                    c.maxRelative = rel;
-                    c.worstX = x;
-                    c.worstY = y;
-                    c.worstBand = b;
-                }
-            }
-        }
-    return c;
-}
-
 void expectGpuMatchesReference(const Scene& scene, int minInteriorPixels, const SpectralPassOptions& opts = {}) {
     uint32_t before = gpu().validationErrors();
     SceneOnGrid g = onGrid(scene);
@@ -63,12 +23,12 @@ void expectGpuMatchesReference(const Scene& scene, int minInteriorPixels, const 
     ro.ssaa = opts.ssaa;
     ReferenceImage ref = renderReference(scene, g, ro);
     ASSERT_EQ(cube.data.size(), ref.cube.data.size());
-    Comparison c = compare(cube, ref);
+    InteriorComparison c = compareInterior(cube, ref);
     ::testing::Test::RecordProperty("max_relative_error", std::to_string(c.maxRelative));
     std::printf("  %s: %d interior pixels, %d bands, max relative error %.3g (pixel %d,%d band %d)\n",
-                pass.plan().describe().c_str(), c.interiorPixels, cube.bands(), c.maxRelative, c.worstX, c.worstY,
+                pass.plan().describe().c_str(), c.pixels, cube.bands(), c.maxRelative, c.worstX, c.worstY,
                 c.worstBand);
-    EXPECT_GE(c.interiorPixels, minInteriorPixels);
+    EXPECT_GE(c.pixels, minInteriorPixels);
     EXPECT_LE(c.maxRelative, 1e-4) << "at pixel " << c.worstX << "," << c.worstY << " band " << c.worstBand
                                    << ": gpu " << cube.at(c.worstX, c.worstY, c.worstBand) << " cpu "
                                    << ref.cube.at(c.worstX, c.worstY, c.worstBand);

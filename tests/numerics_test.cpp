@@ -10,6 +10,7 @@
 #include "scene/shapes.h"
 #include "spectral/library.h"
 #include "support/gpu.h"
+#include "support/interior_comparison.h"
 #include "support/scene_builders.h"
 
 #include <algorithm>
@@ -40,58 +41,6 @@ size_t negative(const SpectralCube& c) {
     return size_t(std::count_if(c.data.begin(), c.data.end(), [](float v) { return v < 0.0f; }));
 }
 
-// Which pixels and values a comparison counts.
-struct CompareRule {
-    // Relative error is taken against max(|reference|, floor × the band's largest reference
-    // value), so bands that are almost black do not turn float rounding into large ratios.
-    double floor = 1e-4;
-    // Values whose reference is below this fraction of the band's largest are skipped (for
-    // needle lobes, whose tails are all rounding).
-    double skipBelow = 0.0;
-};
-
-struct Measured {
-    double maxRelative = 0.0;
-    int pixels = 0;  // interior pixels compared
-    int worstX = -1, worstY = -1, worstBand = -1;
-};
-
-// Interior pixels (the pixel and its 8 neighbours see the same mesh in the reference): there the
-// rasterizer and the ray caster agree on which surface is seen, so the GPU differs from the
-// reference only by float rounding (docs/physics.md, "GPU path specifics").
-Measured compareInterior(const SpectralCube& gpuCube, const ReferenceImage& ref, CompareRule rule = {}) {
-    Measured m;
-    const SpectralCube& cpu = ref.cube;
-    const int W = cpu.width, H = cpu.height, B = cpu.bands();
-    std::vector<double> bandMax(size_t(B), 0.0);
-    for (int y = 0; y < H; ++y)
-        for (int x = 0; x < W; ++x)
-            for (int b = 0; b < B; ++b) bandMax[b] = std::max(bandMax[b], double(std::fabs(cpu.at(x, y, b))));
-    for (int y = 1; y + 1 < H; ++y)
-        for (int x = 1; x + 1 < W; ++x) {
-            const int32_t id = ref.objectId[size_t(y) * W + x];
-            if (id < 0) continue;
-            bool interior = true;
-            for (int dy = -1; dy <= 1; ++dy)
-                for (int dx = -1; dx <= 1; ++dx) interior = interior && ref.objectId[size_t(y + dy) * W + x + dx] == id;
-            if (!interior) continue;
-            ++m.pixels;
-            for (int b = 0; b < B; ++b) {
-                const double r = cpu.at(x, y, b), g = gpuCube.at(x, y, b);
-                if (std::fabs(r) < rule.skipBelow * bandMax[b]) continue;
-                const double rel = std::fabs(g - r) / std::max(std::fabs(r), rule.floor * bandMax[b] + 1e-300);
-                // A NaN on either side must count as the worst error, not be skipped by `>`.
-                if (!(rel <= m.maxRelative)) {
-                    m.maxRelative = std::isnan(rel) ? INFINITY : rel;
-                    m.worstX = x;
-                    m.worstY = y;
-                    m.worstBand = b;
-                }
-            }
-        }
-    return m;
-}
-
 struct Rendered {
     SpectralCube gpu;
     ReferenceImage ref;
@@ -111,7 +60,7 @@ Rendered renderBoth(const Scene& s, const SceneOnGrid& g, const SpectralPassOpti
 }
 
 // Prints one line: what, interior pixels, worst relative error and where.
-void report(const std::string& what, const Rendered& r, const Measured& m) {
+void report(const std::string& what, const Rendered& r, const InteriorComparison& m) {
     std::printf("  [numerics] %-40s %4d bands %3d layers %2d passes: %5d interior px, max rel err %.3g (px %d,%d band %d)\n",
                 what.c_str(), r.plan.bands, r.plan.layers, r.plan.passes, m.pixels, m.maxRelative, m.worstX, m.worstY,
                 m.worstBand);
@@ -198,7 +147,7 @@ TEST(Numerics, GridsFromHalfNanometreToSingleBandMatchReference) {
         ASSERT_EQ(r.gpu.bands(), c.bands);
         ASSERT_EQ(r.gpu.data.size(), size_t(c.px) * c.px * c.bands);
         EXPECT_EQ(nonFinite(r.gpu), 0u);
-        Measured m = compareInterior(r.gpu, r.ref);
+        InteriorComparison m = compareInterior(r.gpu, r.ref);
         report("grid " + c.grid.str(), r, m);
         EXPECT_GE(m.pixels, c.px * c.px / 4);
         EXPECT_LE(m.maxRelative, 1e-4);
@@ -226,7 +175,7 @@ TEST(Numerics, FullRangeGridsWithTheEqualEnergyIlluminant) {
         EXPECT_TRUE(capturedWarnings().empty()) << capturedWarnings().front();
         Rendered r = renderBoth(s, g);
         EXPECT_EQ(nonFinite(r.gpu), 0u);
-        Measured m = compareInterior(r.gpu, r.ref);
+        InteriorComparison m = compareInterior(r.gpu, r.ref);
         report("E on " + grid.str(), r, m);
         EXPECT_GE(m.pixels, 100);
         EXPECT_LE(m.maxRelative, 1e-4);
@@ -252,7 +201,7 @@ TEST(Numerics, LightThatMissesPartOfTheRangeWarnsAndIsExactlyZeroThere) {
     EXPECT_NE(capturedWarnings()[0].find("bands outside the data are 0"), std::string::npos);
 
     Rendered r = renderBoth(s, g);
-    Measured m = compareInterior(r.gpu, r.ref);
+    InteriorComparison m = compareInterior(r.gpu, r.ref);
     report("D65 on " + grid.str(), r, m);
     EXPECT_LE(m.maxRelative, 1e-4);
     // Bands whose interval [λ − Δλ/2, λ + Δλ/2] misses the data entirely hold exactly 0, on both
@@ -308,7 +257,7 @@ TEST(Numerics, LightScalesFromOneEMinus12To1E12AreLinearAndFinite) {
         EXPECT_EQ(nonFinite(r.gpu), 0u);
         EXPECT_EQ(nonFinite(r.ref.cube), 0u);
         EXPECT_EQ(negative(r.gpu), 0u);
-        Measured m = compareInterior(r.gpu, r.ref);
+        InteriorComparison m = compareInterior(r.gpu, r.ref);
         // Linearity: the GPU cube at this scale over scale × the GPU cube at scale 1, on every
         // value that is not black (the ratio is exact up to float rounding of E and the products).
         double worstRatio = 0.0;
@@ -374,7 +323,7 @@ TEST(Numerics, LightScalesAtTheEdgesOfFloat32) {
         EXPECT_EQ(negative(r.gpu), 0u);
         size_t flushed = 0;
         for (size_t i = 0; i < r.gpu.data.size(); ++i) flushed += r.gpu.data[i] == 0.0f && r.ref.cube.data[i] != 0.0f;
-        Measured m = compareInterior(r.gpu, r.ref);
+        InteriorComparison m = compareInterior(r.gpu, r.ref);
         std::printf("  [numerics] scale %-6g max rel err %.3g, %zu values 0 on the GPU only (peak %.3g)\n", scale,
                     m.maxRelative, flushed, double(*std::max_element(r.ref.cube.data.begin(), r.ref.cube.data.end())));
         if (scale >= 1e-30) {
@@ -413,7 +362,7 @@ TEST(Numerics, GlossFromZeroToOneMillionStaysFiniteAndMatches) {
         CompareRule needle;
         needle.floor = 0.0;
         needle.skipBelow = 1e-3;
-        Measured m = compareInterior(r.gpu, r.ref, needle);
+        InteriorComparison m = compareInterior(r.gpu, r.ref, needle);
         report("gloss " + fmt::format("{:g}", gloss), r, m);
         EXPECT_GE(m.pixels, 500);
         EXPECT_LE(m.maxRelative, 1e-4);
@@ -469,7 +418,7 @@ TEST(Numerics, QuadSeenAndLitAtGrazingAngles) {
         EXPECT_EQ(nonFinite(r.gpu), 0u);
         EXPECT_EQ(negative(r.gpu), 0u);
         EXPECT_EQ(nonFinite(r.ref.cube), 0u);
-        Measured m = compareInterior(r.gpu, r.ref);
+        InteriorComparison m = compareInterior(r.gpu, r.ref);
         report(perspective ? "grazing 89.9°, perspective" : "grazing 89.9°, orthographic", r, m);
         EXPECT_GE(m.pixels, 22 * 22);
         EXPECT_LE(m.maxRelative, 1e-4);
@@ -491,7 +440,7 @@ TEST(Numerics, LightExactlyOppositeTheEyeHasNoHalfVector) {
     Rendered r = renderBoth(s, g);
     EXPECT_EQ(nonFinite(r.gpu), 0u);
     EXPECT_EQ(nonFinite(r.ref.cube), 0u);
-    Measured m2 = compareInterior(r.gpu, r.ref);
+    InteriorComparison m2 = compareInterior(r.gpu, r.ref);
     report("w + v = 0 (no half vector)", r, m2);
     EXPECT_LE(m2.maxRelative, 1e-4);
     for (int b = 0; b < r.gpu.bands(); ++b) {
@@ -536,7 +485,7 @@ TEST(Numerics, DegenerateTrianglesRenderNothingAndHarmNothing) {
         gpuDiffer += withBad.gpu.data[i] != without.gpu.data[i];
         refDiffer += withBad.ref.cube.data[i] != without.ref.cube.data[i];
     }
-    Measured m = compareInterior(withBad.gpu, withBad.ref);
+    InteriorComparison m = compareInterior(withBad.gpu, withBad.ref);
     report("degenerate triangles + quad", withBad, m);
     std::printf("  [numerics] degenerate triangles: %zu GPU and %zu reference values differ from the clean scene\n",
                 gpuDiffer, refDiffer);
@@ -577,7 +526,7 @@ TEST(Numerics, ZeroLengthMissingAndCancellingNormalsFallBackToTheFaceNormal) {
     };
     // The quad's own error (1.0e-4 on lavapipe) sits on its diagonal, where a point light and a
     // highlight make the radiance vary fastest (docs/numerics.md, "The error floor").
-    const Measured unitNormals = compareInterior(expected.gpu, expected.ref);
+    const InteriorComparison unitNormals = compareInterior(expected.gpu, expected.ref);
     report("unit normals (the same quad)", expected, unitNormals);
     EXPECT_LE(unitNormals.maxRelative, 2e-4);
     for (const Case& c : {Case{"zero-length normals", zero}, Case{"no normals", missing}}) {
@@ -589,7 +538,7 @@ TEST(Numerics, ZeroLengthMissingAndCancellingNormalsFallBackToTheFaceNormal) {
         // Shaded exactly as the quad with its unit normals, on both renderers.
         EXPECT_EQ(r.gpu.data, expected.gpu.data);
         EXPECT_EQ(r.ref.cube.data, expected.ref.cube.data);
-        Measured m = compareInterior(r.gpu, r.ref);
+        InteriorComparison m = compareInterior(r.gpu, r.ref);
         report(c.what, r, m);
         EXPECT_LE(m.maxRelative, 2e-4);
     }
@@ -602,7 +551,7 @@ TEST(Numerics, ZeroLengthMissingAndCancellingNormalsFallBackToTheFaceNormal) {
         Rendered r = renderBoth(s, onGrid(s));
         EXPECT_EQ(nonFinite(r.gpu), 0u);
         EXPECT_EQ(nonFinite(r.ref.cube), 0u);
-        Measured m = compareInterior(r.gpu, r.ref);
+        InteriorComparison m = compareInterior(r.gpu, r.ref);
         report("cancelling normals", r, m);
     }
 }
@@ -651,7 +600,7 @@ TEST(Numerics, CameraInsideASphereSeesItsInside) {
     for (int y = 0; y < 32; ++y)
         for (int x = 0; x < 32; ++x) dark += r.gpu.at(x, y, 15) == 0.0f;
     EXPECT_EQ(dark, 0u) << "every pixel sees the lit inside";
-    Measured m = compareInterior(r.gpu, r.ref);
+    InteriorComparison m = compareInterior(r.gpu, r.ref);
     report(fmt::format("inside a sphere (near {:.3g} m)", cm.near_m), r, m);
     EXPECT_LE(cm.near_m, 1e-4);
     EXPECT_GE(m.pixels, 500);
