@@ -261,10 +261,7 @@ ImageData readComparable(const fs::path& path) {
 
     // Spectral channels decide the reader: the layout's own parser (grid, wavelength order) is in
     // io/spectral_exr.
-    bool spectral = false;
-    for (const auto& name : spec.channelnames)
-        spectral = spectral || name.rfind("S0.", 0) == 0 || name.rfind("T.", 0) == 0;
-    if (format == "openexr" && spectral) {
+    if (format == "openexr" && hasSpectralChannels(spec.channelnames)) {
         in->close();
         SpectralExrImage image = readSpectralExrImage(path);
         ImageData d;

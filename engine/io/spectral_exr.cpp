@@ -254,19 +254,35 @@ ExrWriteReport writeSpectralExr(const fs::path& path, const SpectralCube& cube,
     return writer.commit();
 }
 
-SpectralExrImage readSpectralExrImage(const fs::path& path) {
-    using namespace OIIO;
-    Where where{path.string()};
+bool hasSpectralChannels(const std::vector<std::string>& channelNames) {
+    for (const auto& name : channelNames)
+        if (name.rfind("S0.", 0) == 0 || name.rfind("T.", 0) == 0) return true;
+    return false;
+}
+
+namespace {
+
+// Opens `path` as a flat OpenEXR file, or fails naming it: missing, a folder, unreadable, another
+// format, deep.
+std::unique_ptr<OIIO::ImageInput> openExr(const fs::path& path, const Where& where) {
     std::error_code ec;
     if (!fs::exists(path, ec)) failInput(where, "file not found");
     if (fs::is_directory(path, ec)) failInput(where, "is a folder, not an OpenEXR file");
-
-    auto in = ImageInput::open(path.string());
+    auto in = OIIO::ImageInput::open(path.string());
     if (!in) failInput(where, "not a readable OpenEXR file: {}", OIIO::geterror());
     if (std::string(in->format_name()) != "openexr")
         failInput(where, "not an OpenEXR file (it reads as {})", in->format_name());
+    if (in->spec().deep) failInput(where, "deep OpenEXR images are not supported");
+    return in;
+}
+
+}  // namespace
+
+SpectralExrImage readSpectralExrImage(const fs::path& path) {
+    using namespace OIIO;
+    Where where{path.string()};
+    auto in = openExr(path, where);
     const ImageSpec& spec = in->spec();
-    if (spec.deep) failInput(where, "deep OpenEXR images are not supported");
 
     std::vector<BandChannel> emissive, reflective;
     for (int c = 0; c < spec.nchannels; ++c) {
@@ -371,15 +387,8 @@ size_t indexOn(const std::vector<double>& axis, double x) {
 BispectralExr readBispectralExr(const fs::path& path) {
     using namespace OIIO;
     Where where{path.string()};
-    std::error_code ec;
-    if (!fs::exists(path, ec)) failInput(where, "file not found");
-    if (fs::is_directory(path, ec)) failInput(where, "is a folder, not an OpenEXR file");
-    auto in = ImageInput::open(path.string());
-    if (!in) failInput(where, "not a readable OpenEXR file: {}", OIIO::geterror());
-    if (std::string(in->format_name()) != "openexr")
-        failInput(where, "not an OpenEXR file (it reads as {})", in->format_name());
+    auto in = openExr(path, where);
     const ImageSpec& spec = in->spec();
-    if (spec.deep) failInput(where, "deep OpenEXR images are not supported");
     if (spec.width != 1 || spec.height != 1 || spec.depth > 1)
         failInput(where,
                   "is a {}×{} image; a Donaldson matrix file must be 1×1 (one material: bispectral textures are not "

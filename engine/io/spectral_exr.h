@@ -62,6 +62,10 @@ struct SpectralExrImage {
     SpectralComponent component = SpectralComponent::Emissive;
 };
 
+// Whether an image with these channel names is in the spectral layout (any `S0.` or `T.`
+// channel), so that readSpectralExrImage, not a plain image reader, should read it.
+bool hasSpectralChannels(const std::vector<std::string>& channelNames);
+
 // Reads the S0 channels (or, if there are none, the T channels) into a cube, bands sorted by
 // wavelength. Other channels (R, G, B, S1..S3, bispectral T.<λ>nm.<λ>nm) are ignored. The
 // wavelengths must form a uniform grid within 1e-4 nm; the Grid is taken from them (not checked

@@ -126,17 +126,12 @@ Texture loadTexture(const fs::path& path, TextureRole role, TextureEncoding enco
     if (role == TextureRole::Reflectance) {
         // A spectral EXR is recognised by its channels; anything else is an RGB image.
         auto in = OIIO::ImageInput::open(path.string());
-        if (in && std::string(in->format_name()) == "openexr") {
-            bool spectral = false;
-            for (const auto& name : in->spec().channelnames)
-                spectral = spectral || name.rfind("T.", 0) == 0 || name.rfind("S0.", 0) == 0;
+        if (in && std::string(in->format_name()) == "openexr" && hasSpectralChannels(in->spec().channelnames)) {
             in->close();
-            if (spectral) {
-                if (encoding == TextureEncoding::Srgb)
-                    failInput(where, "texture '{}' is spectral; \"encoding\": \"srgb\" applies to RGB images only",
-                              path.string());
-                return readSpectral(path, where);
-            }
+            if (encoding == TextureEncoding::Srgb)
+                failInput(where, "texture '{}' is spectral; \"encoding\": \"srgb\" applies to RGB images only",
+                          path.string());
+            return readSpectral(path, where);
         }
     }
 
