@@ -43,30 +43,6 @@ void checkOnGrid(const Scene& scene, const SceneOnGrid& g) {
     }
 }
 
-void checkMeshes(const Scene& scene) {
-    Where objects{scene.file.string(), "objects", 0};
-    for (size_t m = 0; m < scene.meshes.size(); ++m) {
-        const Mesh& mesh = scene.meshes[m];
-        Where w = objects.index(m);
-        if (mesh.material >= scene.materials.size())
-            failInput(w, "mesh '{}' uses material {} but there are {}", mesh.name, mesh.material,
-                      scene.materials.size());
-        if (!mesh.normals.empty() && mesh.normals.size() != mesh.positions.size())
-            failInput(w, "mesh '{}' has {} normals for {} positions", mesh.name, mesh.normals.size(),
-                      mesh.positions.size());
-        if ((!mesh.uvs.empty() && mesh.uvs.size() != mesh.positions.size()) ||
-            (!mesh.tangents.empty() && mesh.tangents.size() != mesh.positions.size()))
-            failInput(w, "mesh '{}' has {} texture coordinates and {} tangents for {} positions", mesh.name,
-                      mesh.uvs.size(), mesh.tangents.size(), mesh.positions.size());
-        if (mesh.indices.size() % 3 != 0)
-            failInput(w, "mesh '{}' has {} indices, not a multiple of 3", mesh.name, mesh.indices.size());
-        for (uint32_t i : mesh.indices)
-            if (i >= mesh.positions.size())
-                failInput(w, "mesh '{}' has index {} but {} positions", mesh.name, i,
-                          mesh.positions.size());
-    }
-}
-
 // Bilinear filtering of a texture at texture coordinates uv (docs/physics.md, "Textures"): texel
 // centres at (i + ½)/W, coordinates repeating; `out` gets the texture's channels.
 void bilinear(const TextureOnGrid& t, const glm::dvec2& uv, double* out) {

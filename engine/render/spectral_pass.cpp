@@ -70,26 +70,12 @@ void packFluorescence(PackedScene& p, const Scene& scene, const SceneOnGrid& g, 
                       int passes);
 
 PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes) {
+    checkMeshes(scene);  // the vertex and index arrays below are read as they promise
     PackedScene p;
     for (const auto& mesh : scene.meshes) {
         if (mesh.indices.empty()) continue;
         Draw d{uint32_t(p.indices.size()), uint32_t(mesh.indices.size()),
                int32_t(p.vertices.size() / VERTEX_FLOATS), mesh.material};
-        // Refused here as the reference refuses them: the shader would read past the arrays.
-        Where where{scene.file.string(), "objects"};
-        if (mesh.material >= scene.materials.size())
-            failInput(where, "mesh '{}' uses material {} but there are {}", mesh.name, mesh.material,
-                      scene.materials.size());
-        if (!mesh.normals.empty() && mesh.normals.size() != mesh.positions.size())
-            failInput(where, "mesh '{}' has {} normals for {} positions", mesh.name, mesh.normals.size(),
-                      mesh.positions.size());
-        if ((!mesh.uvs.empty() && mesh.uvs.size() != mesh.positions.size()) ||
-            (!mesh.tangents.empty() && mesh.tangents.size() != mesh.positions.size()))
-            failInput(where, "mesh '{}' has {} texture coordinates and {} tangents for {} positions", mesh.name,
-                      mesh.uvs.size(), mesh.tangents.size(), mesh.positions.size());
-        for (uint32_t i : mesh.indices)
-            if (i >= mesh.positions.size())
-                failInput(where, "mesh '{}' has index {} but {} positions", mesh.name, i, mesh.positions.size());
         auto vertex = [&p, &mesh](uint32_t i, const glm::dvec3& normal) {
             glm::dvec2 uv = mesh.uvs.empty() ? glm::dvec2(0.0) : mesh.uvs[i];
             glm::dvec4 t = mesh.tangents.empty() ? glm::dvec4(0.0) : mesh.tangents[i];
@@ -419,7 +405,7 @@ struct SpectralPass::Impl {
                         int ch = int(l) * 4 + c;
                         out[(l * texels + p) * 4 + c] = ch < t->channels ? t->data[p * t->channels + ch] : 0.0f;
                     }
-            staging.upload(out, 0, 0);  // flushes non-coherent memory
+            staging.flush();
             ctx.submitAndWait([&](VkCommandBuffer cmd) {
                 VkImageMemoryBarrier b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
                 b.srcAccessMask = 0;

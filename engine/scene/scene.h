@@ -149,4 +149,9 @@ struct Scene {
     size_t triangleCount() const;
 };
 
+// Meshes as Mesh promises them — a material that exists, one normal, UV and tangent (when
+// present) per position, whole triangles, indices in range — else an input error naming the
+// object. Both renderers call it before reading the meshes.
+void checkMeshes(const Scene& scene);
+
 }  // namespace metamer

@@ -80,12 +80,15 @@ void Buffer::release() {
 
 void Buffer::upload(const void* data, VkDeviceSize bytes, VkDeviceSize offset) {
     std::memcpy(static_cast<char*>(mapped_) + offset, data, bytes);
-    if (!coherent_) {
-        VkMappedMemoryRange range{VK_STRUCTURE_TYPE_MAPPED_MEMORY_RANGE};
-        range.memory = memory_;
-        range.size = VK_WHOLE_SIZE;
-        VK_CHECK(vkFlushMappedMemoryRanges(ctx_->device(), 1, &range));
-    }
+    flush();
+}
+
+void Buffer::flush() {
+    if (coherent_) return;
+    VkMappedMemoryRange range{VK_STRUCTURE_TYPE_MAPPED_MEMORY_RANGE};
+    range.memory = memory_;
+    range.size = VK_WHOLE_SIZE;
+    VK_CHECK(vkFlushMappedMemoryRanges(ctx_->device(), 1, &range));
 }
 
 void Buffer::invalidate() {

@@ -19,6 +19,7 @@ public:
     VkDeviceSize size() const { return size_; }
     void* mapped() const { return mapped_; }
     void upload(const void* data, VkDeviceSize bytes, VkDeviceSize offset = 0);
+    void flush();       // make host writes through mapped() visible to the device on non-coherent memory
     void invalidate();  // make device writes visible to the host on non-coherent memory
 
 private:
