@@ -230,9 +230,17 @@ struct Reader {
                                     path, what));
             return std::nullopt;
         }
-        std::string uri = img.uri;
-        // URIs are percent-encoded; the common case is a space.
-        for (size_t k; (k = uri.find("%20")) != std::string::npos;) uri.replace(k, 3, " ");
+        // URIs are percent-encoded (RFC 3986): "%20" is a space.
+        std::string uri;
+        for (size_t k = 0; k < img.uri.size(); ++k) {
+            if (img.uri[k] == '%' && k + 2 < img.uri.size() && std::isxdigit(static_cast<unsigned char>(img.uri[k + 1])) &&
+                std::isxdigit(static_cast<unsigned char>(img.uri[k + 2]))) {
+                uri += char(std::stoi(img.uri.substr(k + 1, 2), nullptr, 16));
+                k += 2;
+            } else {
+                uri += img.uri[k];
+            }
+        }
         return (fs::path(dir) / uri).lexically_normal();
     }
 
