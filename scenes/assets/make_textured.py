@@ -61,13 +61,20 @@ def write_colorchecker(path):
 
 
 def write_png(path, array, bits=8):
-    h, w = array.shape[:2]
-    n = 1 if array.ndim == 2 else array.shape[2]
+    if array.ndim == 2:
+        # Debian's OpenImageIO 2.4 garbles a 2-D array in write_image (the ripples came out as
+        # diagonal stripes and half black); a grey image goes in as h x w x 1.
+        array = array[:, :, None]
+    h, w, n = array.shape
     spec = oiio.ImageSpec(w, h, n, "uint8" if bits == 8 else "uint16")
     out = oiio.ImageOutput.create(path)
     out.open(path, spec)
     out.write_image(np.ascontiguousarray(array, dtype=np.float32))
     out.close()
+    # Read it back: a garbled write is otherwise only seen in a render.
+    back = oiio.ImageInput.open(path).read_image("float")
+    step = 1.0 / (255 if bits == 8 else 65535)
+    assert back.shape == array.shape and np.abs(back - array).max() <= step, path
 
 
 def tiles(n=128, count=4, bevel=0.12):
