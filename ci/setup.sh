@@ -10,7 +10,7 @@ packages=(
   build-essential cmake ninja-build pkg-config git
   libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers vulkan-tools
   glslang-tools spirv-tools
-  libglm-dev libfmt-dev nlohmann-json3-dev libcli11-dev libtinygltf-dev
+  libglm-dev libeigen3-dev libfmt-dev nlohmann-json3-dev libcli11-dev libtinygltf-dev
   libopenimageio-dev openimageio-tools
   libglfw3-dev libimgui-dev xvfb fonts-dejavu-core
   libgtest-dev

@@ -309,6 +309,43 @@ TEST(Textures, RgbModeAnalysesTexelsLikeSpectra) {
     for (size_t i = 0; i < cube.data.size(); ++i) ASSERT_NEAR(cube.data[i], ref.cube.data[i], 1e-5 * std::fabs(ref.cube.data[i]) + 1e-9);
 }
 
+// linear:K analyses a textured reflectance texel by texel: texels mixing three fixed spectra
+// (1, f₂, f₃ with weights that differ from texel to texel) under one light reflect spectra in a
+// 3-dimensional space, so linear:3 is exact and the basis has 3 functions, whatever K asks. With
+// 24 texels the basis comes from the samples' Gram matrix, with 64 (more than the 31 bands) from
+// the bands' second-moment matrix; both must find it. Without the texels in the analysis the basis
+// would hold only the light's own shape.
+TEST(Textures, LinearModeAnalysesTexturesTexelByTexel) {
+    std::vector<double> nm = wavelengths(380, 780, 10);
+    auto f2 = [](double l) { return std::exp(-0.5 * std::pow((l - 520) / 40, 2)); };
+    auto f3 = [](double l) { return (l - 380) / 400; };
+    for (int side : {0, 1}) {
+        const int w = side ? 8 : 6, h = side ? 8 : 4;
+        Scene s = emptyScene(Grid{400, 700, 10}, topDown(16));
+        s.materials.push_back(lambertian(1.0));
+        s.materials[0].textures.diffuse = 0;
+        s.textures.push_back(spectralTexture(w, h, nm, [&](int x, int y, double l) {
+            return 0.1 + 0.02 * x + 0.3 * f2(l) * (y + 1) / h + 0.4 * f3(l) * ((x * 7 + y * 3) % 5) / 4.0;
+        }));
+        s.meshes.push_back(texturedQuad({0, 0, 0}, {0, 0, 1}, 1, 1, 0, {0, 1, 0}));
+        s.lights.push_back(directionalLight({0.2, 0.1, -1}, daylightish()));
+        SceneOnGrid g = onGrid(s);
+        Representation r = makeRepresentation(parseMode("linear:5", Where{"", "--mode"}), s.grid, SpectrumLibrary(), &g);
+        EXPECT_EQ(r.basis.size(), 3u) << w << "x" << h << " texels";
+        SpectralCube lin = renderReference(s, represent(g, r, s)).cube;
+        projectCube(r, lin.data, lin.bands());
+        SpectralCube full = renderReference(s, g).cube;
+        double worst = 0, peak = 0;
+        for (size_t i = 0; i < full.data.size(); ++i) {
+            worst = std::max(worst, double(std::fabs(lin.data[i] - full.data[i])));
+            peak = std::max(peak, double(full.data[i]));
+        }
+        std::printf("  %dx%d texels: linear:3 against full, worst %.3g of the peak radiance\n", w, h, worst / peak);
+        EXPECT_GT(peak, 0.0);
+        EXPECT_LE(worst, 1e-6 * peak) << w << "x" << h << " texels";
+    }
+}
+
 // The bundled scene: a spectral EXR texture, an sRGB texture and a normal map from a glTF file's
 // own materials, a bump map — loaded as a user would, converted as docs/scene-format.md says,
 // and rendered alike by the GPU and the reference.

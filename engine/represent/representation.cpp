@@ -2,6 +2,8 @@
 
 #include "spectral/csv.h"
 
+#include <Eigen/Core>
+#include <Eigen/Eigenvalues>
 #include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
 
@@ -9,6 +11,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <set>
 
 namespace metamer {
 
@@ -96,58 +99,34 @@ Grid Representation::renderGrid() const {
 
 namespace {
 
-// Eigen-decomposition of a symmetric matrix by cyclic Jacobi rotations (the sample Gram matrices
-// here are a few dozen rows). Returns eigenvalues descending with their vectors as columns of v.
-void symmetricEigen(std::vector<std::vector<double>> a, std::vector<double>& values,
-                    std::vector<std::vector<double>>& v) {
-    size_t n = a.size();
-    v.assign(n, std::vector<double>(n, 0.0));
-    for (size_t i = 0; i < n; ++i) v[i][i] = 1.0;
-    for (int sweep = 0; sweep < 100; ++sweep) {
-        double off = 0.0;
-        for (size_t p = 0; p < n; ++p)
-            for (size_t q = p + 1; q < n; ++q) off += a[p][q] * a[p][q];
-        if (off < 1e-30) break;
-        for (size_t p = 0; p < n; ++p)
-            for (size_t q = p + 1; q < n; ++q) {
-                if (std::fabs(a[p][q]) < 1e-300) continue;
-                double theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
-                double t = (theta >= 0 ? 1.0 : -1.0) / (std::fabs(theta) + std::sqrt(theta * theta + 1.0));
-                double c = 1.0 / std::sqrt(t * t + 1.0), sn = t * c;
-                for (size_t k = 0; k < n; ++k) {  // A ← A·J
-                    double akp = a[k][p], akq = a[k][q];
-                    a[k][p] = c * akp - sn * akq;
-                    a[k][q] = sn * akp + c * akq;
-                }
-                for (size_t k = 0; k < n; ++k) {  // A ← Jᵀ·A
-                    double apk = a[p][k], aqk = a[q][k];
-                    a[p][k] = c * apk - sn * aqk;
-                    a[q][k] = sn * apk + c * aqk;
-                }
-                for (size_t k = 0; k < n; ++k) {
-                    double vkp = v[k][p], vkq = v[k][q];
-                    v[k][p] = c * vkp - sn * vkq;
-                    v[k][q] = sn * vkp + c * vkq;
-                }
-            }
-    }
-    std::vector<size_t> order(n);
-    for (size_t i = 0; i < n; ++i) order[i] = i;
-    std::sort(order.begin(), order.end(), [&](size_t x, size_t y) { return a[x][x] > a[y][y]; });
-    values.resize(n);
-    std::vector<std::vector<double>> sorted(n, std::vector<double>(n));
-    for (size_t j = 0; j < n; ++j) {
-        values[j] = a[order[j]][order[j]];
-        for (size_t i = 0; i < n; ++i) sorted[i][j] = v[i][order[j]];
-    }
-    v = std::move(sorted);
+// The distinct texels of a reflectance texture, read on a regular lattice of at most
+// kBasisTexels texels (every texel of a smaller texture): a texture is analysed as that many
+// materials would be, and exact duplicates (a chart's patches, a constant texture) count once.
+constexpr int kBasisTexels = 1024;
+
+std::vector<std::vector<double>> distinctTexels(const TextureOnGrid& t) {
+    const int side = int(std::sqrt(double(kBasisTexels)));
+    const int nx = std::min(t.width, side), ny = std::min(t.height, side);
+    std::set<std::vector<float>> seen;
+    std::vector<std::vector<double>> out;
+    for (int j = 0; j < ny; ++j)
+        for (int i = 0; i < nx; ++i) {
+            // Lattice points at texel centres spread over the whole texture.
+            const int x = int((int64_t(2 * i + 1) * t.width) / (2 * nx)), y = int((int64_t(2 * j + 1) * t.height) / (2 * ny));
+            const float* p = t.texel(x, y);
+            std::vector<float> v(p, p + t.channels);
+            if (seen.insert(v).second) out.emplace_back(v.begin(), v.end());
+        }
+    return out;
 }
 
 // Characteristic vectors of the spectra a pixel can hold — each light, and the light each
-// material reflects (diffuse and specular) and emits — normalized so no one spectrum dominates by
-// its brightness; uncentred, as Peercy's characteristic-vector analysis.
+// material reflects (diffuse and specular, texel by texel where the reflectance is textured) and
+// emits — normalized so no one spectrum dominates by its brightness; uncentred, as Peercy's
+// characteristic-vector analysis.
 void linearBasis(Representation& r, const SceneOnGrid& spectra) {
-    double dl = r.grid.step_nm;
+    const double dl = r.grid.step_nm;
+    const size_t bands = size_t(r.grid.bands());
     std::vector<std::vector<double>> samples;
     auto add = [&](std::vector<double> s) {
         double n2 = 0;
@@ -156,16 +135,27 @@ void linearBasis(Representation& r, const SceneOnGrid& spectra) {
         for (double& x : s) x /= std::sqrt(n2);
         samples.push_back(std::move(s));
     };
+    std::vector<std::vector<std::vector<double>>> texels(spectra.textures.size());
+    for (size_t t = 0; t < spectra.textures.size(); ++t)
+        if (!spectra.textures[t].normals) texels[t] = distinctTexels(spectra.textures[t]);
+    // ρ·E, or ρ·T·E for every distinct texel T of ρ's texture.
+    auto addReflected = [&](const std::vector<double>& rho, int texture, const std::vector<double>& e) {
+        std::vector<double> s(bands);
+        if (texture < 0) {
+            for (size_t b = 0; b < bands; ++b) s[b] = rho[b] * e[b];
+            add(std::move(s));
+            return;
+        }
+        for (const auto& tex : texels[size_t(texture)]) {
+            for (size_t b = 0; b < bands; ++b) s[b] = rho[b] * tex[b] * e[b];
+            add(s);
+        }
+    };
     for (const auto& e : spectra.lights) {
         add(e);
         for (const auto& m : spectra.materials) {
-            std::vector<double> d(e.size()), sp(e.size());
-            for (size_t b = 0; b < e.size(); ++b) {
-                d[b] = m.diffuse[b] * e[b];
-                sp[b] = m.specular[b] * e[b];
-            }
-            add(d);
-            add(sp);
+            addReflected(m.diffuse, m.diffuseTexture, e);
+            addReflected(m.specular, m.specularTexture, e);
         }
     }
     for (const auto& m : spectra.materials) {
@@ -175,36 +165,40 @@ void linearBasis(Representation& r, const SceneOnGrid& spectra) {
             continue;
         }
         // A Donaldson matrix's emission shape depends on the light: add what each light makes it emit.
-        const size_t n = spectra.wavelengths_nm.size();
         for (const auto& e : spectra.lights) {
-            std::vector<double> f(n, 0.0);
-            for (size_t i = 0; i < n; ++i)
-                for (size_t o = 0; o < n; ++o) f[o] += m.donaldson[i * n + o] * e[i];
+            std::vector<double> f(bands, 0.0);
+            for (size_t i = 0; i < bands; ++i)
+                for (size_t o = 0; o < bands; ++o) f[o] += m.donaldson[i * bands + o] * e[i];
             add(f);
         }
     }
-    size_t n = samples.size();
+    const size_t n = samples.size();
     if (n == 0) failInput(Where{"", "--mode"}, "linear: the scene has no light to analyse");
-    std::vector<std::vector<double>> gram(n, std::vector<double>(n, 0.0));
+
+    // S: bands × n, scaled by √Δλ so that inner products are the Σ·Δλ of the spectra. The basis is
+    // the leading eigenvectors of S·Sᵀ; they are found from whichever of S·Sᵀ (bands²) and the Gram
+    // matrix Sᵀ·S (n²) is smaller, which share their non-zero eigenvalues (e = S·v/√λ for an
+    // eigenvector v of the Gram matrix).
+    Eigen::MatrixXd S(bands, n);
     for (size_t i = 0; i < n; ++i)
-        for (size_t j = i; j < n; ++j) {
-            double g = 0;
-            for (size_t b = 0; b < samples[i].size(); ++b) g += samples[i][b] * samples[j][b] * dl;
-            gram[i][j] = gram[j][i] = g;
-        }
-    std::vector<double> values;
-    std::vector<std::vector<double>> vectors;
-    symmetricEigen(gram, values, vectors);
+        for (size_t b = 0; b < bands; ++b) S(Eigen::Index(b), Eigen::Index(i)) = samples[i][b] * std::sqrt(dl);
+    const bool gram = n < bands;
+    Eigen::MatrixXd product = gram ? Eigen::MatrixXd(S.transpose() * S) : Eigen::MatrixXd(S * S.transpose());
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> solver(product);
+    if (solver.info() != Eigen::Success) failRuntime("linear:{}: the eigen-decomposition did not converge", r.mode.samples);
+    const Eigen::VectorXd& values = solver.eigenvalues();  // ascending
+    const Eigen::Index last = values.size() - 1;
     double total = 0, kept = 0;
-    for (double v : values) total += std::max(v, 0.0);
-    size_t k = std::min<size_t>(r.mode.samples, n);
-    for (size_t c = 0; c < k && values[c] > 1e-12 * values[0]; ++c) {
-        std::vector<double> e(r.grid.bands(), 0.0);
-        for (size_t i = 0; i < n; ++i)
-            for (size_t b = 0; b < e.size(); ++b) e[b] += vectors[i][c] * samples[i][b];
-        for (double& x : e) x /= std::sqrt(values[c]);
+    for (Eigen::Index c = 0; c <= last; ++c) total += std::max(values(c), 0.0);
+    const Eigen::Index k = std::min<Eigen::Index>(r.mode.samples, values.size());
+    for (Eigen::Index c = 0; c < k && values(last - c) > 1e-12 * values(last); ++c) {
+        const double lambda = values(last - c);
+        Eigen::VectorXd x = gram ? Eigen::VectorXd(S * solver.eigenvectors().col(last - c) / std::sqrt(lambda))
+                                 : Eigen::VectorXd(solver.eigenvectors().col(last - c));
+        std::vector<double> e(bands);
+        for (size_t b = 0; b < bands; ++b) e[b] = x(Eigen::Index(b)) / std::sqrt(dl);  // Σ e²·Δλ = 1
         r.basis.push_back(std::move(e));
-        kept += values[c];
+        kept += lambda;
     }
     r.energyKept = total > 0 ? kept / total : 1.0;
     if (r.basis.size() < size_t(r.mode.samples))

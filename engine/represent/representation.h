@@ -9,8 +9,8 @@
 //              the AC1C2 opponent space, multiplied per sample, integrated to XYZ with weights
 //              (spectra/quadrature/ac1c2_N.csv)
 //   linear:K   Peercy (1993): spectra as K coefficients on a basis from characteristic-vector
-//              analysis of the scene's own spectra (lights and the light its materials reflect),
-//              products through the basis. Evaluated here exactly but by projection: inputs are
+//              analysis of the scene's own spectra (lights, the light its materials reflect,
+//              texel by texel where textured, and emit), products through the basis. Evaluated here exactly but by projection: inputs are
 //              projected onto the basis, rendered on the grid, and each pixel projected again —
 //              the same numbers as Peercy's K×K products (all steps are linear), at the cost of a
 //              full-spectral render (docs/representations.md, "Linear").
