@@ -173,7 +173,7 @@ std::vector<double> RgbUpsampler::bands(const Coefficients& c, const Grid& grid)
             for (double r : quadraticRoots(c))
                 if (r > a1 && r < b1) cuts[nc++] = r;
             cuts[nc++] = b1;
-            std::sort(cuts + 1, cuts + nc - 1);
+            if (nc == 4 && cuts[2] < cuts[1]) std::swap(cuts[1], cuts[2]);  // two roots inside: in order
             for (int k = 0; k + 1 < nc; ++k)
                 sum += adaptiveIntegral(c, cuts[k], cuts[k + 1], gaussLegendre3(c, cuts[k], cuts[k + 1]),
                                         tolerance, 40);
