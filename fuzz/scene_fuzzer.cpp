@@ -5,8 +5,8 @@
 // An empty SCENE (the input starts with \0) stands for scenes/spheres.json, so that overrides are
 // fuzzed against a scene that loads. Library names resolve in the real spectra library; relative
 // paths resolve in a private temporary folder holding copies of the test fixtures (local.csv,
-// bad.csv, cube.gltf, cube.glb, strip.gltf, ...) and of scenes/assets/ (meshes, buffers, textures), so the paths the seeds
-// name exist. A scene that loads is then resampled onto its grid, as both renderers do next.
+// bad.csv, cube.gltf, cube.glb, strip.gltf, ..., the glTF files with embedded images) and of
+// scenes/assets/ (meshes, buffers, textures), so the paths the seeds name exist. A scene that loads is then resampled onto its grid, as both renderers do next.
 // Input errors (metamer::Error) are expected; anything else is a finding.
 #include "fuzz_support.h"
 
@@ -42,8 +42,9 @@ Fixture& fixture() {
         const fs::path src = METAMER_SOURCE_DIR;
         const fs::path dir = fuzz::workDir();
         const auto copy = fs::copy_options::overwrite_existing | fs::copy_options::recursive;
-        for (const auto& e : fs::directory_iterator(src / "tests" / "data" / "scene"))
-            if (e.is_regular_file() && e.path().extension() != ".py") fs::copy(e.path(), dir / e.path().filename(), copy);
+        for (const char* fixtures : {"scene", "gltf"})
+            for (const auto& e : fs::directory_iterator(src / "tests" / "data" / fixtures))
+                if (e.is_regular_file() && e.path().extension() != ".py") fs::copy(e.path(), dir / e.path().filename(), copy);
         fs::create_directories(dir / "assets");
         for (const auto& e : fs::directory_iterator(src / "scenes" / "assets"))
             if (e.path().extension() != ".py") fs::copy(e.path(), dir / "assets" / e.path().filename(), copy);

@@ -4,6 +4,7 @@
 #include "render/spectral_pass.h"
 #include "represent/representation.h"
 #include "scene/gltf_material.h"
+#include "scene/gltf_mesh.h"
 #include "scene/scene_json.h"
 #include "scene/texture.h"
 #include "support/gpu.h"
@@ -11,6 +12,8 @@
 #include "support/scene_builders.h"
 
 #include <cmath>
+#include <fstream>
+#include <iterator>
 #include <numbers>
 
 using namespace metamer;
@@ -343,6 +346,65 @@ TEST(Textures, LinearModeAnalysesTexturesTexelByTexel) {
         std::printf("  %dx%d texels: linear:3 against full, worst %.3g of the peak radiance\n", w, h, worst / peak);
         EXPECT_GT(peak, 0.0);
         EXPECT_LE(worst, 1e-6 * peak) << w << "x" << h << " texels";
+    }
+}
+
+// glTF images embedded in the file — in a GLB's buffer views or as data: URIs — are the same
+// images as the files beside a .gltf: the panel of scenes/textured.json written both ways
+// (tests/data/gltf/make_embedded.py) gives the same bytes and the same texels, and a JPEG
+// base colour decodes to the PNG's colours within JPEG's loss.
+TEST(Textures, EmbeddedGltfImagesLoadAsTheirFiles) {
+    const std::string assets = std::string(METAMER_SOURCE_DIR) + "/scenes/assets/";
+    const std::string data = std::string(METAMER_TEST_DATA_DIR) + "/gltf/";
+    const Where where{"test-scene", "objects.0.mesh"};
+    auto bytes = [](const std::string& path) {
+        std::ifstream in(path, std::ios::binary);
+        return std::vector<unsigned char>(std::istreambuf_iterator<char>(in), {});
+    };
+    const GltfModel files = loadGltf(assets + "panel.gltf", where);
+    ASSERT_TRUE(files.materials.at(0).baseColorTexture && files.materials[0].normalTexture);
+    ASSERT_FALSE(files.materials[0].baseColorTexture->isEmbedded());
+    const Texture colour = loadTexture(files.materials[0].baseColorTexture->file, TextureRole::Reflectance,
+                                       TextureEncoding::Srgb, 1.0, where);
+    const Texture normals =
+        loadTexture(files.materials[0].normalTexture->file, TextureRole::Normal, TextureEncoding::Auto, 1.0, where);
+    for (const char* name : {"panel-embedded.glb", "panel-datauri.gltf"}) {
+        SCOPED_TRACE(name);
+        const GltfModel m = loadGltf(data + name, where);
+        ASSERT_EQ(m.materials.size(), 2u);
+        const GltfMaterial& tiles = m.materials[0];
+        ASSERT_TRUE(tiles.baseColorTexture && tiles.normalTexture);
+        ASSERT_TRUE(tiles.baseColorTexture->isEmbedded());
+        EXPECT_EQ(tiles.baseColorTexture->embedded, bytes(assets + "tiles.png"));
+        EXPECT_EQ(tiles.normalTexture->embedded, bytes(assets + "tiles_normal.png"));
+        EXPECT_NE(tiles.baseColorTexture->name.find("image 0"), std::string::npos) << tiles.baseColorTexture->name;
+        const Texture c = loadTexture(EncodedImage{tiles.baseColorTexture->name, tiles.baseColorTexture->embedded},
+                                      TextureRole::Reflectance, TextureEncoding::Srgb, 1.0, where);
+        const Texture n = loadTexture(EncodedImage{tiles.normalTexture->name, tiles.normalTexture->embedded},
+                                      TextureRole::Normal, TextureEncoding::Auto, 1.0, where);
+        EXPECT_EQ(c.kind, Texture::Kind::Rgb);
+        EXPECT_EQ(c.width, colour.width);
+        EXPECT_EQ(c.texels, colour.texels);
+        EXPECT_EQ(n.kind, Texture::Kind::Normal);
+        EXPECT_EQ(n.texels, normals.texels);
+    }
+    const GltfModel jpegModel = loadGltf(data + "panel-jpeg.glb", where);
+    const Texture jpeg = loadTexture(EncodedImage{"panel-jpeg.glb image 0", jpegModel.materials.at(0).baseColorTexture->embedded},
+                                     TextureRole::Reflectance, TextureEncoding::Srgb, 1.0, where);
+    ASSERT_EQ(jpeg.texels.size(), colour.texels.size());
+    double sum = 0;
+    for (size_t i = 0; i < jpeg.texels.size(); ++i) sum += std::fabs(jpeg.texels[i] - colour.texels[i]);
+    const double mean = sum / double(jpeg.texels.size());
+    std::printf("  JPEG base colour against the PNG: mean |difference| %.4f (linear reflectance)\n", mean);
+    EXPECT_GT(mean, 0.0);
+    EXPECT_LT(mean, 0.03);  // quality 95 with chroma subsampling, sharp grout lines
+    // Bytes that are neither PNG nor JPEG are an input error naming the image.
+    const std::vector<unsigned char> text = {'n', 'o', 't', ' ', 'a', 'n', ' ', 'i', 'm', 'a', 'g', 'e'};
+    try {
+        loadTexture(EncodedImage{"x.glb image 3", text}, TextureRole::Reflectance, TextureEncoding::Srgb, 1.0, where);
+        ADD_FAILURE() << "text accepted as an image";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("'x.glb image 3' is neither a PNG nor a JPEG"), std::string::npos) << e.what();
     }
 }
 

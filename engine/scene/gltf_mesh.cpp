@@ -15,6 +15,7 @@
 #include <fstream>
 #include <iterator>
 #include <limits>
+#include <map>
 #include <optional>
 #include <sstream>
 
@@ -30,6 +31,9 @@ struct Reader {
     const tinygltf::Model& model;
     const Where& where;
     std::string path;
+    // The decoded bytes of images given as data: URIs, by image index (tinygltf hands them only to
+    // its image callback; buffer-view images are read from the model, bounds-checked).
+    const std::map<int, std::vector<unsigned char>>& dataUriImages;
 
     template <typename... Args>
     [[noreturn]] void fail(fmt::format_string<Args...> f, Args&&... args) const {
@@ -213,9 +217,8 @@ struct Reader {
         return m;
     }
 
-    // A texture reference of a material: the image's file (external URIs only), else nothing with
-    // a warning.
-    std::optional<fs::path> image(const tinygltf::TextureInfo& info, const std::string& what, const std::string& dir) const {
+    // A texture reference of a material: the image's file, or its bytes when it is embedded.
+    std::optional<GltfImage> image(const tinygltf::TextureInfo& info, const std::string& what, const std::string& dir) const {
         if (info.index < 0) return std::nullopt;
         if (size_t(info.index) >= model.textures.size()) fail("{}: texture {} does not exist", what, info.index);
         int source = model.textures[info.index].source;
@@ -224,11 +227,26 @@ struct Reader {
             warn(where, fmt::format("mesh file '{}': {} uses TEXCOORD_{}; only TEXCOORD_0 is read, so it is used "
                                     "instead", path, what, info.texCoord));
         const tinygltf::Image& img = model.images[source];
-        if (img.uri.empty() || img.uri.rfind("data:", 0) == 0) {
-            warn(where, fmt::format("mesh file '{}': {} is embedded in the file; only images in files of their own "
-                                    "are read, so it is left out",
-                                    path, what));
-            return std::nullopt;
+        GltfImage out;
+        if (img.bufferView >= 0 || img.uri.empty()) {
+            out.name = img.name.empty() ? fmt::format("{} image {}", path, source)
+                                        : fmt::format("{} image {} ('{}')", path, source, img.name);
+            if (img.bufferView >= 0) {
+                if (size_t(img.bufferView) >= model.bufferViews.size())
+                    fail("{}: image {}'s buffer view {} does not exist", what, source, img.bufferView);
+                const tinygltf::BufferView& bv = model.bufferViews[img.bufferView];
+                if (bv.buffer < 0 || size_t(bv.buffer) >= model.buffers.size())
+                    fail("{}: image {}'s buffer {} does not exist", what, source, bv.buffer);
+                const std::vector<unsigned char>& data = model.buffers[bv.buffer].data;
+                if (bv.byteOffset > data.size() || bv.byteLength > data.size() - bv.byteOffset)
+                    fail("{}: image {}'s buffer view {} reads past the end of its buffer", what, source, img.bufferView);
+                out.embedded.assign(data.begin() + std::ptrdiff_t(bv.byteOffset),
+                                    data.begin() + std::ptrdiff_t(bv.byteOffset + bv.byteLength));
+            } else if (auto it = dataUriImages.find(source); it != dataUriImages.end()) {
+                out.embedded = it->second;
+            }
+            if (out.embedded.empty()) fail("{}: image {} is embedded but holds no data", what, source);
+            return out;
         }
         // URIs are percent-encoded (RFC 3986): "%20" is a space.
         std::string uri;
@@ -241,7 +259,9 @@ struct Reader {
                 uri += img.uri[k];
             }
         }
-        return (fs::path(dir) / uri).lexically_normal();
+        out.file = (fs::path(dir) / uri).lexically_normal();
+        out.name = out.file.string();
+        return out;
     }
 
     GltfMaterial material(int index, const std::string& dir) const {
@@ -382,9 +402,13 @@ bool writeWholeFile(std::string* err, const std::string&, const std::vector<unsi
     return false;
 }
 
-// We only need geometry: skip decoding (and failing on) texture images.
-bool ignoreImage(tinygltf::Image*, const int, std::string*, std::string*, int, int,
-                 const unsigned char*, int, void*) {
+// Images are not decoded here (the scene loader decodes the ones materials use); the bytes of
+// data: URI images are kept, as tinygltf gives them to no one else. Buffer-view images (image
+// ->bufferView set) are read from the model later, with bounds checks, and external files by name.
+bool keepDataUriImage(tinygltf::Image* image, const int index, std::string*, std::string*, int, int,
+                      const unsigned char* bytes, int size, void* user) {
+    if (image->bufferView < 0 && image->uri.empty() && size > 0)
+        (*static_cast<std::map<int, std::vector<unsigned char>>*>(user))[index].assign(bytes, bytes + size);
     return true;
 }
 
@@ -401,7 +425,8 @@ GltfModel loadGltf(const fs::path& path, const Where& where, const ReadablePaths
         failInput(where, "mesh file '{}' is not glTF: expected a .gltf or .glb file", shown);
 
     tinygltf::TinyGLTF loader;
-    loader.SetImageLoader(ignoreImage, nullptr);
+    std::map<int, std::vector<unsigned char>> dataUriImages;
+    loader.SetImageLoader(keepDataUriImage, &dataUriImages);
     FileAccess access{readable, {}};
     loader.SetFsCallbacks(tinygltf::FsCallbacks{fileExists, expandFilePath, readWholeFile, writeWholeFile, &access});
 
@@ -445,8 +470,8 @@ GltfModel loadGltf(const fs::path& path, const Where& where, const ReadablePaths
                   readable->refusal(access.refused.front(), "referenced file", access.refused.front()));
     if (!ok) failInput(where, "mesh file '{}' is not valid glTF: {}", shown, tidy(err));
     if (!access.refused.empty()) {
-        // Loading succeeded, so what was refused was not required: images, which tinygltf reads
-        // but we ignore. Say so once, in place of tinygltf's read-error lines about them.
+        // Loading succeeded, so what was refused was not required: images, which tinygltf tries to
+        // read whether or not a material uses them. Say so once, in place of its read-error lines.
         std::string kept;
         std::istringstream lines(warning);
         for (std::string line; std::getline(lines, line);) {
@@ -456,7 +481,7 @@ GltfModel loadGltf(const fs::path& path, const Where& where, const ReadablePaths
         }
         warning = kept;
         warn(where, fmt::format("mesh file '{}': image '{}' not read: it is outside the folders the scene may read "
-                                "(images are not used; --allow-outside-paths reads it anyway)",
+                                "(a material that uses it is an error; --allow-outside-paths reads it)",
                                 shown, access.refused.front()));
     }
     if (!warning.empty()) warn(where, fmt::format("mesh file '{}': {}", shown, tidy(warning)));
@@ -464,7 +489,7 @@ GltfModel loadGltf(const fs::path& path, const Where& where, const ReadablePaths
         failInput(where, "mesh file '{}' requires the unsupported extension '{}'", shown,
                   model.extensionsRequired.front());
 
-    Reader reader{model, where, shown};
+    Reader reader{model, where, shown, dataUriImages};
     std::vector<int> roots;
     if (!model.scenes.empty()) {
         int s = model.defaultScene >= 0 ? model.defaultScene : 0;

@@ -566,9 +566,14 @@ private:
         const RgbUpsampler& up = RgbUpsampler::srgb(lib_);
         Where mw = w.child(fmt::format("materials.{}", g.name));
         Material m = materialFromGltf(g, up, mw);
+        // An image file of its own is read under the scene's path rules; an embedded one from memory.
+        auto load = [&](const GltfImage& image, TextureRole role, TextureEncoding encoding) {
+            if (image.isEmbedded()) return loadTexture(EncodedImage{image.name, image.embedded}, role, encoding, 1.0, mw);
+            readable_.check(image.file, w, "texture file", image.name);
+            return loadTexture(image.file, role, encoding, 1.0, mw);
+        };
         if (g.baseColorTexture) {
-            readable_.check(*g.baseColorTexture, w, "texture file", g.baseColorTexture->string());
-            Texture tex = loadTexture(*g.baseColorTexture, TextureRole::Reflectance, TextureEncoding::Srgb, 1.0, mw);
+            Texture tex = load(*g.baseColorTexture, TextureRole::Reflectance, TextureEncoding::Srgb);
             if (tex.kind == Texture::Kind::Rgb)  // glTF: base colour = factor × texel, in linear RGB
                 for (size_t p = 0; p < tex.texels.size(); p += 3)
                     for (int c = 0; c < 3; ++c) tex.texels[p + c] *= float(g.baseColorFactor[c]);
@@ -577,8 +582,7 @@ private:
             m.textures.diffuse = int(scene_.textures.size() - 1);
         }
         if (g.normalTexture) {
-            readable_.check(*g.normalTexture, w, "texture file", g.normalTexture->string());
-            Texture tex = loadTexture(*g.normalTexture, TextureRole::Normal, TextureEncoding::Auto, 1.0, mw);
+            Texture tex = load(*g.normalTexture, TextureRole::Normal, TextureEncoding::Auto);
             // normalTexture.scale multiplies the map's x and y before renormalizing.
             for (size_t p = 0; p < tex.texels.size(); p += 3) {
                 glm::dvec3 n(tex.texels[p] * g.normalScale, tex.texels[p + 1] * g.normalScale, tex.texels[p + 2]);

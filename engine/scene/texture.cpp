@@ -3,9 +3,11 @@
 #include "color/srgb.h"
 #include "io/spectral_exr.h"
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
 #include <cmath>
+#include <cstring>
 
 namespace metamer {
 
@@ -35,9 +37,9 @@ void checkReflectance(const Texture& t, const Where& where) {
     }
 }
 
-void checkSize(int width, int height, const fs::path& path, const Where& where) {
+void checkSize(int width, int height, const std::string& name, const Where& where) {
     if (width < 1 || height < 1 || width > kMaxTextureSide || height > kMaxTextureSide)
-        failInput(where, "texture '{}' is {}×{} texels; expected 1 to {} per side", path.string(), width, height,
+        failInput(where, "texture '{}' is {}×{} texels; expected 1 to {} per side", name, width, height,
                   kMaxTextureSide);
 }
 
@@ -58,7 +60,7 @@ Texture readSpectral(const fs::path& path, const Where& where) {
     t.file = path;
     t.width = image.cube.width;
     t.height = image.cube.height;
-    checkSize(t.width, t.height, path, where);
+    checkSize(t.width, t.height, path.string(), where);
     t.wavelengths_nm = image.cube.grid.wavelengths();
     t.channels = int(t.wavelengths_nm.size());
     if (t.channels < 2)
@@ -70,24 +72,22 @@ Texture readSpectral(const fs::path& path, const Where& where) {
 }
 
 // Any image OpenImageIO reads, as float RGB (grey is replicated, alpha and other channels are
-// dropped), with its encoding decided.
-std::vector<float> readRgb(const fs::path& path, TextureEncoding encoding, const Where& where, int& width,
-                           int& height, bool& wasFloat) {
-    auto in = OIIO::ImageInput::open(path.string());
-    if (!in) failInput(where, "texture '{}' is not a readable image: {}", path.string(), OIIO::geterror());
-    const OIIO::ImageSpec spec = in->spec();
-    if (spec.deep) failInput(where, "texture '{}': deep images are not supported", path.string());
-    if (spec.depth > 1) failInput(where, "texture '{}': volume images are not supported", path.string());
-    checkSize(spec.width, spec.height, path, where);
+// dropped), with its encoding decided. `name` is the file or the embedded image, for messages.
+std::vector<float> readRgb(OIIO::ImageInput& in, const std::string& name, TextureEncoding encoding,
+                           const Where& where, int& width, int& height, bool& wasFloat) {
+    const OIIO::ImageSpec spec = in.spec();
+    if (spec.deep) failInput(where, "texture '{}': deep images are not supported", name);
+    if (spec.depth > 1) failInput(where, "texture '{}': volume images are not supported", name);
+    checkSize(spec.width, spec.height, name, where);
     const int n = spec.nchannels;
     if (n != 1 && n != 3 && n != 4)
-        failInput(where, "texture '{}' has {} channels; expected 1 (grey), 3 (RGB) or 4 (RGBA)", path.string(), n);
+        failInput(where, "texture '{}' has {} channels; expected 1 (grey), 3 (RGB) or 4 (RGBA)", name, n);
     width = spec.width;
     height = spec.height;
     wasFloat = spec.format.is_floating_point();
     std::vector<float> raw(size_t(width) * height * n);
-    if (!in->read_image(0, 0, 0, n, OIIO::TypeDesc::FLOAT, raw.data()))
-        failInput(where, "texture '{}': cannot read pixels: {}", path.string(), in->geterror());
+    if (!in.read_image(0, 0, 0, n, OIIO::TypeDesc::FLOAT, raw.data()))
+        failInput(where, "texture '{}': cannot read pixels: {}", name, in.geterror());
     bool srgb = encoding == TextureEncoding::Srgb || (encoding == TextureEncoding::Auto && !wasFloat);
     std::vector<float> rgb(size_t(width) * height * 3);
     for (size_t p = 0; p < size_t(width) * height; ++p)
@@ -96,6 +96,50 @@ std::vector<float> readRgb(const fs::path& path, TextureEncoding encoding, const
             rgb[p * 3 + c] = srgb ? float(srgbDecode(double(v))) : v;
         }
     return rgb;
+}
+
+// An RGB, normal or height texture from an open image: what loadTexture does after the file's
+// kind is known.
+Texture imageTexture(OIIO::ImageInput& in, const std::string& name, TextureRole role, TextureEncoding encoding,
+                     double bumpScale, const Where& where) {
+    Texture t;
+    t.file = name;
+    bool wasFloat = false;
+    // Normal and height maps are data, never sRGB-encoded, whatever the file type.
+    TextureEncoding e = role == TextureRole::Reflectance ? encoding : TextureEncoding::Linear;
+    if (role != TextureRole::Reflectance && encoding == TextureEncoding::Srgb)
+        failInput(where, "texture '{}': a {} map is data and is read linearly; remove \"encoding\"", name,
+                  role == TextureRole::Normal ? "normal" : "bump");
+    std::vector<float> rgb = readRgb(in, name, e, where, t.width, t.height, wasFloat);
+    t.channels = 3;
+    if (role == TextureRole::Reflectance) {
+        t.kind = Texture::Kind::Rgb;
+        t.texels = std::move(rgb);
+        checkReflectance(t, where);
+        return t;
+    }
+    for (size_t i = 0; i < rgb.size(); ++i)
+        if (!std::isfinite(rgb[i]))
+            failInput(where, "texture '{}': texel ({}, {}) is not finite", name, (i / 3) % t.width, (i / 3) / t.width);
+    t.kind = Texture::Kind::Normal;
+    if (role == TextureRole::Height) {
+        std::vector<float> h(size_t(t.width) * t.height);
+        for (size_t p = 0; p < h.size(); ++p) h[p] = rgb[p * 3];  // the first (or only) channel
+        t.texels = heightToNormals(h, t.width, t.height, bumpScale);
+        return t;
+    }
+    // Normal map: stored as (n + 1)/2; decoded and renormalized here, so that the renderers only
+    // interpolate and renormalize. A texel that decodes to (almost) zero is the unperturbed normal.
+    t.texels.resize(rgb.size());
+    for (size_t p = 0; p < rgb.size(); p += 3) {
+        double x = 2.0 * rgb[p] - 1.0, y = 2.0 * rgb[p + 1] - 1.0, z = 2.0 * rgb[p + 2] - 1.0;
+        double len = std::sqrt(x * x + y * y + z * z);
+        if (!(len > 1e-6)) x = 0, y = 0, z = 1, len = 1;
+        t.texels[p] = float(x / len);
+        t.texels[p + 1] = float(y / len);
+        t.texels[p + 2] = float(z / len);
+    }
+    return t;
 }
 
 }  // namespace
@@ -123,57 +167,34 @@ Texture loadTexture(const fs::path& path, TextureRole role, TextureEncoding enco
     if (!fs::exists(path, ec)) failInput(where, "texture file '{}' not found", path.string());
     if (!fs::is_regular_file(path, ec)) failInput(where, "texture '{}' is not a file", path.string());
 
-    if (role == TextureRole::Reflectance) {
-        // A spectral EXR is recognised by its channels; anything else is an RGB image.
-        auto in = OIIO::ImageInput::open(path.string());
-        if (in && std::string(in->format_name()) == "openexr" && hasSpectralChannels(in->spec().channelnames)) {
-            in->close();
-            if (encoding == TextureEncoding::Srgb)
-                failInput(where, "texture '{}' is spectral; \"encoding\": \"srgb\" applies to RGB images only",
-                          path.string());
-            return readSpectral(path, where);
-        }
+    auto in = OIIO::ImageInput::open(path.string());
+    if (!in) failInput(where, "texture '{}' is not a readable image: {}", path.string(), OIIO::geterror());
+    // A spectral EXR is recognised by its channels; anything else is an RGB image.
+    if (role == TextureRole::Reflectance && std::string(in->format_name()) == "openexr" &&
+        hasSpectralChannels(in->spec().channelnames)) {
+        in->close();
+        if (encoding == TextureEncoding::Srgb)
+            failInput(where, "texture '{}' is spectral; \"encoding\": \"srgb\" applies to RGB images only",
+                      path.string());
+        return readSpectral(path, where);
     }
+    return imageTexture(*in, path.string(), role, encoding, bumpScale, where);
+}
 
-    Texture t;
-    t.file = path;
-    bool wasFloat = false;
-    // Normal and height maps are data, never sRGB-encoded, whatever the file type.
-    TextureEncoding e = role == TextureRole::Reflectance ? encoding : TextureEncoding::Linear;
-    if (role != TextureRole::Reflectance && encoding == TextureEncoding::Srgb)
-        failInput(where, "texture '{}': a {} map is data and is read linearly; remove \"encoding\"", path.string(),
-                  role == TextureRole::Normal ? "normal" : "bump");
-    std::vector<float> rgb = readRgb(path, e, where, t.width, t.height, wasFloat);
-    t.channels = 3;
-    if (role == TextureRole::Reflectance) {
-        t.kind = Texture::Kind::Rgb;
-        t.texels = std::move(rgb);
-        checkReflectance(t, where);
-        return t;
-    }
-    for (size_t i = 0; i < rgb.size(); ++i)
-        if (!std::isfinite(rgb[i]))
-            failInput(where, "texture '{}': texel ({}, {}) is not finite", path.string(), (i / 3) % t.width,
-                      (i / 3) / t.width);
-    t.kind = Texture::Kind::Normal;
-    if (role == TextureRole::Height) {
-        std::vector<float> h(size_t(t.width) * t.height);
-        for (size_t p = 0; p < h.size(); ++p) h[p] = rgb[p * 3];  // the first (or only) channel
-        t.texels = heightToNormals(h, t.width, t.height, bumpScale);
-        return t;
-    }
-    // Normal map: stored as (n + 1)/2; decoded and renormalized here, so that the renderers only
-    // interpolate and renormalize. A texel that decodes to (almost) zero is the unperturbed normal.
-    t.texels.resize(rgb.size());
-    for (size_t p = 0; p < rgb.size(); p += 3) {
-        double x = 2.0 * rgb[p] - 1.0, y = 2.0 * rgb[p + 1] - 1.0, z = 2.0 * rgb[p + 2] - 1.0;
-        double len = std::sqrt(x * x + y * y + z * z);
-        if (!(len > 1e-6)) x = 0, y = 0, z = 1, len = 1;
-        t.texels[p] = float(x / len);
-        t.texels[p + 1] = float(y / len);
-        t.texels[p + 2] = float(z / len);
-    }
-    return t;
+Texture loadTexture(const EncodedImage& image, TextureRole role, TextureEncoding encoding, double bumpScale,
+                    const Where& where) {
+    // glTF embeds PNG or JPEG (its core image formats); tell them by their signatures.
+    const auto& b = image.bytes;
+    const bool png = b.size() >= 8 && std::memcmp(b.data(), "\x89PNG\r\n\x1a\n", 8) == 0;
+    const bool jpeg = b.size() >= 3 && b[0] == 0xff && b[1] == 0xd8 && b[2] == 0xff;
+    if (!png && !jpeg) failInput(where, "texture '{}' is neither a PNG nor a JPEG image (glTF's image formats)", image.name);
+    OIIO::Filesystem::IOMemReader memory(const_cast<unsigned char*>(b.data()), b.size());
+    auto in = OIIO::ImageInput::create(png ? "png" : "jpeg");
+    OIIO::ImageSpec spec;
+    if (!in || !in->set_ioproxy(&memory) || !in->open(image.name, spec))
+        failInput(where, "texture '{}' is not a readable image: {}", image.name,
+                  in ? in->geterror() : OIIO::geterror());
+    return imageTexture(*in, image.name, role, encoding, bumpScale, where);
 }
 
 }  // namespace metamer

@@ -7,6 +7,8 @@
 #include "scene/scene.h"
 
 #include <filesystem>
+#include <string>
+#include <vector>
 
 namespace metamer {
 
@@ -30,6 +32,16 @@ constexpr int kMaxTextureSide = 16384;
 // central difference per texel. Input errors name `where` (the scene key) and the file.
 Texture loadTexture(const std::filesystem::path& path, TextureRole role, TextureEncoding encoding,
                     double bumpScale, const Where& where);
+
+// An image held in memory — a glTF file's embedded PNG or JPEG — and the name messages give it.
+struct EncodedImage {
+    std::string name;
+    const std::vector<unsigned char>& bytes;
+};
+
+// As loadTexture, for an embedded PNG or JPEG (any other bytes are an input error naming it).
+Texture loadTexture(const EncodedImage& image, TextureRole role, TextureEncoding encoding, double bumpScale,
+                    const Where& where);
 
 // A height field (width × height values, row 0 at the top, repeating at the edges) turned into
 // tangent-space unit normals: n ∝ (−s·∂h/∂x, s·∂h/∂y_up, 1) with central differences per texel.
