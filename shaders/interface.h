@@ -79,11 +79,13 @@ struct GpuLightSpectraBlock {
 struct GpuMaterialBlock {
     vec4 diffuse[MAX_OUTPUTS];             // ρd
     vec4 specular[MAX_OUTPUTS];            // ρs
-    vec4 emissionOverLambda[MAX_OUTPUTS];  // ê(λ)/λ, nm⁻² (0 for non-fluorescent materials)
+    vec4 emissionOverLambda[MAX_OUTPUTS];  // ê(λ)/λ·2⁻ˢ, nm⁻² (0 for non-fluorescent materials);
+                                           // s, per material, keeps the coupling near the
+                                           // radiance's magnitude in float (docs/numerics.md)
     vec4 params;                           // x: gloss N; y: 1 if fluorescent; z: 1 if specular
     vec4 textures;                         // x, y, z: 1 if the diffuse, specular, normal texture is
                                            // used; w: the texture layer of this pass's first vec4
-    vec4 coupling[MAX_LIGHTS / 4];         // per light: (Φ/π)·Σ a·E·λ·Δλ (fluorescence)
+    vec4 coupling[MAX_LIGHTS / 4];         // per light: (Φ/π)·Σ a·E·λ·Δλ·2ˢ (fluorescence)
 };
 
 // Fluorescence as per-light spectra, for scenes with a Donaldson-matrix material (a matrix does
