@@ -126,28 +126,40 @@ std::vector<std::vector<double>> distinctTexels(const TextureOnGrid& t) {
 // characteristic-vector analysis.
 void linearBasis(Representation& r, const SceneOnGrid& spectra) {
     const double dl = r.grid.step_nm;
-    const size_t bands = size_t(r.grid.bands());
-    std::vector<std::vector<double>> samples;
-    auto add = [&](std::vector<double> s) {
+    const auto bands = Eigen::Index(r.grid.bands());
+    // The samples are the columns of S (bands × n), each scaled to Σ s²·Δλ = 1 and by √Δλ, so
+    // that S·Sᵀ is the analysis's second-moment operator; its leading eigenvectors are the basis.
+    // While n < bands they come from the Gram matrix Sᵀ·S (the same non-zero eigenvalues;
+    // e = S·v/√λ); from n = bands on, S·Sᵀ is accumulated a block of `bands` columns at a time, so
+    // memory stays at two bands × bands matrices however many texels and lights there are.
+    Eigen::MatrixXd block(bands, bands), moment;
+    Eigen::Index inBlock = 0;
+    auto flush = [&] {
+        if (moment.size() == 0) moment = Eigen::MatrixXd::Zero(bands, bands);
+        moment.selfadjointView<Eigen::Lower>().rankUpdate(block.leftCols(inBlock));
+        inBlock = 0;
+    };
+    auto add = [&](const std::vector<double>& s) {
         double n2 = 0;
         for (double x : s) n2 += x * x * dl;
         if (!(n2 > 0)) return;
-        for (double& x : s) x /= std::sqrt(n2);
-        samples.push_back(std::move(s));
+        const double f = std::sqrt(dl / n2);
+        for (Eigen::Index b = 0; b < bands; ++b) block(b, inBlock) = s[size_t(b)] * f;
+        if (++inBlock == bands) flush();
     };
     std::vector<std::vector<std::vector<double>>> texels(spectra.textures.size());
     for (size_t t = 0; t < spectra.textures.size(); ++t)
         if (!spectra.textures[t].normals) texels[t] = distinctTexels(spectra.textures[t]);
     // ρ·E, or ρ·T·E for every distinct texel T of ρ's texture.
     auto addReflected = [&](const std::vector<double>& rho, int texture, const std::vector<double>& e) {
-        std::vector<double> s(bands);
+        std::vector<double> s(e.size());
         if (texture < 0) {
-            for (size_t b = 0; b < bands; ++b) s[b] = rho[b] * e[b];
-            add(std::move(s));
+            for (size_t b = 0; b < s.size(); ++b) s[b] = rho[b] * e[b];
+            add(s);
             return;
         }
         for (const auto& tex : texels[size_t(texture)]) {
-            for (size_t b = 0; b < bands; ++b) s[b] = rho[b] * tex[b] * e[b];
+            for (size_t b = 0; b < s.size(); ++b) s[b] = rho[b] * tex[b] * e[b];
             add(s);
         }
     };
@@ -165,26 +177,20 @@ void linearBasis(Representation& r, const SceneOnGrid& spectra) {
             continue;
         }
         // A Donaldson matrix's emission shape depends on the light: add what each light makes it emit.
+        const size_t nb = size_t(bands);
         for (const auto& e : spectra.lights) {
-            std::vector<double> f(bands, 0.0);
-            for (size_t i = 0; i < bands; ++i)
-                for (size_t o = 0; o < bands; ++o) f[o] += m.donaldson[i * bands + o] * e[i];
+            std::vector<double> f(nb, 0.0);
+            for (size_t i = 0; i < nb; ++i)
+                for (size_t o = 0; o < nb; ++o) f[o] += m.donaldson[i * nb + o] * e[i];
             add(f);
         }
     }
-    const size_t n = samples.size();
-    if (n == 0) failInput(Where{"", "--mode"}, "linear: the scene has no light to analyse");
-
-    // S: bands × n, scaled by √Δλ so that inner products are the Σ·Δλ of the spectra. The basis is
-    // the leading eigenvectors of S·Sᵀ; they are found from whichever of S·Sᵀ (bands²) and the Gram
-    // matrix Sᵀ·S (n²) is smaller, which share their non-zero eigenvalues (e = S·v/√λ for an
-    // eigenvector v of the Gram matrix).
-    Eigen::MatrixXd S(bands, n);
-    for (size_t i = 0; i < n; ++i)
-        for (size_t b = 0; b < bands; ++b) S(Eigen::Index(b), Eigen::Index(i)) = samples[i][b] * std::sqrt(dl);
-    const bool gram = n < bands;
-    Eigen::MatrixXd product = gram ? Eigen::MatrixXd(S.transpose() * S) : Eigen::MatrixXd(S * S.transpose());
-    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> solver(product);
+    const bool gram = moment.size() == 0;  // fewer samples than bands: all still in the block
+    if (gram && inBlock == 0) failInput(Where{"", "--mode"}, "linear: the scene has no light to analyse");
+    if (!gram && inBlock > 0) flush();
+    const Eigen::MatrixXd samples = gram ? Eigen::MatrixXd(block.leftCols(inBlock)) : Eigen::MatrixXd();
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> solver(gram ? Eigen::MatrixXd(samples.transpose() * samples)
+                                                               : moment);
     if (solver.info() != Eigen::Success) failRuntime("linear:{}: the eigen-decomposition did not converge", r.mode.samples);
     const Eigen::VectorXd& values = solver.eigenvalues();  // ascending
     const Eigen::Index last = values.size() - 1;
@@ -193,10 +199,10 @@ void linearBasis(Representation& r, const SceneOnGrid& spectra) {
     const Eigen::Index k = std::min<Eigen::Index>(r.mode.samples, values.size());
     for (Eigen::Index c = 0; c < k && values(last - c) > 1e-12 * values(last); ++c) {
         const double lambda = values(last - c);
-        Eigen::VectorXd x = gram ? Eigen::VectorXd(S * solver.eigenvectors().col(last - c) / std::sqrt(lambda))
+        Eigen::VectorXd x = gram ? Eigen::VectorXd(samples * solver.eigenvectors().col(last - c) / std::sqrt(lambda))
                                  : Eigen::VectorXd(solver.eigenvectors().col(last - c));
-        std::vector<double> e(bands);
-        for (size_t b = 0; b < bands; ++b) e[b] = x(Eigen::Index(b)) / std::sqrt(dl);  // Σ e²·Δλ = 1
+        std::vector<double> e(static_cast<size_t>(bands));
+        for (Eigen::Index b = 0; b < bands; ++b) e[size_t(b)] = x(b) / std::sqrt(dl);  // Σ e²·Δλ = 1
         r.basis.push_back(std::move(e));
         kept += lambda;
     }
