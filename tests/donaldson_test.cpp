@@ -12,6 +12,7 @@
 #include "scene/scene_json.h"
 #include "spectral/csv.h"
 #include "spectral/library.h"
+#include "support/capture_warnings.h"
 #include "support/gpu.h"
 #include "support/interior_comparison.h"
 #include "support/scene_builders.h"
@@ -36,12 +37,6 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 constexpr int kMaxLights = 128;  // the GPU path's limit (MAX_LIGHTS in shaders/interface.h)
 
-// Warnings are collected instead of printed while one of these is alive.
-struct WarningCapture {
-    WarningSink previous;
-    WarningCapture() : previous(setWarningSink([](const std::string&) {})) {}
-    ~WarningCapture() { setWarningSink(previous); }
-};
 
 struct Rendered {
     SpectralCube gpu;
@@ -278,7 +273,7 @@ TEST(Donaldson, DeltaLikeMatrixMovesOneBandIntoAnother) {
     s.meshes.push_back(quad({0, 0, 0}, {0, 0, 1}, 4, 4));
     s.lights.push_back(directionalLight({0, 0, -1}, constantSpectrum(e), 1.0));
     s.lights.push_back(ambientLight(constantSpectrum(e), 0.5));
-    WarningCapture quiet;  // the tent covers a sliver of the grid, as intended
+    CaptureWarnings quiet;  // the tent covers a sliver of the grid, as intended
     const SceneOnGrid g = onGrid(s);
     const Rendered r = renderBoth(s, g);
     const double expected = (1.0 + 0.5) * p / (step * step) * e * step / kPi;
@@ -321,7 +316,7 @@ TEST(Donaldson, GpuMatchesReferenceForAMatrixSceneUnderEveryLightKind) {
         s.lights.push_back(directionalLight({-0.5, -0.5, -1}, daylightLike(), 0.005));
         s.lights.push_back(pointLight({-1.5, 2, 2}, daylightLike(), 0.3));
         s.lights.push_back(pointLight({1.5, 1, 1.5}, gaussianSpectrum(540, 10, 50, 300, 800, 1), 0.2));
-        WarningCapture quiet;  // the 1 nm grid starts inside the lights' data: no warning expected either way
+        CaptureWarnings quiet;  // the 1 nm grid starts inside the lights' data: no warning expected either way
         const SceneOnGrid g = onGrid(s);
         ASSERT_TRUE(g.materials[0].isMatrix());
         const Rendered r = renderBoth(s, g);
@@ -409,7 +404,7 @@ TEST(Donaldson, LinearModeAnalysesTheMatrixEmissionUnderEachLight) {
     scene.lights.push_back(directionalLight({0, -0.5, -1}, lib.get("illuminants/D65", Where{}), 0.01, "lights.0"));
     const SceneOnGrid spectra = onGrid(scene);
     auto render = [&](const std::string& mode) {
-        WarningCapture quiet;
+        CaptureWarnings quiet;
         Representation rep = makeRepresentation(parseMode(mode, Where{}), scene.grid, lib, &spectra);
         const SceneOnGrid rendered = represent(spectra, rep, scene);
         const TonemapPlan plan = makeTonemapPlan(TonemapSettings{}, scene, spectra, lib, &rep);

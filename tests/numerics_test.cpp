@@ -9,6 +9,7 @@
 #include "render/spectral_pass.h"
 #include "scene/shapes.h"
 #include "spectral/library.h"
+#include "support/capture_warnings.h"
 #include "support/gpu.h"
 #include "support/interior_comparison.h"
 #include "support/scene_builders.h"
@@ -94,20 +95,6 @@ Scene sphereOnFloor(const Grid& grid, int px, double lightScale = 1.0) {
     return s;
 }
 
-// Warnings go to a function pointer; this collects them while a WarningCapture lives.
-std::vector<std::string>& capturedWarnings() {
-    static std::vector<std::string> lines;
-    return lines;
-}
-
-struct WarningCapture {
-    WarningSink previous;
-    WarningCapture() {
-        capturedWarnings().clear();
-        previous = setWarningSink([](const std::string& line) { capturedWarnings().push_back(line); });
-    }
-    ~WarningCapture() { setWarningSink(previous); }
-};
 
 // A folder of its own for files a test writes, removed afterwards.
 struct TempDir {
@@ -170,9 +157,9 @@ TEST(Numerics, FullRangeGridsWithTheEqualEnergyIlluminant) {
         s.meshes.push_back(quad({0, -0.8, 0}, {0, 1, 0}, 6, 6, 1));
         s.lights.push_back(directionalLight({-0.4, -1, -0.5}, e, 0.01));
         s.lights.push_back(pointLight({1.5, 2, 2}, e, 0.3));
-        WarningCapture warnings;
+        CaptureWarnings warnings;
         SceneOnGrid g = onGrid(s);
-        EXPECT_TRUE(capturedWarnings().empty()) << capturedWarnings().front();
+        EXPECT_TRUE(CaptureWarnings::lines().empty()) << CaptureWarnings::lines().front();
         Rendered r = renderBoth(s, g);
         EXPECT_EQ(nonFinite(r.gpu), 0u);
         InteriorComparison m = compareInterior(r.gpu, r.ref);
@@ -193,12 +180,12 @@ TEST(Numerics, LightThatMissesPartOfTheRangeWarnsAndIsExactlyZeroThere) {
     s.lights.push_back(directionalLight({-0.2, -0.1, -1}, d65, 0.01, "lights.0"));
     s.lights.push_back(ambientLight(d65, 0.001, "lights.1"));
 
-    WarningCapture warnings;
+    CaptureWarnings warnings;
     SceneOnGrid g = onGrid(s);
     // Two lights with the same data range: one grouped warning naming the spectrum and the range.
-    ASSERT_EQ(capturedWarnings().size(), 1u);
-    EXPECT_NE(capturedWarnings()[0].find("illuminants/D65"), std::string::npos) << capturedWarnings()[0];
-    EXPECT_NE(capturedWarnings()[0].find("bands outside the data are 0"), std::string::npos);
+    ASSERT_EQ(CaptureWarnings::lines().size(), 1u);
+    EXPECT_NE(CaptureWarnings::lines()[0].find("illuminants/D65"), std::string::npos) << CaptureWarnings::lines()[0];
+    EXPECT_NE(CaptureWarnings::lines()[0].find("bands outside the data are 0"), std::string::npos);
 
     Rendered r = renderBoth(s, g);
     InteriorComparison m = compareInterior(r.gpu, r.ref);
@@ -636,7 +623,7 @@ TEST(Numerics, FluorescenceFromASingleOverlappingBandAndFromNone) {
     // band does: the emission is Φ/π·a·E·λ·Δλ of that band times ê/λ).
     const Grid grid{400, 700, 5};
     const double phi = 0.9;
-    WarningCapture quiet;  // the boxes cover part of the grid, as intended
+    CaptureWarnings quiet;  // the boxes cover part of the grid, as intended
     auto scene = [&](double lightStart) {
         Scene s = emptyScene(grid, orthographicCamera({0, 0, 4}, {0, 0, 0}, {0, 1, 0}, 1.0, 8, 8));
         s.materials.push_back(fluorescent(constantSpectrum(0.0), boxSpectrum(450, 507, 0.8, 0.1),

@@ -5,6 +5,7 @@
 
 #include "scene/gltf_mesh.h"
 #include "scene/scene_json.h"
+#include "support/capture_warnings.h"
 
 #include <gtest/gtest.h>
 
@@ -232,15 +233,13 @@ TEST(ReadablePaths, ImagesOutsideAreNotReadButOnlyWarnedAbout) {
     writeFile(root / "scenes" / "assets" / "textured.gltf", gltf);
     writeFile(root / "scenes" / "textured.json",
               scene("0.5", R"([{"mesh": "assets/textured.gltf", "material": "m"}])"));
-    static std::vector<std::string> warnings;
-    warnings.clear();
-    WarningSink old = setWarningSink([](const std::string& l) { warnings.push_back(l); });
-    std::string e = loadError(root / "scenes" / "textured.json", library());
-    setWarningSink(old);
+    std::string e;
+    {
+        test::CaptureWarnings warnings;
+        e = loadError(root / "scenes" / "textured.json", library());
+    }
     EXPECT_EQ(e, "");
-    bool said = false;
-    for (const auto& w : warnings) said = said || w.find("not read") != std::string::npos;
-    EXPECT_TRUE(said) << ::testing::PrintToString(warnings);
+    EXPECT_TRUE(test::CaptureWarnings::any("not read")) << ::testing::PrintToString(test::CaptureWarnings::lines());
 }
 
 TEST(ReadablePaths, CsvDetectorInTheOutputBlockIsRelativeToTheSceneAndChecked) {

@@ -4,6 +4,7 @@
 // file's line where one is at fault).
 #include "scene/scene_json.h"
 #include "scene/scene_on_grid.h"
+#include "support/capture_warnings.h"
 
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
@@ -20,19 +21,7 @@ using Json = nlohmann::ordered_json;
 
 namespace {
 
-class CaptureWarnings {
-public:
-    CaptureWarnings() : old_(setWarningSink(&CaptureWarnings::sink)) { lines().clear(); }
-    ~CaptureWarnings() { setWarningSink(old_); }
-    static std::vector<std::string>& lines() {
-        static std::vector<std::string> l;
-        return l;
-    }
-
-private:
-    static void sink(const std::string& line) { lines().push_back(line); }
-    WarningSink old_;
-};
+using test::CaptureWarnings;
 
 // A folder holding the scene, its matrix files and a small spectra library of its own.
 class SceneDonaldson : public ::testing::Test {

@@ -1,6 +1,7 @@
 #include "scene/scene_json.h"
 
 #include "scene/scene_on_grid.h"
+#include "support/capture_warnings.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -28,20 +29,7 @@ const SpectrumLibrary& fixtureLibrary() {
     return lib;
 }
 
-// Warnings are collected instead of printed while one of these is alive.
-class CaptureWarnings {
-public:
-    CaptureWarnings() : old_(setWarningSink(&CaptureWarnings::sink)) { lines().clear(); }
-    ~CaptureWarnings() { setWarningSink(old_); }
-    static std::vector<std::string>& lines() {
-        static std::vector<std::string> l;
-        return l;
-    }
-
-private:
-    static void sink(const std::string& line) { lines().push_back(line); }
-    WarningSink old_;
-};
+using test::CaptureWarnings;
 
 // A valid scene exercising every feature; the bad-input cases below break one thing each.
 Json baseScene() {
