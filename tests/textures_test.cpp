@@ -7,9 +7,12 @@
 #include "scene/gltf_mesh.h"
 #include "scene/scene_json.h"
 #include "scene/texture.h"
+#include "support/capture_warnings.h"
 #include "support/gpu.h"
 #include "support/interior_comparison.h"
 #include "support/scene_builders.h"
+
+#include <unistd.h>
 
 #include <cmath>
 #include <fstream>
@@ -398,6 +401,23 @@ TEST(Textures, EmbeddedGltfImagesLoadAsTheirFiles) {
     std::printf("  JPEG base colour against the PNG: mean |difference| %.4f (linear reflectance)\n", mean);
     EXPECT_GT(mean, 0.0);
     EXPECT_LT(mean, 0.03);  // quality 95 with chroma subsampling, sharp grout lines
+    // A sampler that clamps or mirrors is said to be ignored (textures repeat), once per texture.
+    {
+        CaptureWarnings warnings;
+        std::ifstream in(data + "panel-datauri.gltf");
+        std::string text((std::istreambuf_iterator<char>(in)), {});
+        const std::string marker = "\"textures\": [";
+        ASSERT_NE(text.find(marker), std::string::npos);
+        text.replace(text.find(marker), marker.size(), "\"samplers\": [{\"wrapS\": 33071}], " + marker + "{\"source\": 0, \"sampler\": 0}, ");
+        const auto dir = std::filesystem::temp_directory_path() / ("metamer-wrap-" + std::to_string(::getpid()));
+        std::filesystem::create_directories(dir);
+        std::ofstream(dir / "clamped.gltf") << text;
+        const GltfModel clamped = loadGltf(dir / "clamped.gltf", where);
+        std::filesystem::remove_all(dir);
+        EXPECT_TRUE(clamped.materials.at(0).baseColorTexture);
+        EXPECT_TRUE(CaptureWarnings::any("asks for clamp-to-edge wrapping; textures repeat"))
+            << ::testing::PrintToString(CaptureWarnings::lines());
+    }
     // Bytes that are neither PNG nor JPEG are an input error naming the image.
     const std::vector<unsigned char> text = {'n', 'o', 't', ' ', 'a', 'n', ' ', 'i', 'm', 'a', 'g', 'e'};
     try {

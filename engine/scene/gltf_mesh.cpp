@@ -226,6 +226,16 @@ struct Reader {
         if (info.texCoord != 0)
             warn(where, fmt::format("mesh file '{}': {} uses TEXCOORD_{}; only TEXCOORD_0 is read, so it is used "
                                     "instead", path, what, info.texCoord));
+        if (int sampler = model.textures[info.index].sampler; sampler >= 0 && size_t(sampler) < model.samplers.size()) {
+            const tinygltf::Sampler& smp = model.samplers[sampler];
+            for (int mode : {smp.wrapS, smp.wrapT})
+                if (mode != TINYGLTF_TEXTURE_WRAP_REPEAT) {
+                    warn(where, fmt::format("mesh file '{}': {} asks for {} wrapping; textures repeat here (the "
+                                            "texels at an edge blend with the opposite edge's)",
+                                            path, what, mode == TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE ? "clamp-to-edge" : "mirrored"));
+                    break;
+                }
+        }
         const tinygltf::Image& img = model.images[source];
         GltfImage out;
         if (img.bufferView >= 0 || img.uri.empty()) {
