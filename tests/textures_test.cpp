@@ -401,7 +401,7 @@ TEST(Textures, EmbeddedGltfImagesLoadAsTheirFiles) {
     std::printf("  JPEG base colour against the PNG: mean |difference| %.4f (linear reflectance)\n", mean);
     EXPECT_GT(mean, 0.0);
     EXPECT_LT(mean, 0.03);  // quality 95 with chroma subsampling, sharp grout lines
-    // A sampler that clamps or mirrors is said to be ignored (textures repeat), once per texture.
+    // A sampler that clamps or mirrors, and a texture transform, are said to be ignored.
     {
         CaptureWarnings warnings;
         std::ifstream in(data + "panel-datauri.gltf");
@@ -409,6 +409,9 @@ TEST(Textures, EmbeddedGltfImagesLoadAsTheirFiles) {
         const std::string marker = "\"textures\": [";
         ASSERT_NE(text.find(marker), std::string::npos);
         text.replace(text.find(marker), marker.size(), "\"samplers\": [{\"wrapS\": 33071}], " + marker + "{\"source\": 0, \"sampler\": 0}, ");
+        const std::string normal = "\"normalTexture\": {";
+        ASSERT_NE(text.find(normal), std::string::npos);
+        text.insert(text.find(normal) + normal.size(), "\"extensions\": {\"KHR_texture_transform\": {\"scale\": [2, 2]}}, ");
         const auto dir = std::filesystem::temp_directory_path() / ("metamer-wrap-" + std::to_string(::getpid()));
         std::filesystem::create_directories(dir);
         std::ofstream(dir / "clamped.gltf") << text;
@@ -416,6 +419,8 @@ TEST(Textures, EmbeddedGltfImagesLoadAsTheirFiles) {
         std::filesystem::remove_all(dir);
         EXPECT_TRUE(clamped.materials.at(0).baseColorTexture);
         EXPECT_TRUE(CaptureWarnings::any("asks for clamp-to-edge wrapping; textures repeat"))
+            << ::testing::PrintToString(CaptureWarnings::lines());
+        EXPECT_TRUE(CaptureWarnings::any("normalTexture has a KHR_texture_transform, which is not applied"))
             << ::testing::PrintToString(CaptureWarnings::lines());
     }
     // Bytes that are neither PNG nor JPEG are an input error naming the image.

@@ -226,6 +226,9 @@ struct Reader {
         if (info.texCoord != 0)
             warn(where, fmt::format("mesh file '{}': {} uses TEXCOORD_{}; only TEXCOORD_0 is read, so it is used "
                                     "instead", path, what, info.texCoord));
+        if (info.extensions.count("KHR_texture_transform"))
+            warn(where, fmt::format("mesh file '{}': {} has a KHR_texture_transform, which is not applied: the "
+                                    "texture is mapped by TEXCOORD_0 as it is", path, what));
         if (int sampler = model.textures[info.index].sampler; sampler >= 0 && size_t(sampler) < model.samplers.size()) {
             const tinygltf::Sampler& smp = model.samplers[sampler];
             for (int mode : {smp.wrapS, smp.wrapT})
@@ -299,6 +302,7 @@ struct Reader {
         tinygltf::TextureInfo normalInfo;
         normalInfo.index = m.normalTexture.index;
         normalInfo.texCoord = m.normalTexture.texCoord;
+        normalInfo.extensions = m.normalTexture.extensions;
         g.normalTexture = image(normalInfo, what + " normalTexture", dir);
         g.normalScale = m.normalTexture.scale;
         if (m.emissiveFactor.size() == 3 && (m.emissiveFactor[0] > 0 || m.emissiveFactor[1] > 0 || m.emissiveFactor[2] > 0))
