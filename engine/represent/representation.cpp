@@ -188,7 +188,7 @@ void linearBasis(Representation& r, const SceneOnGrid& spectra) {
     const bool gram = moment.size() == 0;  // fewer samples than bands: all still in the block
     if (gram && inBlock == 0) failInput(Where{"", "--mode"}, "linear: the scene has no light to analyse");
     if (!gram && inBlock > 0) flush();
-    const Eigen::MatrixXd samples = gram ? Eigen::MatrixXd(block.leftCols(inBlock)) : Eigen::MatrixXd();
+    const auto samples = block.leftCols(inBlock);  // the Gram path's samples (none after a flush)
     Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> solver(gram ? Eigen::MatrixXd(samples.transpose() * samples)
                                                                : moment);
     if (solver.info() != Eigen::Success) failRuntime("linear:{}: the eigen-decomposition did not converge", r.mode.samples);

@@ -553,9 +553,14 @@ private:
     // override), else the glTF material converted (scene/gltf_material.h), made once per file and
     // material.
     uint32_t gltfMaterialRef(const GltfModel& model, uint32_t index, const fs::path& path, const Where& w) {
-        GltfMaterial g;  // glTF's default material when a primitive names none
-        if (index != kNoGltfMaterial) g = model.materials[index];
-        else g.name = "gltf-default";
+        // glTF's default material when a primitive names none. A reference, not a copy: materials
+        // carry their embedded images' bytes, and this runs for every primitive.
+        static const GltfMaterial kDefault = [] {
+            GltfMaterial d;
+            d.name = "gltf-default";
+            return d;
+        }();
+        const GltfMaterial& g = index != kNoGltfMaterial ? model.materials[index] : kDefault;
         for (size_t i = 0; i < declaredMaterials_; ++i)
             if (scene_.materials[i].name == g.name) {
                 used_[i] = true;
