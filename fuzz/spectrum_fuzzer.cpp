@@ -4,6 +4,7 @@
 // name) and must survive what every caller does next: validate, resample onto the default grid,
 // integrate. Input errors (metamer::Error) are expected; anything else is a finding.
 #include "fuzz_support.h"
+#include "spectral/resampling.h"
 
 #include "spectral/csv.h"
 #include "spectral/grid.h"

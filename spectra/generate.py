@@ -146,19 +146,41 @@ BLB_HG_LINES = [
 ]
 
 
-def blacklight() -> None:
-    # Tabulated to 830 nm (zeros past ~460 nm) so it covers every visible grid: the lamp is known
-    # to emit nothing there, which is different from "not measured".
-    wl = grid(300, 830, 0.5)
+def blacklight_model(wl):
+    """The model's relative SPD at `wl` (nm): the phosphor band plus the Hg lines, scaled so that
+    its peak (the 365 nm line) is 100."""
     c, fwhm = BLB_PHOSPHOR
     band_area = fwhm * FWHM_TO_SIGMA * np.sqrt(2 * np.pi)  # area of the unit-peak band
-    v = gaussian_nm(wl, c, fwhm)
     line_area_1 = BLB_LINE_FWHM * FWHM_TO_SIGMA * np.sqrt(2 * np.pi)
-    for lam, rel_area in BLB_HG_LINES:
-        v = v + (rel_area * band_area / line_area_1) * gaussian_nm(wl, lam, BLB_LINE_FWHM)
-    v = 100.0 * v / v.max()
-    uva = np.trapezoid(np.where((wl >= 315) & (wl <= 400), v, 0.0), wl) / np.trapezoid(v, wl)
-    print(f"  blacklight: peak at {peak_nm(wl, v):g} nm, {100 * uva:.1f}% of the energy in 315-400 nm")
+
+    def raw(x):
+        v = gaussian_nm(x, c, fwhm)
+        for lam, rel_area in BLB_HG_LINES:
+            v = v + (rel_area * band_area / line_area_1) * gaussian_nm(x, lam, BLB_LINE_FWHM)
+        return v
+
+    peak = raw(np.arange(300.0, 830.0, 0.001)).max()
+    return 100.0 * raw(np.asarray(wl, dtype=float)) / peak
+
+
+def blacklight() -> None:
+    # Tabulated as the CIE tabulates its fluorescent lamps: every 5 nm, each value the lamp's mean
+    # over the 5 nm band it centres, so a 1.5 nm line's energy is in the value of the band that
+    # holds it (sampled at its own wavelengths, a line narrower than the step would be missed or
+    # multiplied). To 830 nm (zeros past ~460 nm) so it covers every visible grid: the lamp is known
+    # to emit nothing there, which is different from "not measured".
+    wl = grid(300.0, 830.0, 5.0)
+    fine = 0.01
+    v = np.empty(len(wl))
+    for i, c in enumerate(wl):
+        x = c - 2.5 + fine * (np.arange(int(round(5 / fine))) + 0.5)  # midpoints of 0.01 nm pieces
+        v[i] = blacklight_model(x).mean()
+    dense = np.arange(295.0, 835.0, fine)
+    model = blacklight_model(dense)
+    uva = np.trapezoid(np.where((dense >= 315) & (dense <= 400), model, 0.0), dense) / np.trapezoid(model, dense)
+    print(f"  blacklight: model peak 100 at {dense[np.argmax(model)]:.2f} nm, {100 * uva:.1f}% of the energy in "
+          f"315-400 nm; 5 nm table peak {v.max():.3f} at {peak_nm(wl, v):g} nm, "
+          f"table energy / model energy {5 * v.sum() / np.trapezoid(model, dense):.6f}")
     write_csv("illuminants/blacklight.csv", wl, {"value": v}, sig=8, decimals=6)
 
 

@@ -6,6 +6,7 @@
 // lights), and light scales over 24 decades stay finite and linear (docs/physics.md,
 // "Fluorescence").
 #include "color/tonemap.h"
+#include "spectral/resampling.h"
 #include "reference/cpu_renderer.h"
 #include "render/spectral_pass.h"
 #include "represent/representation.h"
@@ -259,40 +260,47 @@ TEST(Donaldson, RankOneMatrixCsvRendersAsThePairUpToThePredictedDiscretization) 
 }
 
 TEST(Donaldson, DeltaLikeMatrixMovesOneBandIntoAnother) {
-    // D: a tent 1 nm wide on each axis at (450, 550) nm, peak p, so ∫∫ D = p nm and on a 10 nm
-    // grid band (450, 550) holds p/Δλ². A quad facing a directional light of constant E (g = 1)
-    // and an ambient one (g = 1) then emits L(550) = (1/π)·(p/Δλ²)·E·Δλ per light and nothing in
-    // any other band.
+    // D: a tent 1 nm wide on each axis at (450, 550) nm, peak p, so ∫∫ D = p nm. On a 10 nm grid
+    // band (450, 550) holds p/Δλ² under band means, and the tabulated p under the default rule
+    // (both centres are data points). A quad facing a directional light of constant E (g = 1) and
+    // an ambient one (g = 1) then emits L(550) = (1/π)·D̄·E·Δλ per light and nothing in any other
+    // band.
     const double p = 7.0, e = 2.0, step = 10.0;
     BispectralMatrix d;
     d.in_nm = {449, 450, 451};
     d.out_nm = {549, 550, 551};
     d.values = {0, 0, 0, 0, p, 0, 0, 0, 0};
-    Scene s = emptyScene(Grid{400, 700, step}, orthographicCamera({0, 0, 4}, {0, 0, 0}, {0, 1, 0}, 1.0, 8, 8));
-    s.materials.push_back(donaldsonMaterial(constantSpectrum(0.0), d, 1.0, "delta"));
-    s.meshes.push_back(quad({0, 0, 0}, {0, 0, 1}, 4, 4));
-    s.lights.push_back(directionalLight({0, 0, -1}, constantSpectrum(e), 1.0));
-    s.lights.push_back(ambientLight(constantSpectrum(e), 0.5));
-    CaptureWarnings quiet;  // the tent covers a sliver of the grid, as intended
-    const SceneOnGrid g = onGrid(s);
-    const Rendered r = renderBoth(s, g);
-    const double expected = (1.0 + 0.5) * p / (step * step) * e * step / kPi;
-    const int band550 = 15;
-    double worst = 0.0;
-    for (int y = 0; y < 8; ++y)
-        for (int x = 0; x < 8; ++x)
-            for (int b = 0; b < g.grid.bands(); ++b) {
-                if (b != band550) {
-                    ASSERT_EQ(r.gpu.at(x, y, b), 0.0f) << b;
-                    ASSERT_EQ(r.ref.cube.at(x, y, b), 0.0f) << b;
-                    continue;
+    for (Resampling rule : {Resampling::BandMean, Resampling::Interpolate}) {
+        Grid grid{400, 700, step};
+        grid.resampling = rule;
+        SCOPED_TRACE(resamplingName(rule));
+        Scene s = emptyScene(grid, orthographicCamera({0, 0, 4}, {0, 0, 0}, {0, 1, 0}, 1.0, 8, 8));
+        s.materials.push_back(donaldsonMaterial(constantSpectrum(0.0), d, 1.0, "delta"));
+        s.meshes.push_back(quad({0, 0, 0}, {0, 0, 1}, 4, 4));
+        s.lights.push_back(directionalLight({0, 0, -1}, constantSpectrum(e), 1.0));
+        s.lights.push_back(ambientLight(constantSpectrum(e), 0.5));
+        CaptureWarnings quiet;  // the tent covers a sliver of the grid, as intended
+        const SceneOnGrid g = onGrid(s);
+        const Rendered r = renderBoth(s, g);
+        const double dBand = rule == Resampling::BandMean ? p / (step * step) : p;
+        const double expected = (1.0 + 0.5) * dBand * e * step / kPi;
+        const int band550 = 15;
+        double worst = 0.0;
+        for (int y = 0; y < 8; ++y)
+            for (int x = 0; x < 8; ++x)
+                for (int b = 0; b < g.grid.bands(); ++b) {
+                    if (b != band550) {
+                        ASSERT_EQ(r.gpu.at(x, y, b), 0.0f) << b;
+                        ASSERT_EQ(r.ref.cube.at(x, y, b), 0.0f) << b;
+                        continue;
+                    }
+                    worst = std::max(worst, std::fabs(r.gpu.at(x, y, b) / expected - 1.0));
+                    worst = std::max(worst, std::fabs(r.ref.cube.at(x, y, b) / expected - 1.0));
                 }
-                worst = std::max(worst, std::fabs(r.gpu.at(x, y, b) / expected - 1.0));
-                worst = std::max(worst, std::fabs(r.ref.cube.at(x, y, b) / expected - 1.0));
-            }
-    std::printf("  delta-like matrix: L(550 nm) = %.6g, expected %.6g, max rel err %.3g\n", double(r.gpu.at(4, 4, band550)),
-                expected, worst);
-    EXPECT_LE(worst, 1e-6);
+        std::printf("  delta-like matrix (%s): L(550 nm) = %.6g, expected %.6g, max rel err %.3g\n",
+                    resamplingName(rule), double(r.gpu.at(4, 4, band550)), expected, worst);
+        EXPECT_LE(worst, 1e-6);
+    }
 }
 
 TEST(Donaldson, GpuMatchesReferenceForAMatrixSceneUnderEveryLightKind) {

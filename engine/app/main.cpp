@@ -120,12 +120,15 @@ int main(int argc, char** argv) {
     app.require_subcommand(1);
 
     RenderJob job;
-    std::string gridText, backend = "gpu", readback = "auto";
+    std::string gridText, resampleText, backend = "gpu", readback = "auto";
     bool timings = false, strictCoverage = false, noPng = false;
     auto* render = app.add_subcommand("render", "render a scene to a spectral radiance cube (EXR) and a quick-look PNG");
     render->add_option("scene", job.scene, "scene file (JSON, docs/scene-format.md)")->required();
     render->add_option("--out,-o", job.outDir, "output folder (created if missing)")->capture_default_str();
     render->add_option("--grid", gridText, "spectral grid START:END:STEP in nm, e.g. 300:740:5 (overrides the scene)");
+    render->add_option("--resample", resampleText,
+                       "how spectra go onto the grid: interpolate (default: tabulated values at data points, "
+                       "linear between, band means where the grid is coarser), sprague or band-mean");
     render->add_option("--set", job.overrides, "override a scene value: KEY=VALUE, e.g. lights.0.spectrum=illuminants/A")
         ->take_all();
     render->add_option("--backend", backend, "gpu (Vulkan) or cpu (double-precision reference)")
@@ -226,6 +229,7 @@ int main(int argc, char** argv) {
             job.write = w;
         }
         if (!gridText.empty()) job.grid = Grid::parse(gridText, Where{"", "--grid"});
+        if (!resampleText.empty()) job.resampling = parseResampling(resampleText, Where{"", "--resample"});
 
         RenderJobResult r = runRenderJob(job);
         if (job.verbose) std::printf("%s\n", r.backendDescription.c_str());

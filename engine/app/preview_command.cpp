@@ -18,6 +18,7 @@ CLI::App* addPreviewCommand(CLI::App& app, PreviewArgs& a) {
                   "display=, mode=, grid=")
         ->take_all();
     c->add_option("--grid", a.grid, "spectral grid START:END:STEP in nm (overrides the scene)");
+    c->add_option("--resample", a.resample, "how spectra go onto the grid: interpolate (default), sprague or band-mean");
     c->add_option("--mode", a.mode, "representation: full (default), rgb, ac1c2[:N], linear:K")->capture_default_str();
     c->add_option("--detector", a.detector, "cie1931, cie1964, camera:<name> or film:<name>");
     c->add_option("--adapt", a.adapt, "chromatic adaptation: none, vonkries-xyz, vonkries, bradford, cat02, cat16");
@@ -51,6 +52,7 @@ int runPreviewCommand(const PreviewArgs& a) {
     job.scene = a.scene;
     job.overrides = a.overrides;
     if (!a.grid.empty()) job.grid = Grid::parse(a.grid, Where{"", "--grid"});
+    if (!a.resample.empty()) job.resampling = parseResampling(a.resample, Where{"", "--resample"});
     job.mode = a.mode;
     if (!a.detector.empty()) job.detector = a.detector;
     if (!a.adapt.empty()) job.adaptation = a.adapt;

@@ -13,7 +13,7 @@ namespace metamer {
 struct PreviewArgs {
     std::string scene;
     std::vector<std::string> overrides, split;
-    std::string grid, mode = "full", detector, adapt, display, integration;
+    std::string grid, resample, mode = "full", detector, adapt, display, integration;
     int bits = 0, ssaa = 1, frames = 0;
     std::string screenshot, windowScreenshot, out = "out", probe, pin;
     bool save = false, noWatch = false, validation = false, verbose = false, allowOutsidePaths = false;

@@ -9,6 +9,7 @@
 #include "scene/scene_json.h"
 #include "scene/scene_on_grid.h"
 #include "spectral/library.h"
+#include "spectral/resampling.h"
 
 #include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
@@ -72,7 +73,9 @@ struct WarnOnce {
 // does not pass the scene's end.
 Grid stepGrid(const Grid& range, double step) {
     double k = std::floor((range.end_nm - range.start_nm) / step + 1e-9);
-    Grid g{range.start_nm, range.start_nm + std::max(0.0, k) * step, step};
+    Grid g = range;
+    g.end_nm = range.start_nm + std::max(0.0, k) * step;
+    g.step_nm = step;
     g.validate(Where{"", "--steps"});
     return g;
 }
@@ -178,62 +181,19 @@ void measureDeltaE(BenchRow& row, const DisplayImage& image, const Reference& re
     row.de2000P95 = percentile(std::move(de), 0.95);
 }
 
-// Band averages of the 1 nm reference onto a coarser grid. The reference's values are means over
-// 1 nm bins [λ − ½, λ + ½], so a band whose edges fall on bin edges (odd steps: 1, 5 nm) is exactly
-// the mean of the bins it covers. An edge inside a bin (even steps: 2, 10, 20 nm) needs the mean
-// over part of the bin; taking the bin as constant there errs by the slope, which near the kinks of
-// the 5 nm illuminant tables exceeded the 2 nm grid's own error, so the part is taken as linear
-// with the centred slope of the neighbouring bins (exact for linear and quadratic radiance).
-// Where a band reaches past the reference's range (the first and last bands of a coarse grid) it
-// is the mean over the part covered. At 1 nm this is the identity.
-struct BandAverage {
-    std::vector<int> first;                  // per coarse band: first fine band with weight
-    std::vector<std::vector<double>> weight; // per coarse band: weights from `first` on (sum 1)
-};
-
-BandAverage bandAverage(const Grid& fine, const Grid& coarse) {
-    BandAverage a;
-    const int n = fine.bands();
-    const double h = fine.step_nm;
-    for (int b = 0; b < coarse.bands(); ++b) {
-        double lo = coarse.wavelength(b) - 0.5 * coarse.step_nm, hi = coarse.wavelength(b) + 0.5 * coarse.step_nm;
-        std::vector<double> w(size_t(n), 0.0);
-        double total = 0;
-        for (int i = 0; i < n; ++i) {
-            double u = std::max(lo, fine.wavelength(i) - 0.5 * h), v = std::min(hi, fine.wavelength(i) + 0.5 * h);
-            double overlap = v - u;
-            if (overlap <= 1e-9 * h) continue;
-            total += overlap;
-            w[size_t(i)] += overlap;
-            double shift = 0.5 * (u + v) - fine.wavelength(i);  // 0 for a whole bin
-            if (std::fabs(shift) < 1e-9 * h || n < 2) continue;
-            // slope × shift × overlap, with the slope from the neighbours (one-sided at the ends)
-            int i0 = std::max(i - 1, 0), i1 = std::min(i + 1, n - 1);
-            double k = overlap * shift / (double(i1 - i0) * h);
-            w[size_t(i1)] += k;
-            w[size_t(i0)] -= k;
-        }
-        int first = 0, last = n - 1;
-        while (first < n - 1 && w[size_t(first)] == 0.0) ++first;
-        while (last > first && w[size_t(last)] == 0.0) --last;
-        std::vector<double> kept(w.begin() + first, w.begin() + last + 1);
-        for (double& x : kept) x /= total > 0 ? total : 1.0;
-        a.first.push_back(first);
-        a.weight.push_back(std::move(kept));
-    }
-    return a;
-}
-
+// The 1 nm reference is compared with a coarser cube on the coarse cube's bands: the reference's
+// band values taken as data and put on the coarse grid by the grid's own rule (spectral/resampling.h),
+// as the coarse render put every input spectrum there. At 1 nm this is the identity.
 double spectralRmseRelative(const SpectralCube& cube, const Reference& ref) {
     if (ref.pixels.empty()) return kNaN;
-    BandAverage avg = bandAverage(ref.cube->grid, cube.grid);
+    const BandWeights avg = bandWeights(ref.cube->grid.wavelengths(), cube.grid);
     double sq = 0, sum = 0;
     for (size_t p : ref.pixels) {
         const float* c = cube.data.data() + p * size_t(cube.bands());
         const float* r = ref.cube->data.data() + p * size_t(ref.cube->bands());
         for (int b = 0; b < cube.bands(); ++b) {
             double v = 0;
-            const auto& w = avg.weight[size_t(b)];
+            const auto& w = avg.weights[size_t(b)];
             for (size_t k = 0; k < w.size(); ++k) v += w[k] * r[size_t(avg.first[size_t(b)]) + k];
             double d = c[b] - v;
             sq += d * d;

@@ -42,7 +42,7 @@ struct BenchRow {
     double renderMsFirst = 0;   // the same for frame 1 (includes the driver's shader compilation)
     double runMs = 0;           // resample, represent, plan, upload, every frame
     double de2000Mean = 0, de2000P95 = 0, de2000Max = 0;  // against the reference, lit pixels
-    double spectralRmseRelative = 0;  // RMSE of the cube against the band-averaged reference / mean
+    double spectralRmseRelative = 0;  // RMSE of the cube against the 1 nm reference on its bands / mean
     std::string skippedReason;        // non-empty: the configuration could not run (input error)
 
     bool skipped() const { return !skippedReason.empty(); }

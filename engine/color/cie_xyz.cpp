@@ -1,4 +1,5 @@
 #include "color/cie_xyz.h"
+#include "spectral/resampling.h"
 
 #include "spectral/csv.h"
 

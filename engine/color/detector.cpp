@@ -1,4 +1,5 @@
 #include "color/detector.h"
+#include "spectral/resampling.h"
 
 #include "color/cie_xyz.h"
 #include "color/film.h"
@@ -25,7 +26,7 @@ bool startsWith(const std::string& s, const std::string& prefix) {
     return s.compare(0, prefix.size(), prefix) == 0;
 }
 
-// Sensitivity columns of a table, band-averaged onto the grid and multiplied by the quadrature
+// Sensitivity columns of a table, resampled onto the grid and multiplied by the quadrature
 // weights: the detector's weights.
 std::vector<std::vector<double>> weightsFromTable(const SpectralTable& table, const std::string& source,
                                                   const Grid& grid, const std::vector<double>& q) {
@@ -160,14 +161,24 @@ Detector customCsv(const std::string& spec, const std::string& pathText, const G
 Integration parseIntegration(const std::string& name, const Where& where) {
     if (name == "riemann") return Integration::Riemann;
     if (name == "trapezoid") return Integration::Trapezoid;
-    failInput(where, "unknown integration '{}' (riemann or trapezoid)", name);
+    if (name == "astm-e308") return Integration::AstmE308;
+    std::string near = closestMatch(name, {"riemann", "trapezoid", "astm-e308"});
+    failInput(where, "unknown integration '{}' (riemann, trapezoid or astm-e308){}", name,
+              near.empty() ? "" : fmt::format("; did you mean '{}'?", near));
 }
 
 const char* integrationName(Integration integration) {
-    return integration == Integration::Trapezoid ? "trapezoid" : "riemann";
+    switch (integration) {
+        case Integration::Riemann: return "riemann";
+        case Integration::Trapezoid: return "trapezoid";
+        case Integration::AstmE308: return "astm-e308";
+    }
+    return "?";
 }
 
 std::vector<double> quadratureWeights(const Grid& grid, Integration integration) {
+    if (integration == Integration::AstmE308)
+        failRuntime("ASTM E308 weights depend on the reference white: color/astm_e308.h makes them");
     std::vector<double> q(static_cast<size_t>(grid.bands()), grid.step_nm);
     if (integration == Integration::Trapezoid && q.size() > 1) {
         q.front() *= 0.5;

@@ -20,16 +20,20 @@
 
 namespace metamer {
 
-// How a band sum approximates ∫ s(λ) L(λ) dλ.
-//   Riemann:   Σ s_b L_b Δλ (what Johnson & Fairchild and the rest of Metamer use: each band
-//              stands for its whole interval, so the sum is the integral of the band averages).
-//   Trapezoid: the same with the first and last band weighted Δλ/2, i.e. the band values taken as
-//              point samples at the band centres and integrated from the first centre to the last.
-//              Exact for a linear integrand; what colour-science's tabulated integration does.
-// A one-band grid has weight Δλ either way (there is no interval between centres to integrate).
-enum class Integration { Riemann, Trapezoid };
+// How a band sum approximates ∫ s(λ) L(λ) dλ (docs/color.md, "Integration").
+//   Riemann:   Σ s(λb) L_b Δλ, the sensitivities sampled at the band centres from their tables:
+//              CIE 15:2004's summation, what colour-science's sd_to_XYZ(method="Integration")
+//              computes on the same grid. The default.
+//   Trapezoid: the same with the first and last band weighted Δλ/2: the band values integrated as
+//              point samples from the first centre to the last (exact for a linear integrand).
+//   AstmE308:  ASTM E308-15 tristimulus weighting factors (computed per ASTM E2022-11, as
+//              colour-science's sd_to_XYZ(method="ASTM E308")) for the CIE observers, applied to
+//              the radiance as a reflectance factor under the reference white (color/astm_e308.h).
+//              Made by makeTonemapPlan, which knows the white; makeDetector refuses it.
+// A one-band grid has weight Δλ (there is no interval between centres to integrate).
+enum class Integration { Riemann, Trapezoid, AstmE308 };
 
-// "riemann" / "trapezoid"; anything else is an input error at `where`.
+// "riemann" / "trapezoid" / "astm-e308"; anything else is an input error at `where`.
 Integration parseIntegration(const std::string& name, const Where& where);
 const char* integrationName(Integration integration);
 
@@ -58,7 +62,7 @@ struct Detector {
 //                         become channel names ("ch1"... without a header); the path is absolute or
 //                         relative to the current directory. Zero outside its data (with a warning
 //                         when the data do not reach every band centre of the grid).
-// Library data are band-averaged onto the grid like every other spectrum (docs/physics.md,
+// Library data are resampled onto the grid like every other spectrum (docs/physics.md,
 // "Resampling"). An unknown spec is an input error at `where` with a suggestion and the list of
 // known detectors.
 Detector makeDetector(const std::string& spec, const SpectrumLibrary& library, const Grid& grid,

@@ -1,4 +1,5 @@
 #include "color/film.h"
+#include "spectral/resampling.h"
 
 #include "spectral/csv.h"
 #include "spectral/spectrum.h"
@@ -95,7 +96,7 @@ FilmDescription readDescription(const std::string& name, const SpectrumLibrary& 
     return d;
 }
 
-// A library table with `columns` value columns, each band-averaged onto the grid.
+// A library table with `columns` value columns, each resampled onto the grid (spectral/resampling.h).
 std::vector<std::vector<double>> tableOnGrid(const SpectrumLibrary& library, const std::string& name, size_t columns,
                                              const Grid& grid, const Where& where, std::vector<std::string>* header) {
     if (!library.contains(name)) {

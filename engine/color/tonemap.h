@@ -16,6 +16,7 @@
 #include "color/detector.h"
 #include "color/display_model.h"
 #include "color/film.h"
+#include "color/reference_white.h"
 #include "represent/representation.h"
 #include "scene/scene.h"
 #include "scene/scene_on_grid.h"
@@ -38,13 +39,6 @@ struct TonemapSettings {
     std::string display = "srgb";
     int bits = 8;
     bool absolute = false;  // XYZ output in cd/m² (683 lm/W) instead of relative (white Y = 100)
-};
-
-// The scene's reference white: the light that defines "white" for exposure and adaptation.
-struct ReferenceWhite {
-    std::string source;             // "lights.1 (illuminants/D65)"
-    std::vector<double> irradiance; // E(λ) at normal incidence, W·m⁻²·nm⁻¹, per band
-    std::vector<double> radiance;   // of a perfect white diffuser under it: E/π, W·sr⁻¹·m⁻²·nm⁻¹
 };
 
 // The brightest (by CIE 1931 Y) non-ambient light at normal incidence: a directional light's E(λ);

@@ -1,5 +1,6 @@
 #include "color/tonemap.h"
 
+#include "color/astm_e308.h"
 #include "color/cie_xyz.h"
 #include "color/lab.h"
 
@@ -44,18 +45,26 @@ ReferenceWhite referenceWhite(const Scene& scene, const SceneOnGrid& spectra, co
         if (y > best) {
             best = y;
             w.irradiance = e;
+            double factor = light.scale;
+            if (light.type == Light::Type::Point)
+                factor /= glm::dot(light.position - scene.camera.target, light.position - scene.camera.target);
+            w.terms = {{light.spectrum.spectrum, factor}};
             w.source = fmt::format("lights.{} ({}, {})", l, light.spectrum.spectrum.source, how);
         }
     }
     if (best <= 0.0) {
         // Only ambient light (or none that the observer sees): white is what the ambient gives.
         w.irradiance.assign(spectra.grid.bands(), 0.0);
+        w.terms.clear();
         for (size_t l = 0; l < scene.lights.size(); ++l)
-            if (scene.lights[l].type == Light::Type::Ambient)
+            if (scene.lights[l].type == Light::Type::Ambient) {
                 for (size_t b = 0; b < w.irradiance.size(); ++b) w.irradiance[b] += spectra.lights[l][b];
+                w.terms.emplace_back(scene.lights[l].spectrum.spectrum, scene.lights[l].scale);
+            }
         w.source = "the ambient light";
         if (luminanceOf(w.irradiance, cmf) <= 0.0) {
             w.irradiance.assign(spectra.grid.bands(), 1.0);
+            w.terms = {{Spectrum::makeConstant(1.0), 1.0}};
             w.source = "equal-energy white (the scene has no visible light)";
             warn(Where{scene.file.string(), "lights"},
                  "no light the CIE 1931 observer can see; exposure and adaptation use an equal-energy white");
@@ -78,6 +87,9 @@ TonemapPlan makeTonemapPlan(const TonemapSettings& settings, const Scene& scene,
         if (settings.detector != "cie1931")
             failInput(Where{"", "--detector"}, "the {} mode keeps no spectra: only the CIE 1931 observer can see it, "
                       "not {}", r.mode.name(), settings.detector);
+        if (settings.integration == Integration::AstmE308)
+            failInput(Where{"", "--integration"}, "the {} mode keeps no spectra to weight: ASTM E308 needs a spectral "
+                      "mode (full or linear:K)", r.mode.name());
         p.representation = r.mode.name();
         p.grid = r.renderGrid();
         p.white.irradiance = lightChannels(r, p.white.irradiance);
@@ -90,7 +102,10 @@ TonemapPlan makeTonemapPlan(const TonemapSettings& settings, const Scene& scene,
         p.detector.source = r.description;
         p.detector.grid = p.grid;
     } else {
-        p.detector = makeDetector(settings.detector, library, spectra.grid, settings.integration, Where{"", "--detector"});
+        const bool astm = settings.integration == Integration::AstmE308;
+        p.detector = makeDetector(settings.detector, library, spectra.grid, astm ? Integration::Riemann : settings.integration,
+                                  Where{"", "--detector"});
+        if (astm) applyAstmE308(p.detector, library, p.white, Where{"", "--integration"});
         if (representation && representation->mode.kind == ModeKind::Linear) {
             // Peercy's pixels are projections onto the basis, and a detector is linear: responses of
             // the projected radiance are those of projected weights, so the GPU pass can read the

@@ -1,4 +1,5 @@
 #include "compare/compare.h"
+#include "spectral/resampling.h"
 
 #include "color/cie_xyz.h"
 #include "color/delta_e.h"

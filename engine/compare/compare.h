@@ -50,7 +50,7 @@ struct CompareOptions {
     // A pixel "differs" when any channel's relative error exceeds this.
     double pixelThreshold = 1e-3;
     // Bring A onto B's grid (each pixel's spectrum, piecewise linear through its band values,
-    // band-averaged onto B's bands: spectral/spectrum.h resample) when the grids differ. Sizes
+    // put onto B's bands by the grid rule: spectral/resampling.h) when the grids differ. Sizes
     // must still match.
     bool resample = false;
     // ΔE2000 through this detector, adaptation and display white (spectral cubes only); the white

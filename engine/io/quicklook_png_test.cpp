@@ -1,4 +1,5 @@
 #include "io/quicklook_png.h"
+#include "spectral/resampling.h"
 
 #include "color/cie_xyz.h"
 #include "color/srgb.h"

@@ -21,7 +21,7 @@ namespace {
 
 constexpr float kHalfMax = 65504.0f;
 constexpr double kGridTolerance_nm = 1e-4;
-constexpr const char* kQuantity = "spectral radiance, band-averaged, W·sr⁻¹·m⁻²·nm⁻¹";
+constexpr const char* kQuantity = "spectral radiance per band (docs/physics.md), W·sr⁻¹·m⁻²·nm⁻¹";
 
 // OpenEXR compressions OpenImageIO knows; an optional ":level" suffix is allowed (zip:9, dwaa:45).
 bool knownCompression(const std::string& c) {
@@ -184,6 +184,7 @@ SpectralExrWriter::SpectralExrWriter(const fs::path& path, int width, int height
     spec.attribute("emissiveUnits", "W.m^-2.sr^-1");
     spec.attribute("metamer:grid", grid.str());
     spec.attribute("metamer:quantity", kQuantity);
+    spec.attribute("metamer:resampling", resamplingName(grid.resampling));
     for (const auto& [key, value] : options.extraAttributes) spec.attribute(key, value);
     m.writer = ImageOutput::create("openexr");
     if (!m.writer) failRuntime("cannot write '{}': no OpenEXR writer: {}", path.string(), OIIO::geterror());

@@ -161,7 +161,7 @@ TEST_F(SpectralExr, HeaderCarriesLayoutAndMetamerAttributes) {
     EXPECT_EQ(spec.get_string_attribute("emissiveUnits"), "W.m^-2.sr^-1");
     EXPECT_EQ(spec.get_string_attribute("metamer:grid"), "300:740:5");
     EXPECT_EQ(spec.get_string_attribute("metamer:quantity"),
-              "spectral radiance, band-averaged, W·sr⁻¹·m⁻²·nm⁻¹");
+              "spectral radiance per band (docs/physics.md), W·sr⁻¹·m⁻²·nm⁻¹");
     EXPECT_EQ(spec.get_string_attribute("metamer:scene"), "cornell.json");
     EXPECT_EQ(spec.get_string_attribute("compression"), "zip");
     EXPECT_EQ(spec.format, OIIO::TypeDesc::FLOAT);

@@ -121,7 +121,8 @@ std::vector<std::pair<std::filesystem::path, std::string>> View::save(const std:
     projectCube(rep, c.data, c.bands());  // linear:K: as `metamer render` writes it
     std::vector<std::pair<std::string, std::string>> provenance = {
         {"metamer:scene", job_.scene.string()}, {"metamer:backend", "gpu"},
-        {"metamer:grid", loaded_->scene.grid.str()}, {"metamer:mode", rep.mode.name()},
+        {"metamer:grid", loaded_->scene.grid.str()}, {"metamer:resampling", resamplingName(loaded_->scene.grid.resampling)},
+        {"metamer:mode", rep.mode.name()},
         {"metamer:preview", "saved from metamer preview"}};
     std::filesystem::path cubePath = stem;
     cubePath += ".exr";

@@ -24,7 +24,7 @@ inline constexpr int32_t kBackgroundId = -1;
 inline constexpr int32_t kMixedId = -2;  // the pixel's sub-samples saw different meshes (or sky)
 
 struct ReferenceImage {
-    SpectralCube cube;             // band-averaged spectral radiance, W·sr⁻¹·m⁻²·nm⁻¹
+    SpectralCube cube;             // spectral radiance per band, W·sr⁻¹·m⁻²·nm⁻¹
     std::vector<int32_t> objectId;  // per pixel, row 0 at the top: mesh index, -1 or -2
 };
 

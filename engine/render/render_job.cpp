@@ -194,7 +194,8 @@ RenderJobResult runRenderJob(const RenderJob& job) {
         sj.half = job.half;
         sj.compression = job.compression;
         sj.provenance = {{"metamer:scene", job.scene.string()}, {"metamer:backend", "gpu"},
-                         {"metamer:grid", scene.grid.str()}, {"metamer:mode", representation.mode.name()}};
+                         {"metamer:grid", scene.grid.str()}, {"metamer:resampling", resamplingName(scene.grid.resampling)},
+                         {"metamer:mode", representation.mode.name()}};
         std::string tag = representation.mode.name();
         std::replace(tag.begin(), tag.end(), ':', '-');
         if (files.cube) sj.cube = job.outDir / (stem + (representation.mode.spectral() ? "" : "." + tag) + ".exr");
@@ -311,6 +312,7 @@ RenderJobResult runRenderJob(const RenderJob& job) {
         {"metamer:scene", job.scene.string()},
         {"metamer:backend", job.backend == Backend::Gpu ? "gpu" : "cpu"},
         {"metamer:grid", scene.grid.str()},
+        {"metamer:resampling", resamplingName(scene.grid.resampling)},
         {"metamer:mode", representation.mode.name()}};
     if (files.cube && !representation.mode.spectral()) {
         // A non-spectral mode's "cube" is its channel image (RGB, or AC1C2 samples).

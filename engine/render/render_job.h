@@ -30,7 +30,8 @@ struct OutputFiles {
 struct RenderJob {
     std::filesystem::path scene;
     std::filesystem::path outDir = "out";
-    std::optional<Grid> grid;             // --grid overrides the scene's grid
+    std::optional<Grid> grid;             // --grid overrides the scene's grid (not its resampling rule)
+    std::optional<Resampling> resampling; // --resample overrides the scene's grid.resample
     std::vector<std::string> overrides;   // --set KEY=VALUE
     Backend backend = Backend::Gpu;
     int ssaa = 1;

@@ -9,7 +9,12 @@ std::unique_ptr<LoadedScene> loadJobScene(const RenderJob& job) {
     LoadOptions loadOptions;
     loadOptions.allowOutsidePaths = job.allowOutsidePaths;
     l->scene = loadScene(job.scene, l->library, job.overrides, loadOptions);
-    if (job.grid) l->scene.grid = *job.grid;
+    if (job.grid) {
+        const Resampling sceneRule = l->scene.grid.resampling;
+        l->scene.grid = *job.grid;
+        l->scene.grid.resampling = sceneRule;
+    }
+    if (job.resampling) l->scene.grid.resampling = *job.resampling;
     l->spectra = resampleScene(l->scene, l->scene.grid, job.coverage);
     l->representation =
         makeRepresentation(parseMode(job.mode, Where{"", "--mode"}), l->scene.grid, l->library, &l->spectra);
@@ -39,10 +44,12 @@ TonemapPlan makeJobTonemapPlan(const RenderJob& job, const LoadedScene& loaded, 
             Where at = !job.xyz && scene.output.xyz ? sceneOut.child("xyz") : Where{"", "--xyz"};
             throw Error(e.code(), at, e.message());
         }
-        bool fromScene = (detectorFromScene && e.where().key == "--detector") ||
-                         (!job.display && scene.output.display && e.where().key == "--display");
+        const std::string& key = e.where().key;
+        bool fromScene = (detectorFromScene && key == "--detector") ||
+                         (!job.display && scene.output.display && key == "--display") ||
+                         (!job.integration && scene.output.integration && key == "--integration");
         if (!fromScene) throw;
-        throw Error(e.code(), sceneOut.child(e.where().key == "--detector" ? "detector" : "display"), e.message());
+        throw Error(e.code(), sceneOut.child(key.substr(2)), e.message());
     }
 }
 

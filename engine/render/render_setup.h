@@ -19,7 +19,7 @@ namespace metamer {
 struct LoadedScene {
     SpectrumLibrary library;
     Scene scene;                    // as read, with the job's overrides and grid
-    SceneOnGrid spectra;            // every spectrum band-averaged onto scene.grid (full)
+    SceneOnGrid spectra;            // every spectrum on scene.grid by its resampling rule (full)
     Representation representation;  // job.mode
     SceneOnGrid rendered;           // what the renderers see: the spectra in the mode's channels
 };

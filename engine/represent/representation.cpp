@@ -1,6 +1,7 @@
 #include "represent/representation.h"
 
 #include "spectral/csv.h"
+#include "spectral/resampling.h"
 
 #include <Eigen/Core>
 #include <Eigen/Eigenvalues>
@@ -17,21 +18,20 @@ namespace metamer {
 
 namespace {
 
-// 1 nm weights (wavelength_nm, 3 columns) summed into the grid's bands: a 1 nm sample at λ covers
-// [λ − ½, λ + ½] and is shared between bands in proportion to the overlap.
-std::vector<std::vector<double>> rebin(const SpectralTable& t, const Grid& grid) {
-    std::vector<std::vector<double>> w(t.columns.size(), std::vector<double>(grid.bands(), 0.0));
-    double h = 0.5 * grid.step_nm;
-    for (size_t i = 0; i < t.wavelengths_nm.size(); ++i) {
-        double lo = t.wavelengths_nm[i] - 0.5, hi = t.wavelengths_nm[i] + 0.5;
-        int b0 = std::max(0, int(std::floor((lo - grid.start_nm + h) / grid.step_nm)));
-        int b1 = std::min(grid.bands() - 1, int(std::floor((hi - grid.start_nm + h) / grid.step_nm)));
-        for (int b = b0; b <= b1; ++b) {
-            double c = grid.wavelength(b);
-            double overlap = std::min(hi, c + h) - std::max(lo, c - h);
-            if (overlap <= 0) continue;
-            for (size_t k = 0; k < t.columns.size(); ++k) w[k][b] += t.columns[k][i] * overlap;
-        }
+// A table of weights per nm (wavelength_nm, 3 columns) on the grid: each column is a function of λ,
+// resampled by the grid's rule like every spectrum (spectral/resampling.h) and times Δλ, so that
+// Σ_b weight_b·v_b is the Riemann sum of the display path. With `unitSum`, each column is scaled to
+// sum to 1 on this grid (the rgb mode's white diffuser is exactly (1, 1, 1) whatever the grid).
+std::vector<std::vector<double>> weightsOnGrid(const SpectralTable& t, const Grid& grid, bool unitSum) {
+    const BandWeights bw = bandWeights(t.wavelengths_nm, grid);
+    std::vector<std::vector<double>> w;
+    for (const auto& column : t.columns) {
+        std::vector<double> c = bw.apply(column);
+        double sum = 0;
+        for (double& x : c) sum += x *= grid.step_nm;
+        if (unitSum && sum != 0)
+            for (double& x : c) x /= sum;
+        w.push_back(std::move(c));
     }
     return w;
 }
@@ -256,8 +256,8 @@ Representation makeRepresentation(const Mode& mode, const Grid& grid, const Spec
         return r;
     }
     if (mode.kind == ModeKind::Rgb) {
-        r.reflectanceAnalysis = rebin(readSpectralTable(root / "quadrature" / "rgb_weights.csv", 3), grid);
-        r.lightAnalysis = rebin(readSpectralTable(root / "quadrature" / "rgb_light_weights.csv", 3), grid);
+        r.reflectanceAnalysis = weightsOnGrid(readSpectralTable(root / "quadrature" / "rgb_weights.csv", 3), grid, true);
+        r.lightAnalysis = weightsOnGrid(readSpectralTable(root / "quadrature" / "rgb_light_weights.csv", 3), grid, false);
         std::ifstream in(root / "quadrature" / "rgb.json");
         if (!in) failInput(Where{(root / "quadrature" / "rgb.json").string()}, "cannot open the rgb mode's matrices");
         nlohmann::json j = nlohmann::json::parse(in);

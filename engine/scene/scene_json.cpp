@@ -326,11 +326,13 @@ public:
 private:
     void readGrid(const Json& v, const Where& w) {
         asObject(v, w);
-        checkKeys(v, w, {"start_nm", "end_nm", "step_nm"});
+        checkKeys(v, w, {"start_nm", "end_nm", "step_nm", "resample"});
         Grid g;
         g.start_nm = number(require(v, w, "start_nm", "a wavelength in nm"), w.child("start_nm"));
         g.end_nm = number(require(v, w, "end_nm", "a wavelength in nm"), w.child("end_nm"));
         g.step_nm = number(require(v, w, "step_nm", "a step in nm"), w.child("step_nm"));
+        if (const Json* r = find(v, "resample"))
+            g.resampling = parseResampling(string(*r, w.child("resample")), w.child("resample"));
         g.validate(w);
         scene_.grid = g;
     }

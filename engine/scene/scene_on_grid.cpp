@@ -1,4 +1,5 @@
 #include "scene/scene_on_grid.h"
+#include "spectral/resampling.h"
 
 #include "spectral/library.h"
 #include "spectral/rgb_upsampling.h"

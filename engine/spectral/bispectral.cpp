@@ -80,59 +80,6 @@ BispectralMatrix BispectralMatrix::outer(const Spectrum& excitation, const Spect
     return d;
 }
 
-std::vector<double> BandWeights::apply(const std::vector<double>& values) const {
-    std::vector<double> out(first.size(), 0.0);
-    for (size_t b = 0; b < first.size(); ++b)
-        for (size_t k = 0; k < weights[b].size(); ++k) out[b] += weights[b][k] * values[first[b] + k];
-    return out;
-}
-
-BandWeights bandWeights(const std::vector<double>& w, const Grid& grid) {
-    // resample() in spectrum.cpp, written per data value: on the segment [w_j, w_j+1] the
-    // function is v_j·(1 − t) + v_j+1·t, so its integral over a clipped piece [a, b] is
-    // (b − a)·((1 − t̄)·v_j + t̄·v_j+1) with t̄ the piece's mean t.
-    const int n = grid.bands();
-    const double h = 0.5 * grid.step_nm;
-    BandWeights bw;
-    bw.first.assign(n, 0);
-    bw.weights.assign(n, {});
-    const size_t last = w.size() - 1;
-    for (int b = 0; b < n; ++b) {
-        const double c = grid.wavelength(b), lo = c - h, hi = c + h;
-        const double a0 = std::max(lo, w.front()), b0 = std::min(hi, w.back());
-        const bool centreInside = c >= w.front() && c <= w.back();
-        if (b0 <= a0 && !centreInside) continue;
-        // Data indices touched: the segments overlapping [a0, b0], and the ends when extended.
-        size_t j0 = std::upper_bound(w.begin(), w.end(), a0) - w.begin();
-        j0 = j0 == 0 ? 0 : j0 - 1;
-        size_t j1 = std::upper_bound(w.begin(), w.end(), b0) - w.begin();
-        j1 = std::min(j1, last);
-        if (centreInside) {
-            if (lo < w.front()) j0 = 0;
-            if (hi > w.back()) j1 = last;
-        }
-        std::vector<double> weight(j1 - j0 + 1, 0.0);
-        for (size_t j = j0; j < j1; ++j) {
-            const double a = std::max(a0, w[j]), e = std::min(b0, w[j + 1]);
-            if (e <= a) continue;
-            const double span = w[j + 1] - w[j];
-            const double tMean = (0.5 * (a + e) - w[j]) / span;
-            weight[j - j0] += (e - a) * (1.0 - tMean);
-            weight[j + 1 - j0] += (e - a) * tMean;
-        }
-        // The end rule: a band whose centre lies inside the data holds the end value over the
-        // part of the band the data do not reach.
-        if (centreInside) {
-            if (lo < w.front()) weight[0] += w.front() - lo;
-            if (hi > w.back()) weight[last - j0] += hi - w.back();
-        }
-        for (double& x : weight) x /= grid.step_nm;
-        bw.first[b] = j0;
-        bw.weights[b] = std::move(weight);
-    }
-    return bw;
-}
-
 std::vector<double> resampleMatrix(const BispectralMatrix& d, const Grid& grid) {
     const size_t n = size_t(grid.bands());
     const BandWeights win = bandWeights(d.in_nm, grid), wout = bandWeights(d.out_nm, grid);
@@ -156,15 +103,6 @@ std::vector<double> resampleMatrix(const BispectralMatrix& d, const Grid& grid) 
             for (size_t o = 0; o < n; ++o) dst[o] += wk * src[o];
         }
     return r;
-}
-
-CoverageGap coverageOf(const std::vector<double>& w, const Grid& grid) {
-    CoverageGap g;
-    g.data_lo = w.front();
-    g.data_hi = w.back();
-    g.covered = g.data_lo <= grid.start_nm && g.data_hi >= grid.end_nm;
-    g.overlaps = g.data_hi >= grid.start_nm && g.data_lo <= grid.end_nm;
-    return g;
 }
 
 }  // namespace metamer

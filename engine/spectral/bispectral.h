@@ -5,6 +5,7 @@
 
 #include "core/error.h"
 #include "spectral/grid.h"
+#include "spectral/resampling.h"
 #include "spectral/spectrum.h"
 
 #include <string>
@@ -43,24 +44,10 @@ struct BispectralMatrix {
     static BispectralMatrix outer(const Spectrum& excitation, const Spectrum& emission);
 };
 
-// The band-averaging of spectrum.h's resample() as a linear operator on data values: band b of a
-// spectrum with values v at `wavelengths_nm` is Σ_j weight(b, j) · v_j. Sparse: each band has a
-// run of consecutive non-zero weights starting at first[b].
-struct BandWeights {
-    std::vector<size_t> first;                 // per band, the first data index with a weight
-    std::vector<std::vector<double>> weights;  // per band, the weights from first[b] on
-
-    std::vector<double> apply(const std::vector<double>& values) const;
-};
-BandWeights bandWeights(const std::vector<double>& wavelengths_nm, const Grid& grid);
-
-// The matrix on the grid: band (i, o) holds the mean of D over band i of λin × band o of λout,
-// R[i·N + o] with N = grid.bands(), in nm⁻¹. The operator is resample() along each axis (its end
-// rule included), so Σ R·Δλ² = ∫∫ D when the data lie inside the grid, and for a rank-one matrix
-// u(λin)·w(λout) R is exactly resample(u) ⊗ resample(w).
+// The matrix on the grid, R[i·N + o] with N = grid.bands(), in nm⁻¹: resample() along each axis
+// (spectral/resampling.h, every rule), R = W_in · D · W_outᵀ. So a band pair whose centres are
+// both data points holds the tabulated D, band means keep Σ R·Δλ² = ∫∫ D on grids coarser than
+// the data, and for a rank-one matrix u(λin)·w(λout) R is exactly resample(u) ⊗ resample(w).
 std::vector<double> resampleMatrix(const BispectralMatrix& d, const Grid& grid);
-
-// Whether each axis's data cover every band centre of the grid (as coverage() for spectra).
-CoverageGap coverageOf(const std::vector<double>& wavelengths_nm, const Grid& grid);
 
 }  // namespace metamer

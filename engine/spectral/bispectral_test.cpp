@@ -85,12 +85,15 @@ TEST(Bispectral, RankOneMatrixResamplesToTheProductOfItsFactors) {
     }
 }
 
-TEST(Bispectral, TwoDimensionalBandAverageConservesTheIntegral) {
-    // A rank-two matrix that falls to 0 at its data's ends, inside every grid below: Σ R·Δλ² must
-    // equal ∫∫ D (exact for the bilinear function).
+TEST(Bispectral, CoarseGridsConserveTheIntegralFineGridsInterpolate) {
+    // A rank-two matrix that falls to 0 at its data's ends (3.7 and 4.9 nm apart), inside every
+    // grid below. On grids coarser than the data both axes take band means, so Σ R·Δλ² = ∫∫ D
+    // (exact for the bilinear function); on finer grids each band pair holds the bilinear
+    // interpolant at its centres (spectral/resampling.h, rules 2 and 3). No data point is a band
+    // centre (their decimals end in 3 and 7), which would be read as tabulated.
     BispectralMatrix d;
-    for (double l = 401.3; l <= 690; l += 3.7) d.in_nm.push_back(l);
-    for (double l = 405.1; l <= 695; l += 4.9) d.out_nm.push_back(l);
+    for (int k = 0; 401.33 + 3.7 * k <= 690; ++k) d.in_nm.push_back(401.33 + 3.7 * k);
+    for (int k = 0; 405.17 + 4.9 * k <= 695; ++k) d.out_nm.push_back(405.17 + 4.9 * k);
     for (size_t i = 0; i < d.inCount(); ++i)
         for (size_t o = 0; o < d.outCount(); ++o) {
             const bool edge = i == 0 || o == 0 || i + 1 == d.inCount() || o + 1 == d.outCount();
@@ -103,19 +106,44 @@ TEST(Bispectral, TwoDimensionalBandAverageConservesTheIntegral) {
     d.validate(Where{"test"});
     const double integral = d.integral();
     ASSERT_GT(integral, 0.0);
-    for (const Grid& grid : {Grid{300, 740, 5}, Grid{400, 700, 10}, Grid{380, 780, 0.5}, Grid{350, 750, 50},
-                             Grid{395, 705, 1}}) {
+    for (const Grid& grid : {Grid{300, 740, 5}, Grid{400, 700, 10}, Grid{350, 750, 50}}) {
         const std::vector<double> r = resampleMatrix(d, grid);
         double sum = 0;
         for (double v : r) sum += v * grid.step_nm * grid.step_nm;
         EXPECT_NEAR(sum, integral, 1e-12 * integral) << grid.str();
     }
+    for (const Grid& grid : {Grid{380, 780, 0.5}, Grid{395, 705, 1}}) {
+        const std::vector<double> r = resampleMatrix(d, grid);
+        const size_t n = size_t(grid.bands());
+        for (size_t i = 0; i < n; ++i)
+            for (size_t o = 0; o < n; ++o)
+                ASSERT_NEAR(r[i * n + o], d.at(grid.wavelength(int(i)), grid.wavelength(int(o))), 1e-12)
+                    << grid.str() << " " << i << "," << o;
+    }
+}
+
+TEST(Bispectral, TabulatedPairsAreCopiedBitForBit) {
+    // Band pairs whose centres are both data points hold the tabulated D exactly, on the data's
+    // own 5 nm grid and on a 10 nm grid that skips every other point.
+    BispectralMatrix d;
+    for (double l = 300; l <= 780; l += 5) d.in_nm.push_back(l), d.out_nm.push_back(l);
+    for (size_t i = 0; i < d.inCount(); ++i)
+        for (size_t o = 0; o < d.outCount(); ++o) d.values.push_back(1e-3 * std::sin(0.1 * double(i)) * std::sin(0.07 * double(o)) + 2e-3);
+    d.validate(Where{"test"});
+    for (const Grid& grid : {Grid{300, 780, 5}, Grid{400, 700, 10}}) {
+        const std::vector<double> r = resampleMatrix(d, grid);
+        const size_t n = size_t(grid.bands()), k = size_t(grid.step_nm / 5), skip = size_t((grid.start_nm - 300) / 5);
+        for (size_t i = 0; i < n; ++i)
+            for (size_t o = 0; o < n; ++o) ASSERT_EQ(r[i * n + o], d.value(skip + i * k, skip + o * k)) << grid.str();
+    }
 }
 
 TEST(Bispectral, DeltaLikeMatrixMovesEnergyFromOneBandToAnother) {
     // A tent 1 nm wide on each axis at (λin, λout) = (450, 550) nm, peak p: ∫∫ D = p·1 nm·1 nm
-    // (each tent's integral is half its base, 2 nm). On a 10 nm grid all of it lands in band
-    // (450, 550) as p/Δλ² and nothing anywhere else — no diagonal, no leak into neighbours.
+    // (each tent's integral is half its base, 2 nm). Under band means, on a 10 nm grid all of it
+    // lands in band (450, 550) as p/Δλ² and nothing anywhere else — no diagonal, no leak into
+    // neighbours. Under the default rule the band centres (450, 550) are data points, so that band
+    // holds the tabulated p, and again nothing leaks.
     const double p = 7.0;
     BispectralMatrix d;
     d.in_nm = {449, 450, 451};
@@ -127,25 +155,33 @@ TEST(Bispectral, DeltaLikeMatrixMovesEnergyFromOneBandToAnother) {
     EXPECT_DOUBLE_EQ(d.at(450.5, 550), p / 2);
     EXPECT_DOUBLE_EQ(d.at(449.5, 550.5), p / 4);
     EXPECT_EQ(d.at(460, 550), 0.0);
-    const Grid grid{400, 700, 10};
-    const size_t n = size_t(grid.bands()), in = 5, out = 15;  // 450 and 550 nm
-    const std::vector<double> r = resampleMatrix(d, grid);
-    for (size_t i = 0; i < n; ++i)
-        for (size_t o = 0; o < n; ++o) {
-            if (i == in && o == out)
-                EXPECT_NEAR(r[i * n + o], p / 100.0, 1e-15);
-            else
-                EXPECT_EQ(r[i * n + o], 0.0) << i << "," << o;
-        }
+    for (Resampling rule : {Resampling::BandMean, Resampling::Interpolate}) {
+        Grid grid{400, 700, 10};
+        grid.resampling = rule;
+        const size_t n = size_t(grid.bands()), in = 5, out = 15;  // 450 and 550 nm
+        const std::vector<double> r = resampleMatrix(d, grid);
+        const double expected = rule == Resampling::BandMean ? p / 100.0 : p;
+        for (size_t i = 0; i < n; ++i)
+            for (size_t o = 0; o < n; ++o) {
+                if (i == in && o == out)
+                    EXPECT_NEAR(r[i * n + o], expected, 1e-15);
+                else
+                    EXPECT_EQ(r[i * n + o], 0.0) << i << "," << o;
+            }
+    }
     // On a grid whose band edge cuts the tent in half (445 | 455 on a 10 nm grid starting at
-    // 405), the two bands share it equally.
-    const Grid shifted{405, 705, 10};
-    const std::vector<double> rs = resampleMatrix(d, shifted);
-    const size_t m = size_t(shifted.bands());
-    EXPECT_NEAR(rs[4 * m + 14], p / 400.0, 1e-15);  // 445 × 545 nm
-    EXPECT_NEAR(rs[5 * m + 15], p / 400.0, 1e-15);  // 455 × 555 nm
-    EXPECT_NEAR(rs[4 * m + 15], p / 400.0, 1e-15);
-    EXPECT_NEAR(rs[5 * m + 14], p / 400.0, 1e-15);
+    // 405; no centre on a data point, the grid coarser than the data), the two bands share it
+    // equally under either rule.
+    for (Resampling rule : {Resampling::BandMean, Resampling::Interpolate}) {
+        Grid shifted{405, 705, 10};
+        shifted.resampling = rule;
+        const std::vector<double> rs = resampleMatrix(d, shifted);
+        const size_t m = size_t(shifted.bands());
+        EXPECT_NEAR(rs[4 * m + 14], p / 400.0, 1e-15);  // 445 × 545 nm
+        EXPECT_NEAR(rs[5 * m + 15], p / 400.0, 1e-15);  // 455 × 555 nm
+        EXPECT_NEAR(rs[4 * m + 15], p / 400.0, 1e-15);
+        EXPECT_NEAR(rs[5 * m + 14], p / 400.0, 1e-15);
+    }
 }
 
 TEST(Bispectral, ValidateRejectsWhatCannotBeAMatrix) {

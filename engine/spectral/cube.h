@@ -1,6 +1,6 @@
 // A spectral radiance cube: width × height pixels × grid.bands() bands, float32, stored
-// pixel-interleaved ([y][x][band], row 0 at the top), values in W·sr⁻¹·m⁻²·nm⁻¹ (band-averaged
-// spectral radiance). The hand-over between the renderers and io/.
+// pixel-interleaved ([y][x][band], row 0 at the top), values in W·sr⁻¹·m⁻²·nm⁻¹ (per band;
+// docs/physics.md "Resampling"). The hand-over between the renderers and io/.
 #pragma once
 
 #include "spectral/grid.h"

@@ -51,6 +51,24 @@ Grid Grid::parse(const std::string& text, const Where& where) {
     return g;
 }
 
+Resampling parseResampling(const std::string& name, const Where& where) {
+    if (name == "interpolate") return Resampling::Interpolate;
+    if (name == "sprague") return Resampling::Sprague;
+    if (name == "band-mean") return Resampling::BandMean;
+    std::string near = closestMatch(name, {"interpolate", "sprague", "band-mean"});
+    failInput(where, "'{}' is not a resampling rule; expected interpolate, sprague or band-mean{}", name,
+              near.empty() ? "" : fmt::format(" (did you mean '{}'?)", near));
+}
+
+const char* resamplingName(Resampling resampling) {
+    switch (resampling) {
+        case Resampling::Interpolate: return "interpolate";
+        case Resampling::Sprague: return "sprague";
+        case Resampling::BandMean: return "band-mean";
+    }
+    return "?";
+}
+
 std::string Grid::str() const { return fmt::format("{:g}:{:g}:{:g}", start_nm, end_nm, step_nm); }
 
 }  // namespace metamer

@@ -155,6 +155,10 @@ std::array<double, 2> quadraticRoots(const RgbUpsampler::Coefficients& c) {
 std::vector<double> RgbUpsampler::bands(const Coefficients& c, const Grid& grid) {
     const int n = grid.bands();
     std::vector<double> out(static_cast<size_t>(n));
+    if (grid.resampling != Resampling::BandMean) {
+        for (int i = 0; i < n; ++i) out[static_cast<size_t>(i)] = reflectance(c, grid.wavelength(i));
+        return out;
+    }
     const double lo = reflectance(c, kFitMinNm), hi = reflectance(c, kFitMaxNm);
     const double tolerance = kBandTolerance * grid.step_nm;
     for (int i = 0; i < n; ++i) {

@@ -14,6 +14,7 @@
 #pragma once
 
 #include "spectral/grid.h"
+#include "spectral/resampling.h"
 #include "spectral/library.h"
 
 #include <glm/mat3x3.hpp>
@@ -97,11 +98,12 @@ public:
     // S(x) = ½ + x / (2·√(1 + x²)).
     static double sigmoid(double x);
 
-    // The spectrum on a render grid: each band gets the mean of ρ over the band
-    // [λi − Δ/2, λi + Δ/2], as resample() does for every other spectrum (docs/physics.md,
-    // "Resampling"). Computed by adaptive 3-point Gauss–Legendre to kBandTolerance: spectra at the
-    // gamut boundary have transitions narrower than a nanometre, which a fixed rule would miss.
-    // Reflectance factor, dimensionless, 0..1. About 4 µs for 89 bands of a smooth spectrum.
+    // The spectrum on a render grid. The model is a function known at every wavelength, not data,
+    // so under the grid's rule (docs/physics.md, "Resampling") band i holds its value at the band
+    // centre, ρ(λi) — what a table of it sampled at λi would give. Under Resampling::BandMean it
+    // holds the mean of ρ over [λi − Δ/2, λi + Δ/2], by adaptive 3-point Gauss–Legendre to
+    // kBandTolerance (spectra at the gamut boundary have transitions narrower than a nanometre,
+    // which a fixed rule would miss; about 4 µs for 89 bands). Reflectance factor, 0..1.
     static constexpr double kBandTolerance = 1e-9;
     std::vector<double> bands(const glm::dvec3& linearRgb, const Grid& grid) const;
     static std::vector<double> bands(const Coefficients& c, const Grid& grid);

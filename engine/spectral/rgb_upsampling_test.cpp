@@ -3,6 +3,7 @@
 // by the tests marked "prints". The end-to-end check against colour-science is
 // tests/python/check_upsampling_colour.py.
 #include "spectral/rgb_upsampling.h"
+#include "spectral/resampling.h"
 
 #include "color/delta_e.h"
 #include "color/lab.h"
@@ -525,8 +526,23 @@ double exactLinearMean(double c1, double c2, double a, double b) {
 
 }  // namespace
 
-TEST(RgbUpsampling, BandsAreBandAveragesOfTheModel) {
-    const Grid grids[] = {Grid{300, 740, 5}, Grid{360, 830, 1}, Grid{200, 2500, 50}, Grid{380, 780, 0.5}};
+TEST(RgbUpsampling, BandsAreTheModelAtTheBandCentres) {
+    // The default rule: the model is known everywhere, so a band holds ρ(λi), bit for bit.
+    const RgbUpsampler::Coefficients cs[] = {{-2e-4, 0.21, -52.0}, {0.0, 1e4, -1e4 * 555.0}, {2.4e-3, -2.6, 700.0}};
+    for (Resampling rule : {Resampling::Interpolate, Resampling::Sprague})
+        for (const Grid& g : {Grid{300, 740, 5}, Grid{200, 2500, 50}, Grid{380.25, 780.25, 0.5}})
+            for (const auto& c : cs) {
+                Grid grid = g;
+                grid.resampling = rule;
+                const std::vector<double> b = RgbUpsampler::bands(c, grid);
+                for (int i = 0; i < grid.bands(); ++i)
+                    ASSERT_EQ(b[size_t(i)], RgbUpsampler::reflectance(c, grid.wavelength(i))) << grid.str() << " " << i;
+            }
+}
+
+TEST(RgbUpsampling, BandMeanBandsAreBandAveragesOfTheModel) {
+    Grid grids[] = {Grid{300, 740, 5}, Grid{360, 830, 1}, Grid{200, 2500, 50}, Grid{380, 780, 0.5}};
+    for (Grid& g : grids) g.resampling = Resampling::BandMean;
     // Smooth spectra against a fine midpoint rule (0.01 and 0.005 nm, Richardson-extrapolated:
     // error O(h⁴), below 1e-12 here).
     const RgbUpsampler::Coefficients smooth[] = {{-2e-4, 0.21, -52.0}, {3.1e-4, -0.33, 80.0}, {2.4e-3, -2.6, 700.0}};
@@ -565,16 +581,18 @@ TEST(RgbUpsampling, BandsAreBandAveragesOfTheModel) {
                         << grid.str() << " band " << i << " slope " << slope << " centre " << centre;
                 }
             }
-    // Black and white stay exact on any grid.
+    // Black and white stay exact on any grid, under either rule.
     const RgbUpsampler& up = upsampler();
-    for (double v : up.bands(glm::dvec3(0.0), Grid{300, 740, 5})) EXPECT_EQ(v, 0.0);
-    for (double v : up.bands(glm::dvec3(1.0), Grid{300, 740, 5})) EXPECT_EQ(v, 1.0);
+    for (Grid g : {grids[0], Grid{300, 740, 5}}) {
+        for (double v : up.bands(glm::dvec3(0.0), g)) EXPECT_EQ(v, 0.0);
+        for (double v : up.bands(glm::dvec3(1.0), g)) EXPECT_EQ(v, 1.0);
+    }
 }
 
 TEST(RgbUpsampling, ColourOnARenderGrid) {
-    // What the renderer sees: band averages on its grid, D65 and the observer resampled the same
-    // way (docs/physics.md "Resampling"). The fit is made at 1 nm, so a 5 nm or 10 nm grid adds
-    // its own small quadrature error; printed, and bounded.
+    // What the renderer sees: the model at the band centres, D65 and the observer resampled onto
+    // the grid by the same rule (docs/physics.md "Resampling"). The fit is made at 1 nm, so a 5 nm
+    // or 10 nm grid adds its own small quadrature error; printed, and bounded.
     const RgbUpsampler& up = upsampler();
     const Spectrum& d65 = library().get("illuminants/D65", Where{});
     SpectralTable cmf = readSpectralTable(library().root() / "observers/cie1931_2deg.csv", 3);

@@ -84,42 +84,4 @@ void Spectrum::validate(const Where& where) const {
     }
 }
 
-std::vector<double> resample(const Spectrum& s, const Grid& grid) {
-    int n = grid.bands();
-    std::vector<double> out(n);
-    double h = 0.5 * grid.step_nm;
-    for (int i = 0; i < n; ++i) {
-        double c = grid.wavelength(i);
-        if (s.constant) {
-            out[i] = *s.constant;
-            continue;
-        }
-        // The band average of the data taken as 0 outside their range (so a narrow line keeps
-        // its energy on any grid), except that a band whose centre lies inside the data holds
-        // the end value over the part the data do not reach: measured data end where the
-        // instrument stopped, not where the quantity falls to zero. Data that do fall to zero
-        // at their ends (lines, bands) lose nothing either way.
-        const auto& w = s.wavelengths_nm;
-        double lo = c - h, hi = c + h;
-        double sum = s.integrate(lo, hi);
-        if (c >= w.front() && c <= w.back()) {
-            if (lo < w.front()) sum += s.values.front() * (w.front() - lo);
-            if (hi > w.back()) sum += s.values.back() * (hi - w.back());
-        }
-        out[i] = sum / grid.step_nm;
-    }
-    return out;
-}
-
-CoverageGap coverage(const Spectrum& s, const Grid& grid) {
-    CoverageGap g;
-    if (s.constant) return g;
-    g.data_lo = s.wavelengths_nm.front();
-    g.data_hi = s.wavelengths_nm.back();
-    // Band centres are what matter: a band is covered when its centre lies inside the data.
-    g.covered = g.data_lo <= grid.start_nm && g.data_hi >= grid.end_nm;
-    g.overlaps = g.data_hi >= grid.start_nm && g.data_lo <= grid.end_nm;
-    return g;
-}
-
 }  // namespace metamer

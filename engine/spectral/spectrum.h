@@ -1,5 +1,5 @@
 // A spectrum as read from the user or the library: a piecewise-linear function of wavelength
-// (or a constant), and resampling of it onto a Grid.
+// (or a constant). Onto a Grid's bands it goes by spectral/resampling.h.
 #pragma once
 
 #include "core/error.h"
@@ -46,21 +46,5 @@ struct Spectrum {
     // Checks sorted, strictly increasing, finite, same lengths, ≥ 2 points (or constant).
     void validate(const Where& where) const;
 };
-
-// Resampling onto a grid: each band gets the mean of the piecewise-linear spectrum over the band
-// [λi - Δ/2, λi + Δ/2]. Band averaging conserves the integral (narrow emission lines keep their
-// energy on coarse grids) and equals linear interpolation wherever the spectrum is linear across
-// the band. Outside its data a spectrum is 0, except that a band whose centre lies inside the data
-// holds the data's end value over the part of the band the data do not reach. See
-// docs/physics.md, "Resampling".
-std::vector<double> resample(const Spectrum& s, const Grid& grid);
-
-// Whether the data cover every band centre of the grid.
-struct CoverageGap {
-    bool covered = true;
-    double data_lo = 0, data_hi = 0;  // the data's own range
-    bool overlaps = true;             // false when the data lie entirely outside the grid
-};
-CoverageGap coverage(const Spectrum& s, const Grid& grid);
 
 }  // namespace metamer
