@@ -17,9 +17,10 @@ Writes
 Method (spectra/README.md, "Metameric pair"): base(λ) is a smooth analytic reflectance; a smooth
 generator g(λ) is split, after Wyszecki & Stiles, into a "fundamental" part that carries all of
 its tristimulus values and a metameric black b(λ) that carries none; metamer = base + a·b/max|b|.
-The black is made exactly null on the engine's default grid (300:740:5, band-averaged resampling,
-Riemann sums, CIE 1931 observer, D65) by building the constraint with the engine's own resampling
-operator, reproduced here from engine/spectral/spectrum.cpp.
+The black is made exactly null on the engine's default grid (300:740:5, its default resampling —
+here the 1 nm data's values at the band centres —, Riemann sums, CIE 1931 observer, D65) by
+building the constraint with the engine's resampling operator, written again here from
+engine/spectral/resampling.h.
 
 Deterministic: no randomness, fixed rounding, fixed line endings. generate_quadrature.py imports
 the spectrum helpers below.
@@ -82,33 +83,52 @@ def _interp_row(w: np.ndarray, x: float) -> dict[int, float]:
     return {j: 1.0 - t, j + 1: t}
 
 
-def band_matrix(w: np.ndarray, grid_spec: str) -> np.ndarray:
-    """The engine's resample() (engine/spectral/spectrum.cpp) as a matrix: band means on the grid
-    = band_matrix(w, grid) @ values, for data given at wavelengths w.
+def _band_mean_row(w: np.ndarray, c: float, step: float) -> np.ndarray:
+    """The mean over [c - Δλ/2, c + Δλ/2] of the piecewise-linear data (0 outside), plus, when c
+    lies inside the data, the end value held over the part of the band beyond the data's end."""
+    row = np.zeros(len(w))
+    lo, hi = c - step / 2, c + step / 2
+    a, b = max(lo, w[0]), min(hi, w[-1])
+    if b > a:
+        xs = np.concatenate(([a], w[(w > a) & (w < b)], [b]))
+        for k in range(len(xs) - 1):
+            half = 0.5 * (xs[k + 1] - xs[k])
+            for x in (xs[k], xs[k + 1]):
+                for j, f in _interp_row(w, x).items():
+                    row[j] += half * f
+    if w[0] <= c <= w[-1]:
+        if lo < w[0]:
+            row[0] += w[0] - lo
+        if hi > w[-1]:
+            row[-1] += hi - w[-1]
+    return row / step
 
-    Band i is [c - Δλ/2, c + Δλ/2]; its value is the exact integral of the piecewise-linear data
-    (0 outside the data) over the band, divided by Δλ, plus, when the band's centre lies inside
-    the data, the data's end value held over the part of the band beyond that end."""
+
+def band_matrix(w: np.ndarray, grid_spec: str, rule: str = "interpolate") -> np.ndarray:
+    """The engine's resampling (engine/spectral/resampling.h, docs/physics.md "Resampling") as a
+    matrix, written again here: band values on the grid = band_matrix(w, grid) @ values, for data
+    given at wavelengths w. Band i (centre c): the tabulated value when c is a data point; the band
+    mean (_band_mean_row) when the grid step exceeds the spacing of the data interval around c
+    (or of the nearest end interval outside the data); else the linear interpolant at c (0 outside
+    the data). rule="band-mean" takes the band mean everywhere."""
     start, end, step = parse_grid(grid_spec)
     centres = grid(start, end, step)
-    h = 0.5 * step
     m = np.zeros((len(centres), len(w)))
     for i, c in enumerate(centres):
-        lo, hi = c - h, c + h
-        a, b = max(lo, w[0]), min(hi, w[-1])
-        if b > a:
-            xs = np.concatenate(([a], w[(w > a) & (w < b)], [b]))
-            for k in range(len(xs) - 1):
-                half = 0.5 * (xs[k + 1] - xs[k])
-                for x in (xs[k], xs[k + 1]):
-                    for j, f in _interp_row(w, x).items():
-                        m[i, j] += half * f
-        if w[0] <= c <= w[-1]:
-            if lo < w[0]:
-                m[i, 0] += w[0] - lo
-            if hi > w[-1]:
-                m[i, -1] += hi - w[-1]
-    return m / step
+        if rule == "band-mean":
+            m[i] = _band_mean_row(w, c, step)
+            continue
+        hit = np.nonzero(np.abs(w - c) <= 1e-9)[0]
+        if len(hit):
+            m[i, hit[0]] = 1.0
+            continue
+        j = min(max(int(np.searchsorted(w, c)) - 1, 0), len(w) - 2)
+        if step > (w[j + 1] - w[j]) * (1 + 1e-9):
+            m[i] = _band_mean_row(w, c, step)
+        elif w[0] <= c <= w[-1]:
+            for k, f in _interp_row(w, c).items():
+                m[i, k] = f
+    return m
 
 
 def resample(w: np.ndarray, v: np.ndarray, grid_spec: str) -> np.ndarray:
@@ -117,8 +137,9 @@ def resample(w: np.ndarray, v: np.ndarray, grid_spec: str) -> np.ndarray:
 
 class Colorimeter:
     """Relative CIE 1931 XYZ of reflectances under one light on one grid, as the engine's display
-    path computes them for a surface lit head-on: band means of light, reflectance and observer,
-    Riemann sum (q_b = Δλ), scaled so that the perfect white diffuser has Y = 100."""
+    path computes them for a surface lit head-on: light, reflectance and observer on the grid by
+    the engine's rule (band_matrix), Riemann sum (q_b = Δλ), scaled so that the perfect white
+    diffuser has Y = 100."""
 
     def __init__(self, light: str, grid_spec: str):
         self.grid = grid_spec

@@ -2,6 +2,7 @@
 // physics (docs/physics.md), not from the renderer's own code; pixels are checked in double
 // through ReferenceRenderer::pixel before the cube rounds them to float.
 #include "reference/cpu_renderer.h"
+#include "spectral/resampling.h"
 
 #include "support/scene_builders.h"
 
@@ -348,13 +349,16 @@ TEST(ReferenceRenderer, ExcitationOutsideTheGridCausesNoEmission) {
 }
 
 TEST(ReferenceRenderer, EmissionOutsideTheGridIsLostNotRescaled) {
-    // Grid 300–460 nm cuts the 450 nm emission: only the part of ê over the grid's bands
-    // (up to 462.5 nm) is emitted into the cube.
+    // Grid 300–460 nm cuts the 450 nm emission: only the part of ê on the grid's bands (Σ ê·Δλ,
+    // about its integral up to 462.5 nm) is emitted into the cube; ê stays normalized by the
+    // integral of its own data.
     const Grid grid{300, 460, 5};
     auto f = fluorescentQuad(grid, ambientLight(testIlluminant(), 4.0));
     auto L = pixelOf(ReferenceRenderer(f.scene, f.g), 4, 4);
     const Spectrum& em = f.scene.materials[0].fluorescence->emission.spectrum;
-    const double inside = em.integrate(297.5, 462.5) / em.integral();
+    double inside = 0;
+    for (double v : resample(em, grid)) inside += v * grid.step_nm / em.integral();
+    EXPECT_NEAR(inside, em.integrate(297.5, 462.5) / em.integral(), 2e-3);
     ASSERT_LT(inside, 0.85);
     expectRel(photonExitance(L, f.g), 0.8 * absorbedPhotons(f.g, 1.0) * inside, 1e-9, "balance");
 }

@@ -115,12 +115,18 @@ TEST_F(SceneDonaldson, CsvMatrixLoadsAndGoesOnTheGridWithItsScale) {
     ASSERT_EQ(mg.donaldson.size(), expected.size());
     for (size_t k = 0; k < expected.size(); ++k) EXPECT_DOUBLE_EQ(mg.donaldson[k], 2.5 * expected[k]);
     // By hand: between the rows λin = 400 and 450 nm both read D = 0.01·(λout − 400)/100 for
-    // λout in 400–500 nm, so band (440, 480) is 2.5 × 0.01 × 0.8; band (440, 400) holds that
-    // line's mean over [400, 405] (0.01 × 2.5/100) on half the band and D(λ, 400) = 0 on the half
-    // below the data (the end rule).
+    // λout in 400–500 nm, so band (440, 480) is 2.5 × 0.01 × 0.8. λout = 400 nm is a data point,
+    // so band (440, 400) reads the tabulated D(·, 400) = 0. Under band means it holds that line's
+    // mean over [400, 405] (0.01 × 2.5/100) on half the band and D(λ, 400) = 0 on the half below
+    // the data (the end rule).
     const size_t n = size_t(s.grid.bands());
     EXPECT_NEAR(mg.donaldson[4 * n + 8], 0.02, 1e-15);
-    EXPECT_NEAR(mg.donaldson[4 * n + 0], 2.5 * 0.01 * 2.5 / 100 / 2, 1e-17);
+    EXPECT_EQ(mg.donaldson[4 * n + 0], 0.0);
+    Grid bandMean = s.grid;
+    bandMean.resampling = Resampling::BandMean;
+    const SceneOnGrid gm = resampleScene(s, bandMean, CoveragePolicy::Error);
+    EXPECT_NEAR(gm.materials[0].donaldson[4 * n + 8], 0.02, 1e-15);
+    EXPECT_NEAR(gm.materials[0].donaldson[4 * n + 0], 2.5 * 0.01 * 2.5 / 100 / 2, 1e-17);
 }
 
 TEST_F(SceneDonaldson, LibraryNamesAndBispectralExr) {

@@ -23,7 +23,7 @@ ATTRIBUTES = {
     "spectralLayoutVersion": "1.0",
     "emissiveUnits": "W.m^-2.sr^-1",
     "metamer:grid": "380:1020:20",
-    "metamer:quantity": "spectral radiance, band-averaged, W·sr⁻¹·m⁻²·nm⁻¹",
+    "metamer:quantity": "spectral radiance per band (docs/physics.md), W·sr⁻¹·m⁻²·nm⁻¹",
 }
 
 

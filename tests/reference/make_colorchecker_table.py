@@ -5,9 +5,10 @@ ColorChecker patches under CIE D65, A and FL2, the oracle of engine/color/detect
     .venv/bin/python tests/reference/make_colorchecker_table.py
 
 Inputs are Metamer's own library files (spectra/colorchecker, spectra/illuminants,
-spectra/observers/cie1931_2deg.csv), band-averaged onto the grid 300:740:5 exactly as
-engine/spectral/spectrum.cpp does (implemented again below), so that the C++ test compares
-colorimetry, not resampling. From there on everything is colour-science 0.4.7:
+spectra/observers/cie1931_2deg.csv), put on the grid 300:740:5 by colour-science's own linear
+interpolation (the tabulated values at the band centres; 0 outside the data, as Metamer's coverage
+policy), so the C++ test checks Metamer's resampling and colorimetry together. From there on
+everything is colour-science 0.4.7:
 
 * XYZ: colour.sd_to_XYZ_integration (a Riemann sum Σ x̄·S·R·Δλ, k so that the perfect reflecting
   diffuser has Y = 100), on spectral distributions that already share the grid's shape.
@@ -53,39 +54,22 @@ def read_table(path: Path) -> tuple[np.ndarray, np.ndarray]:
     return d[:, 0], d[:, 1:]
 
 
-def integrate_linear(w: np.ndarray, v: np.ndarray, a: float, b: float) -> float:
-    """∫ over [a, b] of the piecewise-linear function through (w, v), 0 outside [w0, wN]."""
-    a, b = max(a, w[0]), min(b, w[-1])
-    if b <= a:
-        return 0.0
-    total = 0.0
-    for j in range(len(w) - 1):
-        lo, hi = max(a, w[j]), min(b, w[j + 1])
-        if hi <= lo:
-            continue
-        f_lo = np.interp(lo, w, v)
-        f_hi = np.interp(hi, w, v)
-        total += 0.5 * (f_lo + f_hi) * (hi - lo)
-    return total
-
-
-def band_average(w: np.ndarray, v: np.ndarray, grid=GRID) -> np.ndarray:
-    """Metamer's resampling (docs/physics.md, "Resampling"): the mean of the piecewise-linear data
-    over each band [c − Δ/2, c + Δ/2], 0 outside the data, except that a band whose centre lies
-    inside the data holds the end value over the part the data do not reach."""
+def on_grid(w: np.ndarray, v: np.ndarray, grid=GRID) -> np.ndarray:
+    """Data at the grid's band centres, resampled by colour-science: its LinearInterpolator (the
+    tabulated value where a centre is a data point, linear between) and 0 outside the data. On
+    the grids used here no library table is sampled more finely than the grid, so this is
+    Metamer's rule (docs/physics.md, "Resampling") computed by colour-science, not by us."""
     start, end, step = grid
     centres = start + step * np.arange(int(round((end - start) / step)) + 1)
-    out = np.empty(len(centres))
-    for i, c in enumerate(centres):
-        lo, hi = c - step / 2, c + step / 2
-        s = integrate_linear(w, v, lo, hi)
-        if w[0] <= c <= w[-1]:
-            if lo < w[0]:
-                s += v[0] * (w[0] - lo)
-            if hi > w[-1]:
-                s += v[-1] * (hi - w[-1])
-        out[i] = s / step
-    return out
+    if np.min(np.diff(w)) < step - 1e-9:  # finer data: every centre must be a data point or miss them
+        inside = (centres >= w[0]) & (centres <= w[-1])
+        assert np.all(np.isin(centres[inside], w)), "a band would take a band mean"
+        assert np.all((centres[~inside] + step / 2 <= w[0]) | (centres[~inside] - step / 2 >= w[-1]))
+    shape = colour.SpectralShape(start, end, step)
+    sd = colour.SpectralDistribution(v, w)
+    aligned = sd.copy().align(shape, interpolator=colour.LinearInterpolator,
+                              extrapolator_kwargs={"method": "Constant", "left": 0, "right": 0})
+    return aligned.values
 
 
 def main() -> int:
@@ -94,19 +78,19 @@ def main() -> int:
     wl = shape.wavelengths
 
     cw, cv = read_table(SPECTRA / "observers" / "cie1931_2deg.csv")
-    cmf_bands = np.stack([band_average(cw, cv[:, i]) for i in range(3)], axis=1)
+    cmf_bands = np.stack([on_grid(cw, cv[:, i]) for i in range(3)], axis=1)
     cmfs = colour.MultiSpectralDistributions(cmf_bands, wl, labels=["x_bar", "y_bar", "z_bar"],
-                                             name="CIE 1931 band-averaged")
+                                             name="CIE 1931 on the grid")
     reflectances = {}
     for p in PATCHES:
         w, v = read_table(SPECTRA / "colorchecker" / f"{p}.csv")
-        reflectances[p] = colour.SpectralDistribution(band_average(w, v[:, 0]), wl, name=p)
+        reflectances[p] = colour.SpectralDistribution(on_grid(w, v[:, 0]), wl, name=p)
     perfect = colour.SpectralDistribution(np.ones(len(wl)), wl, name="perfect diffuser")
 
     rows = ["illuminant,patch,X,Y,Z,L,a,b,R8,G8,B8"]
     for name in ILLUMINANTS:
         w, v = read_table(SPECTRA / "illuminants" / f"{name}.csv")
-        illuminant = colour.SpectralDistribution(band_average(w, v[:, 0]), wl, name=name)
+        illuminant = colour.SpectralDistribution(on_grid(w, v[:, 0]), wl, name=name)
         for sd in [perfect, *reflectances.values(), cmfs]:
             assert sd.shape == shape, sd.name  # no realignment by colour-science
         white = colour.colorimetry.sd_to_XYZ_integration(perfect, cmfs, illuminant)

@@ -13,8 +13,8 @@ independently of the C++ engine with numpy and colour-science 0.4.7:
   Y = 1) of the 24 patches, the perfect white and a black under D65 and A, following the formulas
   of docs/color.md ("Detectors", "Film") from spectra/film/reversal.json and its tables.
 
-All on the grid 300:740:5 with Riemann sums, spectra resampled by the same band averaging as
-make_colorchecker_table.py (Metamer's, docs/physics.md), so the tests compare the arithmetic.
+All on the grid 300:740:5 with Riemann sums, spectra put on the grid by colour-science's linear
+interpolation (tabulated values at the band centres, 0 outside the data; make_colorchecker_table.py).
 """
 
 from __future__ import annotations
@@ -31,7 +31,7 @@ warnings.filterwarnings("ignore", message=r".*related API features are not avail
 import colour  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from make_colorchecker_table import PATCHES, REPO, SPECTRA, band_average, read_table  # noqa: E402
+from make_colorchecker_table import PATCHES, REPO, SPECTRA, on_grid as values_on_grid, read_table  # noqa: E402
 
 OUT = REPO / "tests" / "data" / "color" / "detectors"
 STEP = 5.0
@@ -41,9 +41,10 @@ LIGHTS = ["D65", "A"]
 
 
 def on_grid(path: Path) -> np.ndarray:
-    """Every value column of a library table, band-averaged onto the grid: [column][band]."""
+    """Every value column of a library table on the grid (colour-science's resampling, as
+    make_colorchecker_table.on_grid): [column][band]."""
     w, v = read_table(path)
-    return np.stack([band_average(w, v[:, i]) for i in range(v.shape[1])])
+    return np.stack([values_on_grid(w, v[:, i]) for i in range(v.shape[1])])
 
 
 def number(x: float) -> str:
