@@ -1,13 +1,13 @@
 // libFuzzer target: the spectrum reader. The input's bytes become a CSV file that
 // readSpectralTable and readSpectrumCsv read; what they accept must keep the promises of
 // spectral/csv.h (finite, strictly increasing wavelengths; finite values; one column per header
-// name) and must survive what every caller does next: validate, resample onto the default grid,
-// integrate. Input errors (metamer::Error) are expected; anything else is a finding.
+// name) and must survive what every caller does next: validate, resample onto the default grid
+// (and a fine one under every rule), integrate. Input errors (metamer::Error) are expected; anything else is a finding.
 #include "fuzz_support.h"
-#include "spectral/resampling.h"
 
 #include "spectral/csv.h"
 #include "spectral/grid.h"
+#include "spectral/resampling.h"
 #include "spectral/spectrum.h"
 
 #include <cmath>
@@ -63,6 +63,15 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         for (double v : s.values) peak = std::max(peak, std::fabs(v));
         if (peak < 1e300)
             for (double b : bands) METAMER_FUZZ_CHECK(std::isfinite(b));
+        // Every rule, on a grid finer than most data (Sprague's weights stay below 20 in size).
+        for (Resampling rule : {Resampling::Interpolate, Resampling::Sprague, Resampling::BandMean}) {
+            Grid fine{300, 740, 0.5};
+            fine.resampling = rule;
+            const std::vector<double> v = resample(s, fine);
+            METAMER_FUZZ_CHECK(v.size() == static_cast<size_t>(fine.bands()));
+            if (peak < 1e290)
+                for (double b : v) METAMER_FUZZ_CHECK(std::isfinite(b));
+        }
         coverage(s, grid);
         s.at(0.5 * (s.minWavelength() + s.maxWavelength()));
         s.integral();

@@ -91,9 +91,15 @@ TEST(Detector, TrapezoidIntegratesALinearFunctionExactly) {
 TEST(Detector, ParsesIntegrationNames) {
     EXPECT_EQ(parseIntegration("riemann", Where{}), Integration::Riemann);
     EXPECT_EQ(parseIntegration("trapezoid", Where{}), Integration::Trapezoid);
+    EXPECT_EQ(parseIntegration("astm-e308", Where{}), Integration::AstmE308);
+    for (Integration i : {Integration::Riemann, Integration::Trapezoid, Integration::AstmE308})
+        EXPECT_EQ(parseIntegration(integrationName(i), Where{}), i);
     Error e = inputError([] { parseIntegration("simpson", Where{"", "output.integration"}); });
     EXPECT_TRUE(contains(e.what(), "output.integration")) << e.what();
     EXPECT_TRUE(contains(e.what(), "trapezoid")) << e.what();
+    EXPECT_TRUE(contains(e.what(), "astm-e308")) << e.what();
+    Error typo = inputError([] { parseIntegration("astm_e308", Where{}); });
+    EXPECT_TRUE(contains(typo.what(), "did you mean 'astm-e308'")) << typo.what();
 }
 
 TEST(Detector, NamesListObserversThenCamerasThenFilms) {

@@ -351,7 +351,7 @@ private:
             if (*o.bits != 8 && *o.bits != 16) failInput(w.child("bits"), "must be 8 or 16, got {}", *o.bits);
         }
         if (const Json* i = find(v, "integration"))
-            o.integration = choice(*i, w.child("integration"), {"riemann", "trapezoid"});
+            o.integration = choice(*i, w.child("integration"), {"riemann", "trapezoid", "astm-e308"});
         if (const Json* x = find(v, "xyz")) o.xyz = choice(*x, w.child("xyz"), {"relative", "absolute"});
         if (const Json* wr = find(v, "write")) {
             const Json& list = asArray(*wr, w.child("write"));
