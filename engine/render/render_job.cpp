@@ -354,6 +354,7 @@ RenderJobResult runRenderJob(const RenderJob& job) {
         std::filesystem::path p = job.outDir / (stem + ".xyz.exr");
         ImageFile f{image.width, image.height, {"X", "Y", "Z"}, provenance};
         f.attributes.push_back({"metamer:xyz", plan->xyzUnits});
+        f.attributes.push_back({"metamer:integration", integrationName(plan->detector.integration)});
         f.attributes.push_back({"metamer:display", plan->description});
         writeImage(p, f, image.xyz);
         r.written.push_back({p, "XYZ, " + plan->xyzUnits});
@@ -365,6 +366,7 @@ RenderJobResult runRenderJob(const RenderJob& job) {
         ImageFile f{image.width, image.height, plan->detector.channels, provenance};
         f.attributes.push_back({"metamer:detector", plan->detector.name});
         f.attributes.push_back({"metamer:units", plan->detector.units});
+        f.attributes.push_back({"metamer:integration", integrationName(plan->detector.integration)});
         writeImage(p, f, image.responses);
         r.written.push_back({p, fmt::format("{} responses ({}), {}", plan->detector.name,
                                             fmt::join(plan->detector.channels, ", "), plan->detector.units)});

@@ -70,6 +70,7 @@ StripResult renderInStrips(const StripJob& j) {
         if (!j.xyz.empty()) {
             ImageFile f{W, H, {"X", "Y", "Z"}, j.provenance};
             f.attributes.push_back({"metamer:xyz", j.plan->xyzUnits});
+            f.attributes.push_back({"metamer:integration", integrationName(j.plan->detector.integration)});
             f.attributes.push_back({"metamer:display", j.plan->description});
             xyzOut = std::make_unique<ImageFileWriter>(j.xyz, f, 32);
         }
@@ -78,6 +79,7 @@ StripResult renderInStrips(const StripJob& j) {
         ImageFile f{W, H, j.plan->detector.channels, j.provenance};
         f.attributes.push_back({"metamer:detector", j.plan->detector.name});
         f.attributes.push_back({"metamer:units", j.plan->detector.units});
+        f.attributes.push_back({"metamer:integration", integrationName(j.plan->detector.integration)});
         responsesOut = std::make_unique<ImageFileWriter>(j.responses, f, 32);
     }
 
