@@ -6,13 +6,14 @@
 // lights), and light scales over 24 decades stay finite and linear (docs/physics.md,
 // "Fluorescence").
 #include "color/tonemap.h"
-#include "spectral/resampling.h"
 #include "reference/cpu_renderer.h"
+#include "render/render_setup.h"
 #include "render/spectral_pass.h"
 #include "represent/representation.h"
 #include "scene/scene_json.h"
 #include "spectral/csv.h"
 #include "spectral/library.h"
+#include "spectral/resampling.h"
 #include "support/capture_warnings.h"
 #include "support/gpu.h"
 #include "support/interior_comparison.h"
@@ -415,7 +416,7 @@ TEST(Donaldson, LinearModeAnalysesTheMatrixEmissionUnderEachLight) {
         CaptureWarnings quiet;
         Representation rep = makeRepresentation(parseMode(mode, Where{}), scene.grid, lib, &spectra);
         const SceneOnGrid rendered = represent(spectra, rep, scene);
-        const TonemapPlan plan = makeTonemapPlan(TonemapSettings{}, scene, spectra, lib, &rep);
+        const TonemapPlan plan = makeScenePlan(TonemapSettings{}, scene, spectra, lib, &rep);
         return tonemapReference(plan, renderReference(scene, rendered).cube);
     };
     const DisplayImage full = render("full"), linear = render("linear:3"), two = render("linear:2");

@@ -1,9 +1,10 @@
 // The golden suite must catch regressions and let float rounding through (the regression-suite
 // issue, item 5): the GPU render of a golden scene passes its golden; the same render with one
 // band off by 0.5%, with one light's falloff changed, or with a detector shifted by 1 nm fails.
+#include "color/tonemap.h"
 #include "compare/compare.h"
 #include "compare/tolerance.h"
-#include "color/tonemap.h"
+#include "render/render_setup.h"
 #include "render/tonemap_pass.h"
 #include "scene/scene_json.h"
 #include "spectral/csv.h"
@@ -62,7 +63,7 @@ ImageData gpuResponses(const Scene& scene, const std::string& detector) {
     pass.draw();
     TonemapSettings settings;
     settings.detector = detector;
-    TonemapPlan plan = makeTonemapPlan(settings, scene, spectra, library());
+    TonemapPlan plan = makeScenePlan(settings, scene, spectra, library());
     TonemapPass tonemap(test::gpu(), pass, plan);
     DisplayImage image = tonemap.render();
     ImageData d;

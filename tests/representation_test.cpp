@@ -1,12 +1,13 @@
 // Representation modes on the paper's Figure 3 case (scenes/metamers.json): what each mode can
 // and cannot predict about a metameric pair, checked against tests/data/representations (made by
 // spectra/generate_quadrature.py with colour-science, independent of the engine).
+#include "represent/representation.h"
 #include "color/delta_e.h"
 #include "color/lab.h"
 #include "color/tonemap.h"
 #include "reference/cpu_renderer.h"
+#include "render/render_setup.h"
 #include "render/tonemap_pass.h"
-#include "represent/representation.h"
 #include "scene/scene_json.h"
 #include "support/gpu.h"
 
@@ -37,7 +38,7 @@ PairResult pairDeltaE(const std::string& mode, const std::string& illuminant, bo
     SceneOnGrid spectra = resampleScene(scene, scene.grid);
     Representation rep = makeRepresentation(parseMode(mode, Where{}), scene.grid, library(), &spectra);
     SceneOnGrid rendered = represent(spectra, rep, scene);
-    TonemapPlan plan = makeTonemapPlan(TonemapSettings{}, scene, spectra, library(), &rep);
+    TonemapPlan plan = makeScenePlan(TonemapSettings{}, scene, spectra, library(), &rep);
     DisplayImage d;
     if (gpu) {
         SpectralPassOptions po;
@@ -154,7 +155,7 @@ TEST(Representation, NonSpectralModesServeOnlyTheCie1931Observer) {
     Representation rep = makeRepresentation(parseMode("rgb", Where{}), scene.grid, library());
     TonemapSettings s;
     s.detector = "camera:nikon_d5100";
-    EXPECT_THROW(makeTonemapPlan(s, scene, spectra, library(), &rep), Error);
+    EXPECT_THROW(makeScenePlan(s, scene, spectra, library(), &rep), Error);
 }
 
 TEST(Representation, LinearIsExactForSpectraInsideItsBasis) {
@@ -178,7 +179,7 @@ TEST(Representation, LinearErrorFallsWithMoreBasisFunctions) {
     auto render = [&](const std::string& mode) {
         Representation rep = makeRepresentation(parseMode(mode, Where{}), scene.grid, library(), &spectra);
         SceneOnGrid rendered = represent(spectra, rep, scene);
-        TonemapPlan plan = makeTonemapPlan(TonemapSettings{}, scene, spectra, library(), &rep);
+        TonemapPlan plan = makeScenePlan(TonemapSettings{}, scene, spectra, library(), &rep);
         return std::make_pair(tonemapReference(plan, renderReference(scene, rendered).cube), plan);
     };
     auto [full, plan] = render("full");

@@ -1,10 +1,11 @@
 // The display path end to end: the GPU tonemap pass against its CPU reference, the exposure rule,
 // and a rendered ColorChecker against colour-science (tests/reference/make_colorchecker_table.py).
+#include "color/tonemap.h"
 #include "color/cie_xyz.h"
 #include "color/delta_e.h"
 #include "color/lab.h"
-#include "color/tonemap.h"
 #include "reference/cpu_renderer.h"
+#include "render/render_setup.h"
 #include "render/tonemap_pass.h"
 #include "scene/scene_json.h"
 #include "support/gpu.h"
@@ -69,7 +70,7 @@ TEST(Tonemap, GpuPassMatchesCpuReferenceWithinOneCount) {
     pass.readback(cube);
     for (const Config& c : configs) {
         SCOPED_TRACE(describe(c));
-        TonemapPlan plan = makeTonemapPlan(settingsFor(c), scene, spectra, library());
+        TonemapPlan plan = makeScenePlan(settingsFor(c), scene, spectra, library());
         TonemapPass tonemap(gpu(), pass, plan);
         DisplayImage g = tonemap.render();
         DisplayImage r = tonemapReference(plan, cube);
@@ -110,7 +111,7 @@ TEST(Tonemap, SupersampledTargetIsFilteredBeforeTheDisplayPath) {
     pass.draw();
     SpectralCube cube;
     pass.readback(cube);  // box-filtered to 40×30
-    TonemapPlan plan = makeTonemapPlan(TonemapSettings{}, scene, spectra, library());
+    TonemapPlan plan = makeScenePlan(TonemapSettings{}, scene, spectra, library());
     TonemapPass tonemap(gpu(), pass, plan);
     DisplayImage g = tonemap.render(), r = tonemapReference(plan, cube);
     ASSERT_EQ(g.width, 40);
@@ -130,21 +131,21 @@ TEST(Tonemap, PerfectWhiteUnderTheReferenceLightHasY100) {
     SceneOnGrid g = onGrid(s);
     ReferenceImage img = renderReference(s, g);
     TonemapSettings relative;
-    TonemapPlan plan = makeTonemapPlan(relative, s, g, library());
+    TonemapPlan plan = makeScenePlan(relative, s, g, library());
     EXPECT_NE(plan.white.source.find("lights.0"), std::string::npos) << plan.white.source;
     DisplayImage d = tonemapReference(plan, img.cube);
     TonemapSettings absolute;
     absolute.absolute = true;
-    TonemapPlan planAbs = makeTonemapPlan(absolute, s, g, library());
+    TonemapPlan planAbs = makeScenePlan(absolute, s, g, library());
     DisplayImage a = tonemapReference(planAbs, img.cube);
     // Without the ambient light the white is exact.
     s.lights.pop_back();
     SceneOnGrid g2 = onGrid(s);
     ReferenceImage img2 = renderReference(s, g2);
-    TonemapPlan p2 = makeTonemapPlan(relative, s, g2, library());
+    TonemapPlan p2 = makeScenePlan(relative, s, g2, library());
     DisplayImage d2 = tonemapReference(p2, img2.cube);
     EXPECT_NEAR(d2.xyz[1], 100.0, 1e-4);
-    TonemapPlan p2abs = makeTonemapPlan(absolute, s, g2, library());
+    TonemapPlan p2abs = makeScenePlan(absolute, s, g2, library());
     DisplayImage a2 = tonemapReference(p2abs, img2.cube);
     ColorMatchingFunctions cmf = loadCie1931(library(), s.grid);
     double y = 0;
@@ -188,7 +189,7 @@ TEST(Tonemap, RenderedColorCheckerMatchesColourScience) {
                                                "camera.height=100"});
         SceneOnGrid spectra = onGrid(scene);
         ReferenceImage img = renderReference(scene, spectra);
-        TonemapPlan plan = makeTonemapPlan(TonemapSettings{}, scene, spectra, library());
+        TonemapPlan plan = makeScenePlan(TonemapSettings{}, scene, spectra, library());
         DisplayImage d = tonemapReference(plan, img.cube);
         glm::dvec3 white = plan.sourceWhiteXyz * 100.0;
         int checked = 0;

@@ -1,8 +1,8 @@
-// Build-time tool: fits the RGB → spectrum up-sampling table (engine/spectral/rgb_upsampling.h)
+// Build-time tool: fits the RGB → spectrum up-sampling table (engine/color/rgb_upsampling.h)
 // and writes it as a binary file that the engine loads. Run by CMake; prints what it did.
 //
 //   metamer_rgb_upsampling_table --spectra DIR --resolution N --threads N --out FILE
-#include "spectral/rgb_upsampling.h"
+#include "color/rgb_upsampling.h"
 
 #include <fmt/format.h>
 

@@ -4,6 +4,7 @@
 #include "color/lab.h"
 #include "color/tonemap.h"
 #include "io/atomic_file.h"
+#include "render/render_setup.h"
 #include "render/spectral_pass.h"
 #include "render/tonemap_pass.h"
 #include "scene/scene_json.h"
@@ -128,7 +129,7 @@ Run runConfiguration(vk::Context& ctx, const Scene& scene, const SpectrumLibrary
     run.row.channels = representation.channels();
     // The defaults of `metamer render`: CIE 1931, Bradford, sRGB. The XYZ compared is taken
     // before adaptation, so only the detector matters for accuracy; the rest is real work timed.
-    TonemapPlan plan = makeTonemapPlan(TonemapSettings{}, scene, spectra, library, &representation);
+    TonemapPlan plan = makeScenePlan(TonemapSettings{}, scene, spectra, library, &representation);
     run.white = plan.sourceWhiteXyz;
     SpectralPassOptions options;
     options.sampled = true;

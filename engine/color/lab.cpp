@@ -20,7 +20,27 @@ double labFInverse(double f) {
     return f3 > kEpsilon ? f3 : (116.0 * f - 16.0) / kKappa;
 }
 
+// df/dt: t^(−2/3)/3 above the knee, κ/116 below.
+double labFDerivative(double t) {
+    if (t > kEpsilon) {
+        const double c = std::cbrt(t);
+        return 1.0 / (3.0 * c * c);
+    }
+    return kKappa / 116.0;
+}
+
 }  // namespace
+
+glm::dmat3 xyzToLabJacobian(const glm::dvec3& xyz, const glm::dvec3& w) {
+    const double fx = labFDerivative(xyz.x / w.x) / w.x;
+    const double fy = labFDerivative(xyz.y / w.y) / w.y;
+    const double fz = labFDerivative(xyz.z / w.z) / w.z;
+    glm::dmat3 j(0.0);
+    j[0] = glm::dvec3(0.0, 500.0 * fx, 0.0);
+    j[1] = glm::dvec3(116.0 * fy, -500.0 * fy, 200.0 * fy);
+    j[2] = glm::dvec3(0.0, 0.0, -200.0 * fz);
+    return j;
+}
 
 glm::dvec3 xyzToLab(const glm::dvec3& xyz, const glm::dvec3& whiteXyz) {
     const double fx = labF(xyz.x / whiteXyz.x);

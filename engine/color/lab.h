@@ -5,6 +5,7 @@
 // between black and the white; a* and b* are unbounded. docs/color.md, "CIELAB and ΔE2000".
 #pragma once
 
+#include <glm/mat3x3.hpp>
 #include <glm/vec3.hpp>
 
 namespace metamer {
@@ -16,5 +17,9 @@ glm::dvec3 xyzToLab(const glm::dvec3& xyz, const glm::dvec3& whiteXyz);
 
 // The exact inverse of xyzToLab, on the scale of `whiteXyz`.
 glm::dvec3 labToXyz(const glm::dvec3& lab, const glm::dvec3& whiteXyz);
+
+// d(L*, a*, b*)/d(X, Y, Z) at xyz (for solvers that fit a colour in CIELAB). glm matrices are
+// column-major: column j is the derivative with respect to X, Y or Z.
+glm::dmat3 xyzToLabJacobian(const glm::dvec3& xyz, const glm::dvec3& whiteXyz);
 
 }  // namespace metamer

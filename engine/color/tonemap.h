@@ -8,7 +8,10 @@
 //
 // Everything view-independent — detector weights, camera characterization, film tables, the
 // exposure that puts the reference white at Y = 1, the adaptation matrix — is decided here, once,
-// in double precision. docs/color.md describes each step.
+// in double precision. docs/color.md describes each step. The plan knows no scene: it is made from
+// a grid, a reference white (scene/scene_white.h picks a scene's), the detector and display
+// choices and, for reduced representations, what the cube's channels are (DisplayChannels,
+// made by represent/representation.h). Tests: tests/tonemap_test.cpp.
 #pragma once
 
 #include "color/adaptation.h"
@@ -17,9 +20,6 @@
 #include "color/display_model.h"
 #include "color/film.h"
 #include "color/reference_white.h"
-#include "represent/representation.h"
-#include "scene/scene.h"
-#include "scene/scene_on_grid.h"
 #include "spectral/cube.h"
 #include "spectral/library.h"
 
@@ -41,10 +41,27 @@ struct TonemapSettings {
     bool absolute = false;  // XYZ output in cd/m² (683 lm/W) instead of relative (white Y = 100)
 };
 
-// The brightest (by CIE 1931 Y) non-ambient light at normal incidence: a directional light's E(λ);
-// a point light's I(λ)/d² at the camera target's distance. With only ambient lights, their sum;
-// with none, an equal-energy white (and a warning).
-ReferenceWhite referenceWhite(const Scene& scene, const SceneOnGrid& spectra, const SpectrumLibrary& library);
+// What the channels of the cube the display path reads are, when they are not simply the grid's
+// bands (docs/representations.md).
+struct DisplayChannels {
+    enum class Kind {
+        Bands,      // full: the grid's bands
+        Projected,  // linear:K: the grid's bands, the pixels being projections onto `basis`
+        Reduced,    // rgb, ac1c2: C channels that are not wavelengths
+    };
+    Kind kind = Kind::Bands;
+    std::string mode = "full";  // the representation mode's name, for descriptions
+    // Projected: an orthonormal basis on the grid (Σ_b e_i·e_j·Δλ = δij), [K][band]. Detectors are
+    // linear, so their weights and the white are projected onto it.
+    std::vector<std::vector<double>> basis;
+    // Reduced: a light's channels from its bands, [C][band]; channel radiance → radiometric CIE
+    // 1931 XYZ, [3][C]; what the mode is, for the detector's source.
+    std::vector<std::vector<double>> lightAnalysis, toXyz;
+    std::string description;
+
+    // A band spectrum as the cube's channels see it: itself, its projection, or its C channels.
+    std::vector<double> of(const std::vector<double>& bands, double step_nm) const;
+};
 
 enum class TonemapMode {
     Linear,         // XYZ = responseToXyz · r (observers, cameras)
@@ -54,7 +71,7 @@ enum class TonemapMode {
 
 struct TonemapPlan {
     TonemapSettings settings;
-    Grid grid;                // the cube's grid (channel indices for non-spectral modes)
+    Grid grid;                // the cube's grid (channel indices 0..C−1 for reduced modes)
     std::string representation = "full";  // the representation mode (represent/representation.h)
     Detector detector;        // weights [channel][band]
     TonemapMode mode = TonemapMode::Linear;
@@ -72,12 +89,13 @@ struct TonemapPlan {
     std::optional<CameraCharacterization> camera;
 };
 
-// `spectra` are the scene's spectra on its grid (full). With a non-spectral `representation`
-// (rgb, ac1c2) the plan works on that mode's channels: the detector is the mode's channel → CIE
-// 1931 XYZ map (the only observer such a mode can serve) and the reference white is expressed in
-// channels; the cube the plan is applied to must be in those channels.
-TonemapPlan makeTonemapPlan(const TonemapSettings& settings, const Scene& scene, const SceneOnGrid& spectra,
-                            const SpectrumLibrary& library, const Representation* representation = nullptr);
+// `grid` is the spectral grid and `white` is on it. With `channels` of a reduced mode (rgb, ac1c2)
+// the plan works on that mode's channels: the detector is the mode's channel → CIE 1931 XYZ map
+// (the only observer such a mode can serve) and the reference white is expressed in channels; the
+// cube the plan is applied to must be in those channels. With Projected channels the detector's
+// weights and the white are projected onto the basis.
+TonemapPlan makeTonemapPlan(const TonemapSettings& settings, const Grid& grid, const ReferenceWhite& white,
+                            const SpectrumLibrary& library, const DisplayChannels& channels = {});
 
 // What the display path produces, per pixel, row 0 at the top.
 struct DisplayImage {

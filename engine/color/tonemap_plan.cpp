@@ -11,12 +11,6 @@ namespace metamer {
 
 namespace {
 
-double luminanceOf(const std::vector<double>& bands, const ColorMatchingFunctions& cmf) {
-    double y = 0.0;
-    for (size_t b = 0; b < bands.size(); ++b) y += bands[b] * cmf.y[b] * cmf.grid.step_nm;
-    return y;
-}
-
 glm::dvec3 firstThreeResponses(const Detector& d, const std::vector<double>& radiance) {
     glm::dvec3 r(0.0);
     for (int c = 0; c < 3 && c < int(d.weights.size()); ++c)
@@ -26,94 +20,67 @@ glm::dvec3 firstThreeResponses(const Detector& d, const std::vector<double>& rad
 
 }  // namespace
 
-ReferenceWhite referenceWhite(const Scene& scene, const SceneOnGrid& spectra, const SpectrumLibrary& library) {
-    ColorMatchingFunctions cmf = loadCie1931(library, spectra.grid);
-    ReferenceWhite w;
-    double best = -1.0;
-    for (size_t l = 0; l < scene.lights.size(); ++l) {
-        const Light& light = scene.lights[l];
-        if (light.type == Light::Type::Ambient) continue;
-        std::vector<double> e = spectra.lights[l];
-        std::string how = "at normal incidence";
-        if (light.type == Light::Type::Point) {
-            double d2 = glm::dot(light.position - scene.camera.target, light.position - scene.camera.target);
-            if (d2 <= 0.0) continue;
-            for (double& v : e) v /= d2;
-            how = fmt::format("at the camera target, {:.3g} m away", std::sqrt(d2));
-        }
-        double y = luminanceOf(e, cmf);
-        if (y > best) {
-            best = y;
-            w.irradiance = e;
-            double factor = light.scale;
-            if (light.type == Light::Type::Point)
-                factor /= glm::dot(light.position - scene.camera.target, light.position - scene.camera.target);
-            w.terms = {{light.spectrum.spectrum, factor}};
-            w.source = fmt::format("lights.{} ({}, {})", l, light.spectrum.spectrum.source, how);
-        }
-    }
-    if (best <= 0.0) {
-        // Only ambient light (or none that the observer sees): white is what the ambient gives.
-        w.irradiance.assign(spectra.grid.bands(), 0.0);
-        w.terms.clear();
-        for (size_t l = 0; l < scene.lights.size(); ++l)
-            if (scene.lights[l].type == Light::Type::Ambient) {
-                for (size_t b = 0; b < w.irradiance.size(); ++b) w.irradiance[b] += spectra.lights[l][b];
-                w.terms.emplace_back(scene.lights[l].spectrum.spectrum, scene.lights[l].scale);
+std::vector<double> DisplayChannels::of(const std::vector<double>& bands, double step_nm) const {
+    switch (kind) {
+        case Kind::Bands: return bands;
+        case Kind::Projected: {
+            std::vector<double> out(bands.size(), 0.0);
+            for (const auto& e : basis) {
+                double c = 0;
+                for (size_t b = 0; b < bands.size(); ++b) c += e[b] * bands[b] * step_nm;
+                for (size_t b = 0; b < bands.size(); ++b) out[b] += c * e[b];
             }
-        w.source = "the ambient light";
-        if (luminanceOf(w.irradiance, cmf) <= 0.0) {
-            w.irradiance.assign(spectra.grid.bands(), 1.0);
-            w.terms = {{Spectrum::makeConstant(1.0), 1.0}};
-            w.source = "equal-energy white (the scene has no visible light)";
-            warn(Where{scene.file.string(), "lights"},
-                 "no light the CIE 1931 observer can see; exposure and adaptation use an equal-energy white");
+            return out;
+        }
+        case Kind::Reduced: {
+            std::vector<double> out(lightAnalysis.size(), 0.0);
+            for (size_t c = 0; c < lightAnalysis.size(); ++c)
+                for (size_t b = 0; b < bands.size(); ++b) out[c] += lightAnalysis[c][b] * bands[b];
+            return out;
         }
     }
-    w.radiance = w.irradiance;
-    for (double& v : w.radiance) v /= M_PI;
-    return w;
+    return bands;
 }
 
-TonemapPlan makeTonemapPlan(const TonemapSettings& settings, const Scene& scene, const SceneOnGrid& spectra,
-                            const SpectrumLibrary& library, const Representation* representation) {
+TonemapPlan makeTonemapPlan(const TonemapSettings& settings, const Grid& grid, const ReferenceWhite& white,
+                            const SpectrumLibrary& library, const DisplayChannels& channels) {
     TonemapPlan p;
     p.settings = settings;
-    p.grid = spectra.grid;
+    p.grid = grid;
     p.display = parseDisplay(settings.display, settings.bits, Where{"", "--display"});
-    p.white = referenceWhite(scene, spectra, library);
-    if (representation && !representation->mode.spectral()) {
-        const Representation& r = *representation;
+    p.white = white;
+    p.representation = channels.mode;
+    const bool projected = channels.kind == DisplayChannels::Kind::Projected;
+    if (channels.kind == DisplayChannels::Kind::Reduced) {
         if (settings.detector != "cie1931")
             failInput(Where{"", "--detector"}, "the {} mode keeps no spectra: only the CIE 1931 observer can see it, "
-                      "not {}", r.mode.name(), settings.detector);
+                      "not {}", channels.mode, settings.detector);
         if (settings.integration == Integration::AstmE308)
             failInput(Where{"", "--integration"}, "the {} mode keeps no spectra to weight: ASTM E308 needs a spectral "
-                      "mode (full or linear:K)", r.mode.name());
-        p.representation = r.mode.name();
-        p.grid = r.renderGrid();
-        p.white.irradiance = lightChannels(r, p.white.irradiance);
-        p.white.radiance = lightChannels(r, p.white.radiance);
+                      "mode (full or linear:K)", channels.mode);
+        const int c = channels.toXyz.empty() ? 0 : int(channels.toXyz[0].size());
+        p.grid = Grid{0, double(c - 1), 1};  // the renderers' grid of channel indices
+        p.white.irradiance = channels.of(white.irradiance, grid.step_nm);
+        p.white.radiance = channels.of(white.radiance, grid.step_nm);
         p.detector.name = "cie1931";
         p.detector.kind = DetectorKind::Observer;
         p.detector.channels = {"X", "Y", "Z"};
-        p.detector.weights = r.toXyz;
-        p.detector.units = "W·sr⁻¹·m⁻² (radiometric CIE 1931 tristimulus, no 683), via the " + r.mode.name() + " mode";
-        p.detector.source = r.description;
+        p.detector.weights = channels.toXyz;
+        p.detector.units = "W·sr⁻¹·m⁻² (radiometric CIE 1931 tristimulus, no 683), via the " + channels.mode + " mode";
+        p.detector.source = channels.description;
         p.detector.grid = p.grid;
     } else {
         const bool astm = settings.integration == Integration::AstmE308;
-        p.detector = makeDetector(settings.detector, library, spectra.grid, astm ? Integration::Riemann : settings.integration,
+        p.detector = makeDetector(settings.detector, library, grid, astm ? Integration::Riemann : settings.integration,
                                   Where{"", "--detector"});
         if (astm) applyAstmE308(p.detector, library, p.white, Where{"", "--integration"});
-        if (representation && representation->mode.kind == ModeKind::Linear) {
+        if (projected) {
             // Peercy's pixels are projections onto the basis, and a detector is linear: responses of
             // the projected radiance are those of projected weights, so the GPU pass can read the
             // unprojected target. The white is white under the projected light.
-            p.representation = representation->mode.name();
-            for (auto& w : p.detector.weights) w = project(*representation, w);
-            p.white.irradiance = lightChannels(*representation, p.white.irradiance);
-            p.white.radiance = lightChannels(*representation, p.white.radiance);
+            for (auto& w : p.detector.weights) w = channels.of(w, grid.step_nm);
+            p.white.irradiance = channels.of(white.irradiance, grid.step_nm);
+            p.white.radiance = channels.of(white.radiance, grid.step_nm);
         }
     }
 
@@ -126,7 +93,7 @@ TonemapPlan makeTonemapPlan(const TonemapSettings& settings, const Scene& scene,
             p.responseToXyz = glm::dmat3(1.0 / rawWhite.y);
             break;
         case DetectorKind::Camera: {
-            p.camera = characterizeCamera(p.detector, p.white.irradiance, library, spectra.grid, settings.integration);
+            p.camera = characterizeCamera(p.detector, p.white.irradiance, library, grid, settings.integration);
             glm::dmat3 balance(0.0);
             for (int c = 0; c < 3; ++c) {
                 if (!(rawWhite[c] > 0.0))
@@ -138,10 +105,10 @@ TonemapPlan makeTonemapPlan(const TonemapSettings& settings, const Scene& scene,
             break;
         }
         case DetectorKind::Film:
-            p.film = makeFilm(p.detector.name.substr(p.detector.name.find(':') + 1), library, spectra.grid,
+            p.film = makeFilm(p.detector.name.substr(p.detector.name.find(':') + 1), library, grid,
                               settings.integration, p.white.radiance);
-            if (representation && representation->mode.kind == ModeKind::Linear)
-                for (auto& w : p.film->layers.weights) w = project(*representation, w);
+            if (projected)
+                for (auto& w : p.film->layers.weights) w = channels.of(w, grid.step_nm);
             p.mode = TonemapMode::Film;
             break;
         case DetectorKind::Custom: p.mode = TonemapMode::ResponsesOnly; break;

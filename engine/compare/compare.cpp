@@ -7,7 +7,6 @@
 #include "core/error.h"
 #include "io/atomic_file.h"
 #include "io/spectral_exr.h"
-#include "scene/scene_on_grid.h"
 #include "spectral/spectrum.h"
 
 #include <OpenImageIO/imageio.h>
@@ -182,22 +181,13 @@ void addDeltaE(const ImageData& a, const ImageData& b, const TonemapSettings& se
         }
     }
 
-    // The plan wants a scene: one directional light whose perfect-diffuser radiance E/π is the white.
-    Scene scene;
-    scene.file = "compare";
-    scene.grid = grid;
-    Light light;
-    light.type = Light::Type::Directional;
-    light.spectrum.spectrum = Spectrum::makeConstant(level * M_PI);
-    light.spectrum.spectrum.source = "equal-energy white";
-    light.spectrum.kind = SpectrumKind::Light;
-    light.name = "lights.0";
-    scene.lights.push_back(light);
-    SceneOnGrid onGrid;
-    onGrid.grid = grid;
-    onGrid.wavelengths_nm = grid.wavelengths();
-    onGrid.lights.push_back(std::vector<double>(bands, level * M_PI));
-    TonemapPlan plan = makeTonemapPlan(settings, scene, onGrid, library);
+    // The white: a perfect diffuser's radiance E/π of `level`, i.e. an irradiance of level·π.
+    ReferenceWhite reference;
+    reference.source = "lights.0 (equal-energy white, at normal incidence)";
+    reference.terms = {{Spectrum::makeConstant(level * M_PI), 1.0}};
+    reference.irradiance.assign(size_t(bands), level * M_PI);
+    reference.radiance.assign(size_t(bands), level * M_PI / M_PI);  // as E/π, to the bit
+    TonemapPlan plan = makeTonemapPlan(settings, grid, reference, library);
     if (plan.mode == TonemapMode::ResponsesOnly)
         failInput(Where{"", "--detector"}, "{} has no colorimetric path to CIELAB; ΔE2000 needs an observer, a camera "
                   "or a film", plan.detector.name);

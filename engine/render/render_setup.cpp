@@ -1,6 +1,7 @@
 #include "render/render_setup.h"
 
 #include "scene/scene_json.h"
+#include "scene/scene_white.h"
 
 namespace metamer {
 
@@ -22,12 +23,18 @@ std::unique_ptr<LoadedScene> loadJobScene(const RenderJob& job) {
     return l;
 }
 
+TonemapPlan makeScenePlan(const TonemapSettings& settings, const Scene& scene, const SceneOnGrid& spectra,
+                          const SpectrumLibrary& library, const Representation* representation) {
+    return makeTonemapPlan(settings, spectra.grid, referenceWhite(scene, spectra, library), library,
+                           representation ? displayChannels(*representation) : DisplayChannels{});
+}
+
 TonemapPlan makeJobTonemapPlan(const RenderJob& job, const LoadedScene& loaded, const TonemapSettings& settings) {
     const Scene& scene = loaded.scene;
     // Names given in the scene are reported against the scene's output block.
     Where sceneOut = scene.output.where.file.empty() ? Where{scene.file.string(), "output"} : scene.output.where;
     try {
-        return makeTonemapPlan(settings, scene, loaded.spectra, loaded.library, &loaded.representation);
+        return makeScenePlan(settings, scene, loaded.spectra, loaded.library, &loaded.representation);
     } catch (const Error& e) {
         bool detectorFromScene = !job.detector && scene.output.detector;
         // A csv: detector's own errors name its file and line; when the scene chose it, say where.

@@ -29,7 +29,12 @@ struct LoadedScene {
 // keep references to its members.
 std::unique_ptr<LoadedScene> loadJobScene(const RenderJob& job);
 
-// makeTonemapPlan for the job's display settings (tonemapSettings()), with each error blamed where
+// The display plan of a scene: its reference white (scene/scene_white.h) on `spectra.grid`, and the
+// channels of `representation` (full when null) — makeTonemapPlan with what it needs of the scene.
+TonemapPlan makeScenePlan(const TonemapSettings& settings, const Scene& scene, const SceneOnGrid& spectra,
+                          const SpectrumLibrary& library, const Representation* representation = nullptr);
+
+// makeScenePlan for the job's display settings (tonemapSettings()), with each error blamed where
 // the failing choice was made: the scene's output block, the flag, or a csv: detector's own file.
 TonemapPlan makeJobTonemapPlan(const RenderJob& job, const LoadedScene& loaded, const TonemapSettings& settings);
 

@@ -297,6 +297,21 @@ Representation makeRepresentation(const Mode& mode, const Grid& grid, const Spec
     return r;
 }
 
+DisplayChannels displayChannels(const Representation& r) {
+    DisplayChannels c;
+    c.mode = r.mode.name();
+    c.description = r.description;
+    if (r.mode.kind == ModeKind::Linear) {
+        c.kind = DisplayChannels::Kind::Projected;
+        c.basis = r.basis;
+    } else if (!r.mode.spectral()) {
+        c.kind = DisplayChannels::Kind::Reduced;
+        c.lightAnalysis = r.lightAnalysis;
+        c.toXyz = r.toXyz;
+    }
+    return c;
+}
+
 std::vector<double> lightChannels(const Representation& r, const std::vector<double>& bands) {
     if (r.mode.kind == ModeKind::Linear) return project(r, bands);
     return r.mode.spectral() ? bands : apply(r.lightAnalysis, bands);

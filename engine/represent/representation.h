@@ -22,6 +22,7 @@
 // wavelengths) is not representable — as in the RGB and AC1C2 renderers the paper compares.
 #pragma once
 
+#include "color/tonemap.h"
 #include "core/error.h"
 #include "scene/scene_on_grid.h"
 #include "spectral/library.h"
@@ -79,5 +80,8 @@ SceneOnGrid represent(const SceneOnGrid& spectra, const Representation& represen
 
 // A light spectrum (band values) in the mode's channels.
 std::vector<double> lightChannels(const Representation& representation, const std::vector<double>& bands);
+
+// What the display path needs to know of the mode's channels (color/tonemap.h).
+DisplayChannels displayChannels(const Representation& representation);
 
 }  // namespace metamer

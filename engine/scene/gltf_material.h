@@ -6,12 +6,12 @@
 //   specular ρs = mix(0.04, baseColorFactor, metallic)    (F0: 4 % for dielectrics, the colour for metals)
 //   gloss    N  = 2/α² − 2 with α = roughness²            (Walter et al. 2007's Beckmann–Phong
 //                                                           match), at most kMaxGltfGloss
-// Colours become spectra by RGB up-sampling (spectral/rgb_upsampling.h).
+// Colours become spectra by RGB up-sampling (color/rgb_upsampling.h).
 #pragma once
 
 #include "scene/gltf_mesh.h"
 #include "scene/scene.h"
-#include "spectral/rgb_upsampling.h"
+#include "color/rgb_upsampling.h"
 
 namespace metamer {
 

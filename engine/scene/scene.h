@@ -75,7 +75,7 @@ struct Texture {
     enum class Kind {
         Spectral,  // reflectance per wavelength (a reflective spectral EXR, T.<λ>nm channels)
         Rgb,       // linear RGB reflectance (sRGB-encoded files are decoded on load), up-sampled
-                   // to spectra on the grid (spectral/rgb_upsampling.h)
+                   // to spectra on the grid (color/rgb_upsampling.h)
         Normal,    // tangent-space unit normals (x right, y up in the image, z out of the surface)
     };
     Kind kind = Kind::Spectral;

@@ -2,7 +2,7 @@
 #include "spectral/resampling.h"
 
 #include "spectral/library.h"
-#include "spectral/rgb_upsampling.h"
+#include "color/rgb_upsampling.h"
 
 #include <algorithm>
 #include <cmath>
@@ -102,7 +102,7 @@ TextureOnGrid spectralTextureOnGrid(const Texture& t, const Grid& grid, Coverage
     return out;
 }
 
-// An RGB texture up-sampled texel by texel (spectral/rgb_upsampling.h); 8-bit images have few
+// An RGB texture up-sampled texel by texel (color/rgb_upsampling.h); 8-bit images have few
 // distinct colours, so each colour is up-sampled once.
 TextureOnGrid rgbTextureOnGrid(const Texture& t, const Grid& grid, const RgbUpsampler& up) {
     const int bands = grid.bands();

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Independent check of the RGB up-sampling (engine/spectral/rgb_upsampling.h) with colour-science.
+"""Independent check of the RGB up-sampling (engine/color/rgb_upsampling.h) with colour-science.
 
 Reads the file written by tests/python/write_upsampled_spectra and, for every colour:
 

@@ -3,7 +3,7 @@
 // spectrum's colour (linear sRGB under D65) and ρ at 1 nm over 360–830 nm.
 // Usage: write_upsampled_spectra OUT.csv
 #include "core/error.h"
-#include "spectral/rgb_upsampling.h"
+#include "color/rgb_upsampling.h"
 
 #include <cstdio>
 #include <random>

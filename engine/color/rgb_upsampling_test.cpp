@@ -1,8 +1,8 @@
-// RGB → spectrum up-sampling (spectral/rgb_upsampling.h): the model, the colour it is fitted to,
+// RGB → spectrum up-sampling (color/rgb_upsampling.h): the model, the colour it is fitted to,
 // the solver, the table and its round trip. The figures quoted in docs/upsampling.md are printed
 // by the tests marked "prints". The end-to-end check against colour-science is
 // tests/python/check_upsampling_colour.py.
-#include "spectral/rgb_upsampling.h"
+#include "color/rgb_upsampling.h"
 #include "spectral/resampling.h"
 
 #include "color/delta_e.h"

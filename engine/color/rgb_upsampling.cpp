@@ -1,4 +1,4 @@
-#include "spectral/rgb_upsampling.h"
+#include "color/rgb_upsampling.h"
 
 #include "color/lab.h"
 #include "color/srgb.h"
@@ -41,35 +41,9 @@ constexpr double kHalfWidth = 0.5 * (RgbUpsampler::kFitMaxNm - RgbUpsampler::kFi
 constexpr std::uint32_t kFormatVersion = 2;
 constexpr char kMagic[8] = {'M', 'T', 'R', 'G', 'B', 'S', 'I', 'G'};
 
-// CIE 15:2004 constants of CIELAB, as color/lab.cpp writes them.
-constexpr double kLabEpsilon = 216.0 / 24389.0;
-constexpr double kLabKappa = 24389.0 / 27.0;
-
-double labFDerivative(double t) {
-    if (t > kLabEpsilon) {
-        const double c = std::cbrt(t);
-        return 1.0 / (3.0 * c * c);
-    }
-    return kLabKappa / 116.0;
-}
-
 const glm::dmat3& linearSrgbToXyz() {
     static const glm::dmat3 m = glm::inverse(xyzToLinearSrgbMatrix());
     return m;
-}
-
-// d(L*, a*, b*)/d(X, Y, Z) at xyz, white kD65WhiteXyz. glm matrices are column-major: column j is
-// the derivative with respect to X, Y or Z.
-glm::dmat3 labJacobian(const glm::dvec3& xyz) {
-    const glm::dvec3& w = kD65WhiteXyz;
-    const double fx = labFDerivative(xyz.x / w.x) / w.x;
-    const double fy = labFDerivative(xyz.y / w.y) / w.y;
-    const double fz = labFDerivative(xyz.z / w.z) / w.z;
-    glm::dmat3 j(0.0);
-    j[0] = glm::dvec3(0.0, 500.0 * fx, 0.0);
-    j[1] = glm::dvec3(116.0 * fy, -500.0 * fy, 200.0 * fy);
-    j[2] = glm::dvec3(0.0, 0.0, -200.0 * fz);
-    return j;
 }
 
 // 64-bit FNV-1a.
@@ -317,7 +291,7 @@ glm::dvec3 RgbUpsampler::solveU(const glm::dvec3& target, glm::dvec3 a, double t
         glm::dmat3 jRgb;
         const glm::dvec3 rgb = colorU(coeffs, jac ? &jRgb : nullptr);
         const glm::dvec3 xyz = toXyz * rgb;
-        if (jac) *jac = labJacobian(xyz) * toXyz * jRgb;
+        if (jac) *jac = xyzToLabJacobian(xyz, kD65WhiteXyz) * toXyz * jRgb;
         return xyzToLab(xyz, kD65WhiteXyz) - labTarget;
     };
     glm::dmat3 j;

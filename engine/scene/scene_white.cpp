@@ -1,0 +1,68 @@
+#include "scene/scene_white.h"
+
+#include "color/cie_xyz.h"
+
+#include <cmath>
+
+namespace metamer {
+
+namespace {
+
+double luminanceOf(const std::vector<double>& bands, const ColorMatchingFunctions& cmf) {
+    double y = 0.0;
+    for (size_t b = 0; b < bands.size(); ++b) y += bands[b] * cmf.y[b] * cmf.grid.step_nm;
+    return y;
+}
+
+}  // namespace
+
+ReferenceWhite referenceWhite(const Scene& scene, const SceneOnGrid& spectra, const SpectrumLibrary& library) {
+    ColorMatchingFunctions cmf = loadCie1931(library, spectra.grid);
+    ReferenceWhite w;
+    double best = -1.0;
+    for (size_t l = 0; l < scene.lights.size(); ++l) {
+        const Light& light = scene.lights[l];
+        if (light.type == Light::Type::Ambient) continue;
+        std::vector<double> e = spectra.lights[l];
+        std::string how = "at normal incidence";
+        if (light.type == Light::Type::Point) {
+            double d2 = glm::dot(light.position - scene.camera.target, light.position - scene.camera.target);
+            if (d2 <= 0.0) continue;
+            for (double& v : e) v /= d2;
+            how = fmt::format("at the camera target, {:.3g} m away", std::sqrt(d2));
+        }
+        double y = luminanceOf(e, cmf);
+        if (y > best) {
+            best = y;
+            w.irradiance = e;
+            double factor = light.scale;
+            if (light.type == Light::Type::Point)
+                factor /= glm::dot(light.position - scene.camera.target, light.position - scene.camera.target);
+            w.terms = {{light.spectrum.spectrum, factor}};
+            w.source = fmt::format("lights.{} ({}, {})", l, light.spectrum.spectrum.source, how);
+        }
+    }
+    if (best <= 0.0) {
+        // Only ambient light (or none that the observer sees): white is what the ambient gives.
+        w.irradiance.assign(spectra.grid.bands(), 0.0);
+        w.terms.clear();
+        for (size_t l = 0; l < scene.lights.size(); ++l)
+            if (scene.lights[l].type == Light::Type::Ambient) {
+                for (size_t b = 0; b < w.irradiance.size(); ++b) w.irradiance[b] += spectra.lights[l][b];
+                w.terms.emplace_back(scene.lights[l].spectrum.spectrum, scene.lights[l].scale);
+            }
+        w.source = "the ambient light";
+        if (luminanceOf(w.irradiance, cmf) <= 0.0) {
+            w.irradiance.assign(spectra.grid.bands(), 1.0);
+            w.terms = {{Spectrum::makeConstant(1.0), 1.0}};
+            w.source = "equal-energy white (the scene has no visible light)";
+            warn(Where{scene.file.string(), "lights"},
+                 "no light the CIE 1931 observer can see; exposure and adaptation use an equal-energy white");
+        }
+    }
+    w.radiance = w.irradiance;
+    for (double& v : w.radiance) v /= M_PI;
+    return w;
+}
+
+}  // namespace metamer
