@@ -1,6 +1,6 @@
 // The quick-look PNG: an 8-bit sRGB preview of a spectral cube, for eyes, not for measurement.
-// Pipeline (docs/io.md): CIE 1931 XYZ -> auto-exposure on Y -> linear sRGB (D65, no chromatic
-// adaptation) -> clip to [0, 1] -> sRGB encoding -> 8 bits.
+// The image is the display stage's (color/quick_look.h: CIE 1931 XYZ -> auto-exposure on Y -> the
+// sRGB display model, no chromatic adaptation); this writes it (docs/io.md).
 #pragma once
 
 #include "spectral/cube.h"

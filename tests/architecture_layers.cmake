@@ -1,0 +1,17 @@
+# docs/architecture.md's "Layers" block must be the chain CMakeLists.txt declares (build/layers.txt).
+#   cmake -DLAYERS=build/layers.txt -DDOC=docs/architecture.md -P tests/architecture_layers.cmake
+file(READ ${LAYERS} declared)
+file(READ ${DOC} doc)
+string(FIND "${doc}" "<!-- layers (generated" at)
+if(at EQUAL -1)
+  message(FATAL_ERROR "${DOC}: no '<!-- layers (generated ...' block")
+endif()
+string(SUBSTRING "${doc}" ${at} -1 rest)
+string(REGEX MATCH "```\n([^`]*)```" _ "${rest}")
+set(documented "${CMAKE_MATCH_1}")
+string(REGEX REPLACE "[ \t]+\n" "\n" declared "${declared}")
+string(REGEX REPLACE "[ \t]+\n" "\n" documented "${documented}")
+if(NOT declared STREQUAL documented)
+  message(FATAL_ERROR "${DOC}'s Layers block differs from the chain CMakeLists.txt declares.\nDeclared:\n${declared}\nDocumented:\n${documented}")
+endif()
+message(STATUS "docs/architecture.md shows the declared chain")
