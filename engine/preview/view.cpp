@@ -1,7 +1,6 @@
 #include "preview/view.h"
 
-#include "io/image_file.h"
-#include "io/spectral_exr.h"
+#include "render/outputs.h"
 
 #include <fmt/ranges.h>
 
@@ -115,36 +114,21 @@ ProbeReadout View::probe(int x, int y) {
 }
 
 std::vector<std::pair<std::filesystem::path, std::string>> View::save(const std::filesystem::path& stem) {
-    std::vector<std::pair<std::filesystem::path, std::string>> written;
     SpectralCube c = cube();
     const Representation& rep = loaded_->representation;
     projectCube(rep, c.data, c.bands());  // linear:K: as `metamer render` writes it
-    std::vector<std::pair<std::string, std::string>> provenance = {
-        {"metamer:scene", job_.scene.string()}, {"metamer:backend", "gpu"},
-        {"metamer:grid", loaded_->scene.grid.str()}, {"metamer:resampling", resamplingName(loaded_->scene.grid.resampling)},
-        {"metamer:mode", rep.mode.name()},
-        {"metamer:preview", "saved from metamer preview"}};
-    std::filesystem::path cubePath = stem;
-    cubePath += ".exr";
-    if (rep.mode.spectral()) {
-        ExrWriteOptions wo;
-        wo.extraAttributes = provenance;
-        writeSpectralExr(cubePath, c, wo);
-        written.push_back({cubePath, fmt::format("{}×{} px, {} bands {} nm, W·sr⁻¹·m⁻²·nm⁻¹, float32", c.width,
-                                                 c.height, c.bands(), loaded_->scene.grid.str())});
-    } else {
-        ImageFile f{c.width, c.height, rep.channelNames, provenance};
-        f.attributes.push_back({"metamer:representation", rep.description});
-        writeImage(cubePath, f, c.data);
-        written.push_back({cubePath, fmt::format("{} channel radiance ({}), not a spectrum", rep.mode.name(),
-                                                 fmt::join(rep.channelNames, ", "))});
-    }
-    std::filesystem::path pngPath = stem;
-    pngPath += ".png";
-    ImageFile f{image_.width, image_.height, {"R", "G", "B"}, provenance};
-    f.attributes.push_back({"ImageDescription", "metamer display image: " + plan_->description});
-    writeImage(pngPath, f, image_.counts, plan_->display.bits);
-    written.push_back({pngPath, "display counts: " + plan_->description});
+    Attributes provenance = renderProvenance(job_.scene.string(), "gpu", loaded_->scene.grid, rep);
+    provenance.push_back({"metamer:preview", "saved from metamer preview"});
+    OutputTargets targets;
+    targets.cube = stem;
+    targets.cube += ".exr";
+    targets.png = stem;
+    targets.png += ".png";
+    RenderOutputs out(targets, c.width, c.height, loaded_->scene.grid, rep, plan_.get(), provenance);
+    out.writeRows(0, c.height, c.data.data(), &image_);
+    out.writeQuickLook(c, loaded_->library);  // only for a detector without a display path
+    std::vector<std::pair<std::filesystem::path, std::string>> written;
+    for (const WrittenFile& f : out.commit()) written.push_back({f.path, f.what});
     return written;
 }
 

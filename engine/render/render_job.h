@@ -4,6 +4,7 @@
 #pragma once
 
 #include "color/tonemap.h"
+#include "render/outputs.h"
 #include "render/spectral_pass.h"
 #include "scene/scene_on_grid.h"
 #include "spectral/cube.h"
@@ -16,16 +17,6 @@
 namespace metamer {
 
 enum class Backend { Gpu, Cpu };
-
-// What a render writes (`--write`, or the scene's output.write).
-struct OutputFiles {
-    bool cube = true;        // <scene>.exr: the spectral radiance cube
-    bool png = true;         // <scene>.png: the display image (counts)
-    bool xyz = false;        // <scene>.xyz.exr: XYZ as the detector sees it
-    bool responses = false;  // <scene>.<detector>.exr: raw detector responses
-    bool edges = false;      // <scene>.edges.png: 255 where a pixel's 3×3 neighbourhood sees more
-                             // than one surface (CPU backend only: the goldens' comparison mask)
-};
 
 struct RenderJob {
     std::filesystem::path scene;
@@ -63,11 +54,6 @@ struct StageTimings {
     double first_shading_ms = 0, median_shading_ms = 0, median_readback_ms = 0;
 };
 
-struct WrittenFile {
-    std::filesystem::path path;
-    std::string what;  // one line: the quantity and its units
-};
-
 struct RenderJobResult {
     std::vector<WrittenFile> written;
     Grid grid;
@@ -86,7 +72,8 @@ struct RenderJobResult {
 // The memory a render allocates that grows with the image, in bytes: what is checked against
 // kMaxRenderMemory before anything is allocated, so that an absurd size (a 16384² camera on a
 // 0.5 nm grid) is refused with the estimate rather than failing in the allocator or swapping the
-// machine to a halt. Deliberately simple and on the high side: it counts what the render path
+// machine to a halt, and — for one row — what decides the strip height of an image over the
+// memory budget. Deliberately simple and on the high side: it counts what the render path
 // allocates per pixel and ignores what does not grow with the image (meshes, spectra, shaders).
 struct RenderMemory {
     uint64_t cube = 0;     // the spectral cube on the host: W·H·bands floats

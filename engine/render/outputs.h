@@ -1,0 +1,109 @@
+// The files one render writes, and the one table of what each says about itself. Every way of
+// making pixels hands them here: the whole-frame GPU render and the CPU reference as one strip of
+// the whole image, the strip renderer (render/strip_render) strip by strip, the preview's Save as
+// one strip. Every file is written under a temporary name and renamed into place at commit()
+// (io/atomic_file), so an interrupted or failed render leaves no half-written file.
+// Tests: tests/cli_test.cpp, tests/strips_test.cpp, tests/interrupted_run_test.cpp.
+#pragma once
+
+#include "color/tonemap.h"
+#include "io/image_file.h"
+#include "io/spectral_exr.h"
+#include "represent/representation.h"
+#include "spectral/cube.h"
+#include "spectral/library.h"
+
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace metamer {
+
+// What a render writes (`--write`, or the scene's output.write).
+struct OutputFiles {
+    bool cube = true;        // <scene>.exr: the spectral radiance cube
+    bool png = true;         // <scene>.png: the display image (counts)
+    bool xyz = false;        // <scene>.xyz.exr: XYZ as the detector sees it
+    bool responses = false;  // <scene>.<detector>.exr: raw detector responses
+    bool edges = false;      // <scene>.edges.png: 255 where a pixel's 3×3 neighbourhood sees more
+                             // than one surface (CPU backend only: the goldens' comparison mask)
+};
+
+struct WrittenFile {
+    std::filesystem::path path;
+    std::string what;  // one line: the quantity and its units
+};
+
+using Attributes = std::vector<std::pair<std::string, std::string>>;
+
+// Where each output goes; an empty path is not written.
+struct OutputTargets {
+    std::filesystem::path cube;       // the spectral EXR (spectral modes) or the mode's channel image
+    std::filesystem::path png;        // the display image, or a custom detector's quick look
+    std::filesystem::path xyz, responses, edges;
+};
+
+// `metamer render`'s names in `dir` for a scene file's `stem`: <stem>.exr (<stem>.<mode>.exr for a
+// reduced mode's channel image), .png, .xyz.exr, .<detector>.exr, .edges.png. `plan` may be null
+// (no display outputs); a custom detector (no colorimetric path) gets no XYZ file.
+OutputTargets renderTargets(const std::filesystem::path& dir, const std::string& stem, const OutputFiles& files,
+                            const Representation& representation, const TonemapPlan* plan);
+
+// What every file of a render carries: the scene, the backend, the grid and its resampling rule,
+// the mode.
+Attributes renderProvenance(const std::string& scene, const std::string& backend, const Grid& grid,
+                            const Representation& representation);
+
+// "camera:nikon_d5100" → "camera-nikon_d5100", "csv:/x/y.csv" → "csv-y": a detector in a file name.
+std::string detectorFileName(const std::string& name);
+
+struct OutputOptions {
+    bool half = false;                  // the cube in float16
+    std::string compression = "zip";    // the cube's OpenEXR compression
+};
+
+class RenderOutputs {
+public:
+    // Opens every target (temporary files). `plan` null: no display outputs. The cube holds
+    // `representation`'s channels on its render grid; a spectral cube's bands are on `grid`.
+    RenderOutputs(const OutputTargets& targets, int width, int height, const Grid& grid,
+                  const Representation& representation, const TonemapPlan* plan, const Attributes& provenance,
+                  const OutputOptions& options = {});
+    ~RenderOutputs();
+    RenderOutputs(const RenderOutputs&) = delete;
+    RenderOutputs& operator=(const RenderOutputs&) = delete;
+
+    // Whether the outputs need the cube's pixels, and the display image's.
+    bool needsCube() const;
+    bool needsDisplay() const;
+
+    // Rows [firstRow, firstRow + rows), in order: `cube` (pixel-interleaved, the mode's channels,
+    // linear:K already projected) and `image` (the display path's, `rows` rows or more; extra rows
+    // are ignored) may be null when not needed.
+    void writeRows(int firstRow, int rows, const float* cube, const DisplayImage* image);
+    // Whole-image outputs: a custom detector's quick-look PNG (at the png target) and the edge mask.
+    void writeQuickLook(const SpectralCube& cube, const SpectrumLibrary& library);
+    void writeEdges(const std::vector<uint16_t>& edges);
+
+    // Renames every file into place and says what each holds. `strips` > 1 says so in the lines.
+    std::vector<WrittenFile> commit(int strips = 1, int stripRows = 0);
+    size_t clampedToHalf() const { return clampedToHalf_; }
+
+private:
+    OutputTargets targets_;
+    int width_, height_;
+    Grid grid_;
+    const Representation& representation_;
+    const TonemapPlan* plan_;
+    Attributes provenance_;
+    OutputOptions options_;
+    std::unique_ptr<SpectralExrWriter> cube_;
+    std::unique_ptr<ImageFileWriter> channels_, png_, xyz_, responses_, edges_;
+    bool quickLook_ = false;
+    std::string quickLookWhat_, edgesWhat_;
+    size_t clampedToHalf_ = 0;
+};
+
+}  // namespace metamer
