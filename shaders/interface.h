@@ -154,6 +154,37 @@ struct TonemapParams {
 };
 
 #ifdef __cplusplus
+// The C++ side of the vertex layout and of the specialization constants: the structs the engine
+// fills, tied to the ids and counts above so that the pipeline's attribute and map entries come
+// from here (render/spectral_resources.cpp, render/tonemap_pass.cpp) rather than being restated.
+struct SpectralVertex {
+    float position[3];  // VERTEX_POSITION
+    float normal[3];    // VERTEX_NORMAL
+    float uv[2];        // VERTEX_UV
+    float tangent[4];   // VERTEX_TANGENT
+};
+static_assert(sizeof(SpectralVertex) == VERTEX_FLOATS * sizeof(float), "VERTEX_FLOATS floats per vertex");
+
+// spectral.frag's specialization constants, in id order (SPEC_* = field index, 4 bytes each).
+struct SpectralSpecialization {
+    int32_t ambient, directional, point;  // SPEC_AMBIENT_COUNT, SPEC_DIRECTIONAL_COUNT, SPEC_POINT_COUNT
+    uint32_t hasSpecular, hasFluorescence, hasTextures, hasNormalMaps, fluorescenceSpectra;  // VkBool32
+};
+static_assert(sizeof(SpectralSpecialization) == 4 * (SPEC_FLUORESCENCE_SPECTRA + 1), "one 4-byte field per id");
+static_assert(SPEC_AMBIENT_COUNT == 0 && SPEC_DIRECTIONAL_COUNT == 1 && SPEC_POINT_COUNT == 2 && SPEC_HAS_SPECULAR == 3 &&
+                  SPEC_HAS_FLUORESCENCE == 4 && SPEC_HAS_TEXTURES == 5 && SPEC_HAS_NORMAL_MAPS == 6 &&
+                  SPEC_FLUORESCENCE_SPECTRA == 7,
+              "SpectralSpecialization's fields are in id order");
+
+// tonemap.frag's specialization constants, in id order.
+struct TonemapSpecialization {
+    int32_t channels, layers, ssaa, mode, display;  // TONEMAP_SPEC_CHANNELS … TONEMAP_SPEC_DISPLAY
+};
+static_assert(sizeof(TonemapSpecialization) == 4 * (TONEMAP_SPEC_DISPLAY + 1), "one 4-byte field per id");
+static_assert(TONEMAP_SPEC_CHANNELS == 0 && TONEMAP_SPEC_LAYERS == 1 && TONEMAP_SPEC_SSAA == 2 && TONEMAP_SPEC_MODE == 3 &&
+                  TONEMAP_SPEC_DISPLAY == 4,
+              "TonemapSpecialization's fields are in id order");
+
 static_assert(sizeof(TonemapParams) == 16 * 20 + 16, "std140 layout");
 static_assert(sizeof(GpuLightBlock) == 16 * MAX_LIGHTS, "std140 layout");
 static_assert(sizeof(GpuLightSpectraBlock) == 16384, "must fit the minimum maxUniformBufferRange");

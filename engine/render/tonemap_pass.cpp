@@ -1,6 +1,7 @@
 #include "render/tonemap_pass.h"
 
 #include "interface.h"
+#include "vk/barrier.h"
 #include "vk/pipeline.h"
 #include "vk/resources.h"
 
@@ -199,16 +200,16 @@ struct TonemapPass::Impl {
         fb.layers = 1;
         VK_CHECK(vkCreateFramebuffer(d, &fb, nullptr, &framebuffer));
 
-        int32_t spec[5] = {int32_t(std::max<size_t>(1, plan.detector.weights.size())), layers, source.plan().ssaa,
-                           plan.mode == TonemapMode::Film      ? TONEMAP_MODE_FILM
-                           : plan.mode == TonemapMode::Linear ? TONEMAP_MODE_LINEAR
-                                                              : TONEMAP_MODE_RESPONSES,
-                           plan.display.kind == DisplayKind::Srgb ? TONEMAP_DISPLAY_SRGB : TONEMAP_DISPLAY_GOG};
-        VkSpecializationMapEntry entries[5];
-        uint32_t ids[5] = {TONEMAP_SPEC_CHANNELS, TONEMAP_SPEC_LAYERS, TONEMAP_SPEC_SSAA, TONEMAP_SPEC_MODE,
-                           TONEMAP_SPEC_DISPLAY};
-        for (int i = 0; i < 5; ++i) entries[i] = {ids[i], uint32_t(i * 4), 4};
-        VkSpecializationInfo si{5, entries, sizeof(spec), spec};
+        const gpu::TonemapSpecialization spec{
+            int32_t(std::max<size_t>(1, plan.detector.weights.size())), layers, source.plan().ssaa,
+            plan.mode == TonemapMode::Film     ? TONEMAP_MODE_FILM
+            : plan.mode == TonemapMode::Linear ? TONEMAP_MODE_LINEAR
+                                               : TONEMAP_MODE_RESPONSES,
+            plan.display.kind == DisplayKind::Srgb ? TONEMAP_DISPLAY_SRGB : TONEMAP_DISPLAY_GOG};
+        // interface.h orders the struct's 4-byte fields by id.
+        VkSpecializationMapEntry entries[TONEMAP_SPEC_DISPLAY + 1];
+        for (uint32_t id = 0; id <= TONEMAP_SPEC_DISPLAY; ++id) entries[id] = {id, id * 4, 4};
+        VkSpecializationInfo si{TONEMAP_SPEC_DISPLAY + 1, entries, sizeof(spec), &spec};
         VkShaderModule vert = vk::createShaderModule(d, kSpirv_tonemap_vert, sizeof(kSpirv_tonemap_vert));
         VkShaderModule frag = vk::createShaderModule(d, kSpirv_tonemap_frag, sizeof(kSpirv_tonemap_frag));
         vk::GraphicsPipelineDesc desc;
@@ -239,16 +240,11 @@ struct TonemapPass::Impl {
     }
 
     void record(VkCommandBuffer cmd) {
-        VkImageMemoryBarrier in{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
-        in.srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT;
-        in.dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
-        in.oldLayout = source.targetLayout();
-        in.newLayout = sampledLayout();
-        in.srcQueueFamilyIndex = in.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-        in.image = source.targetImage();
-        in.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, uint32_t(layers)};
-        vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
-                             VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT, 0, 0, nullptr, 0, nullptr, 1, &in);
+        // The spectral target, from where the spectral pass left it to sampled, and back at the end.
+        const vk::ImageUse drawn{source.targetLayout(), VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT,
+                                 VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT};
+        const vk::ImageUse sampled{sampledLayout(), VK_ACCESS_SHADER_READ_BIT, VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT};
+        vk::imageBarrier(cmd, source.targetImage(), uint32_t(layers), drawn, sampled);
 
         VkRenderPassBeginInfo rb{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
         rb.renderPass = renderPass;
@@ -268,20 +264,11 @@ struct TonemapPass::Impl {
             vkCmdCopyImageToBuffer(cmd, targets[i].handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback.handle(), 1,
                                    &region);
         }
-        VkBufferMemoryBarrier out{VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER};
-        out.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-        out.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
-        out.srcQueueFamilyIndex = out.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-        out.buffer = readback.handle();
-        out.size = VK_WHOLE_SIZE;
-        vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 0, nullptr, 1, &out, 0,
-                             nullptr);
+        vk::bufferBarrier(cmd, readback.handle(), VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                          VK_ACCESS_HOST_READ_BIT, VK_PIPELINE_STAGE_HOST_BIT);
         // Hand the spectral target back in the layout the spectral pass left it in.
-        std::swap(in.oldLayout, in.newLayout);
-        in.srcAccessMask = VK_ACCESS_SHADER_READ_BIT;
-        in.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
-        vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 0, nullptr, 0,
-                             nullptr, 1, &in);
+        vk::imageBarrier(cmd, source.targetImage(), uint32_t(layers), sampled,
+                         {source.targetLayout(), VK_ACCESS_HOST_READ_BIT, VK_PIPELINE_STAGE_HOST_BIT});
     }
 
     DisplayImage read() {

@@ -1,0 +1,205 @@
+#include "render/spectral_packing.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace metamer {
+
+void scatterBands(const std::vector<double>& values, int pass, glm::vec4* dst) {
+    for (int k = 0; k < MAX_OUTPUTS; ++k)
+        for (int c = 0; c < 4; ++c) {
+            size_t b = size_t(pass) * BANDS_PER_PASS + size_t(k) * 4 + c;
+            dst[k][c] = b < values.size() ? float(values[b]) : 0.0f;
+        }
+}
+
+namespace {
+
+// The fluorescent radiance per unit geometric factor of every fluorescent material under every
+// light, F_l(λo) = (1/π)·Σᵢ D(λᵢ, λo)·E_l(λᵢ)·Δλ, in double, then rounded once to float. The
+// rank-one form is the matrix D = Φ·a(λᵢ)·ê(λo)·λᵢ/λo, which factors the sum:
+// F_l(λo) = (Φ/π)·ê(λo)/λo·Σᵢ a·E_l·λᵢ·Δλ. F is a radiance (× d² for a point light), so it is no
+// nearer float32's limits than the image itself; a value beyond them is refused, as a light is.
+void packFluorescence(PackedScene& p, const Scene& scene, const SceneOnGrid& g, const std::vector<size_t>& order,
+                      int passes) {
+    const size_t n = g.wavelengths_nm.size(), lights = order.size();
+    const double step = g.grid.step_nm;
+    p.lightSlots = std::max<int>(1, int(lights));
+    p.fluorescenceRecord.assign(g.materials.size(), 0);
+    std::vector<std::vector<double>> emitted;  // per fluorescent material: [light][band]
+    for (size_t mi = 0; mi < g.materials.size(); ++mi) {
+        const MaterialOnGrid& m = g.materials[mi];
+        if (!m.fluorescent || !p.fluorescenceSpectra) continue;
+        p.fluorescenceRecord[mi] = uint32_t(emitted.size() + 1);
+        std::vector<double> f(lights * n, 0.0);
+        for (size_t i = 0; i < lights; ++i) {
+            const std::vector<double>& E = g.lights[order[i]];
+            double* out = &f[i * n];
+            if (m.isMatrix()) {
+                for (size_t in = 0; in < n; ++in) {
+                    const double e = E[in] * step / M_PI;
+                    if (e == 0.0) continue;
+                    const double* row = &m.donaldson[in * n];
+                    for (size_t o = 0; o < n; ++o) out[o] += row[o] * e;
+                }
+            } else {
+                double absorbed = 0.0;  // Σ a·E·λ·Δλ
+                for (size_t b = 0; b < n; ++b) absorbed += m.excitation[b] * E[b] * g.wavelengths_nm[b] * step;
+                for (size_t o = 0; o < n; ++o)
+                    out[o] = m.quantum_yield / M_PI * m.emission[o] / g.wavelengths_nm[o] * absorbed;
+            }
+            for (size_t o = 0; o < n; ++o)
+                if (!(std::fabs(out[o]) <= double(std::numeric_limits<float>::max()))) {
+                    const Fluorescence& fl = *scene.materials[mi].fluorescence;
+                    failInput(fl.matrix ? fl.matrix->where : fl.excitation.where,
+                              "the fluorescence of material '{}' under {} is {:g} W·sr⁻¹·m⁻²·nm⁻¹ per unit geometric "
+                              "factor at {:g} nm, beyond the largest float32 ({:g}) the GPU path computes with",
+                              scene.materials[mi].name, scene.lights[order[i]].name, out[o], g.wavelengths_nm[o],
+                              double(std::numeric_limits<float>::max()));
+                }
+        }
+        emitted.push_back(std::move(f));
+    }
+    p.fluorescenceRecords = int(emitted.size()) + 1;
+    const size_t recordVec4 = size_t(p.lightSlots) * MAX_OUTPUTS;
+    if (!p.fluorescenceSpectra) {  // never read: one record of zeros for the binding
+        p.fluorescence.assign(recordVec4, glm::vec4(0.0f));
+        return;
+    }
+    p.fluorescence.assign(size_t(passes) * p.fluorescenceRecords * recordVec4, glm::vec4(0.0f));
+    std::vector<double> bands(n);
+    for (int pass = 0; pass < passes; ++pass)
+        for (size_t r = 1; r < size_t(p.fluorescenceRecords); ++r)
+            for (size_t i = 0; i < lights; ++i) {
+                const double* src = &emitted[r - 1][i * n];
+                bands.assign(src, src + n);
+                glm::vec4* dst = &p.fluorescence[((size_t(pass) * p.fluorescenceRecords + r) * p.lightSlots + i) * MAX_OUTPUTS];
+                scatterBands(bands, pass, dst);
+            }
+}
+
+}  // namespace
+
+PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes) {
+    checkMeshes(scene);  // the vertex and index arrays below are read as they promise
+    PackedScene p;
+    for (const auto& mesh : scene.meshes) {
+        if (mesh.indices.empty()) continue;
+        PackedDraw d{uint32_t(p.indices.size()), uint32_t(mesh.indices.size()), int32_t(p.vertices.size()), mesh.material};
+        auto vertex = [&p, &mesh](uint32_t i, const glm::dvec3& normal) {
+            glm::dvec2 uv = mesh.uvs.empty() ? glm::dvec2(0.0) : mesh.uvs[i];
+            glm::dvec4 t = mesh.tangents.empty() ? glm::dvec4(0.0) : mesh.tangents[i];
+            gpu::SpectralVertex v;
+            for (int k = 0; k < 3; ++k) v.position[k] = float(mesh.positions[i][k]);
+            for (int k = 0; k < 3; ++k) v.normal[k] = float(normal[k]);
+            for (int k = 0; k < 2; ++k) v.uv[k] = float(uv[k]);
+            for (int k = 0; k < 4; ++k) v.tangent[k] = float(t[k]);
+            p.vertices.push_back(v);
+        };
+        // Normals of (nearly) zero length, or none at all, are allowed by the model: the reference
+        // then shades with the face normal (docs/physics.md, "Two-sided shading"). A triangle
+        // with no usable normal at any corner gets its own three vertices carrying the face
+        // normal, computed here in double; spectral.frag falls back to a screen-space face normal
+        // only where usable normals cancel, which is less precise (~1e-5 rad).
+        const bool hasNormals = mesh.normals.size() == mesh.positions.size();
+        auto usable = [&](uint32_t i) { return hasNormals && glm::length(mesh.normals[i]) > 1e-12; };
+        for (size_t i = 0; i < mesh.positions.size(); ++i)
+            vertex(uint32_t(i), hasNormals ? mesh.normals[i] : glm::dvec3(0.0));
+        uint32_t next = uint32_t(mesh.positions.size());
+        for (size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
+            const uint32_t* tri = &mesh.indices[t];
+            if (usable(tri[0]) || usable(tri[1]) || usable(tri[2])) {
+                p.indices.insert(p.indices.end(), tri, tri + 3);
+                continue;
+            }
+            const glm::dvec3 &a = mesh.positions[tri[0]], &b = mesh.positions[tri[1]], &c = mesh.positions[tri[2]];
+            glm::dvec3 face = glm::cross(b - a, c - a);
+            const double len = glm::length(face);
+            face = len > 0.0 ? face / len : glm::dvec3(0.0);  // zero area: never rasterized
+            for (int k = 0; k < 3; ++k) {
+                vertex(tri[k], face);
+                p.indices.push_back(next++);
+            }
+        }
+        d.indexCount = uint32_t(p.indices.size()) - d.firstIndex;
+        p.draws.push_back(d);
+    }
+    // Lights sorted by kind (the shader loops over each kind without branching).
+    std::vector<size_t> order;
+    for (Light::Type type : {Light::Type::Ambient, Light::Type::Directional, Light::Type::Point})
+        for (size_t l = 0; l < scene.lights.size(); ++l)
+            if (scene.lights[l].type == type) {
+                order.push_back(l);
+                (type == Light::Type::Ambient ? p.ambient : type == Light::Type::Directional ? p.directional : p.point)++;
+            }
+    for (size_t i = 0; i < order.size(); ++i) {
+        const Light& light = scene.lights[order[i]];
+        if (light.type == Light::Type::Directional)
+            p.lights.lights[i].vector = glm::vec4(glm::vec3(-glm::normalize(light.direction)), 0.0f);
+        else if (light.type == Light::Type::Point)
+            p.lights.lights[i].vector = glm::vec4(glm::vec3(light.position), 1.0f);
+    }
+    // The shader holds E(λ) in float32: beyond its largest value E would become +Inf, and Inf × 0
+    // (a black band, a light behind the surface) NaN. Refused rather than rendered wrong.
+    for (size_t l = 0; l < scene.lights.size(); ++l)
+        for (size_t b = 0; b < g.lights[l].size(); ++b)
+            if (std::fabs(g.lights[l][b]) > double(std::numeric_limits<float>::max()))
+                failInput(scene.lights[l].spectrum.where,
+                          "light spectrum '{}' × scale {:g} is {:g} at {:g} nm, beyond the largest float32 ({:g}) "
+                          "the GPU path computes with",
+                          scene.lights[l].spectrum.spectrum.source, scene.lights[l].scale, g.lights[l][b],
+                          g.wavelengths_nm[b], double(std::numeric_limits<float>::max()));
+    p.lightSpectra.resize(passes);
+    for (int pass = 0; pass < passes; ++pass)
+        for (size_t i = 0; i < order.size(); ++i)
+            scatterBands(g.lights[order[i]], pass, &p.lightSpectra[pass].lightBands[i * MAX_OUTPUTS]);
+
+    // A Donaldson matrix does not factor into a coupling × a shape: a scene with one renders every
+    // fluorescent material from per-light spectra; other scenes keep the cheaper rank-one form.
+    p.fluorescenceSpectra = std::any_of(g.materials.begin(), g.materials.end(),
+                                        [](const MaterialOnGrid& m) { return m.fluorescent && m.isMatrix(); });
+    p.materials.resize(size_t(passes) * g.materials.size());
+    std::vector<double> emissionOverLambda;
+    for (size_t mi = 0; mi < g.materials.size(); ++mi) {
+        const MaterialOnGrid& m = g.materials[mi];
+        bool specular = std::any_of(m.specular.begin(), m.specular.end(), [](double v) { return v != 0.0; });
+        // View-independent fluorescence coupling per light, (Φ/π)·Σ a·E_l·λ·Δλ, summed in double
+        // so the shader only multiplies by the light's geometric factor.
+        std::vector<float> coupling(MAX_LIGHTS, 0.0f);
+        emissionOverLambda.assign(m.diffuse.size(), 0.0);
+        if (m.fluorescent && !p.fluorescenceSpectra) {
+            double largest = 0.0;
+            for (size_t i = 0; i < m.emission.size(); ++i) {
+                emissionOverLambda[i] = m.emission[i] / g.wavelengths_nm[i];
+                largest = std::max(largest, emissionOverLambda[i]);
+            }
+            // The coupling is the radiance over ê/λ (~1e-5 nm⁻² for a dye), so in float32 it would
+            // overflow ~1e5 times sooner than the radiance does (at a light scale of ~1e35).
+            // Moving a power of two from ê/λ into it keeps both near the radiance's magnitude and
+            // leaves their product the same bit for bit.
+            const int shift = largest > 0.0 ? std::ilogb(largest) : 0;
+            for (double& v : emissionOverLambda) v = std::ldexp(v, -shift);
+            for (size_t i = 0; i < order.size(); ++i) {
+                const auto& E = g.lights[order[i]];
+                double sum = 0.0;
+                for (size_t b = 0; b < E.size(); ++b) sum += m.excitation[b] * E[b] * g.wavelengths_nm[b];
+                coupling[i] = float(std::ldexp(m.quantum_yield / M_PI * sum * g.grid.step_nm, shift));
+            }
+        }
+        for (int pass = 0; pass < passes; ++pass) {
+            gpu::GpuMaterialBlock& b = p.materials[size_t(pass) * g.materials.size() + mi];
+            scatterBands(m.diffuse, pass, b.diffuse);
+            scatterBands(m.specular, pass, b.specular);
+            scatterBands(emissionOverLambda, pass, b.emissionOverLambda);
+            b.params = glm::vec4(float(m.gloss), m.fluorescent ? 1.0f : 0.0f, specular ? 1.0f : 0.0f, 0.0f);
+            b.textures = glm::vec4(m.diffuseTexture >= 0 ? 1.0f : 0.0f, m.specularTexture >= 0 ? 1.0f : 0.0f,
+                                   m.normalTexture >= 0 ? 1.0f : 0.0f, float(pass * MAX_OUTPUTS));
+            for (int l = 0; l < MAX_LIGHTS; ++l) b.coupling[l / 4][l % 4] = coupling[l];
+        }
+    }
+    packFluorescence(p, scene, g, order, passes);
+    return p;
+}
+
+}  // namespace metamer

@@ -1,0 +1,50 @@
+// The spectral pass's packing: everything the fragment shader reads, laid out per pass for the
+// uniform blocks of shaders/interface.h, and the vertex and index arrays — plain C++, computed
+// once per scene in double and rounded once to float, with no Vulkan object. The pass
+// (render/spectral_pass) uploads it. Tests: render/spectral_packing_test.cpp.
+#pragma once
+
+#include "interface.h"
+#include "scene/scene.h"
+#include "scene/scene_on_grid.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace metamer {
+
+// One draw call: a mesh's indices, with its material.
+struct PackedDraw {
+    uint32_t firstIndex, indexCount;
+    int32_t vertexOffset;
+    uint32_t material;
+};
+
+// Everything the fragment shader reads, packed per pass for the uniform blocks of interface.h.
+struct PackedScene {
+    std::vector<gpu::SpectralVertex> vertices;
+    std::vector<uint32_t> indices;
+    std::vector<PackedDraw> draws;
+    int ambient = 0, directional = 0, point = 0;  // light counts, in this order in every block
+    gpu::GpuLightBlock lights{};
+    std::vector<gpu::GpuLightSpectraBlock> lightSpectra;  // per pass
+    std::vector<gpu::GpuMaterialBlock> materials;         // per pass × material: [pass][material]
+    // Fluorescence as per-light spectra (scenes with a Donaldson matrix; interface.h,
+    // GpuFluorescenceBlock): records of lightSlots × MAX_OUTPUTS vec4; per pass, record 0 is zeros
+    // (non-fluorescent materials, and the only record when fluorescenceSpectra is false) and record
+    // 1 + j the j-th fluorescent material's. [pass][record][light][k].
+    bool fluorescenceSpectra = false;
+    int lightSlots = 1;  // max(1, light count)
+    int fluorescenceRecords = 1;                  // per pass
+    std::vector<uint32_t> fluorescenceRecord;     // per material: its record in every pass
+    std::vector<glm::vec4> fluorescence;
+};
+
+// Band b of pass p lives at vec4 k = (b - 32p) / 4, component (b - 32p) % 4; bands past the grid are 0.
+void scatterBands(const std::vector<double>& values, int pass, glm::vec4* dst);
+
+// The scene packed for `passes` passes of BANDS_PER_PASS bands. Input errors (lights or
+// fluorescence beyond float32's range) name the scene's key.
+PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes);
+
+}  // namespace metamer

@@ -1,0 +1,43 @@
+// What the spectral pass is asked for and what it decides for a scene, before any Vulkan object
+// is made: shared by the pass (render/spectral_pass.h) and its resources
+// (render/spectral_resources.h).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+
+namespace metamer {
+
+enum class Readback {
+    Auto,  // map a LINEAR host-visible image where the device allows it, else copy
+    Map,   // require mapping (error if unsupported)
+    Copy,  // render to an OPTIMAL image and copy to a host buffer
+};
+
+struct SpectralPassOptions {
+    int ssaa = 1;  // s×s samples per pixel, box-filtered (1, 2, 3 or 4)
+    Readback readback = Readback::Auto;
+    bool sampled = false;  // the target is also read by a later pass (the tonemap pass)
+    // Render the image in horizontal strips of this many rows (0: the whole image at once), for
+    // images larger than memory: setStrip() chooses the rows, readback() returns that strip.
+    int stripRows = 0;
+};
+
+// What this scene needs from the GPU: decided once, before any Vulkan object is made.
+struct SpectralPassPlan {
+    int bands = 0;
+    int layers = 0;          // ceil(bands / 4)
+    int passes = 0;          // ceil(layers / 8)
+    int lightCount = 0;
+    bool hasSpecular = false;
+    bool hasFluorescence = false;
+    bool fluorescenceSpectra = false;  // a Donaldson matrix: fluorescence as per-light spectra (interface.h)
+    int ssaa = 1;
+    uint32_t targetWidth = 0, targetHeight = 0;  // render-target size (× ssaa)
+    bool mappedReadback = false;
+    size_t targetBytes = 0;  // the layered colour target
+    std::string describe() const;
+};
+
+}  // namespace metamer

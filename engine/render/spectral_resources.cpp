@@ -1,0 +1,480 @@
+#include "render/spectral_resources.h"
+
+#include "interface.h"
+#include "vk/barrier.h"
+#include "vk/pipeline.h"
+
+#include "spectral.frag.1.spv.h"
+#include "spectral.frag.2.spv.h"
+#include "spectral.frag.3.spv.h"
+#include "spectral.frag.4.spv.h"
+#include "spectral.frag.5.spv.h"
+#include "spectral.frag.6.spv.h"
+#include "spectral.frag.7.spv.h"
+#include "spectral.frag.8.spv.h"
+#include "spectral.vert.spv.h"
+
+#include <algorithm>
+#include <cstddef>
+
+namespace metamer {
+
+namespace {
+
+struct SpirvCode {
+    const uint32_t* code;
+    size_t bytes;
+};
+// spectral.frag built for 1..8 colour attachments (index = count - 1).
+const SpirvCode kSpectralFrag[MAX_OUTPUTS] = {
+    {kSpirv_spectral_frag_1, sizeof(kSpirv_spectral_frag_1)}, {kSpirv_spectral_frag_2, sizeof(kSpirv_spectral_frag_2)},
+    {kSpirv_spectral_frag_3, sizeof(kSpirv_spectral_frag_3)}, {kSpirv_spectral_frag_4, sizeof(kSpirv_spectral_frag_4)},
+    {kSpirv_spectral_frag_5, sizeof(kSpirv_spectral_frag_5)}, {kSpirv_spectral_frag_6, sizeof(kSpirv_spectral_frag_6)},
+    {kSpirv_spectral_frag_7, sizeof(kSpirv_spectral_frag_7)}, {kSpirv_spectral_frag_8, sizeof(kSpirv_spectral_frag_8)},
+};
+
+}  // namespace
+
+SpectralResources::SpectralResources(vk::Context& c, const Scene& s, const SceneOnGrid& spectra,
+                                     const PackedScene& p, SpectralPassPlan& pl, const SpectralPassOptions& options)
+    : ctx(c), scene(s), packed(p), plan(pl) {
+    createBuffers();
+    for (const MaterialOnGrid& mat : spectra.materials)
+        materialTextures.push_back({mat.diffuseTexture, mat.specularTexture, mat.normalTexture});
+    createTextures(spectra);
+    createTargets(options.readback, options.sampled, pl);
+    createLayouts();
+    createPasses();
+}
+
+VkDeviceSize SpectralResources::aligned(VkDeviceSize size) const {
+    VkDeviceSize a = std::max<VkDeviceSize>(16, ctx.properties().limits.minUniformBufferOffsetAlignment);
+    return (size + a - 1) / a * a;
+}
+
+// Copies `count` records of `size` bytes into a uniform buffer with records `stride` apart.
+vk::Buffer SpectralResources::uniforms(const void* data, size_t size, size_t count, VkDeviceSize stride,
+                                       const char* name) {
+    vk::Buffer b(ctx, std::max<VkDeviceSize>(stride * std::max<size_t>(count, 1), 16),
+                 VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, name);
+    for (size_t i = 0; i < count; ++i) b.upload(static_cast<const char*>(data) + i * size, size, i * stride);
+    return b;
+}
+
+void SpectralResources::createBuffers() {
+    if (!packed.vertices.empty()) {
+        const size_t bytes = packed.vertices.size() * sizeof(gpu::SpectralVertex);
+        vertexBuffer = vk::Buffer(ctx, bytes, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, "vertices");
+        vertexBuffer.upload(packed.vertices.data(), bytes);
+        indexBuffer = vk::Buffer(ctx, packed.indices.size() * 4, VK_BUFFER_USAGE_INDEX_BUFFER_BIT, "indices");
+        indexBuffer.upload(packed.indices.data(), packed.indices.size() * 4);
+    }
+    lightBuffer = uniforms(&packed.lights, sizeof(gpu::GpuLightBlock), 1, sizeof(gpu::GpuLightBlock), "lights");
+    lightSpectraStride = aligned(sizeof(gpu::GpuLightSpectraBlock));
+    lightSpectraBuffer = uniforms(packed.lightSpectra.data(), sizeof(gpu::GpuLightSpectraBlock),
+                                  packed.lightSpectra.size(), lightSpectraStride, "light spectra");
+    materialStride = aligned(sizeof(gpu::GpuMaterialBlock));
+    materialBuffer = uniforms(packed.materials.data(), sizeof(gpu::GpuMaterialBlock), packed.materials.size(),
+                              materialStride, "materials");
+    // Fluorescence records are sized to the scene's lights, but bound with the whole block's
+    // range: the buffer extends past the last record so that range stays inside it.
+    const size_t recordBytes = size_t(packed.lightSlots) * MAX_OUTPUTS * sizeof(glm::vec4);
+    const size_t records = packed.fluorescence.size() / (size_t(packed.lightSlots) * MAX_OUTPUTS);
+    fluorescenceStride = aligned(recordBytes);
+    fluorescenceBuffer = vk::Buffer(ctx, (records - 1) * fluorescenceStride + sizeof(gpu::GpuFluorescenceBlock),
+                                    VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, "fluorescence");
+    std::vector<char> zeros(sizeof(gpu::GpuFluorescenceBlock) - recordBytes, 0);
+    for (size_t r = 0; r < records; ++r)
+        fluorescenceBuffer.upload(&packed.fluorescence[r * packed.lightSlots * MAX_OUTPUTS], recordBytes,
+                                  r * fluorescenceStride);
+    if (!zeros.empty())  // the tail past the last record: never read, but defined
+        fluorescenceBuffer.upload(zeros.data(), zeros.size(), (records - 1) * fluorescenceStride + recordBytes);
+}
+
+// Each texture as an RGBA32F 2D-array image, 4 channels per layer (zero-padded), copied from a
+// staging buffer; the last image is a 1×1 placeholder for untextured slots.
+void SpectralResources::createTextures(const SceneOnGrid& g) {
+    std::vector<const TextureOnGrid*> list;
+    for (const auto& t : g.textures) list.push_back(&t);
+    TextureOnGrid placeholder;
+    placeholder.width = placeholder.height = 1;
+    placeholder.channels = 4;
+    placeholder.data.assign(4, 0.0f);
+    list.push_back(&placeholder);
+    const auto& limits = ctx.properties().limits;
+    for (const TextureOnGrid* t : list) {
+        uint32_t layers = uint32_t((t->channels + 3) / 4);
+        if (uint32_t(t->width) > limits.maxImageDimension2D || uint32_t(t->height) > limits.maxImageDimension2D ||
+            layers > limits.maxImageArrayLayers)
+            failInput(Where{scene.file.string(), "materials"},
+                      "a {}×{} texture with {} layers exceeds the device's limits ({} texels per side, {} layers)",
+                      t->width, t->height, layers, limits.maxImageDimension2D, limits.maxImageArrayLayers);
+        vk::ImageDesc d;
+        d.width = uint32_t(t->width);
+        d.height = uint32_t(t->height);
+        d.layers = layers;
+        d.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+        d.name = "texture";
+        vk::Image image(ctx, d);
+        // Layer-major staging: layer l holds channels 4l..4l+3 of every texel.
+        const size_t texels = size_t(t->width) * t->height;
+        vk::Buffer staging(ctx, texels * layers * 16, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, "texture staging");
+        float* out = static_cast<float*>(staging.mapped());
+        for (uint32_t l = 0; l < layers; ++l)
+            for (size_t p = 0; p < texels; ++p)
+                for (int c = 0; c < 4; ++c) {
+                    int ch = int(l) * 4 + c;
+                    out[(l * texels + p) * 4 + c] = ch < t->channels ? t->data[p * t->channels + ch] : 0.0f;
+                }
+        staging.flush();
+        ctx.submitAndWait([&](VkCommandBuffer cmd) {
+            const vk::ImageUse undefined{VK_IMAGE_LAYOUT_UNDEFINED, 0, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT};
+            const vk::ImageUse copyTarget{VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_ACCESS_TRANSFER_WRITE_BIT,
+                                          VK_PIPELINE_STAGE_TRANSFER_BIT};
+            const vk::ImageUse sampled{VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_ACCESS_SHADER_READ_BIT,
+                                       VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT};
+            vk::imageBarrier(cmd, image.handle(), layers, undefined, copyTarget);
+            VkBufferImageCopy region{};
+            region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, layers};
+            region.imageExtent = {d.width, d.height, 1};
+            vkCmdCopyBufferToImage(cmd, staging.handle(), image.handle(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1,
+                                   &region);
+            vk::imageBarrier(cmd, image.handle(), layers, copyTarget, sampled);
+        });
+        textures.push_back(std::move(image));
+    }
+}
+
+void SpectralResources::createTargets(Readback mode, bool sampled, SpectralPassPlan& plan) {
+    uint32_t w = plan.targetWidth, h = plan.targetHeight, layers = uint32_t(plan.layers);
+    VkImageUsageFlags sampledBit = sampled ? VK_IMAGE_USAGE_SAMPLED_BIT : 0;
+    bool tryMap = mode != Readback::Copy &&
+                  vk::supportsLinearRenderTarget(ctx, VK_FORMAT_R32G32B32A32_SFLOAT, w, h, layers, sampled);
+    if (mode == Readback::Map && !tryMap)
+        failRuntime("--readback map: this device cannot render into a linear host-visible {}×{}×{} image",
+                    w, h, layers);
+    vk::ImageDesc cd;
+    cd.width = w;
+    cd.height = h;
+    cd.layers = layers;
+    cd.name = "spectral target";
+    if (tryMap) {
+        cd.tiling = VK_IMAGE_TILING_LINEAR;
+        cd.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT | sampledBit;
+        cd.hostVisible = true;
+        try {
+            color = vk::Image(ctx, cd);
+            plan.mappedReadback = true;
+        } catch (const Error&) {
+            if (mode == Readback::Map) throw;
+            tryMap = false;  // e.g. no host-visible memory type fits this image: copy instead
+        }
+    }
+    if (!tryMap) {
+        cd.tiling = VK_IMAGE_TILING_OPTIMAL;
+        cd.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
+                   VK_IMAGE_USAGE_TRANSFER_DST_BIT | sampledBit;
+        cd.hostVisible = false;
+        color = vk::Image(ctx, cd);
+        plan.mappedReadback = false;
+        readbackBuffer = vk::Buffer(ctx, plan.targetBytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, "readback");
+    }
+    vk::ImageDesc dd;
+    dd.format = VK_FORMAT_D32_SFLOAT;
+    dd.width = w;
+    dd.height = h;
+    dd.usage = VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT;
+    dd.name = "depth";
+    depth = vk::Image(ctx, dd);
+}
+
+void SpectralResources::createLayouts() {
+    VkDevice d = ctx.device();
+    constexpr int kBindings = 4;
+    VkDescriptorSetLayoutBinding bindings[kBindings] = {
+        {BINDING_LIGHTS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
+        {BINDING_LIGHT_SPECTRA, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
+        {BINDING_MATERIAL, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
+        {BINDING_FLUORESCENCE, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
+    };
+    VkDescriptorSetLayoutCreateInfo sl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+    sl.bindingCount = kBindings;
+    sl.pBindings = bindings;
+    VkDescriptorSetLayout handle = VK_NULL_HANDLE;
+    VK_CHECK(vkCreateDescriptorSetLayout(d, &sl, nullptr, &handle));
+    setLayout = vk::OwnedDescriptorSetLayout(d, handle);
+    VkPushConstantRange range{VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
+                              sizeof(gpu::SpectralPushConstants)};
+    VkDescriptorSetLayoutBinding textureBindings[TEXTURE_BINDINGS];
+    for (uint32_t i = 0; i < TEXTURE_BINDINGS; ++i)
+        textureBindings[i] = {i, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr};
+    VkDescriptorSetLayoutCreateInfo tl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+    tl.bindingCount = TEXTURE_BINDINGS;
+    tl.pBindings = textureBindings;
+    VK_CHECK(vkCreateDescriptorSetLayout(d, &tl, nullptr, &handle));
+    textureSetLayout = vk::OwnedDescriptorSetLayout(d, handle);
+    VkDescriptorSetLayout layouts[2] = {setLayout.get(), textureSetLayout.get()};
+    VkPipelineLayoutCreateInfo pl{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    pl.setLayoutCount = 2;
+    pl.pSetLayouts = layouts;
+    pl.pushConstantRangeCount = 1;
+    pl.pPushConstantRanges = &range;
+    VkPipelineLayout layout = VK_NULL_HANDLE;
+    VK_CHECK(vkCreatePipelineLayout(d, &pl, nullptr, &layout));
+    pipelineLayout = vk::OwnedPipelineLayout(d, layout);
+
+    const uint32_t materialCount = uint32_t(std::max<size_t>(1, scene.materials.size()));
+    VkDescriptorPoolSize sizes[3] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1},
+                                     {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC, 3},
+                                     {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, TEXTURE_BINDINGS * materialCount}};
+    VkDescriptorPoolCreateInfo pci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+    pci.maxSets = 1 + materialCount;
+    pci.poolSizeCount = 3;
+    pci.pPoolSizes = sizes;
+    VkDescriptorPool pool = VK_NULL_HANDLE;
+    VK_CHECK(vkCreateDescriptorPool(d, &pci, nullptr, &pool));
+    descriptorPool = vk::OwnedDescriptorPool(d, pool);
+    VkDescriptorSetLayout set0 = setLayout.get();
+    VkDescriptorSetAllocateInfo ai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+    ai.descriptorPool = pool;
+    ai.descriptorSetCount = 1;
+    ai.pSetLayouts = &set0;
+    VK_CHECK(vkAllocateDescriptorSets(d, &ai, &descriptorSet));
+    VkDescriptorBufferInfo infos[kBindings] = {
+        {lightBuffer.handle(), 0, sizeof(gpu::GpuLightBlock)},
+        {lightSpectraBuffer.handle(), 0, sizeof(gpu::GpuLightSpectraBlock)},
+        {materialBuffer.handle(), 0, sizeof(gpu::GpuMaterialBlock)},
+        {fluorescenceBuffer.handle(), 0, sizeof(gpu::GpuFluorescenceBlock)}};
+    VkWriteDescriptorSet writes[kBindings];
+    for (int i = 0; i < kBindings; ++i) {
+        writes[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+        writes[i].dstSet = descriptorSet;
+        writes[i].dstBinding = bindings[i].binding;
+        writes[i].descriptorCount = 1;
+        writes[i].descriptorType = bindings[i].descriptorType;
+        writes[i].pBufferInfo = &infos[i];
+    }
+    vkUpdateDescriptorSets(d, kBindings, writes, 0, nullptr);
+
+    // Set 1 per material: its textures, or the placeholder (texelFetch ignores the sampler's
+    // filter; it must still be a valid sampler).
+    VkSamplerCreateInfo sci{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+    sci.magFilter = sci.minFilter = VK_FILTER_NEAREST;
+    sci.mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
+    sci.addressModeU = sci.addressModeV = sci.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+    VkSampler sampler = VK_NULL_HANDLE;
+    VK_CHECK(vkCreateSampler(d, &sci, nullptr, &sampler));
+    textureSampler = vk::OwnedSampler(d, sampler);
+    std::vector<VkDescriptorSetLayout> setLayouts(materialCount, textureSetLayout.get());
+    materialSets.resize(materialCount);
+    VkDescriptorSetAllocateInfo mai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+    mai.descriptorPool = pool;
+    mai.descriptorSetCount = materialCount;
+    mai.pSetLayouts = setLayouts.data();
+    VK_CHECK(vkAllocateDescriptorSets(d, &mai, materialSets.data()));
+    for (uint32_t m = 0; m < materialCount; ++m) {
+        int slot[TEXTURE_BINDINGS] = {-1, -1, -1};
+        if (m < materialTextures.size()) {
+            slot[TEXTURE_BINDING_DIFFUSE] = materialTextures[m][0];
+            slot[TEXTURE_BINDING_SPECULAR] = materialTextures[m][1];
+            slot[TEXTURE_BINDING_NORMAL] = materialTextures[m][2];
+        }
+        VkDescriptorImageInfo images[TEXTURE_BINDINGS];
+        VkWriteDescriptorSet tw[TEXTURE_BINDINGS];
+        for (uint32_t i = 0; i < TEXTURE_BINDINGS; ++i) {
+            vk::Image& image = slot[i] >= 0 ? textures[size_t(slot[i])] : textures.back();
+            images[i] = {sampler, image.layerView(~0u), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+            tw[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+            tw[i].dstSet = materialSets[m];
+            tw[i].dstBinding = i;
+            tw[i].descriptorCount = 1;
+            tw[i].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+            tw[i].pImageInfo = &images[i];
+        }
+        vkUpdateDescriptorSets(d, TEXTURE_BINDINGS, tw, 0, nullptr);
+    }
+
+    vert = vk::OwnedShaderModule(d, vk::createShaderModule(d, kSpirv_spectral_vert, sizeof(kSpirv_spectral_vert)));
+}
+
+// attachments == 0: the depth pre-pass (clears and writes depth). Otherwise a colour pass that
+// loads the pre-pass's depth and shades only the visible surface (depth test EQUAL), so every
+// pixel is shaded once per pass whatever the overdraw.
+VkRenderPass SpectralResources::makeRenderPass(uint32_t attachments) {
+    std::vector<VkAttachmentDescription> descs;
+    std::vector<VkAttachmentReference> refs;
+    VkImageLayout finalLayout =
+        plan.mappedReadback ? VK_IMAGE_LAYOUT_GENERAL : VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+    for (uint32_t i = 0; i < attachments; ++i) {
+        VkAttachmentDescription a{};
+        a.format = VK_FORMAT_R32G32B32A32_SFLOAT;
+        a.samples = VK_SAMPLE_COUNT_1_BIT;
+        // Cleared once per frame by vkCmdClearColorImage in record(), not by the render pass:
+        // lavapipe (Mesa 22.3) leaks about a target's size of memory per render-pass clear of
+        // array-layer views (measured: +20 MB per frame at 256² × 89 bands).
+        a.loadOp = VK_ATTACHMENT_LOAD_OP_LOAD;
+        a.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+        a.stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
+        a.stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+        a.initialLayout = VK_IMAGE_LAYOUT_GENERAL;
+        a.finalLayout = finalLayout;
+        descs.push_back(a);
+        refs.push_back({i, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL});
+    }
+    VkAttachmentDescription da{};
+    da.format = VK_FORMAT_D32_SFLOAT;
+    da.samples = VK_SAMPLE_COUNT_1_BIT;
+    bool prePass = attachments == 0;
+    da.loadOp = prePass ? VK_ATTACHMENT_LOAD_OP_CLEAR : VK_ATTACHMENT_LOAD_OP_LOAD;
+    da.storeOp = VK_ATTACHMENT_STORE_OP_STORE;  // every later pass loads it
+    da.stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
+    da.stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+    da.initialLayout = prePass ? VK_IMAGE_LAYOUT_UNDEFINED : VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
+    da.finalLayout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
+    descs.push_back(da);
+    VkAttachmentReference depthRef{attachments, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
+
+    VkSubpassDescription sub{};
+    sub.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
+    sub.colorAttachmentCount = attachments;
+    sub.pColorAttachments = refs.data();
+    sub.pDepthStencilAttachment = &depthRef;
+    // The depth image is shared by every pass: wait for the pre-pass's depth writes.
+    VkSubpassDependency dep{};
+    dep.srcSubpass = VK_SUBPASS_EXTERNAL;
+    dep.dstSubpass = 0;
+    dep.srcStageMask = VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT;
+    dep.dstStageMask = VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT;
+    dep.srcAccessMask = VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
+    dep.dstAccessMask = VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
+    VkRenderPassCreateInfo rp{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO};
+    rp.attachmentCount = uint32_t(descs.size());
+    rp.pAttachments = descs.data();
+    rp.subpassCount = 1;
+    rp.pSubpasses = &sub;
+    rp.dependencyCount = 1;
+    rp.pDependencies = &dep;
+    VkRenderPass r;
+    VK_CHECK(vkCreateRenderPass(ctx.device(), &rp, nullptr, &r));
+    renderPasses.emplace_back(ctx.device(), r);
+    return r;
+}
+
+// attachments == 0: the depth pre-pass pipeline (vertex stage only).
+VkPipeline SpectralResources::makePipeline(VkRenderPass renderPass, uint32_t attachments) {
+    const gpu::SpectralSpecialization spec{packed.ambient,       packed.directional,   packed.point,
+                                           plan.hasSpecular,     plan.hasFluorescence, scene.hasTextures(),
+                                           scene.hasNormalMaps(), plan.fluorescenceSpectra};
+    // interface.h orders the struct's 4-byte fields by id.
+    VkSpecializationMapEntry entries[SPEC_FLUORESCENCE_SPECTRA + 1];
+    for (uint32_t id = 0; id <= SPEC_FLUORESCENCE_SPECTRA; ++id) entries[id] = {id, id * 4, 4};
+    VkSpecializationInfo si{SPEC_FLUORESCENCE_SPECTRA + 1, entries, sizeof(spec), &spec};
+    bool prePass = attachments == 0;
+    VkShaderModule frag = VK_NULL_HANDLE;
+    if (!prePass) {
+        const SpirvCode& fragCode = kSpectralFrag[attachments - 1];
+        frag = vk::createShaderModule(ctx.device(), fragCode.code, fragCode.bytes);
+    }
+    vk::GraphicsPipelineDesc d;
+    d.renderPass = renderPass;
+    d.layout = pipelineLayout.get();
+    d.vertex = vert.get();
+    d.fragment = frag;
+    d.fragmentSpecialization = &si;
+    using V = gpu::SpectralVertex;
+    d.bindings = {{0, sizeof(V), VK_VERTEX_INPUT_RATE_VERTEX}};
+    d.attributes = {{VERTEX_POSITION, 0, VK_FORMAT_R32G32B32_SFLOAT, uint32_t(offsetof(V, position))},
+                    {VERTEX_NORMAL, 0, VK_FORMAT_R32G32B32_SFLOAT, uint32_t(offsetof(V, normal))},
+                    {VERTEX_UV, 0, VK_FORMAT_R32G32_SFLOAT, uint32_t(offsetof(V, uv))},
+                    {VERTEX_TANGENT, 0, VK_FORMAT_R32G32B32A32_SFLOAT, uint32_t(offsetof(V, tangent))}};
+    d.width = plan.targetWidth;
+    d.height = plan.targetHeight;
+    d.colorAttachments = attachments;
+    d.depthTest = true;
+    d.depthWrite = prePass;
+    // Same vertex shader (gl_Position is invariant) → the same depth in every pass.
+    d.depthCompare = prePass ? VK_COMPARE_OP_LESS : VK_COMPARE_OP_EQUAL;
+    const vk::OwnedShaderModule fragModule(ctx.device(), frag);  // the pipeline keeps what it needs
+    pipelines.emplace_back(ctx.device(), vk::createGraphicsPipeline(ctx.device(), d));
+    return pipelines.back().get();
+}
+
+void SpectralResources::createPasses() {
+    {
+        PassObjects& pre = depthPrePass;
+        pre.renderPass = makeRenderPass(0);
+        pre.pipeline = makePipeline(pre.renderPass, 0);
+        VkImageView view = depth.layerView(0);
+        VkFramebufferCreateInfo fb{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
+        fb.renderPass = pre.renderPass;
+        fb.attachmentCount = 1;
+        fb.pAttachments = &view;
+        fb.width = plan.targetWidth;
+        fb.height = plan.targetHeight;
+        fb.layers = 1;
+        VkFramebuffer framebuffer = VK_NULL_HANDLE;
+        VK_CHECK(vkCreateFramebuffer(ctx.device(), &fb, nullptr, &framebuffer));
+        pre.framebuffer = vk::OwnedFramebuffer(ctx.device(), framebuffer);
+    }
+    // One render pass + pipeline per distinct attachment count (at most two: 8 and the rest).
+    VkRenderPass rpFull = VK_NULL_HANDLE, rpLast = VK_NULL_HANDLE;
+    VkPipeline plFull = VK_NULL_HANDLE, plLast = VK_NULL_HANDLE;
+    for (int p = 0; p < plan.passes; ++p) {
+        PassObjects po;
+        po.firstLayer = uint32_t(p * MAX_OUTPUTS);
+        po.attachments = std::min<uint32_t>(MAX_OUTPUTS, uint32_t(plan.layers) - po.firstLayer);
+        bool full = po.attachments == MAX_OUTPUTS;
+        VkRenderPass& rp = full ? rpFull : rpLast;
+        VkPipeline& pl = full ? plFull : plLast;
+        if (rp == VK_NULL_HANDLE) {
+            rp = makeRenderPass(po.attachments);
+            pl = makePipeline(rp, po.attachments);
+        }
+        po.renderPass = rp;
+        po.pipeline = pl;
+        std::vector<VkImageView> views;
+        for (uint32_t i = 0; i < po.attachments; ++i) views.push_back(color.layerView(po.firstLayer + i));
+        views.push_back(depth.layerView(0));
+        VkFramebufferCreateInfo fb{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
+        fb.renderPass = rp;
+        fb.attachmentCount = uint32_t(views.size());
+        fb.pAttachments = views.data();
+        fb.width = plan.targetWidth;
+        fb.height = plan.targetHeight;
+        fb.layers = 1;
+        VkFramebuffer framebuffer = VK_NULL_HANDLE;
+        VK_CHECK(vkCreateFramebuffer(ctx.device(), &fb, nullptr, &framebuffer));
+        po.framebuffer = vk::OwnedFramebuffer(ctx.device(), framebuffer);
+        passes.push_back(std::move(po));
+    }
+}
+std::vector<VkRenderPass> passRenderPass;
+std::vector<VkPipeline> passPipeline;
+
+LayeredView SpectralResources::mapTarget() {
+    LayeredView a;
+    if (plan.mappedReadback) {
+        color.invalidate();
+        VkImageSubresource sub{VK_IMAGE_ASPECT_COLOR_BIT, 0, 0};
+        VkSubresourceLayout layout;
+        vkGetImageSubresourceLayout(ctx.device(), color.handle(), &sub, &layout);
+        a.base = static_cast<const char*>(color.mapped()) + layout.offset;
+        a.rowPitch = layout.rowPitch;
+        a.layerPitch = layout.arrayPitch;
+        if (plan.layers > 1 && a.layerPitch == 0) {
+            // Some drivers report no arrayPitch; ask for layer 1's offset instead.
+            VkImageSubresource sub1{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1};
+            VkSubresourceLayout l1;
+            vkGetImageSubresourceLayout(ctx.device(), color.handle(), &sub1, &l1);
+            a.layerPitch = l1.offset - layout.offset;
+        }
+    } else {
+        readbackBuffer.invalidate();
+        a.base = static_cast<const char*>(readbackBuffer.mapped());
+        a.rowPitch = size_t(plan.targetWidth) * 16;
+        a.layerPitch = a.rowPitch * plan.targetHeight;
+    }
+    return a;
+}
+
+}  // namespace metamer

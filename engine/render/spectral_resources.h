@@ -1,0 +1,82 @@
+// The Vulkan objects of one spectral pass, made once per scene from its packed data
+// (render/spectral_packing.h) and plan: uniform and vertex buffers, texture images, the layered
+// colour target and its depth buffer, descriptor sets, one render pass + pipeline per attachment
+// count and a framebuffer per pass. Everything is owned (vk/handle.h) and freed with the struct.
+// recordSpectralFrame writes a frame's commands. Used by render/spectral_pass.cpp; tested
+// through it (tests/gpu_known_answer_test.cpp, tests/gpu_vs_reference_test.cpp).
+#pragma once
+
+#include "render/camera_matrices.h"
+#include "render/spectral_packing.h"
+#include "render/spectral_plan.h"
+#include "render/target_readback.h"
+#include "scene/scene.h"
+#include "scene/scene_on_grid.h"
+#include "vk/context.h"
+#include "vk/handle.h"
+#include "vk/resources.h"
+
+#include <array>
+#include <vector>
+
+namespace metamer {
+
+struct SpectralResources {
+    // One render pass of up to MAX_OUTPUTS attachments (layers firstLayer …), or the depth pre-pass
+    // (attachments 0). Passes with the same attachment count share a render pass and a pipeline.
+    struct PassObjects {
+        uint32_t firstLayer = 0, attachments = 0;
+        VkRenderPass renderPass = VK_NULL_HANDLE;
+        VkPipeline pipeline = VK_NULL_HANDLE;
+        vk::OwnedFramebuffer framebuffer;
+    };
+
+    // Makes every object; `plan` gets mappedReadback (whether the target is read by mapping).
+    SpectralResources(vk::Context& ctx, const Scene& scene, const SceneOnGrid& spectra, const PackedScene& packed,
+                      SpectralPassPlan& plan, const SpectralPassOptions& options);
+
+    // The target drawn last, as host memory (made visible to the host first).
+    LayeredView mapTarget();
+
+    vk::Context& ctx;
+    const Scene& scene;
+    const PackedScene& packed;
+    const SpectralPassPlan& plan;
+
+    vk::Buffer vertexBuffer, indexBuffer, lightBuffer, lightSpectraBuffer, materialBuffer, fluorescenceBuffer,
+        readbackBuffer;
+    VkDeviceSize lightSpectraStride = 0, materialStride = 0, fluorescenceStride = 0;  // dynamic-offset strides
+    vk::Image color, depth;
+    // Textures (one image per SceneOnGrid texture, then a placeholder) and one descriptor set of
+    // set 1 per material.
+    std::vector<vk::Image> textures;
+    std::vector<std::array<int, 3>> materialTextures;  // per material: diffuse, specular, normal texture
+    vk::OwnedSampler textureSampler;
+    vk::OwnedDescriptorSetLayout setLayout, textureSetLayout;
+    vk::OwnedPipelineLayout pipelineLayout;
+    vk::OwnedDescriptorPool descriptorPool;  // frees the sets with it
+    VkDescriptorSet descriptorSet = VK_NULL_HANDLE;
+    std::vector<VkDescriptorSet> materialSets;
+    vk::OwnedShaderModule vert;
+    std::vector<vk::OwnedRenderPass> renderPasses;  // the depth pre-pass's, then one per attachment count
+    std::vector<vk::OwnedPipeline> pipelines;
+    PassObjects depthPrePass;
+    std::vector<PassObjects> passes;
+
+private:
+    VkDeviceSize aligned(VkDeviceSize size) const;
+    vk::Buffer uniforms(const void* data, size_t size, size_t count, VkDeviceSize stride, const char* name);
+    void createBuffers();
+    void createTextures(const SceneOnGrid& g);
+    void createTargets(Readback mode, bool sampled, SpectralPassPlan& plan);
+    void createLayouts();
+    VkRenderPass makeRenderPass(uint32_t attachments);
+    VkPipeline makePipeline(VkRenderPass renderPass, uint32_t attachments);
+    void createPasses();
+};
+
+// A frame's commands: clear the target, the depth pre-pass, every colour pass, and make the
+// target readable by the host (a barrier for a mapped image, else a copy into readbackBuffer).
+void recordSpectralFrame(VkCommandBuffer cmd, const SpectralResources& r, const CameraMatrices& camera);
+
+}  // namespace metamer
