@@ -3,6 +3,7 @@
 // file and the key (or line), and no output — on the GPU and on the CPU backend, and never with
 // a crash. The cases run in parallel: each is a process start and a scene load.
 #include "render/render_job.h"
+#include "support/cli.h"
 
 #include <gtest/gtest.h>
 
@@ -52,24 +53,15 @@ std::vector<Case> readManifest() {
     return cases;
 }
 
-struct RunResult {
-    int status = -1;     // the shell's exit status: a signal shows as 128 + signal
-    std::string stderrText;
-};
-
-// Runs in the corpus folder, so that messages name the file as given. `timeout` turns a case that
-// unexpectedly starts rendering a huge image into a failure (status 124) instead of a hung suite.
-RunResult runMetamer(const std::string& args) {
-    std::string cmd = "cd '" + kCorpus.string() + "' && timeout 120 " METAMER_BINARY " render " + args +
-                      " 2>&1 >/dev/null";
-    RunResult r;
-    FILE* p = popen(cmd.c_str(), "r");
-    if (!p) return r;
-    char buf[4096];
-    while (size_t n = fread(buf, 1, sizeof buf, p)) r.stderrText.append(buf, n);
-    int status = pclose(p);
-    r.status = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
-    return r;
+// `metamer render ARGS` in the corpus folder, so that messages name the file as given; the
+// timeout turns a case that unexpectedly starts rendering a huge image into a failure (status 124)
+// instead of a hung suite. Only stderr is kept: the cases' messages.
+test::CliRun runMetamer(const std::string& args) {
+    test::CliOptions o;
+    o.dir = kCorpus.string();
+    o.timeoutSeconds = 120;
+    o.stderrOnly = true;
+    return test::runMetamer("render " + args, o);
 }
 
 std::vector<std::string> lines(const std::string& text) {
@@ -106,8 +98,8 @@ TEST(BadInputs, TheBaseSceneIsValid) {
     // Every case is this scene with one thing wrong; it must render, or the cases prove nothing.
     for (const char* backend : {"gpu", "cpu"}) {
         fs::path out = scratch(std::string("valid-") + backend);
-        RunResult r = runMetamer("valid-base.json --out " + out.string() + " --backend " + backend);
-        EXPECT_EQ(r.status, 0) << backend << ": " << r.stderrText;
+        test::CliRun r = runMetamer("valid-base.json --out " + out.string() + " --backend " + backend);
+        EXPECT_EQ(r.code, 0) << backend << ": " << r.output;
         EXPECT_TRUE(fs::exists(out / "valid-base.exr")) << backend;
     }
 }
@@ -131,7 +123,7 @@ void checkCorpus(const std::string& backend) {
     std::vector<Case> cases = readManifest();
     ASSERT_FALSE(cases.empty());
     struct Result {
-        RunResult run;
+        test::CliRun run;
         fs::path out;
     };
     std::vector<Result> results(cases.size());
@@ -142,12 +134,12 @@ void checkCorpus(const std::string& backend) {
     });
     for (size_t i = 0; i < results.size(); ++i) {
         const Case& c = cases[i];
-        const RunResult& r = results[i].run;
+        const test::CliRun& r = results[i].run;
         std::string what = "expected.txt:" + std::to_string(c.line) + " " + c.file + " " + c.args + " --backend " +
-                           backend + "\n" + r.stderrText;
-        EXPECT_EQ(r.status, 2) << what << (r.status > 128 ? "(killed by a signal: a crash)" : "");
+                           backend + "\n" + r.output;
+        EXPECT_EQ(r.code, 2) << what << (r.code > 128 ? "(killed by a signal: a crash)" : "");
         // One error line, the last; anything before it is a warning.
-        std::vector<std::string> ls = lines(r.stderrText);
+        std::vector<std::string> ls = lines(r.output);
         size_t errors = std::count_if(ls.begin(), ls.end(), [](const std::string& l) { return startsWith(l, "metamer: "); });
         EXPECT_EQ(errors, 1u) << what;
         if (ls.empty()) continue;

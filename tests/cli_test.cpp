@@ -1,6 +1,7 @@
 // The `metamer` command as a user runs it: exit codes, one-line errors, outputs that appear
 // whole or not at all.
 #include "io/spectral_exr.h"
+#include "support/cli.h"
 
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
@@ -19,21 +20,10 @@ using namespace metamer;
 
 namespace {
 
-struct CliRun {
-    int code = -1;
-    std::string output;  // stdout and stderr together
-};
+using test::CliRun;
 
-CliRun run(const std::string& args, const std::string& env = "") {
-    std::string cmd = env + " " METAMER_BINARY " " + args + " 2>&1";
-    CliRun r;
-    FILE* p = popen(cmd.c_str(), "r");
-    char buf[4096];
-    while (size_t n = fread(buf, 1, sizeof buf, p)) r.output.append(buf, n);
-    int status = pclose(p);
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return r;
-}
+// `metamer ARGS`, with `env` before it.
+CliRun run(const std::string& args, const std::string& env = "") { return test::runMetamer(args, {env}); }
 
 fs::path freshDir(const std::string& name) {
     fs::path d = fs::temp_directory_path() / ("metamer-cli-test-" + name);

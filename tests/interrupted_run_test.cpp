@@ -144,8 +144,6 @@ TEST(InterruptedRun, SigintWhileStripsStreamToTheFilesRemovesEveryTemporary) {
         if (waitpid(pid, nullptr, WNOHANG) != 0) break;
         std::this_thread::sleep_for(std::chrono::milliseconds(1));
     }
-    if (!sawTemporary && log(out).find("no usable Vulkan device") != std::string::npos)
-        GTEST_SKIP() << "no Vulkan device";
     ASSERT_TRUE(sawTemporary) << log(out);
     std::this_thread::sleep_for(std::chrono::milliseconds(100));  // a few strips in
     ASSERT_EQ(::kill(pid, SIGINT), 0);

@@ -3,6 +3,9 @@
 #include "color/delta_e.h"
 #include "color/lab.h"
 #include "color/tonemap.h"
+#include "core/json.h"
+#include "core/statistics.h"
+#include "core/timing.h"
 #include "io/atomic_file.h"
 #include "render/render_setup.h"
 #include "render/spectral_pass.h"
@@ -30,24 +33,7 @@ namespace metamer {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-double msSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
-
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    size_t n = v.size();
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-// Nearest rank, as `metamer compare` reports its p95 (docs/compare.md), so the two agree.
-double percentile(std::vector<double> v, double p) {
-    size_t rank = size_t(std::ceil(p * double(v.size())));
-    size_t k = std::clamp<size_t>(rank, 1, v.size()) - 1;
-    std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(k), v.end());
-    return v[k];
-}
 
 // Every configuration resamples the same scene, so its coverage warnings would repeat once per
 // configuration; each distinct line is passed on once per sweep.
@@ -214,7 +200,6 @@ std::string csvField(const std::string& s) {
     return q + "\"";
 }
 
-nlohmann::json jsonNumber(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
 
 void writeText(const std::filesystem::path& path, const std::string& text) {
     AtomicOutput out(path);

@@ -1,27 +1,16 @@
 // `metamer bench` as a user runs it: flags are checked before the sweep, errors name the flag.
+#include "support/cli.h"
+
 #include <gtest/gtest.h>
 
-#include <sys/wait.h>
-
-#include <cstdio>
 #include <string>
 
 namespace {
 
-struct CliResult {
-    int code = -1;
-    std::string output;  // stdout and stderr together
-};
+using CliResult = metamer::test::CliRun;
 
 CliResult runBenchCli(const std::string& args) {
-    std::string cmd = METAMER_BINARY " bench " METAMER_SOURCE_DIR "/scenes/metamers.json " + args + " 2>&1";
-    CliResult r;
-    FILE* p = popen(cmd.c_str(), "r");
-    char buf[4096];
-    while (size_t n = fread(buf, 1, sizeof buf, p)) r.output.append(buf, n);
-    int status = pclose(p);
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return r;
+    return metamer::test::runMetamer("bench " METAMER_SOURCE_DIR "/scenes/metamers.json " + args);
 }
 
 bool has(const CliResult& r, const std::string& text) { return r.output.find(text) != std::string::npos; }

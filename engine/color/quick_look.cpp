@@ -3,6 +3,7 @@
 #include "color/detector.h"
 #include "color/display_model.h"
 #include "color/srgb.h"
+#include "core/statistics.h"
 
 #include <algorithm>
 #include <cmath>
@@ -17,14 +18,6 @@ bool clipVisible(double linear) {
     if (linear > 1.0) return srgbEncode(linear) * 255.0 >= 255.5;
     if (linear < 0.0) return srgbEncode(-linear) * 255.0 >= 0.5;  // the encoding mirrored
     return false;
-}
-
-// Nearest-rank percentile; reorders `values`.
-double percentile(std::vector<double>& values, double p) {
-    size_t rank = static_cast<size_t>(std::ceil(p * static_cast<double>(values.size())));
-    size_t k = std::clamp<size_t>(rank, 1, values.size()) - 1;
-    std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(k), values.end());
-    return values[k];
 }
 
 }  // namespace

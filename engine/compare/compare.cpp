@@ -1,4 +1,6 @@
 #include "compare/compare.h"
+#include "core/json.h"
+#include "core/statistics.h"
 #include "spectral/resampling.h"
 
 #include "color/cie_xyz.h"
@@ -132,14 +134,6 @@ const ImageData& reorderLike(ImageData& storage, const ImageData& a, const Image
     return storage;
 }
 
-// Nearest-rank percentile (reorders `values`, which must not be empty).
-double percentile(std::vector<double>& values, double p) {
-    size_t rank = size_t(std::ceil(p * double(values.size())));
-    size_t k = std::clamp<size_t>(rank, 1, values.size()) - 1;
-    std::nth_element(values.begin(), values.begin() + std::ptrdiff_t(k), values.end());
-    return values[k];
-}
-
 // The ΔE2000 of every pixel through the chosen detector, adaptation and display white. A cube
 // carries no scene, so there is no light to call white: the white is an equal-energy spectrum —
 // for radiance, at the level whose CIE 1931 Y is B's 99th percentile of Y over its lit pixels
@@ -218,11 +212,6 @@ void addDeltaE(const ImageData& a, const ImageData& b, const TonemapSettings& se
                                         plan.display.name);
 }
 
-nlohmann::json number(double v) {
-    if (std::isfinite(v)) return v;
-    if (std::isnan(v)) return "nan";
-    return v > 0 ? "inf" : "-inf";
-}
 
 }  // namespace
 
@@ -466,28 +455,28 @@ nlohmann::json statsToJson(const CompareStats& s) {
     if (!s.resampledFrom.empty()) j["resampled_from"] = s.resampledFrom;
     j["relative_floor"] = s.relativeFloor;
     j["pixel_threshold"] = s.pixelThreshold;
-    j["max_abs"] = number(s.maxAbs);
-    j["max_rel"] = number(s.maxRel);
-    j["rmse"] = number(s.rmse);
-    j["rmse_relative"] = number(s.rmseRelative);
-    j["spectral_angle_max_deg"] = number(s.spectralAngleMaxDeg);
-    j["spectral_angle_mean_deg"] = number(s.spectralAngleMeanDeg);
-    j["fraction_over_threshold"] = number(s.fractionOverThreshold);
+    j["max_abs"] = jsonNumber(s.maxAbs);
+    j["max_rel"] = jsonNumber(s.maxRel);
+    j["rmse"] = jsonNumber(s.rmse);
+    j["rmse_relative"] = jsonNumber(s.rmseRelative);
+    j["spectral_angle_max_deg"] = jsonNumber(s.spectralAngleMaxDeg);
+    j["spectral_angle_mean_deg"] = jsonNumber(s.spectralAngleMeanDeg);
+    j["fraction_over_threshold"] = jsonNumber(s.fractionOverThreshold);
     j["pixels_over_threshold"] = s.pixelsOverThreshold;
     j["masked_pixels"] = s.maskedPixels;
     j["non_finite_mismatches"] = s.nonFiniteMismatches;
     if (s.worstChannel >= 0)
         j["worst"] = {{"x", s.worstX}, {"y", s.worstY}, {"channel", s.perChannel[size_t(s.worstChannel)].name}};
     if (s.deltaE2000Mean) {
-        j["delta_e2000_mean"] = number(*s.deltaE2000Mean);
-        j["delta_e2000_p95"] = number(*s.deltaE2000P95);
-        j["delta_e2000_max"] = number(*s.deltaE2000Max);
+        j["delta_e2000_mean"] = jsonNumber(*s.deltaE2000Mean);
+        j["delta_e2000_p95"] = jsonNumber(*s.deltaE2000P95);
+        j["delta_e2000_max"] = jsonNumber(*s.deltaE2000Max);
         j["delta_e2000_setup"] = s.deltaE2000Setup;
     }
     json channels = json::array();
     for (const auto& c : s.perChannel)
-        channels.push_back({{"name", c.name}, {"max_abs", number(c.maxAbs)}, {"max_rel", number(c.maxRel)},
-                            {"rmse", number(c.rmse)}});
+        channels.push_back({{"name", c.name}, {"max_abs", jsonNumber(c.maxAbs)}, {"max_rel", jsonNumber(c.maxRel)},
+                            {"rmse", jsonNumber(c.rmse)}});
     j["per_channel"] = channels;
     return j;
 }

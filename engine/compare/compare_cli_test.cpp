@@ -2,15 +2,13 @@
 #include "compare/compare_test_util.h"
 #include "io/image_file.h"
 #include "io/spectral_exr.h"
+#include "support/cli.h"
 
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include <sys/wait.h>
-
 #include <algorithm>
-#include <cstdio>
 #include <fstream>
 
 using namespace metamer;
@@ -19,21 +17,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct CliResult {
-    int code = -1;
-    std::string output;  // stdout and stderr together
-};
+using CliResult = metamer::test::CliRun;
 
-CliResult runCompareCli(const std::string& args) {
-    std::string cmd = METAMER_BINARY " compare " + args + " 2>&1";
-    CliResult r;
-    FILE* p = popen(cmd.c_str(), "r");
-    char buf[4096];
-    while (size_t n = fread(buf, 1, sizeof buf, p)) r.output.append(buf, n);
-    int status = pclose(p);
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return r;
-}
+CliResult runCompareCli(const std::string& args) { return metamer::test::runMetamer("compare " + args); }
 
 bool has(const CliResult& r, const std::string& text) { return r.output.find(text) != std::string::npos; }
 

@@ -1,6 +1,7 @@
 #include "compare/tolerance.h"
 
 #include "core/error.h"
+#include "core/json.h"
 
 #include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
@@ -29,17 +30,6 @@ int lineAt(const std::string& text, size_t offset) {
 int lineOfKey(const std::string& text, const std::string& key) {
     size_t at = text.find('"' + key + '"');
     return at == std::string::npos ? 0 : lineAt(text, at);
-}
-
-const char* typeName(const Json& v) {
-    switch (v.type()) {
-        case Json::value_t::null: return "null";
-        case Json::value_t::boolean: return "a boolean";
-        case Json::value_t::string: return "a string";
-        case Json::value_t::array: return "an array";
-        case Json::value_t::object: return "an object";
-        default: return "a number";
-    }
 }
 
 struct Criterion {
@@ -106,7 +96,7 @@ Tolerance readTolerance(const fs::path& path) {
     } catch (const Json::out_of_range&) {
         failInput(Where{file}, "a number is out of the range of a double");
     }
-    if (!j.is_object()) failInput(Where{file}, "must be a JSON object of criteria, not {}", typeName(j));
+    if (!j.is_object()) failInput(Where{file}, "must be a JSON object of criteria, not {}", jsonTypeName(j));
 
     std::vector<std::string> known = {"description"};
     for (const auto& c : limits()) known.push_back(c.key);
@@ -117,7 +107,7 @@ Tolerance readTolerance(const fs::path& path) {
     for (const auto& [key, value] : j.items()) {
         Where where{file, key, lineOfKey(text, key)};
         if (key == "description") {
-            if (!value.is_string()) failInput(where, "must be a string, not {}", typeName(value));
+            if (!value.is_string()) failInput(where, "must be a string, not {}", jsonTypeName(value));
             t.description = value.get<std::string>();
             continue;
         }
@@ -131,7 +121,7 @@ Tolerance readTolerance(const fs::path& path) {
                       suggestion.empty() ? "" : fmt::format(" (did you mean '{}'?)", suggestion),
                       fmt::format("{}", fmt::join(known, ", ")));
         }
-        if (!value.is_number()) failInput(where, "must be a number, not {}", typeName(value));
+        if (!value.is_number()) failInput(where, "must be a number, not {}", jsonTypeName(value));
         double v = value.get<double>();
         if (!std::isfinite(v)) failInput(where, "must be a finite number");
         if (v < 0.0) failInput(where, "must be ≥ 0, not {}", formatNumber(v));

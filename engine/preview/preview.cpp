@@ -2,6 +2,8 @@
 
 #include "color/delta_e.h"
 #include "core/error.h"
+#include "core/statistics.h"
+#include "core/timing.h"
 #include "io/image_file.h"
 #include "preview/camera_control.h"
 #include "preview/display_bytes.h"
@@ -28,16 +30,6 @@
 namespace metamer::preview {
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
-
-double median(std::vector<double> v) {
-    if (v.empty()) return 0.0;
-    std::sort(v.begin(), v.end());
-    size_t n = v.size();
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 constexpr int kPanelWidth = 400;        // framebuffer pixels left of the images
 constexpr int kMinWindowHeight = 720;   // room for the panel

@@ -1,5 +1,6 @@
 #include "preview/view.h"
 
+#include "core/timing.h"
 #include "render/outputs.h"
 
 #include <fmt/ranges.h>
@@ -7,11 +8,6 @@
 #include <chrono>
 
 namespace metamer::preview {
-
-namespace {
-using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
-}  // namespace
 
 bool sameSpectralSettings(const RenderJob& a, const RenderJob& b) {
     return a.scene == b.scene && a.overrides == b.overrides && a.grid == b.grid && a.mode == b.mode &&

@@ -1,5 +1,7 @@
 #include "render/render_job.h"
 
+#include "core/statistics.h"
+#include "core/timing.h"
 #include "reference/cpu_renderer.h"
 #include "render/render_setup.h"
 #include "render/strip_render.h"
@@ -18,16 +20,6 @@
 namespace metamer {
 
 namespace {
-using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t) {
-    return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
-}
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    size_t n = v.size();
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 OutputFiles parseWrite(const std::vector<std::string>& names, const Where& where) {
     OutputFiles f{false, false, false, false, false};
     for (const auto& n : names) {

@@ -1,5 +1,6 @@
 #include "render/spectral_pass.h"
 
+#include "core/timing.h"
 #include "render/camera_matrices.h"
 #include "render/spectral_packing.h"
 #include "render/spectral_resources.h"
@@ -8,15 +9,6 @@
 #include <chrono>
 
 namespace metamer {
-
-namespace {
-
-using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t) {
-    return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
-}
-
-}  // namespace
 
 std::string SpectralPassPlan::describe() const {
     return fmt::format("{} bands in {} RGBA32F layers, a depth pre-pass + {} colour pass(es) of ≤{} attachments, {}×{} target ({} MiB), "

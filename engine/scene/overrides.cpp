@@ -1,6 +1,7 @@
 #include "scene/overrides.h"
 
 #include "core/error.h"
+#include "core/json.h"
 
 #include <algorithm>
 #include <cctype>
@@ -24,17 +25,6 @@ std::vector<std::string> splitKey(const std::string& key) {
 bool isIndex(const std::string& s) {
     return !s.empty() && s.size() < 10 &&
            std::all_of(s.begin(), s.end(), [](unsigned char c) { return std::isdigit(c); });
-}
-
-const char* typeName(const nlohmann::ordered_json& v) {
-    switch (v.type()) {
-        case nlohmann::json::value_t::null: return "null";
-        case nlohmann::json::value_t::boolean: return "a boolean";
-        case nlohmann::json::value_t::string: return "a string";
-        case nlohmann::json::value_t::array: return "an array";
-        case nlohmann::json::value_t::object: return "an object";
-        default: return "a number";
-    }
 }
 
 // An override as quoted in a message: the whole of a 100 kB value would bury the message.
@@ -110,7 +100,7 @@ void applyOverride(nlohmann::ordered_json& doc, const Override& o, const std::st
             node = &(*node)[index];
         } else {
             failInput(where, "--set {}: '{}' is {}, which has no key '{}'", o.text, where.key,
-                      typeName(*node), part);
+                      jsonTypeName(*node), part);
         }
         where = here;
     }

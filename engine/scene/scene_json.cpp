@@ -1,5 +1,6 @@
 #include "scene/scene_json.h"
 
+#include "core/json.h"
 #include "io/spectral_exr.h"
 #include "scene/gltf_material.h"
 #include "scene/gltf_mesh.h"
@@ -142,17 +143,8 @@ Json parseJson(const std::string& text, const std::string& file) {
 // Typed access with messages that name what was expected and what was found.
 
 std::string describe(const Json& v) {
-    switch (v.type()) {
-        case Json::value_t::null: return "null";
-        case Json::value_t::boolean: return "a boolean";
-        case Json::value_t::string: return "a string";
-        case Json::value_t::array: return v.empty() ? "an empty array" : fmt::format("an array of {}", v.size());
-        case Json::value_t::object: return "an object";
-        case Json::value_t::number_integer:
-        case Json::value_t::number_unsigned:
-        case Json::value_t::number_float: return "a number";
-        default: return "nothing";
-    }
+    if (v.is_array()) return v.empty() ? "an empty array" : fmt::format("an array of {}", v.size());
+    return jsonTypeName(v);
 }
 
 std::string join(const std::vector<std::string>& items) {

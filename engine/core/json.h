@@ -1,0 +1,32 @@
+// The JSON conventions every file Metamer writes or reads follows (compare's and bench's
+// statistics, tolerance files, scene overrides).
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+
+namespace metamer {
+
+// A number for a JSON file. JSON has no NaN or infinities: a NaN — a value that does not exist
+// (not measured, not applicable, undefined as 0/0) — is null, and ±∞ the strings "inf", "-inf".
+inline nlohmann::json jsonNumber(double v) {
+    if (std::isfinite(v)) return v;
+    if (std::isnan(v)) return nullptr;
+    return v > 0 ? "inf" : "-inf";
+}
+
+// "a string", "an array", … for messages about a value of the wrong type.
+template <typename Json>
+const char* jsonTypeName(const Json& v) {
+    switch (v.type()) {
+        case Json::value_t::null: return "null";
+        case Json::value_t::boolean: return "a boolean";
+        case Json::value_t::string: return "a string";
+        case Json::value_t::array: return "an array";
+        case Json::value_t::object: return "an object";
+        default: return "a number";
+    }
+}
+
+}  // namespace metamer
