@@ -1,6 +1,7 @@
 // `metamer bench SCENE`: the speed/accuracy sweep of the representation modes and spectral steps
 // (bench/). Registered on the main CLI11 app by main.cpp; errors are thrown as metamer::Error and
 // mapped to exit codes there. docs/speed-vs-accuracy.md.
+// Tests: engine/bench/bench_cli_test.cpp (the verb as a user runs it).
 #pragma once
 
 #include <CLI/CLI.hpp>

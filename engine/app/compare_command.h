@@ -1,6 +1,7 @@
 // `metamer compare A B`: A against the reference B (compare/), as a user or a regression test
 // runs it. Registered on the main CLI11 app by main.cpp; errors are thrown as metamer::Error and
 // mapped to exit codes there. docs/compare.md.
+// Tests: engine/compare/compare_cli_test.cpp.
 #pragma once
 
 #include <CLI/CLI.hpp>

@@ -1,6 +1,7 @@
 // `metamer preview SCENE`: the interactive spectral preview window (engine/preview,
 // docs/preview.md). Registered on the main CLI11 app by main.cpp; errors are thrown as
 // metamer::Error and mapped to exit codes there (no display: exit 4).
+// Tests: tests/preview_test.sh (under Xvfb), engine/preview/preview_settings_test.cpp.
 #pragma once
 
 #include <CLI/CLI.hpp>

@@ -2,6 +2,7 @@
 // configuration coloured by mode and labelled, and the Pareto front joined by a line. Drawn with
 // OpenImageIO's ImageBufAlgo; text needs a TrueType font file (DejaVu Sans from Debian's
 // fonts-dejavu-core), without which the plot is drawn without text and a warning is given.
+// Tests: engine/bench/bench_test.cpp.
 #pragma once
 
 #include "bench/bench.h"

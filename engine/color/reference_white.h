@@ -1,6 +1,7 @@
 // The reference white: the light that defines "white" for exposure, adaptation and the ASTM E308
 // weighting. Chosen from a scene by color/tonemap.h's referenceWhite(); plain data here so that
 // the display path's parts (detectors, the E308 weights) need no scene.
+// Tests: tests/tonemap_test.cpp, engine/color/astm_e308_test.cpp.
 #pragma once
 
 #include "spectral/spectrum.h"

@@ -1,5 +1,6 @@
 // sRGB (IEC 61966-2-1): the XYZ -> linear RGB matrix for BT.709 primaries and a D65 white, and
 // the piecewise transfer function. No chromatic adaptation anywhere: XYZ is taken as is.
+// Tests: engine/color/display_model_test.cpp, engine/color/lab_test.cpp.
 #pragma once
 
 #include <glm/mat3x3.hpp>

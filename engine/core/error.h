@@ -1,6 +1,7 @@
 // Errors that carry their context: the file, the key path inside it (or a line), and what was
 // expected. Every user-facing failure in Metamer is one of these, so the CLI can print one line
 // and choose an exit code without knowing which stage failed.
+// Tests: every bad-input test (tests/bad_inputs_test.cpp), engine/scene/scene_json_test.cpp.
 #pragma once
 
 #include <fmt/format.h>

@@ -1,5 +1,7 @@
 // The JSON conventions every file Metamer writes or reads follows (compare's and bench's
 // statistics, tolerance files, scene overrides).
+// Tests: engine/compare/compare_test.cpp, engine/compare/tolerance_test.cpp,
+// engine/bench/bench_test.cpp.
 #pragma once
 
 #include <nlohmann/json.hpp>

@@ -1,4 +1,5 @@
 // Wall-clock timing for the figures the tools print (--timings, bench, the preview's panel).
+// Tests: none of its own (one line of <chrono>).
 #pragma once
 
 #include <chrono>

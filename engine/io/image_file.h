@@ -1,5 +1,6 @@
 // Writing an ordinary (non-spectral) image — display PNGs, XYZ and detector-response EXRs —
 // through OpenImageIO and AtomicOutput: the file appears whole or not at all.
+// Tests: engine/compare/compare_test.cpp, tests/cli_test.cpp.
 #pragma once
 
 #include <cstdint>

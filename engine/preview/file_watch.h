@@ -1,6 +1,7 @@
 // Notices when a file changes on disk (the preview reloads its scene): its modification time and
 // size, polled at most every `interval_s` seconds. Editors that replace the file (write a new
 // one and rename it) are seen too, since the new file has a new time.
+// Tests: engine/preview/preview_settings_test.cpp.
 #pragma once
 
 #include <chrono>

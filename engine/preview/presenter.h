@@ -1,6 +1,7 @@
 // One frame on the screen: the views' display images copied as bytes into the swapchain image at
 // their places, the UI drawn over the rest, presented. One frame in flight (the frame waits for
 // its own fence): lavapipe renders on the same CPU cores, so a second frame would only queue.
+// Tests: tests/preview_test.sh (a window under Xvfb).
 #pragma once
 
 #include "preview/swapchain.h"

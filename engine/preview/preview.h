@@ -4,6 +4,7 @@
 // pinned second probe, a split view of the scene under two settings, saving, and reloading of the
 // scene file when it changes. With frames > 0 it runs a fixed number of frames without waiting
 // for input and reports frame times: the scripted path the tests use under Xvfb.
+// Tests: engine/preview/preview_settings_test.cpp, tests/preview_test.sh.
 #pragma once
 
 #include "render/render_job.h"

@@ -1,6 +1,7 @@
 // The pixel probe: what one pixel of the preview holds, in the units of docs/preview.md — its
 // spectrum (or a non-spectral mode's channels), its colour as the detector sees it, and the display
 // counts the window shows there.
+// Tests: engine/preview/view_test.cpp.
 #pragma once
 
 #include "color/tonemap.h"

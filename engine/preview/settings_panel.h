@@ -1,6 +1,7 @@
 // The live controls of one view: each light's spectrum (from the library) and scale, the detector,
 // chromatic adaptation, display model, representation mode and grid step. They edit a copy of
 // the view's RenderJob; the session hands the edited job to View::update(), which re-renders.
+// Tests: engine/preview/preview_settings_test.cpp.
 #pragma once
 
 #include "preview/view.h"

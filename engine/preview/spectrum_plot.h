@@ -1,6 +1,7 @@
 // A small line plot for the probe panel: one or more spectra (radiance against wavelength) or
 // channel values in one box, y from 0 (or the lowest value, if negative) to the largest value.
 // Drawn with ImGui's draw list; hovering the box shows the nearest band's values.
+// Tests: tests/preview_test.sh.
 #pragma once
 
 #include <cstdint>

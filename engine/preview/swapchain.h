@@ -1,6 +1,7 @@
 // The window's swapchain: its images, their views and the framebuffers of the UI render pass.
 // Images are 8-bit BGRA or RGBA (UNORM or SRGB): the display counts are copied into them as bytes
 // (presenter.h), so the window shows exactly the counts `metamer render` writes to its PNG.
+// Tests: tests/preview_test.sh.
 #pragma once
 
 #include "vk/context.h"

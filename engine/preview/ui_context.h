@@ -4,6 +4,7 @@
 // Debian's Dear ImGui is 1.86, whose Vulkan backend cannot draw user textures (every draw binds
 // the font atlas). The display images are therefore not ImGui images: the presenter copies them
 // into the swapchain image as bytes and ImGui draws its panels over the rest (presenter.h).
+// Tests: tests/preview_test.sh.
 #pragma once
 
 #include "preview/swapchain.h"

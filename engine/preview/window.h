@@ -1,5 +1,6 @@
 // The preview's window: GLFW with no client API (Vulkan draws into it), its Vulkan surface and
 // its input. No display (no DISPLAY, or GLFW cannot start) is Error(ExitCode::NoDisplay).
+// Tests: tests/preview_test.sh.
 #pragma once
 
 #include <vulkan/vulkan.h>

@@ -1,5 +1,7 @@
 // The camera as the rasterizer sees it: view-projection for Vulkan clip space (y down, depth
 // 0..1), following the pixel conventions of docs/physics.md ("Camera").
+// Tests: engine/preview/camera_control_test.cpp, tests/numerics_test.cpp,
+// tests/gpu_known_answer_test.cpp.
 #pragma once
 
 #include "scene/scene.h"

@@ -1,6 +1,8 @@
 // One offline render, start to finish: scene file → spectra on the grid → GPU spectral pass (or
 // the CPU reference) → tonemap (display path) → spectral EXR, display PNG, XYZ and detector
 // EXRs. The `metamer render` verb is a thin shell over this; tests call it directly.
+// Tests: tests/cli_test.cpp, tests/bad_inputs_test.cpp, tests/strips_test.cpp,
+// tests/interrupted_run_test.cpp, the goldens (tests/golden/check.sh).
 #pragma once
 
 #include "color/tonemap.h"

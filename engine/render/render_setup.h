@@ -2,6 +2,7 @@
 // (render/render_job.cpp) and the preview window (engine/preview): the scene loaded with the
 // job's --set overrides and --grid, its spectra on the grid, the representation (--mode) and the
 // spectra the renderers see, the display plan, and the Vulkan context options.
+// Tests: tests/tonemap_test.cpp, tests/representation_test.cpp, engine/preview/view_test.cpp.
 #pragma once
 
 #include "color/tonemap.h"

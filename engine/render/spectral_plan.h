@@ -1,6 +1,7 @@
 // What the spectral pass is asked for and what it decides for a scene, before any Vulkan object
 // is made: shared by the pass (render/spectral_pass.h) and its resources
 // (render/spectral_resources.h).
+// Tests: through render/spectral_pass.h's.
 #pragma once
 
 #include <cstddef>

@@ -4,6 +4,7 @@
 // count and a framebuffer per pass. Everything is owned (vk/handle.h) and freed with the struct.
 // recordSpectralFrame writes a frame's commands. Used by render/spectral_pass.cpp; tested
 // through it (tests/gpu_known_answer_test.cpp, tests/gpu_vs_reference_test.cpp).
+// Tests: through render/spectral_pass.h's (every GPU test runs with validation layers).
 #pragma once
 
 #include "render/camera_matrices.h"

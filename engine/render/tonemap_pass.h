@@ -1,6 +1,8 @@
 // The GPU tonemap pass: reads the spectral pass's layered target and evaluates the display path
 // (color/tonemap.h) per output pixel: detector responses, XYZ, adapted display counts. Shared by
 // `metamer render` and the preview window; checked against color/tonemap_reference.
+// Tests: tests/tonemap_test.cpp (against color/tonemap_reference), tests/representation_test.cpp,
+// the goldens.
 #pragma once
 
 #include "color/tonemap.h"

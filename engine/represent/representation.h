@@ -20,6 +20,8 @@
 // becomes XYZ (the detector of the display path). rgb and ac1c2 keep no spectra: only the CIE 1931
 // observer can see them, the cube they produce is a channel image, and fluorescence (which needs
 // wavelengths) is not representable — as in the RGB and AC1C2 renderers the paper compares.
+// Tests: tests/representation_test.cpp, tests/textures_test.cpp (linear:K on textures),
+// tests/donaldson_test.cpp.
 #pragma once
 
 #include "color/tonemap.h"

@@ -7,6 +7,7 @@
 //   gloss    N  = 2/α² − 2 with α = roughness²            (Walter et al. 2007's Beckmann–Phong
 //                                                           match), at most kMaxGltfGloss
 // Colours become spectra by RGB up-sampling (color/rgb_upsampling.h).
+// Tests: tests/textures_test.cpp, engine/scene/gltf_mesh_test.cpp.
 #pragma once
 
 #include "scene/gltf_mesh.h"

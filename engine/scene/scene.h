@@ -1,6 +1,7 @@
 // The scene model: plain data, as loaded and validated from a scene file. Geometry is already in
 // world space (triangles, metres); spectra are as read (not yet on the grid). Both renderers
 // consume this; neither reaches back into JSON.
+// Tests: engine/scene/scene_json_test.cpp.
 #pragma once
 
 #include "core/error.h"

@@ -1,6 +1,8 @@
 // The scene's spectra resampled onto the render grid, with the coverage policy applied.
 // Shared by the GPU path and the CPU reference (both take their spectra from here; neither
 // shares any shading code).
+// Tests: engine/scene/scene_json_test.cpp, engine/scene/scene_donaldson_test.cpp,
+// tests/sampling_test.cpp.
 #pragma once
 
 #include "scene/scene.h"

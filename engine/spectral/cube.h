@@ -1,6 +1,7 @@
 // A spectral radiance cube: width × height pixels × grid.bands() bands, float32, stored
 // pixel-interleaved ([y][x][band], row 0 at the top), values in W·sr⁻¹·m⁻²·nm⁻¹ (per band;
 // docs/physics.md "Resampling"). The hand-over between the renderers and io/.
+// Tests: engine/io/spectral_exr_test.cpp.
 #pragma once
 
 #include "spectral/grid.h"

@@ -1,6 +1,7 @@
 // Pipeline barriers as one call each: where an image (all its colour layers) or a buffer is, and
 // where it goes — layout, the accesses that must be finished and the ones that wait, and the
 // stages they belong to. The passes describe transitions; this fills in the structs.
+// Tests: through the GPU tests, with validation layers on (tests/support/gpu.h).
 #pragma once
 
 #include <vulkan/vulkan.h>

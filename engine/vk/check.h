@@ -1,4 +1,5 @@
 // VK_CHECK: always on. A failing Vulkan call is a runtime error that names the call and result.
+// Tests: through the GPU tests (tests/support/gpu.h).
 #pragma once
 
 #include "core/error.h"

@@ -4,6 +4,7 @@
 // substring) overrides.
 // With validation on, every validation error is counted (and printed); tests require zero,
 // including the leak reports the layers make when the device is destroyed.
+// Tests: tests/cli_test.cpp (device choice, no device), the GPU tests.
 #pragma once
 
 #include "vk/check.h"

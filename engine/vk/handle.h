@@ -1,6 +1,7 @@
 // Owned Vulkan handles: a handle with the device and the function that destroys it, destroyed
 // once, by the owner's destructor (move-only). So a pass holds Owned<VkPipeline> members instead
 // of raw handles and a hand-written destructor that must list every one of them.
+// Tests: through the GPU tests, with validation layers on (tests/support/gpu.h).
 #pragma once
 
 #include <vulkan/vulkan.h>

@@ -1,5 +1,6 @@
 // Graphics pipelines with the state every Metamer pass shares: fixed viewport, no culling (two-
 // sided surfaces), no blending, one sample. Each pass states only what differs.
+// Tests: through the GPU tests, with validation layers on.
 #pragma once
 
 #include "vk/check.h"

@@ -1,5 +1,6 @@
 // Buffers and images with their memory: one allocation each (scenes have a handful), freed by
 // the owner's destructor. No VMA in Debian; this is all Metamer needs.
+// Tests: through the GPU tests, with validation layers on.
 #pragma once
 
 #include "vk/context.h"
