@@ -2,6 +2,8 @@
 // colour-science: tests/data/spectral/sprague_reference.csv (tests/reference/make_sprague_reference.py).
 #include "spectral/resampling.h"
 
+#include "support/scene_builders.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -14,14 +16,7 @@ using namespace metamer;
 
 namespace {
 
-Spectrum sampled(std::vector<double> nm, std::vector<double> v) {
-    Spectrum s;
-    s.wavelengths_nm = std::move(nm);
-    s.values = std::move(v);
-    s.source = "test";
-    s.validate(Where{"test"});
-    return s;
-}
+Spectrum sampled(std::vector<double> nm, std::vector<double> v) { return test::sampledSpectrum(nm, v, "test"); }
 
 Grid withRule(Grid g, Resampling r) {
     g.resampling = r;
