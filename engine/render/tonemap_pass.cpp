@@ -2,6 +2,7 @@
 
 #include "interface.h"
 #include "vk/barrier.h"
+#include "vk/handle.h"
 #include "vk/pipeline.h"
 #include "vk/resources.h"
 
@@ -46,26 +47,16 @@ struct TonemapPass::Impl {
     int layers;
     vk::Buffer params, tables, readback;
     vk::Image targets[kAttachments];
-    VkSampler sampler = VK_NULL_HANDLE;
-    VkDescriptorSetLayout setLayout = VK_NULL_HANDLE;
-    VkPipelineLayout pipelineLayout = VK_NULL_HANDLE;
-    VkDescriptorPool pool = VK_NULL_HANDLE;
+    vk::OwnedSampler sampler;
+    vk::OwnedDescriptorSetLayout setLayout;
+    vk::OwnedPipelineLayout pipelineLayout;
+    vk::OwnedDescriptorPool pool;  // frees `set` with it
     VkDescriptorSet set = VK_NULL_HANDLE;
-    VkRenderPass renderPass = VK_NULL_HANDLE;
-    VkFramebuffer framebuffer = VK_NULL_HANDLE;
-    VkPipeline pipeline = VK_NULL_HANDLE;
+    vk::OwnedRenderPass renderPass;
+    vk::OwnedFramebuffer framebuffer;
+    vk::OwnedPipeline pipeline;
 
     Impl(vk::Context& c, SpectralPass& s, const TonemapPlan& p) : ctx(c), source(s), plan(p) {}
-    ~Impl() {
-        VkDevice d = ctx.device();
-        if (pipeline) vkDestroyPipeline(d, pipeline, nullptr);
-        if (framebuffer) vkDestroyFramebuffer(d, framebuffer, nullptr);
-        if (renderPass) vkDestroyRenderPass(d, renderPass, nullptr);
-        if (pool) vkDestroyDescriptorPool(d, pool, nullptr);
-        if (pipelineLayout) vkDestroyPipelineLayout(d, pipelineLayout, nullptr);
-        if (setLayout) vkDestroyDescriptorSetLayout(d, setLayout, nullptr);
-        if (sampler) vkDestroySampler(d, sampler, nullptr);
-    }
 
     void createBuffers() {
         gpu::TonemapParams p{};
@@ -121,7 +112,7 @@ struct TonemapPass::Impl {
         VkSamplerCreateInfo sci{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
         sci.magFilter = sci.minFilter = VK_FILTER_NEAREST;
         sci.addressModeU = sci.addressModeV = sci.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
-        VK_CHECK(vkCreateSampler(d, &sci, nullptr, &sampler));
+        VK_CHECK(vkCreateSampler(d, &sci, nullptr, sampler.put(d)));
 
         VkDescriptorSetLayoutBinding b[3] = {
             {TONEMAP_BINDING_SPECTRAL, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
@@ -131,11 +122,12 @@ struct TonemapPass::Impl {
         VkDescriptorSetLayoutCreateInfo sl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
         sl.bindingCount = 3;
         sl.pBindings = b;
-        VK_CHECK(vkCreateDescriptorSetLayout(d, &sl, nullptr, &setLayout));
+        VK_CHECK(vkCreateDescriptorSetLayout(d, &sl, nullptr, setLayout.put(d)));
+        const VkDescriptorSetLayout layout = setLayout.get();
         VkPipelineLayoutCreateInfo pl{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
         pl.setLayoutCount = 1;
-        pl.pSetLayouts = &setLayout;
-        VK_CHECK(vkCreatePipelineLayout(d, &pl, nullptr, &pipelineLayout));
+        pl.pSetLayouts = &layout;
+        VK_CHECK(vkCreatePipelineLayout(d, &pl, nullptr, pipelineLayout.put(d)));
 
         VkDescriptorPoolSize sizes[3] = {{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1},
                                          {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1},
@@ -144,13 +136,13 @@ struct TonemapPass::Impl {
         pci.maxSets = 1;
         pci.poolSizeCount = 3;
         pci.pPoolSizes = sizes;
-        VK_CHECK(vkCreateDescriptorPool(d, &pci, nullptr, &pool));
+        VK_CHECK(vkCreateDescriptorPool(d, &pci, nullptr, pool.put(d)));
         VkDescriptorSetAllocateInfo ai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
-        ai.descriptorPool = pool;
+        ai.descriptorPool = pool.get();
         ai.descriptorSetCount = 1;
-        ai.pSetLayouts = &setLayout;
+        ai.pSetLayouts = &layout;
         VK_CHECK(vkAllocateDescriptorSets(d, &ai, &set));
-        VkDescriptorImageInfo image{sampler, source.targetArrayView(), sampledLayout()};
+        VkDescriptorImageInfo image{sampler.get(), source.targetArrayView(), sampledLayout()};
         VkDescriptorBufferInfo ubo{params.handle(), 0, VK_WHOLE_SIZE}, ssbo{tables.handle(), 0, VK_WHOLE_SIZE};
         VkWriteDescriptorSet w[3];
         for (int i = 0; i < 3; ++i) {
@@ -188,17 +180,17 @@ struct TonemapPass::Impl {
         rp.pAttachments = att;
         rp.subpassCount = 1;
         rp.pSubpasses = &sub;
-        VK_CHECK(vkCreateRenderPass(d, &rp, nullptr, &renderPass));
+        VK_CHECK(vkCreateRenderPass(d, &rp, nullptr, renderPass.put(d)));
         VkImageView views[kAttachments];
         for (uint32_t i = 0; i < kAttachments; ++i) views[i] = targets[i].layerView(0);
         VkFramebufferCreateInfo fb{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
-        fb.renderPass = renderPass;
+        fb.renderPass = renderPass.get();
         fb.attachmentCount = kAttachments;
         fb.pAttachments = views;
         fb.width = width;
         fb.height = height;
         fb.layers = 1;
-        VK_CHECK(vkCreateFramebuffer(d, &fb, nullptr, &framebuffer));
+        VK_CHECK(vkCreateFramebuffer(d, &fb, nullptr, framebuffer.put(d)));
 
         const gpu::TonemapSpecialization spec{
             int32_t(std::max<size_t>(1, plan.detector.weights.size())), layers, source.plan().ssaa,
@@ -210,26 +202,19 @@ struct TonemapPass::Impl {
         VkSpecializationMapEntry entries[TONEMAP_SPEC_DISPLAY + 1];
         for (uint32_t id = 0; id <= TONEMAP_SPEC_DISPLAY; ++id) entries[id] = {id, id * 4, 4};
         VkSpecializationInfo si{TONEMAP_SPEC_DISPLAY + 1, entries, sizeof(spec), &spec};
-        VkShaderModule vert = vk::createShaderModule(d, kSpirv_tonemap_vert, sizeof(kSpirv_tonemap_vert));
-        VkShaderModule frag = vk::createShaderModule(d, kSpirv_tonemap_frag, sizeof(kSpirv_tonemap_frag));
+        // The pipeline keeps what it needs of the modules.
+        const vk::OwnedShaderModule vert(d, vk::createShaderModule(d, kSpirv_tonemap_vert, sizeof(kSpirv_tonemap_vert)));
+        const vk::OwnedShaderModule frag(d, vk::createShaderModule(d, kSpirv_tonemap_frag, sizeof(kSpirv_tonemap_frag)));
         vk::GraphicsPipelineDesc desc;
-        desc.renderPass = renderPass;
-        desc.layout = pipelineLayout;
-        desc.vertex = vert;
-        desc.fragment = frag;
+        desc.renderPass = renderPass.get();
+        desc.layout = pipelineLayout.get();
+        desc.vertex = vert.get();
+        desc.fragment = frag.get();
         desc.fragmentSpecialization = &si;
         desc.width = width;
         desc.height = height;
         desc.colorAttachments = kAttachments;
-        try {
-            pipeline = vk::createGraphicsPipeline(d, desc);
-        } catch (...) {
-            vkDestroyShaderModule(d, vert, nullptr);
-            vkDestroyShaderModule(d, frag, nullptr);
-            throw;
-        }
-        vkDestroyShaderModule(d, vert, nullptr);
-        vkDestroyShaderModule(d, frag, nullptr);
+        pipeline = vk::OwnedPipeline(d, vk::createGraphicsPipeline(d, desc));
     }
 
     // The spectral target is sampled in GENERAL when it is a mapped linear image (the host may
@@ -247,12 +232,12 @@ struct TonemapPass::Impl {
         vk::imageBarrier(cmd, source.targetImage(), uint32_t(layers), drawn, sampled);
 
         VkRenderPassBeginInfo rb{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
-        rb.renderPass = renderPass;
-        rb.framebuffer = framebuffer;
+        rb.renderPass = renderPass.get();
+        rb.framebuffer = framebuffer.get();
         rb.renderArea = {{0, 0}, {width, height}};
         vkCmdBeginRenderPass(cmd, &rb, VK_SUBPASS_CONTENTS_INLINE);
-        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
-        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelineLayout, 0, 1, &set, 0, nullptr);
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.get());
+        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelineLayout.get(), 0, 1, &set, 0, nullptr);
         vkCmdDraw(cmd, 3, 1, 0, 0);
         vkCmdEndRenderPass(cmd);
 

@@ -32,6 +32,12 @@ public:
     }
 
     T get() const { return handle_; }
+    // For a vkCreate* call: frees what is held, then the slot the call writes into.
+    T* put(VkDevice device) {
+        reset();
+        device_ = device;
+        return &handle_;
+    }
     explicit operator bool() const { return handle_ != T(VK_NULL_HANDLE); }
     void reset() {
         if (handle_ != T(VK_NULL_HANDLE)) destroy(device_, handle_, nullptr);
