@@ -32,6 +32,8 @@ using mat4 = glm::mat4;
 #define BINDING_MATERIAL 2        // GpuMaterialBlock, dynamic offset: this pass's bands of this material
 #define BINDING_FLUORESCENCE 3    // GpuFluorescenceBlock, dynamic offset: this pass's bands of this material's
                                   // fluorescence under every light (read when SPEC_FLUORESCENCE_SPECTRA)
+#define BINDING_RESPONSES 4       // GpuResponseBlock, dynamic offset: this material's detector responses
+                                  // under every light (read when SPEC_RESPONSES)
 
 // Descriptor set 1 of the spectral pass: the draw's material's textures (one set per material),
 // RGBA32F 2D-array images read with texelFetch (bilinear filtering is done in the shader, in
@@ -61,6 +63,8 @@ using mat4 = glm::mat4;
 #define SPEC_HAS_NORMAL_MAPS 6    // any material with a normal (or bump) map
 #define SPEC_FLUORESCENCE_SPECTRA 7  // any Donaldson-matrix material: every fluorescent material's emission
                                      // comes from per-light spectra (GpuFluorescenceBlock), not coupling × ê/λ
+#define SPEC_RESPONSES 8  // the response pass: the outputs are a detector's channels, not bands, summed from
+                          // per-(material, light) response vectors (GpuResponseBlock; docs/color.md)
 
 struct GpuLight {
     vec4 vector;  // directional: xyz = unit vector towards the light; point: xyz = position (m)
@@ -86,6 +90,20 @@ struct GpuMaterialBlock {
     vec4 textures;                         // x, y, z: 1 if the diffuse, specular, normal texture is
                                            // used; w: the texture layer of this pass's first vec4
     vec4 coupling[MAX_LIGHTS / 4];         // per light: (Φ/π)·Σ a·E·λ·Δλ·2ˢ (fluorescence)
+};
+
+// The response pass (SPEC_RESPONSES): every term's geometric factor is independent of wavelength,
+// so a detector's response to a pixel is, exactly, Σ_l [g/π·D_l + lobe·S_l + g·F_l] with, per
+// (material, light), D_l = Σ_b w_cb·ρd_b·E_lb, S_l = Σ_b w_cb·ρs_b·E_lb and F_l the detector's
+// response to the fluorescent radiance per unit g (w the detector's weights over the bands),
+// computed once in double (render/spectral_packing.cpp). RESPONSE_VEC4 vec4 per light: up to
+// 4·RESPONSE_VEC4 channels. Textured reflectances take D or S from the material's response
+// texture instead: RESPONSE_VEC4 layers per light, texel by texel.
+#define RESPONSE_VEC4 2
+struct GpuResponseBlock {
+    vec4 diffuse[MAX_LIGHTS * RESPONSE_VEC4];       // D_l: [l * RESPONSE_VEC4 + k]
+    vec4 specular[MAX_LIGHTS * RESPONSE_VEC4];      // S_l
+    vec4 fluorescence[MAX_LIGHTS * RESPONSE_VEC4];  // F_l
 };
 
 // Fluorescence as per-light spectra, for scenes with a Donaldson-matrix material (a matrix does
@@ -122,12 +140,15 @@ struct SpectralPushConstants {
 #define TONEMAP_SPEC_SSAA 2         // samples per pixel side in the spectral target
 #define TONEMAP_SPEC_MODE 3         // TONEMAP_MODE_*
 #define TONEMAP_SPEC_DISPLAY 4      // TONEMAP_DISPLAY_*
+#define TONEMAP_SPEC_INPUT 5        // TONEMAP_INPUT_*: what the sampled target holds
 
 #define TONEMAP_MODE_LINEAR 0
 #define TONEMAP_MODE_FILM 1
 #define TONEMAP_MODE_RESPONSES 2
 #define TONEMAP_DISPLAY_SRGB 0
 #define TONEMAP_DISPLAY_GOG 1
+#define TONEMAP_INPUT_BANDS 0       // the spectral pass's bands, LAYERS layers
+#define TONEMAP_INPUT_RESPONSES 1   // the response pass's detector channels, RESPONSE_VEC4 layers at most
 
 // Colour attachments of the tonemap pass.
 #define TONEMAP_OUT_COUNTS 0      // rgb: digital counts (integers as floats); a: 1 if clipped
@@ -168,21 +189,21 @@ static_assert(sizeof(SpectralVertex) == VERTEX_FLOATS * sizeof(float), "VERTEX_F
 // spectral.frag's specialization constants, in id order (SPEC_* = field index, 4 bytes each).
 struct SpectralSpecialization {
     int32_t ambient, directional, point;  // SPEC_AMBIENT_COUNT, SPEC_DIRECTIONAL_COUNT, SPEC_POINT_COUNT
-    uint32_t hasSpecular, hasFluorescence, hasTextures, hasNormalMaps, fluorescenceSpectra;  // VkBool32
+    uint32_t hasSpecular, hasFluorescence, hasTextures, hasNormalMaps, fluorescenceSpectra, responses;  // VkBool32
 };
-static_assert(sizeof(SpectralSpecialization) == 4 * (SPEC_FLUORESCENCE_SPECTRA + 1), "one 4-byte field per id");
+static_assert(sizeof(SpectralSpecialization) == 4 * (SPEC_RESPONSES + 1), "one 4-byte field per id");
 static_assert(SPEC_AMBIENT_COUNT == 0 && SPEC_DIRECTIONAL_COUNT == 1 && SPEC_POINT_COUNT == 2 && SPEC_HAS_SPECULAR == 3 &&
                   SPEC_HAS_FLUORESCENCE == 4 && SPEC_HAS_TEXTURES == 5 && SPEC_HAS_NORMAL_MAPS == 6 &&
-                  SPEC_FLUORESCENCE_SPECTRA == 7,
+                  SPEC_FLUORESCENCE_SPECTRA == 7 && SPEC_RESPONSES == 8,
               "SpectralSpecialization's fields are in id order");
 
 // tonemap.frag's specialization constants, in id order.
 struct TonemapSpecialization {
-    int32_t channels, layers, ssaa, mode, display;  // TONEMAP_SPEC_CHANNELS … TONEMAP_SPEC_DISPLAY
+    int32_t channels, layers, ssaa, mode, display, input;  // TONEMAP_SPEC_CHANNELS … TONEMAP_SPEC_INPUT
 };
-static_assert(sizeof(TonemapSpecialization) == 4 * (TONEMAP_SPEC_DISPLAY + 1), "one 4-byte field per id");
+static_assert(sizeof(TonemapSpecialization) == 4 * (TONEMAP_SPEC_INPUT + 1), "one 4-byte field per id");
 static_assert(TONEMAP_SPEC_CHANNELS == 0 && TONEMAP_SPEC_LAYERS == 1 && TONEMAP_SPEC_SSAA == 2 && TONEMAP_SPEC_MODE == 3 &&
-                  TONEMAP_SPEC_DISPLAY == 4,
+                  TONEMAP_SPEC_DISPLAY == 4 && TONEMAP_SPEC_INPUT == 5,
               "TonemapSpecialization's fields are in id order");
 
 static_assert(sizeof(TonemapParams) == 16 * 20 + 16, "std140 layout");
@@ -190,6 +211,8 @@ static_assert(sizeof(GpuLightBlock) == 16 * MAX_LIGHTS, "std140 layout");
 static_assert(sizeof(GpuLightSpectraBlock) == 16384, "must fit the minimum maxUniformBufferRange");
 static_assert(sizeof(GpuMaterialBlock) == 16 * (3 * MAX_OUTPUTS + 2 + MAX_LIGHTS / 4), "std140 layout");
 static_assert(sizeof(GpuFluorescenceBlock) == 16384, "must fit the minimum maxUniformBufferRange");
+static_assert(sizeof(GpuResponseBlock) <= 16384, "must fit the minimum maxUniformBufferRange");
+static_assert(4 * RESPONSE_VEC4 == TONEMAP_MAX_CHANNELS, "the response pass carries every detector channel");
 static_assert(sizeof(SpectralPushConstants) == 96, "push constants must match GLSL");
 }  // namespace metamer::gpu
 #endif

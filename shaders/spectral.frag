@@ -21,11 +21,15 @@ layout(constant_id = SPEC_HAS_FLUORESCENCE) const bool HAS_FLUORESCENCE = true;
 layout(constant_id = SPEC_HAS_TEXTURES) const bool HAS_TEXTURES = false;
 layout(constant_id = SPEC_HAS_NORMAL_MAPS) const bool HAS_NORMAL_MAPS = false;
 layout(constant_id = SPEC_FLUORESCENCE_SPECTRA) const bool FLUORESCENCE_SPECTRA = false;
+// The response pass: the outputs are a detector's channels (OUTPUT_COUNT ≤ RESPONSE_VEC4 vec4),
+// summed from per-(material, light) responses instead of bands (interface.h, GpuResponseBlock).
+layout(constant_id = SPEC_RESPONSES) const bool RESPONSES = false;
 
 layout(set = 0, binding = BINDING_LIGHTS, std140) uniform Lights { GpuLightBlock L; };
 layout(set = 0, binding = BINDING_LIGHT_SPECTRA, std140) uniform LightSpectra { GpuLightSpectraBlock E; };
 layout(set = 0, binding = BINDING_MATERIAL, std140) uniform Material { GpuMaterialBlock M; };
 layout(set = 0, binding = BINDING_FLUORESCENCE, std140) uniform Fluorescence { GpuFluorescenceBlock F; };
+layout(set = 0, binding = BINDING_RESPONSES, std140) uniform Responses { GpuResponseBlock R; };
 
 layout(set = 1, binding = TEXTURE_BINDING_DIFFUSE) uniform sampler2DArray diffuseTexture;
 layout(set = 1, binding = TEXTURE_BINDING_SPECULAR) uniform sampler2DArray specularTexture;
@@ -99,7 +103,18 @@ vec4 fetchBilinear(sampler2DArray t, Bilinear b, int layer) {
     return mix(mix(t00, t10, b.f.x), mix(t01, t11, b.f.x), b.f.y);
 }
 
+// Response pass: where this fragment reads the material's response textures, if it has them.
+bool diffuseResponseTexture, specularResponseTexture;
+Bilinear diffuseTexel, specularTexel;
+
 void sampleTextures() {
+    if (RESPONSES) {
+        diffuseResponseTexture = M.textures.x > 0.5;
+        specularResponseTexture = HAS_SPECULAR && M.textures.y > 0.5;
+        if (diffuseResponseTexture) diffuseTexel = bilinearAt(vec2(textureSize(diffuseTexture, 0).xy));
+        if (specularResponseTexture) specularTexel = bilinearAt(vec2(textureSize(specularTexture, 0).xy));
+        return;
+    }
     int layer0 = int(M.textures.w);
     if (M.textures.x > 0.5) {
         Bilinear b = bilinearAt(vec2(textureSize(diffuseTexture, 0).xy));
@@ -131,8 +146,23 @@ vec3 normalMapped(vec3 n) {
     return normalize(t * m.x + b * m.y + n * m.z);
 }
 
-// Adds light l's reflected radiance with geometric weights: diffuse g/π, specular lobe weight.
+// Adds light l's reflected radiance with geometric weights: diffuse g/π, specular lobe weight
+// (in the response pass, the detector's response to it).
 void addLight(int l, float diffuseWeight, float specularWeight) {
+    if (RESPONSES) {
+        [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) {
+            const int r = l * RESPONSE_VEC4 + k;
+            bool dt = HAS_TEXTURES && diffuseResponseTexture;
+            vec4 d = dt ? fetchBilinear(diffuseTexture, diffuseTexel, r) : R.diffuse[r];
+            acc[k] += d * diffuseWeight;
+            if (HAS_SPECULAR) {
+                bool st = HAS_TEXTURES && specularResponseTexture;
+                vec4 sp = st ? fetchBilinear(specularTexture, specularTexel, r) : R.specular[r];
+                acc[k] += sp * specularWeight;
+            }
+        }
+        return;
+    }
     [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) {
         vec4 reflectance = diffuseAt(k) * diffuseWeight;
         if (HAS_SPECULAR) reflectance += specularAt(k) * specularWeight;
@@ -144,6 +174,10 @@ void addLight(int l, float diffuseWeight, float specularWeight) {
 // at the end); with a Donaldson matrix in the scene, every fluorescent material adds g·F_l(λ).
 void addFluorescence(int l, float g) {
     if (!HAS_FLUORESCENCE) return;
+    if (RESPONSES) {
+        [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) acc[k] += g * R.fluorescence[l * RESPONSE_VEC4 + k];
+        return;
+    }
     if (FLUORESCENCE_SPECTRA)
         [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) acc[k] += g * F.emitted[l * MAX_OUTPUTS + k];
     else
@@ -228,7 +262,7 @@ void main() {
     }
     // ê/λ and the couplings come scaled by reciprocal powers of two (pack() in spectral_pass.cpp)
     // so that neither overflows before their product does.
-    if (HAS_FLUORESCENCE && !FLUORESCENCE_SPECTRA)
+    if (HAS_FLUORESCENCE && !FLUORESCENCE_SPECTRA && !RESPONSES)
         [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) acc[k] += fluorescence * M.emissionOverLambda[k];
 
     out0 = acc[0];

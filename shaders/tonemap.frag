@@ -1,17 +1,19 @@
 #version 450
 // The tonemap pass: the display path of color/tonemap.h for one output pixel. Reads the spectral
 // target (4 bands per layer), box-filters its SSAA×SSAA samples, integrates the detector
-// responses, and turns them into relative XYZ, adapted XYZ and display counts. The CPU reference
+// responses, and turns them into relative XYZ, adapted XYZ and display counts. After the response
+// pass (INPUT == TONEMAP_INPUT_RESPONSES) the target already holds the responses, 4 per layer. The CPU reference
 // is color/tonemap_reference.cpp; docs/color.md has the formulas.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
 #include "interface.h"
 
 layout(constant_id = TONEMAP_SPEC_CHANNELS) const int CHANNELS = 3;
-layout(constant_id = TONEMAP_SPEC_LAYERS) const int LAYERS = 23;
+layout(constant_id = TONEMAP_SPEC_LAYERS) const int LAYERS = 23;  // of the grid's bands: weights and film tables
 layout(constant_id = TONEMAP_SPEC_SSAA) const int SSAA = 1;
 layout(constant_id = TONEMAP_SPEC_MODE) const int MODE = TONEMAP_MODE_LINEAR;
 layout(constant_id = TONEMAP_SPEC_DISPLAY) const int DISPLAY = TONEMAP_DISPLAY_SRGB;
+layout(constant_id = TONEMAP_SPEC_INPUT) const int INPUT = TONEMAP_INPUT_BANDS;
 
 layout(set = 0, binding = TONEMAP_BINDING_SPECTRAL) uniform sampler2DArray spectral;
 layout(set = 0, binding = TONEMAP_BINDING_PARAMS, std140) uniform Params { TonemapParams P; };
@@ -63,13 +65,26 @@ void main() {
     ivec2 px = ivec2(gl_FragCoord.xy);
     float r[TONEMAP_MAX_CHANNELS];
     [[unroll]] for (int c = 0; c < TONEMAP_MAX_CHANNELS; ++c) r[c] = 0.0;
-    for (int l = 0; l < LAYERS; ++l) {
-        vec4 L = vec4(0.0);
-        [[unroll]] for (int sy = 0; sy < SSAA; ++sy)
-            [[unroll]] for (int sx = 0; sx < SSAA; ++sx)
-                L += texelFetch(spectral, ivec3(px * SSAA + ivec2(sx, sy), l), 0);
-        L *= P.scales.y;
-        [[unroll]] for (int c = 0; c < CHANNELS; ++c) r[c] += dot(L, tables[P.weightsOffset + c * LAYERS + l]);
+    if (INPUT == TONEMAP_INPUT_RESPONSES) {
+        // The response pass's channels: only the box filter is left to do.
+        [[unroll]] for (int l = 0; l < RESPONSE_VEC4; ++l) {
+            if (4 * l >= CHANNELS) break;
+            vec4 R = vec4(0.0);
+            [[unroll]] for (int sy = 0; sy < SSAA; ++sy)
+                [[unroll]] for (int sx = 0; sx < SSAA; ++sx)
+                    R += texelFetch(spectral, ivec3(px * SSAA + ivec2(sx, sy), l), 0);
+            R *= P.scales.y;
+            [[unroll]] for (int c = 0; c < 4; ++c) r[4 * l + c] = R[c];
+        }
+    } else {
+        for (int l = 0; l < LAYERS; ++l) {
+            vec4 L = vec4(0.0);
+            [[unroll]] for (int sy = 0; sy < SSAA; ++sy)
+                [[unroll]] for (int sx = 0; sx < SSAA; ++sx)
+                    L += texelFetch(spectral, ivec3(px * SSAA + ivec2(sx, sy), l), 0);
+            L *= P.scales.y;
+            [[unroll]] for (int c = 0; c < CHANNELS; ++c) r[c] += dot(L, tables[P.weightsOffset + c * LAYERS + l]);
+        }
     }
     outResponses0 = vec4(r[0], r[1], r[2], r[3]);
     outResponses1 = vec4(r[4], r[5], r[6], r[7]);

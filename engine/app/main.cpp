@@ -73,6 +73,19 @@ void printTimings(const RenderJobResult& r) {
                 "total %.1f\n",
                 t.load_ms, t.upload_ms, t.shading_ms, t.readback_ms, t.tonemap_ms, t.write_ms, t.total_ms);
     double bandPixels = double(r.width) * r.height * r.grid.bands();
+    if (r.responsePass) {
+        // The display path without the bands: a frame is the response pass and the tonemap pass.
+        if (t.frames > 1)
+            std::printf("frames: %d (response pass: the detector's channels, no bands); first frame shading %.1f ms "
+                        "(includes shader compilation); median of the other %d: shading %.1f ms, tonemap %.1f ms, "
+                        "frame %.1f ms\n",
+                        t.frames, t.first_shading_ms, t.frames - 1, t.median_shading_ms, t.median_tonemap_ms,
+                        t.median_shading_ms + t.median_tonemap_ms);
+        else
+            std::printf("response pass (the detector's channels, no bands): one frame, includes shader compilation; "
+                        "--frames N for steady state\n");
+        return;
+    }
     if (t.frames > 1) {
         std::printf("frames: %d; first frame shading %.1f ms (includes shader compilation); median of the other "
                     "%d: shading %.1f ms, readback %.1f ms\n",
@@ -153,7 +166,7 @@ int main(int argc, char** argv) {
     render->add_option("--adapt", adapt, "chromatic adaptation: none, vonkries-xyz, vonkries, bradford, cat02, cat16");
     render->add_option("--display", display, "display model: srgb or crt");
     render->add_option("--bits", bits, "display counts: 8 or 16 bits")->check(CLI::IsMember({8, 16}));
-    render->add_option("--integration", integration, "riemann (default) or trapezoid");
+    render->add_option("--integration", integration, "riemann (default), trapezoid or astm-e308 (ASTM E308 weighting factors)");
     double budgetMiB = 0;
     render->add_option("--memory-budget", budgetMiB,
                        "MiB the render may hold at once (default: a quarter of the machine's memory); a larger "

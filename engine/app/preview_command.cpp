@@ -25,7 +25,7 @@ CLI::App* addPreviewCommand(CLI::App& app, PreviewArgs& a) {
     c->add_option("--display", a.display, "display model: srgb or crt");
     c->add_option("--bits", a.bits, "display counts of saved PNGs: 8 or 16 (the window shows 8)")
         ->check(CLI::IsMember({8, 16}));
-    c->add_option("--integration", a.integration, "riemann (default) or trapezoid");
+    c->add_option("--integration", a.integration, "riemann (default), trapezoid or astm-e308 (ASTM E308 weighting factors)");
     c->add_option("--ssaa", a.ssaa, "supersampling: N×N samples per pixel (1-4)")->check(CLI::Range(1, 4));
     c->add_option("--frames", a.frames,
                   "render N frames without waiting for input, print the median frame time and close")

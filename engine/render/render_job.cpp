@@ -3,6 +3,8 @@
 #include "core/statistics.h"
 #include "core/timing.h"
 #include "reference/cpu_renderer.h"
+#include "interface.h"
+#include "render/display_frame.h"
 #include "render/render_setup.h"
 #include "render/strip_render.h"
 #include "render/tonemap_pass.h"
@@ -48,17 +50,21 @@ std::string RenderMemory::describe() const {
     return fmt::format("{} ({})", gib(total()), parts);
 }
 
-RenderMemory estimateRenderMemory(int width, int height, int bands, int ssaa, Backend backend, bool display) {
+RenderMemory estimateRenderMemory(int width, int height, int bands, int ssaa, Backend backend, bool display,
+                                  bool cube) {
     // 64-bit throughout: 16384² pixels × 4601 bands × 4 bytes is 4.9e12.
     const uint64_t pixels = uint64_t(std::max(width, 0)) * uint64_t(std::max(height, 0));
     const uint64_t s = uint64_t(std::max(ssaa, 1));
-    const uint64_t layers = (uint64_t(std::max(bands, 0)) + 3) / 4;  // 4 bands per RGBA32F layer
+    const bool responsePass = backend == Backend::Gpu && !cube;
+    const uint64_t channels = responsePass ? TONEMAP_MAX_CHANNELS : uint64_t(std::max(bands, 0));
+    const uint64_t layers = (channels + 3) / 4;  // 4 bands (or channels) per RGBA32F layer
     RenderMemory m;
-    m.cube = pixels * uint64_t(std::max(bands, 0)) * sizeof(float);
+    m.cube = responsePass ? 0 : pixels * uint64_t(std::max(bands, 0)) * sizeof(float);
     if (backend == Backend::Gpu) {
         const uint64_t samples = pixels * s * s;
         const uint64_t targetBytes = samples * layers * 4 * sizeof(float);
-        m.target = 2 * targetBytes + samples * sizeof(float);  // target, readback copy, depth
+        // The target, its readback copy (none for the response pass), the depth buffer.
+        m.target = (responsePass ? 1 : 2) * targetBytes + samples * sizeof(float);
     }
     if (display) {
         // The display image: up to 8 float responses, 3 float XYZ, 3 uint16 counts, a clip byte.
@@ -188,11 +194,49 @@ int renderStripsInto(const RenderJob& job, LoadedScene& loaded, const TonemapPla
     r.timings.tonemap_ms = sr.tonemap_ms;
     r.timings.readback_ms = sr.readback_ms;
     r.backendDescription = sr.description;
+    r.responsePass = sr.responsePass;
     r.clippedPixels = sr.clippedPixels;
     return sr.strips;
 }
 
-// One or more whole frames on the GPU into `out`.
+// Display outputs only, on the GPU into `out`: the response pass and the tonemap pass
+// (render/display_frame.h), one or more whole frames; the bands are never drawn.
+void renderDisplayFrames(const RenderJob& job, LoadedScene& loaded, const TonemapPlan& plan, RenderOutputs& out,
+                         RenderJobResult& r) {
+    auto ctx = std::make_unique<vk::Context>(jobContextOptions(job));
+    {
+        refuseOversizedTarget(job, loaded.scene, *ctx);
+        SpectralPassOptions po;
+        po.ssaa = job.ssaa;
+        DisplayFrame frame(*ctx, loaded.scene, loaded.rendered, plan, po);
+        DisplayImage image;
+        std::vector<double> shading, tonemap;
+        for (int f = 0; f < std::max(1, job.frames); ++f) {
+            image = frame.render();
+            shading.push_back(frame.timings().shading_ms);
+            tonemap.push_back(frame.timings().tonemap_ms);
+        }
+        r.responsePass = true;
+        r.timings.upload_ms = frame.timings().upload_ms;
+        r.timings.shading_ms = shading[0];
+        r.timings.tonemap_ms = tonemap[0];
+        r.timings.frames = int(shading.size());
+        r.timings.first_shading_ms = shading[0];
+        if (shading.size() > 1) {
+            r.timings.median_shading_ms = median({shading.begin() + 1, shading.end()});
+            r.timings.median_tonemap_ms = median({tonemap.begin() + 1, tonemap.end()});
+        }
+        r.backendDescription = ctx->deviceInfo().name + ": " + frame.passPlan().describe();
+        r.clippedPixels = image.clippedPixels;
+        auto t = Clock::now();
+        out.writeRows(0, loaded.scene.camera.height, nullptr, &image);
+        r.timings.write_ms = msSince(t);
+    }
+    ctx.reset();  // destroy before counting: leak reports arrive at device destruction
+    r.validationErrors = vk::Context::validationErrorsAtExit();
+}
+
+// One or more whole frames on the GPU into `out`: the bands, and the display path over them.
 void renderGpuFrames(const RenderJob& job, LoadedScene& loaded, const TonemapPlan* plan, RenderOutputs& out,
                      RenderJobResult& r) {
     auto ctx = std::make_unique<vk::Context>(jobContextOptions(job));
@@ -207,11 +251,12 @@ void renderGpuFrames(const RenderJob& job, LoadedScene& loaded, const TonemapPla
         if (plan) tonemap = std::make_unique<TonemapPass>(*ctx, pass, *plan);
         SpectralCube cube;
         DisplayImage image;
-        std::vector<double> shading, readback;
+        std::vector<double> shading, readback, tonemapMs;
         for (int f = 0; f < std::max(1, job.frames); ++f) {
             pass.draw();
             shading.push_back(pass.timings().shading_ms);
             if (tonemap) image = tonemap->render();
+            tonemapMs.push_back(tonemap ? tonemap->lastMs() : 0.0);
             if (out.needsCube()) {
                 pass.readback(cube);
                 readback.push_back(pass.timings().readback_ms);
@@ -228,6 +273,7 @@ void renderGpuFrames(const RenderJob& job, LoadedScene& loaded, const TonemapPla
         if (shading.size() > 1) {
             r.timings.median_shading_ms = median({shading.begin() + 1, shading.end()});
             r.timings.median_readback_ms = median({readback.begin() + 1, readback.end()});
+            r.timings.median_tonemap_ms = median({tonemapMs.begin() + 1, tonemapMs.end()});
         }
         r.backendDescription = ctx->deviceInfo().name + ": " + pass.plan().describe();
         r.clippedPixels = image.clippedPixels;
@@ -287,8 +333,6 @@ RenderJobResult runRenderJob(const RenderJob& job) {
 
     // 2. Refuse absurd sizes before anything that grows with the image is allocated.
     const int W = scene.camera.width, H = scene.camera.height, channels = loaded->rendered.grid.bands();
-    const RenderMemory memory = estimateRenderMemory(W, H, scene.grid.bands(), job.ssaa, job.backend, display);
-    refuseAbsurdSizes(job, scene, memory);
     std::optional<TonemapPlan> plan;
     if (display) {
         plan = makeJobTonemapPlan(job, *loaded, settings);
@@ -297,16 +341,23 @@ RenderJobResult runRenderJob(const RenderJob& job) {
         if (plan->camera) r.cameraFitRmsDeltaE = plan->camera->rmsDeltaE2000;
     }
     const TonemapPlan* planPtr = plan ? &*plan : nullptr;
+    // Whether the render holds the bands: for the cube, the mode's channel image, or a custom
+    // detector's quick look (made from the cube's CIE 1931 XYZ); else the display path draws the
+    // detector's channels only (render/display_frame.h).
+    const bool quickLook = files.png && planPtr && planPtr->mode == TonemapMode::ResponsesOnly;
+    const bool needsBands = files.cube || quickLook || files.edges || !display || job.backend == Backend::Cpu;
+    const RenderMemory memory =
+        estimateRenderMemory(W, H, scene.grid.bands(), job.ssaa, job.backend, display, needsBands);
+    refuseAbsurdSizes(job, scene, memory);
     r.timings.load_ms = msSince(t);
     r.grid = scene.grid;
     r.width = W;
     r.height = H;
 
     // 3. Every output opened at once (temporary files), whatever renders the pixels.
-    const bool quickLook = files.png && planPtr && planPtr->mode == TonemapMode::ResponsesOnly;
     std::string why;
     const int stripRows = stripRowsFor(job, scene, memory,
-                                       estimateRenderMemory(W, 1, channels, job.ssaa, job.backend, display),
+                                       estimateRenderMemory(W, 1, channels, job.ssaa, job.backend, display, needsBands),
                                        files.edges || quickLook, why);
     OutputOptions oo;
     oo.half = job.half;
@@ -323,6 +374,8 @@ RenderJobResult runRenderJob(const RenderJob& job) {
         strips = renderStripsInto(job, *loaded, planPtr, stripRows, out, r);
         r.notes.push_back(why + fmt::format("; rendered in {} strips of {} rows and streamed to the files", strips,
                                             stripRows));
+    } else if (job.backend == Backend::Gpu && !out.needsCube() && planPtr) {
+        renderDisplayFrames(job, *loaded, *planPtr, out, r);
     } else if (job.backend == Backend::Gpu) {
         renderGpuFrames(job, *loaded, planPtr, out, r);
     } else {

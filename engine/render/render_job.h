@@ -53,7 +53,7 @@ struct StageTimings {
     // With frames > 1: the first frame's shading (includes the driver's shader compilation on
     // lavapipe) and the medians over the later frames.
     int frames = 1;
-    double first_shading_ms = 0, median_shading_ms = 0, median_readback_ms = 0;
+    double first_shading_ms = 0, median_shading_ms = 0, median_readback_ms = 0, median_tonemap_ms = 0;
 };
 
 struct RenderJobResult {
@@ -61,6 +61,9 @@ struct RenderJobResult {
     Grid grid;
     int width = 0, height = 0;
     std::string backendDescription;  // device and plan
+    // The display path without the bands (render/display_frame.h): no cube was asked for, so the
+    // GPU drew the detector's channels instead of the bands.
+    bool responsePass = false;
     std::string displayDescription;  // the tonemap plan, when there is one
     std::string xyzUnits;
     StageTimings timings;
@@ -94,7 +97,10 @@ constexpr uint64_t kMaxRenderMemory = uint64_t(64) << 30;
 // beyond 64 GiB (8192² on the default grid is 22 GiB; 16384² would be 89 GiB).
 constexpr uint64_t kMaxStreamedCube = uint64_t(64) << 30;
 
-RenderMemory estimateRenderMemory(int width, int height, int bands, int ssaa, Backend backend, bool display);
+// `cube`: whether the render holds the bands; a GPU render without (display outputs only: the
+// response pass) has a target of at most TONEMAP_MAX_CHANNELS channels and no cube.
+RenderMemory estimateRenderMemory(int width, int height, int bands, int ssaa, Backend backend, bool display,
+                                  bool cube = true);
 
 // Merges defaults < the scene's output block < the job's flags; names are checked here, with the
 // scene file and key (or the flag) in the error.

@@ -16,6 +16,27 @@ void scatterBands(const std::vector<double>& values, int pass, glm::vec4* dst) {
 
 namespace {
 
+// F(λo) of material m under irradiance E: the fluorescent radiance per unit geometric factor,
+// (1/π)·Σᵢ D(λᵢ, λo)·E(λᵢ)·Δλ, or for a pair (Φ/π)·ê(λo)/λo·Σᵢ a·E·λᵢ·Δλ; in double.
+std::vector<double> fluorescentRadiance(const MaterialOnGrid& m, const std::vector<double>& E, const SceneOnGrid& g) {
+    const size_t n = g.wavelengths_nm.size();
+    const double step = g.grid.step_nm;
+    std::vector<double> out(n, 0.0);
+    if (m.isMatrix()) {
+        for (size_t in = 0; in < n; ++in) {
+            const double e = E[in] * step / M_PI;
+            if (e == 0.0) continue;
+            const double* row = &m.donaldson[in * n];
+            for (size_t o = 0; o < n; ++o) out[o] += row[o] * e;
+        }
+    } else {
+        double absorbed = 0.0;  // Σ a·E·λ·Δλ
+        for (size_t b = 0; b < n; ++b) absorbed += m.excitation[b] * E[b] * g.wavelengths_nm[b] * step;
+        for (size_t o = 0; o < n; ++o) out[o] = m.quantum_yield / M_PI * m.emission[o] / g.wavelengths_nm[o] * absorbed;
+    }
+    return out;
+}
+
 // The fluorescent radiance per unit geometric factor of every fluorescent material under every
 // light, F_l(λo) = (1/π)·Σᵢ D(λᵢ, λo)·E_l(λᵢ)·Δλ, in double, then rounded once to float. The
 // rank-one form is the matrix D = Φ·a(λᵢ)·ê(λo)·λᵢ/λo, which factors the sum:
@@ -24,7 +45,6 @@ namespace {
 void packFluorescence(PackedScene& p, const Scene& scene, const SceneOnGrid& g, const std::vector<size_t>& order,
                       int passes) {
     const size_t n = g.wavelengths_nm.size(), lights = order.size();
-    const double step = g.grid.step_nm;
     p.lightSlots = std::max<int>(1, int(lights));
     p.fluorescenceRecord.assign(g.materials.size(), 0);
     std::vector<std::vector<double>> emitted;  // per fluorescent material: [light][band]
@@ -34,21 +54,9 @@ void packFluorescence(PackedScene& p, const Scene& scene, const SceneOnGrid& g, 
         p.fluorescenceRecord[mi] = uint32_t(emitted.size() + 1);
         std::vector<double> f(lights * n, 0.0);
         for (size_t i = 0; i < lights; ++i) {
-            const std::vector<double>& E = g.lights[order[i]];
+            const std::vector<double> radiance = fluorescentRadiance(m, g.lights[order[i]], g);
             double* out = &f[i * n];
-            if (m.isMatrix()) {
-                for (size_t in = 0; in < n; ++in) {
-                    const double e = E[in] * step / M_PI;
-                    if (e == 0.0) continue;
-                    const double* row = &m.donaldson[in * n];
-                    for (size_t o = 0; o < n; ++o) out[o] += row[o] * e;
-                }
-            } else {
-                double absorbed = 0.0;  // Σ a·E·λ·Δλ
-                for (size_t b = 0; b < n; ++b) absorbed += m.excitation[b] * E[b] * g.wavelengths_nm[b] * step;
-                for (size_t o = 0; o < n; ++o)
-                    out[o] = m.quantum_yield / M_PI * m.emission[o] / g.wavelengths_nm[o] * absorbed;
-            }
+            std::copy(radiance.begin(), radiance.end(), out);
             for (size_t o = 0; o < n; ++o)
                 if (!(std::fabs(out[o]) <= double(std::numeric_limits<float>::max()))) {
                     const Fluorescence& fl = *scene.materials[mi].fluorescence;
@@ -77,6 +85,19 @@ void packFluorescence(PackedScene& p, const Scene& scene, const SceneOnGrid& g, 
                 glm::vec4* dst = &p.fluorescence[((size_t(pass) * p.fluorescenceRecords + r) * p.lightSlots + i) * MAX_OUTPUTS];
                 scatterBands(bands, pass, dst);
             }
+}
+
+// Lights sorted ambient, directional, point (the shader loops over each kind without
+// branching); counts them into p.
+std::vector<size_t> lightOrder(const Scene& scene, PackedScene& p) {
+    std::vector<size_t> order;
+    for (Light::Type type : {Light::Type::Ambient, Light::Type::Directional, Light::Type::Point})
+        for (size_t l = 0; l < scene.lights.size(); ++l)
+            if (scene.lights[l].type == type) {
+                order.push_back(l);
+                (type == Light::Type::Ambient ? p.ambient : type == Light::Type::Directional ? p.directional : p.point)++;
+            }
+    return order;
 }
 
 }  // namespace
@@ -126,13 +147,7 @@ PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes) {
         p.draws.push_back(d);
     }
     // Lights sorted by kind (the shader loops over each kind without branching).
-    std::vector<size_t> order;
-    for (Light::Type type : {Light::Type::Ambient, Light::Type::Directional, Light::Type::Point})
-        for (size_t l = 0; l < scene.lights.size(); ++l)
-            if (scene.lights[l].type == type) {
-                order.push_back(l);
-                (type == Light::Type::Ambient ? p.ambient : type == Light::Type::Directional ? p.directional : p.point)++;
-            }
+    const std::vector<size_t> order = lightOrder(scene, p);
     for (size_t i = 0; i < order.size(); ++i) {
         const Light& light = scene.lights[order[i]];
         if (light.type == Light::Type::Directional)
@@ -199,6 +214,84 @@ PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes) {
         }
     }
     packFluorescence(p, scene, g, order, passes);
+    return p;
+}
+
+PackedScene packResponses(const Scene& scene, const SceneOnGrid& g, const std::vector<std::vector<double>>& weights) {
+    const size_t channels = weights.size(), n = g.wavelengths_nm.size();
+    if (channels == 0 || channels > 4 * RESPONSE_VEC4)
+        failRuntime("the response pass carries 1 to {} detector channels, not {}", 4 * RESPONSE_VEC4, channels);
+    for (const auto& w : weights)
+        if (w.size() != n) failRuntime("detector weights on {} bands for a scene on {}", w.size(), n);
+    // Geometry, light vectors and the materials' parameters as for the band passes (one pass); the
+    // spectra those blocks hold are not read.
+    PackedScene p = pack(scene, g, 1);
+    p.responses = true;
+    p.fluorescenceSpectra = false;
+    p.responseChannels = int(channels);
+    PackedScene counted;
+    const std::vector<size_t> order = lightOrder(scene, counted);
+    const size_t lights = order.size();
+    // The detector's response to a spectrum s: Σ_b w_cb·s_b, into RESPONSE_VEC4 vec4 at dst.
+    auto respond = [&](const std::vector<double>& s, glm::vec4* dst) {
+        for (size_t c = 0; c < channels; ++c) {
+            double r = 0.0;
+            for (size_t b = 0; b < n; ++b) r += weights[c][b] * s[b];
+            if (!(std::fabs(r) <= double(std::numeric_limits<float>::max())))
+                failRuntime("a detector response of {:g} is beyond the largest float32", r);
+            dst[c / 4][int(c % 4)] = float(r);
+        }
+    };
+    std::vector<double> product(n);
+    p.responseBlocks.assign(g.materials.size(), gpu::GpuResponseBlock{});
+    p.responseTextureSlots.assign(g.materials.size(), {-1, -1, -1});
+    for (size_t mi = 0; mi < g.materials.size(); ++mi) {
+        const MaterialOnGrid& m = g.materials[mi];
+        gpu::GpuResponseBlock& block = p.responseBlocks[mi];
+        for (size_t i = 0; i < lights; ++i) {
+            const std::vector<double>& E = g.lights[order[i]];
+            for (size_t b = 0; b < n; ++b) product[b] = m.diffuse[b] * E[b];
+            respond(product, &block.diffuse[i * RESPONSE_VEC4]);
+            for (size_t b = 0; b < n; ++b) product[b] = m.specular[b] * E[b];
+            respond(product, &block.specular[i * RESPONSE_VEC4]);
+            if (m.fluorescent) respond(fluorescentRadiance(m, E, g), &block.fluorescence[i * RESPONSE_VEC4]);
+        }
+        // A reflectance texture T scales the material's spectrum texel by texel: its response
+        // texture holds Σ_b w_cb·ρ_b·T_b·E_lb for every light (bilinear filtering is linear, so
+        // filtering responses is the response of the filtered spectra).
+        auto responseTexture = [&](int texture, const std::vector<double>& rho) {
+            const TextureOnGrid& t = g.textures[size_t(texture)];
+            TextureOnGrid r;
+            r.width = t.width;
+            r.height = t.height;
+            r.channels = int(std::max<size_t>(1, lights)) * 4 * RESPONSE_VEC4;
+            r.data.assign(size_t(t.width) * t.height * size_t(r.channels), 0.0f);
+            std::vector<double> u(channels * n);  // w_cb·ρ_b·E_lb for one light
+            for (size_t i = 0; i < lights; ++i) {
+                const std::vector<double>& E = g.lights[order[i]];
+                for (size_t c = 0; c < channels; ++c)
+                    for (size_t b = 0; b < n; ++b) u[c * n + b] = weights[c][b] * rho[b] * E[b];
+                for (size_t px = 0; px < size_t(t.width) * t.height; ++px) {
+                    const float* texel = t.texel(int(px % size_t(t.width)), int(px / size_t(t.width)));
+                    float* out = &r.data[px * size_t(r.channels) + i * 4 * RESPONSE_VEC4];
+                    for (size_t c = 0; c < channels; ++c) {
+                        double sum = 0.0;
+                        const double* uc = &u[c * n];
+                        for (size_t b = 0; b < n; ++b) sum += uc[b] * texel[b];
+                        out[c] = float(sum);
+                    }
+                }
+            }
+            p.responseTextures.push_back(std::move(r));
+            return int(p.responseTextures.size()) - 1;
+        };
+        if (m.diffuseTexture >= 0) p.responseTextureSlots[mi][0] = responseTexture(m.diffuseTexture, m.diffuse);
+        if (m.specularTexture >= 0) p.responseTextureSlots[mi][1] = responseTexture(m.specularTexture, m.specular);
+        if (m.normalTexture >= 0) {
+            p.responseTextures.push_back(g.textures[size_t(m.normalTexture)]);
+            p.responseTextureSlots[mi][2] = int(p.responseTextures.size()) - 1;
+        }
+    }
     return p;
 }
 

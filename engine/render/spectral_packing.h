@@ -8,6 +8,7 @@
 #include "scene/scene.h"
 #include "scene/scene_on_grid.h"
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -38,6 +39,16 @@ struct PackedScene {
     int fluorescenceRecords = 1;                  // per pass
     std::vector<uint32_t> fluorescenceRecord;     // per material: its record in every pass
     std::vector<glm::vec4> fluorescence;
+
+    // The response pass (pack() with detector weights): per material, its responses under every
+    // light, and the textures it reads instead of its spectral ones — a reflectance texture
+    // becomes a response texture (RESPONSE_VEC4 layers per light, texel by texel), a normal map
+    // stays as it is. responseTextureSlots[m]: diffuse, specular, normal texture in responseTextures.
+    bool responses = false;
+    int responseChannels = 0;
+    std::vector<gpu::GpuResponseBlock> responseBlocks;
+    std::vector<TextureOnGrid> responseTextures;
+    std::vector<std::array<int, 3>> responseTextureSlots;
 };
 
 // Band b of pass p lives at vec4 k = (b - 32p) / 4, component (b - 32p) % 4; bands past the grid are 0.
@@ -46,5 +57,10 @@ void scatterBands(const std::vector<double>& values, int pass, glm::vec4* dst);
 // The scene packed for `passes` passes of BANDS_PER_PASS bands. Input errors (lights or
 // fluorescence beyond float32's range) name the scene's key.
 PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes);
+
+// The scene packed for the response pass: one pass whose outputs are the channels of a detector
+// with `weights` [channel][band of g.grid] (at most 4·RESPONSE_VEC4 channels): every material's
+// responses under every light, in double, rounded once to float.
+PackedScene packResponses(const Scene& scene, const SceneOnGrid& g, const std::vector<std::vector<double>>& weights);
 
 }  // namespace metamer

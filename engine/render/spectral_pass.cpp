@@ -11,6 +11,11 @@
 namespace metamer {
 
 std::string SpectralPassPlan::describe() const {
+    if (responses)
+        return fmt::format("response pass: {} detector channel(s) in {} RGBA32F layer(s), a depth pre-pass + 1 colour "
+                           "pass, {}×{} target ({} MiB), {} light(s), specular {}, fluorescence {}, ssaa {}",
+                           bands, layers, targetWidth, targetHeight, targetBytes >> 20, lightCount,
+                           hasSpecular ? "on" : "off", hasFluorescence ? "on" : "off", ssaa);
     return fmt::format("{} bands in {} RGBA32F layers, a depth pre-pass + {} colour pass(es) of ≤{} attachments, {}×{} target ({} MiB), "
                        "{} light(s), specular {}, fluorescence {}, ssaa {}, readback by {}",
                        bands, layers, passes, MAX_OUTPUTS, targetWidth, targetHeight, targetBytes >> 20,
@@ -40,8 +45,11 @@ SpectralPass::SpectralPass(vk::Context& ctx, const Scene& scene, const SceneOnGr
         failInput(Where{"", "--ssaa"}, "supersampling must be 1, 2, 3 or 4 (samples per pixel side), got {}",
                   options.ssaa);
     SpectralPassPlan& p = plan_;
-    p.bands = spectra.grid.bands();
-    p.layers = spectra.grid.layers();
+    p.responses = !options.responseWeights.empty();
+    if (p.responses && !options.sampled)
+        failRuntime("the response pass's target is read by the tonemap pass only: set SpectralPassOptions::sampled");
+    p.bands = p.responses ? int(options.responseWeights.size()) : spectra.grid.bands();
+    p.layers = (p.bands + 3) / 4;
     p.passes = (p.layers + MAX_OUTPUTS - 1) / MAX_OUTPUTS;
     p.lightCount = int(scene.lights.size());
     p.hasSpecular = scene.hasSpecular();
@@ -62,7 +70,7 @@ SpectralPass::SpectralPass(vk::Context& ctx, const Scene& scene, const SceneOnGr
     if (scene.lights.size() > MAX_LIGHTS)
         failInput(Where{scene.file.string(), "lights"}, "{} lights; the GPU path supports at most {}",
                   scene.lights.size(), MAX_LIGHTS);
-    m.packed = pack(scene, spectra, p.passes);
+    m.packed = p.responses ? packResponses(scene, spectra, options.responseWeights) : pack(scene, spectra, p.passes);
     p.fluorescenceSpectra = m.packed.fluorescenceSpectra;
     m.camera = cameraMatrices(scene.camera, scene);
     m.fullViewProjection = m.camera.viewProjection;
@@ -122,6 +130,7 @@ VkImageLayout SpectralPass::targetLayout() const {
 
 void SpectralPass::readback(SpectralCube& cube) {
     Impl& m = *impl_;
+    if (plan_.responses) failRuntime("the response pass holds a detector's channels, not a cube to read back");
     auto t1 = Clock::now();
     if (cube.width != m.scene.camera.width || cube.height != m.rows || !(cube.grid == m.grid) ||
         cube.data.size() != size_t(cube.width) * cube.height * cube.bands())

@@ -1,5 +1,7 @@
 // The GPU spectral pass: rasterizes the scene into a layered RGBA32F framebuffer, 4 bands per
-// layer, up to 8 layers (colour attachments) per render pass, and reads the cube back.
+// layer, up to 8 layers (colour attachments) per render pass, and reads the cube back. As the
+// response pass (SpectralPassOptions::responseWeights) it writes a detector's channels instead of
+// the bands, for the tonemap pass to read (render/display_frame.h).
 // Tests: tests/gpu_known_answer_test.cpp, tests/gpu_vs_reference_test.cpp,
 // tests/sampling_test.cpp, tests/strips_test.cpp, tests/numerics_test.cpp; its parts:
 // render/spectral_packing_test.cpp, render/target_readback_test.cpp.

@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace metamer {
 
@@ -23,11 +24,17 @@ struct SpectralPassOptions {
     // Render the image in horizontal strips of this many rows (0: the whole image at once), for
     // images larger than memory: setStrip() chooses the rows, readback() returns that strip.
     int stripRows = 0;
+    // The response pass (non-empty): the outputs are the channels of a detector with these weights
+    // [channel][band of the scene's grid], at most TONEMAP_MAX_CHANNELS, instead of the bands —
+    // the display path that never writes the bands (docs/color.md, "The response pass"). The
+    // target is then only sampled (needs `sampled`); it has no cube to read back.
+    std::vector<std::vector<double>> responseWeights;
 };
 
 // What this scene needs from the GPU: decided once, before any Vulkan object is made.
 struct SpectralPassPlan {
-    int bands = 0;
+    bool responses = false;  // the response pass: `bands` are a detector's channels
+    int bands = 0;           // the grid's bands, or the response pass's channels
     int layers = 0;          // ceil(bands / 4)
     int passes = 0;          // ceil(layers / 8)
     int lightCount = 0;

@@ -76,15 +76,16 @@ void recordSpectralFrame(VkCommandBuffer cmd, const SpectralResources& r, const 
             size_t materials = packed.materials.size() / r.passes.size();
             for (const PackedDraw& d : packed.draws) {
                 // This pass's bands of the light spectra, of the draw's material and of its
-                // fluorescence.
-                uint32_t offsets[3] = {
+                // fluorescence; the material's responses (the response pass).
+                uint32_t offsets[4] = {
                     uint32_t(p * r.lightSpectraStride), uint32_t((p * materials + d.material) * r.materialStride),
                     packed.fluorescenceSpectra
                         ? uint32_t((p * packed.fluorescenceRecords + packed.fluorescenceRecord[d.material]) *
                                    r.fluorescenceStride)
-                        : 0u};
+                        : 0u,
+                    packed.responses ? uint32_t(d.material * r.responseStride) : 0u};
                 vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelineLayout, 0, 1,
-                                        &r.descriptorSet, 3, offsets);
+                                        &r.descriptorSet, 4, offsets);
                 vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelineLayout, 1, 1,
                                         &r.materialSets[d.material], 0, nullptr);
                 vkCmdDrawIndexed(cmd, d.indexCount, 1, d.firstIndex, d.vertexOffset, 0);
@@ -98,7 +99,7 @@ void recordSpectralFrame(VkCommandBuffer cmd, const SpectralResources& r, const 
                          {VK_IMAGE_LAYOUT_GENERAL, VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT,
                           VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT},
                          {VK_IMAGE_LAYOUT_GENERAL, VK_ACCESS_HOST_READ_BIT, VK_PIPELINE_STAGE_HOST_BIT});
-    } else {
+    } else if (!plan.responses) {
         VkBufferImageCopy region{};
         region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, uint32_t(plan.layers)};
         region.imageExtent = {plan.targetWidth, plan.targetHeight, 1};

@@ -39,10 +39,19 @@ SpectralResources::SpectralResources(vk::Context& c, const Scene& s, const Scene
                                      const PackedScene& p, SpectralPassPlan& pl, const SpectralPassOptions& options)
     : ctx(c), scene(s), packed(p), plan(pl) {
     createBuffers();
-    for (const MaterialOnGrid& mat : spectra.materials)
-        materialTextures.push_back({mat.diffuseTexture, mat.specularTexture, mat.normalTexture});
-    createTextures(spectra);
-    createTargets(options.readback, options.sampled, pl);
+    // The response pass reads response textures (render/spectral_packing.h) instead of spectral ones.
+    std::vector<const TextureOnGrid*> list;
+    if (packed.responses) {
+        materialTextures = packed.responseTextureSlots;
+        for (const TextureOnGrid& t : packed.responseTextures) list.push_back(&t);
+    } else {
+        for (const MaterialOnGrid& mat : spectra.materials)
+            materialTextures.push_back({mat.diffuseTexture, mat.specularTexture, mat.normalTexture});
+        for (const TextureOnGrid& t : spectra.textures) list.push_back(&t);
+    }
+    createTextures(list);
+    // Nobody reads the response pass's target but the tonemap pass: an OPTIMAL image, no copy.
+    createTargets(packed.responses ? Readback::Copy : options.readback, options.sampled, pl);
     createLayouts();
     createPasses();
 }
@@ -89,13 +98,17 @@ void SpectralResources::createBuffers() {
                                   r * fluorescenceStride);
     if (!zeros.empty())  // the tail past the last record: never read, but defined
         fluorescenceBuffer.upload(zeros.data(), zeros.size(), (records - 1) * fluorescenceStride + recordBytes);
+    // The band passes bind one zero block (the shader declares it, reads it only as the response pass).
+    responseStride = aligned(sizeof(gpu::GpuResponseBlock));
+    const gpu::GpuResponseBlock none{};
+    responseBuffer = packed.responses ? uniforms(packed.responseBlocks.data(), sizeof(gpu::GpuResponseBlock),
+                                                 packed.responseBlocks.size(), responseStride, "responses")
+                                      : uniforms(&none, sizeof none, 1, responseStride, "responses (unused)");
 }
 
 // Each texture as an RGBA32F 2D-array image, 4 channels per layer (zero-padded), copied from a
 // staging buffer; the last image is a 1×1 placeholder for untextured slots.
-void SpectralResources::createTextures(const SceneOnGrid& g) {
-    std::vector<const TextureOnGrid*> list;
-    for (const auto& t : g.textures) list.push_back(&t);
+void SpectralResources::createTextures(std::vector<const TextureOnGrid*> list) {
     TextureOnGrid placeholder;
     placeholder.width = placeholder.height = 1;
     placeholder.channels = 4;
@@ -177,7 +190,8 @@ void SpectralResources::createTargets(Readback mode, bool sampled, SpectralPassP
         cd.hostVisible = false;
         color = vk::Image(ctx, cd);
         plan.mappedReadback = false;
-        readbackBuffer = vk::Buffer(ctx, plan.targetBytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, "readback");
+        if (!plan.responses)
+            readbackBuffer = vk::Buffer(ctx, plan.targetBytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, "readback");
     }
     vk::ImageDesc dd;
     dd.format = VK_FORMAT_D32_SFLOAT;
@@ -190,12 +204,13 @@ void SpectralResources::createTargets(Readback mode, bool sampled, SpectralPassP
 
 void SpectralResources::createLayouts() {
     VkDevice d = ctx.device();
-    constexpr int kBindings = 4;
+    constexpr int kBindings = 5;
     VkDescriptorSetLayoutBinding bindings[kBindings] = {
         {BINDING_LIGHTS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
         {BINDING_LIGHT_SPECTRA, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
         {BINDING_MATERIAL, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
         {BINDING_FLUORESCENCE, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
+        {BINDING_RESPONSES, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
     };
     VkDescriptorSetLayoutCreateInfo sl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
     sl.bindingCount = kBindings;
@@ -225,7 +240,7 @@ void SpectralResources::createLayouts() {
 
     const uint32_t materialCount = uint32_t(std::max<size_t>(1, scene.materials.size()));
     VkDescriptorPoolSize sizes[3] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1},
-                                     {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC, 3},
+                                     {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC, kBindings - 1},
                                      {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, TEXTURE_BINDINGS * materialCount}};
     VkDescriptorPoolCreateInfo pci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     pci.maxSets = 1 + materialCount;
@@ -244,7 +259,8 @@ void SpectralResources::createLayouts() {
         {lightBuffer.handle(), 0, sizeof(gpu::GpuLightBlock)},
         {lightSpectraBuffer.handle(), 0, sizeof(gpu::GpuLightSpectraBlock)},
         {materialBuffer.handle(), 0, sizeof(gpu::GpuMaterialBlock)},
-        {fluorescenceBuffer.handle(), 0, sizeof(gpu::GpuFluorescenceBlock)}};
+        {fluorescenceBuffer.handle(), 0, sizeof(gpu::GpuFluorescenceBlock)},
+        {responseBuffer.handle(), 0, sizeof(gpu::GpuResponseBlock)}};
     VkWriteDescriptorSet writes[kBindings];
     for (int i = 0; i < kBindings; ++i) {
         writes[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
@@ -364,11 +380,12 @@ VkRenderPass SpectralResources::makeRenderPass(uint32_t attachments) {
 VkPipeline SpectralResources::makePipeline(VkRenderPass renderPass, uint32_t attachments) {
     const gpu::SpectralSpecialization spec{packed.ambient,       packed.directional,   packed.point,
                                            plan.hasSpecular,     plan.hasFluorescence, scene.hasTextures(),
-                                           scene.hasNormalMaps(), plan.fluorescenceSpectra};
+                                           scene.hasNormalMaps(), plan.fluorescenceSpectra, plan.responses};
     // interface.h orders the struct's 4-byte fields by id.
-    VkSpecializationMapEntry entries[SPEC_FLUORESCENCE_SPECTRA + 1];
-    for (uint32_t id = 0; id <= SPEC_FLUORESCENCE_SPECTRA; ++id) entries[id] = {id, id * 4, 4};
-    VkSpecializationInfo si{SPEC_FLUORESCENCE_SPECTRA + 1, entries, sizeof(spec), &spec};
+    constexpr uint32_t kIds = SPEC_RESPONSES + 1;
+    VkSpecializationMapEntry entries[kIds];
+    for (uint32_t id = 0; id < kIds; ++id) entries[id] = {id, id * 4, 4};
+    VkSpecializationInfo si{kIds, entries, sizeof(spec), &spec};
     bool prePass = attachments == 0;
     VkShaderModule frag = VK_NULL_HANDLE;
     if (!prePass) {
@@ -448,9 +465,6 @@ void SpectralResources::createPasses() {
         passes.push_back(std::move(po));
     }
 }
-std::vector<VkRenderPass> passRenderPass;
-std::vector<VkPipeline> passPipeline;
-
 LayeredView SpectralResources::mapTarget() {
     LayeredView a;
     if (plan.mappedReadback) {

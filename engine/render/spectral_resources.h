@@ -45,11 +45,12 @@ struct SpectralResources {
     const SpectralPassPlan& plan;
 
     vk::Buffer vertexBuffer, indexBuffer, lightBuffer, lightSpectraBuffer, materialBuffer, fluorescenceBuffer,
-        readbackBuffer;
-    VkDeviceSize lightSpectraStride = 0, materialStride = 0, fluorescenceStride = 0;  // dynamic-offset strides
+        responseBuffer, readbackBuffer;
+    // Dynamic-offset strides.
+    VkDeviceSize lightSpectraStride = 0, materialStride = 0, fluorescenceStride = 0, responseStride = 0;
     vk::Image color, depth;
-    // Textures (one image per SceneOnGrid texture, then a placeholder) and one descriptor set of
-    // set 1 per material.
+    // Textures (one image per SceneOnGrid texture, or per response texture in the response pass,
+    // then a placeholder) and one descriptor set of set 1 per material.
     std::vector<vk::Image> textures;
     std::vector<std::array<int, 3>> materialTextures;  // per material: diffuse, specular, normal texture
     vk::OwnedSampler textureSampler;
@@ -68,7 +69,7 @@ private:
     VkDeviceSize aligned(VkDeviceSize size) const;
     vk::Buffer uniforms(const void* data, size_t size, size_t count, VkDeviceSize stride, const char* name);
     void createBuffers();
-    void createTextures(const SceneOnGrid& g);
+    void createTextures(std::vector<const TextureOnGrid*> list);
     void createTargets(Readback mode, bool sampled, SpectralPassPlan& plan);
     void createLayouts();
     VkRenderPass makeRenderPass(uint32_t attachments);
@@ -77,7 +78,8 @@ private:
 };
 
 // A frame's commands: clear the target, the depth pre-pass, every colour pass, and make the
-// target readable by the host (a barrier for a mapped image, else a copy into readbackBuffer).
+// target readable by the host (a barrier for a mapped image, else a copy into readbackBuffer; the
+// response pass's target is left for the tonemap pass).
 void recordSpectralFrame(VkCommandBuffer cmd, const SpectralResources& r, const CameraMatrices& camera);
 
 }  // namespace metamer

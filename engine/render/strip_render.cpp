@@ -1,5 +1,6 @@
 #include "render/strip_render.h"
 
+#include "render/display_frame.h"
 #include "render/tonemap_pass.h"
 
 #include <fmt/ranges.h>
@@ -16,15 +17,44 @@ size_t defaultMemoryBudget() {
     return size_t(pages) * size_t(size) / 4;
 }
 
+namespace {
+
+// Display outputs only: the response pass and the tonemap pass, strip by strip.
+StripResult displayStrips(const StripJob& j, SpectralPassOptions po) {
+    const int W = j.scene->camera.width, H = j.scene->camera.height;
+    StripResult r;
+    r.responsePass = true;
+    DisplayFrame frame(*j.context, *j.scene, *j.rendered, *j.plan, po);
+    r.description = j.context->deviceInfo().name + ": " + frame.passPlan().describe() +
+                    fmt::format(", in strips of {} rows", frame.rows());
+    for (int r0 = 0; r0 < H; r0 += frame.rows()) {
+        const int rows = std::min(frame.rows(), H - r0);
+        frame.setStrip(r0);
+        const DisplayImage d = frame.render();
+        r.shading_ms += frame.timings().shading_ms;
+        r.tonemap_ms += frame.timings().tonemap_ms;
+        // Clipped pixels of the kept rows only (rows past the image's bottom are dropped).
+        for (size_t i = 0; i < size_t(W) * rows && i < d.clipped.size(); ++i) r.clippedPixels += d.clipped[i];
+        j.outputs->writeRows(r0, rows, nullptr, &d);
+        ++r.strips;
+    }
+    return r;
+}
+
+}  // namespace
+
 StripResult renderInStrips(const StripJob& j) {
     const Scene& scene = *j.scene;
     int W = scene.camera.width, H = scene.camera.height;
-    StripResult r;
     SpectralPassOptions po;
     po.ssaa = j.ssaa;
     po.readback = j.readback;
-    po.sampled = j.plan != nullptr;
     po.stripRows = j.stripRows;
+    RenderOutputs& out = *j.outputs;
+    if (!out.needsCube() && j.plan) return displayStrips(j, po);
+
+    StripResult r;
+    po.sampled = j.plan != nullptr;
     SpectralPass pass(*j.context, scene, *j.rendered, po);
     std::unique_ptr<TonemapPass> tonemap;
     if (j.plan) tonemap = std::make_unique<TonemapPass>(*j.context, pass, *j.plan);
@@ -32,7 +62,6 @@ StripResult renderInStrips(const StripJob& j) {
                     fmt::format(", in strips of {} rows", pass.rows());
 
     SpectralCube strip;
-    RenderOutputs& out = *j.outputs;
     for (int r0 = 0; r0 < H; r0 += pass.rows()) {
         int rows = std::min(pass.rows(), H - r0);
         pass.setStrip(r0);

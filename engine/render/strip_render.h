@@ -1,6 +1,7 @@
 // Images larger than memory: the GPU path renders the image in horizontal strips and streams each
 // strip's rows to the outputs (render/outputs: spectral EXR, display PNG, XYZ and response EXRs),
-// so peak memory is a strip's, not the image's. render/render_job.cpp decides when (the memory
+// so peak memory is a strip's, not the image's. Without a cube to write, the strips are drawn by
+// the display path that never writes the bands (render/display_frame.h). render/render_job.cpp decides when (the memory
 // estimate against --memory-budget) and hands the prepared job over. Tests: tests/strips_test.cpp.
 #pragma once
 
@@ -40,6 +41,7 @@ struct StripResult {
     int strips = 0;
     size_t clippedPixels = 0;
     double shading_ms = 0, tonemap_ms = 0, readback_ms = 0;
+    bool responsePass = false;  // display outputs only: the bands were never drawn
     std::string description;  // device and plan
 };
 

@@ -197,11 +197,13 @@ struct TonemapPass::Impl {
             plan.mode == TonemapMode::Film     ? TONEMAP_MODE_FILM
             : plan.mode == TonemapMode::Linear ? TONEMAP_MODE_LINEAR
                                                : TONEMAP_MODE_RESPONSES,
-            plan.display.kind == DisplayKind::Srgb ? TONEMAP_DISPLAY_SRGB : TONEMAP_DISPLAY_GOG};
+            plan.display.kind == DisplayKind::Srgb ? TONEMAP_DISPLAY_SRGB : TONEMAP_DISPLAY_GOG,
+            source.plan().responses ? TONEMAP_INPUT_RESPONSES : TONEMAP_INPUT_BANDS};
         // interface.h orders the struct's 4-byte fields by id.
-        VkSpecializationMapEntry entries[TONEMAP_SPEC_DISPLAY + 1];
-        for (uint32_t id = 0; id <= TONEMAP_SPEC_DISPLAY; ++id) entries[id] = {id, id * 4, 4};
-        VkSpecializationInfo si{TONEMAP_SPEC_DISPLAY + 1, entries, sizeof(spec), &spec};
+        constexpr uint32_t kIds = TONEMAP_SPEC_INPUT + 1;
+        VkSpecializationMapEntry entries[kIds];
+        for (uint32_t id = 0; id < kIds; ++id) entries[id] = {id, id * 4, 4};
+        VkSpecializationInfo si{kIds, entries, sizeof(spec), &spec};
         // The pipeline keeps what it needs of the modules.
         const vk::OwnedShaderModule vert(d, vk::createShaderModule(d, kSpirv_tonemap_vert, sizeof(kSpirv_tonemap_vert)));
         const vk::OwnedShaderModule frag(d, vk::createShaderModule(d, kSpirv_tonemap_frag, sizeof(kSpirv_tonemap_frag)));
@@ -229,7 +231,8 @@ struct TonemapPass::Impl {
         const vk::ImageUse drawn{source.targetLayout(), VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT,
                                  VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT};
         const vk::ImageUse sampled{sampledLayout(), VK_ACCESS_SHADER_READ_BIT, VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT};
-        vk::imageBarrier(cmd, source.targetImage(), uint32_t(layers), drawn, sampled);
+        const uint32_t targetLayers = uint32_t(source.plan().layers);
+        vk::imageBarrier(cmd, source.targetImage(), targetLayers, drawn, sampled);
 
         VkRenderPassBeginInfo rb{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
         rb.renderPass = renderPass.get();
@@ -252,7 +255,7 @@ struct TonemapPass::Impl {
         vk::bufferBarrier(cmd, readback.handle(), VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
                           VK_ACCESS_HOST_READ_BIT, VK_PIPELINE_STAGE_HOST_BIT);
         // Hand the spectral target back in the layout the spectral pass left it in.
-        vk::imageBarrier(cmd, source.targetImage(), uint32_t(layers), sampled,
+        vk::imageBarrier(cmd, source.targetImage(), targetLayers, sampled,
                          {source.targetLayout(), VK_ACCESS_HOST_READ_BIT, VK_PIPELINE_STAGE_HOST_BIT});
     }
 
@@ -296,7 +299,14 @@ TonemapPass::TonemapPass(vk::Context& ctx, SpectralPass& source, const TonemapPl
     Impl& m = *impl_;
     m.width = source.plan().targetWidth / uint32_t(source.plan().ssaa);
     m.height = source.plan().targetHeight / uint32_t(source.plan().ssaa);
-    m.layers = source.plan().layers;
+    // The tables are per band of the plan's grid (its channels in a reduced mode); the band
+    // spectral pass's target has as many layers, the response pass's holds the responses.
+    m.layers = plan.grid.layers();
+    if (!source.plan().responses && source.plan().layers != m.layers)
+        failRuntime("the tonemap plan is on {} bands, the spectral pass on {}", plan.grid.bands(), source.plan().bands);
+    if (source.plan().responses && source.plan().bands != int(plan.detector.weights.size()))
+        failRuntime("the response pass carries {} channels, the detector has {}", source.plan().bands,
+                    plan.detector.weights.size());
     m.createBuffers();
     m.createTargets();
     m.createPipeline();

@@ -1,0 +1,208 @@
+// The display path that never writes the bands (render/display_frame.h) against the cube path: on
+// every bundled scene, for every kind of detector (observers, cameras, film, a csv detector of 8
+// channels), adaptation, display and representation mode, the response pass's responses and XYZ
+// equal the integral of the band passes' cube (color/tonemap_reference, double precision) within
+// 1e-5 relative, and its display counts are within 1 of the cube path's tonemap pass. Both paths
+// rasterize the same triangles with the same depth, so every pixel is compared, edges included.
+#include "color/tonemap.h"
+#include "render/display_frame.h"
+#include "render/render_setup.h"
+#include "render/tonemap_pass.h"
+#include "support/gpu.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+using namespace metamer;
+using namespace metamer::test;
+namespace fs = std::filesystem;
+
+namespace {
+
+// Relative error against max(|reference|, floor × the channel's largest |reference|): a channel
+// that is almost black at a pixel (the blue of a red sphere) is not held to 1e-5 of almost
+// nothing. The floor is 1e-3 of the channel's range.
+struct Worst {
+    double relative = 0;
+    size_t pixel = 0;
+    int channel = -1;
+};
+
+Worst worstRelative(const std::vector<float>& got, const std::vector<float>& want, int channels, double floor = 1e-3) {
+    Worst w;
+    if (got.size() != want.size()) return {INFINITY, 0, -1};
+    std::vector<double> range(size_t(channels), 0.0);
+    for (size_t i = 0; i < want.size(); ++i)
+        range[i % channels] = std::max(range[i % channels], double(std::fabs(want[i])));
+    for (size_t i = 0; i < want.size(); ++i) {
+        const int c = int(i % channels);
+        const double rel = std::fabs(double(got[i]) - want[i]) / std::max(double(std::fabs(want[i])), floor * range[c] + 1e-300);
+        if (!(rel <= w.relative)) w = {std::isnan(rel) ? INFINITY : rel, i / channels, c};
+    }
+    return w;
+}
+
+int worstCount(const std::vector<uint16_t>& a, const std::vector<uint16_t>& b) {
+    if (a.size() != b.size()) return 1 << 20;
+    int worst = 0;
+    for (size_t i = 0; i < a.size(); ++i) worst = std::max(worst, std::abs(int(a[i]) - int(b[i])));
+    return worst;
+}
+
+// Eight Gaussian channels over 380–780 nm, one of them with a negative lobe (a colour-matching
+// function's shape), to fill both response layers.
+fs::path eightChannelDetector() {
+    const fs::path path = fs::temp_directory_path() / "metamer_response_pass_eight.csv";
+    std::ofstream f(path);
+    f << "wavelength_nm";
+    for (int c = 0; c < 8; ++c) f << ",c" << c;
+    f << "\n";
+    for (int nm = 300; nm <= 830; nm += 5) {
+        f << nm;
+        for (int c = 0; c < 8; ++c) {
+            const double mu = 400 + 50 * c, x = (nm - mu) / 25.0;
+            double v = std::exp(-0.5 * x * x);
+            if (c == 5) v -= 0.3 * std::exp(-0.5 * ((nm - 450) / 20.0) * ((nm - 450) / 20.0));
+            f << "," << v;
+        }
+        f << "\n";
+    }
+    return path;
+}
+
+struct Case {
+    std::string scene, detector = "cie1931", adaptation = "bradford", display = "srgb", mode = "full";
+    int bits = 8, ssaa = 1;
+};
+
+std::string describe(const Case& c) {
+    return fmt::format("{} / {} / {} / {} {}-bit / mode {} / ssaa {}", c.scene, c.detector, c.adaptation, c.display,
+                       c.bits, c.mode, c.ssaa);
+}
+
+struct Figures {
+    double responses = 0, xyz = 0;  // worst relative error against the cube's integral
+    int countsVsPass = 0, countsVsReference = 0;
+};
+
+Figures compareCase(const Case& c) {
+    RenderJob job;
+    job.scene = fs::path(METAMER_SOURCE_DIR) / "scenes" / (c.scene + ".json");
+    job.overrides = {"camera.width=80", "camera.height=64"};
+    job.mode = c.mode;
+    job.ssaa = c.ssaa;
+    job.detector = c.detector;
+    job.adaptation = c.adaptation;
+    job.display = c.display;
+    job.bits = c.bits;
+    const std::unique_ptr<LoadedScene> loaded = loadJobScene(job);
+    const TonemapPlan plan = makeJobTonemapPlan(job, *loaded, tonemapSettings(job, loaded->scene, nullptr));
+
+    // The cube path: every band, read back; its tonemap pass, and the integral in double.
+    SpectralPassOptions po;
+    po.ssaa = c.ssaa;
+    po.sampled = true;
+    SpectralPass bands(gpu(), loaded->scene, loaded->rendered, po);
+    bands.draw();
+    TonemapPass bandTonemap(gpu(), bands, plan);
+    const DisplayImage viaPass = bandTonemap.render();
+    SpectralCube cube;
+    bands.readback(cube);
+    const DisplayImage integral = tonemapReference(plan, cube);
+
+    // The response pass.
+    SpectralPassOptions ro;
+    ro.ssaa = c.ssaa;
+    DisplayFrame frame(gpu(), loaded->scene, loaded->rendered, plan, ro);
+    EXPECT_TRUE(frame.passPlan().responses);
+    EXPECT_EQ(frame.passPlan().bands, int(plan.detector.weights.size()));
+    const DisplayImage viaResponses = frame.render();
+
+    Figures f;
+    const Worst r = worstRelative(viaResponses.responses, integral.responses, viaResponses.channels);
+    f.responses = r.relative;
+    EXPECT_LE(r.relative, 1e-5) << "responses: pixel " << r.pixel << " channel " << r.channel;
+    if (plan.mode != TonemapMode::ResponsesOnly) {
+        const Worst x = worstRelative(viaResponses.xyz, integral.xyz, 3);
+        f.xyz = x.relative;
+        EXPECT_LE(x.relative, 1e-5) << "XYZ: pixel " << x.pixel << " channel " << x.channel;
+        f.countsVsPass = worstCount(viaResponses.counts, viaPass.counts);
+        f.countsVsReference = worstCount(viaResponses.counts, integral.counts);
+        EXPECT_LE(f.countsVsPass, 1);
+        EXPECT_LE(f.countsVsReference, 1);
+    }
+    return f;
+}
+
+const char* kScenes[] = {"spheres", "colorchecker", "textured", "metamers", "fluorescent", "fluorescent-matrix",
+                         "imaging-systems", "mesh"};
+
+}  // namespace
+
+TEST(ResponsePass, EqualsTheCubePathOnEveryBundledSceneAndDetector) {
+    const uint32_t before = gpu().validationErrors();
+    const std::string csv = "csv:" + eightChannelDetector().string();
+    Figures worst;
+    for (const char* scene : kScenes)
+        for (const std::string& detector :
+             {std::string("cie1931"), std::string("cie1964"), std::string("camera:nikon_d5100"),
+              std::string("camera:sigma_sd_merrill"), std::string("film:reversal"), csv}) {
+            Case c{scene, detector};
+            SCOPED_TRACE(describe(c));
+            const Figures f = compareCase(c);
+            worst.responses = std::max(worst.responses, f.responses);
+            worst.xyz = std::max(worst.xyz, f.xyz);
+            worst.countsVsPass = std::max(worst.countsVsPass, f.countsVsPass);
+            worst.countsVsReference = std::max(worst.countsVsReference, f.countsVsReference);
+        }
+    std::printf("response pass vs cube path, 8 scenes × 6 detectors: worst relative error responses %.2e, XYZ %.2e; "
+                "worst count difference %d (tonemap pass), %d (CPU tonemap)\n",
+                worst.responses, worst.xyz, worst.countsVsPass, worst.countsVsReference);
+    EXPECT_NO_VALIDATION_ERRORS(before);
+}
+
+TEST(ResponsePass, EqualsTheCubePathInEveryModeAdaptationAndDisplay) {
+    const uint32_t before = gpu().validationErrors();
+    const std::vector<Case> cases = {
+        {"metamers", "cie1931", "bradford", "srgb", "rgb"},
+        {"fluorescent", "cie1931", "bradford", "srgb", "ac1c2"},
+        {"textured", "cie1931", "bradford", "srgb", "ac1c2:8"},
+        {"colorchecker", "cie1931", "bradford", "srgb", "linear:6"},
+        {"textured", "cie1964", "cat16", "crt", "linear:4", 16},
+        {"spheres", "camera:canon_eos_5d_mark_ii", "cat02", "crt", "full", 16},
+        {"imaging-systems", "film:reversal", "vonkries", "srgb", "full", 16},
+        {"metamers", "cie1931", "none", "crt", "full", 8},
+        {"spheres", "cie1931", "bradford", "srgb", "full", 8, 2},
+        {"textured", "camera:nikon_d5100", "bradford", "srgb", "full", 8, 3},
+    };
+    for (const Case& c : cases) {
+        SCOPED_TRACE(describe(c));
+        compareCase(c);
+    }
+    EXPECT_NO_VALIDATION_ERRORS(before);
+}
+
+TEST(ResponsePass, RefusesMoreChannelsThanTheTonemapPassCarriesAndHasNoCube) {
+    RenderJob job;
+    job.scene = fs::path(METAMER_SOURCE_DIR) / "scenes" / "spheres.json";
+    job.overrides = {"camera.width=16", "camera.height=16"};
+    const std::unique_ptr<LoadedScene> loaded = loadJobScene(job);
+    TonemapPlan plan = makeJobTonemapPlan(job, *loaded, tonemapSettings(job, loaded->scene, nullptr));
+    DisplayFrame frame(gpu(), loaded->scene, loaded->rendered, plan);
+    SpectralPassOptions po;
+    po.sampled = true;
+    po.responseWeights = plan.detector.weights;
+    SpectralPass pass(gpu(), loaded->scene, loaded->rendered, po);
+    SpectralCube cube;
+    EXPECT_THROW(pass.readback(cube), Error);
+    plan.detector.weights.assign(9, plan.detector.weights[0]);
+    try {
+        DisplayFrame nine(gpu(), loaded->scene, loaded->rendered, plan);
+        ADD_FAILURE() << "nine channels were accepted";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.where().key, "--detector");
+        EXPECT_NE(std::string(e.what()).find("at most 8"), std::string::npos) << e.what();
+    }
+}
