@@ -6,18 +6,18 @@
 
 namespace metamer::preview {
 
-ProbeReadout probePixel(const TonemapPlan& plan, const Representation& representation, const SpectralCube& cube,
-                        const DisplayImage& image, int x, int y) {
+ProbeReadout probePixel(const TonemapPlan& plan, const Representation& representation, const float* values,
+                        const Grid& grid, const DisplayImage& image, int x, int y) {
     ProbeReadout p;
-    if (x < 0 || y < 0 || x >= cube.width || y >= cube.height)
-        failRuntime("probe at {},{} is outside the {}×{} image", x, y, cube.width, cube.height);
+    if (x < 0 || y < 0 || x >= image.width || y >= image.height)
+        failRuntime("probe at {},{} is outside the {}×{} image", x, y, image.width, image.height);
     p.x = x;
     p.y = y;
-    const float* px = cube.pixel(x, y);
-    const int n = cube.bands();
+    const float* px = values;
+    const int n = grid.bands();
     p.values.assign(px, px + n);
     if (representation.mode.spectral()) {
-        for (int b = 0; b < n; ++b) p.wavelengths_nm.push_back(cube.grid.wavelength(b));
+        for (int b = 0; b < n; ++b) p.wavelengths_nm.push_back(grid.wavelength(b));
         if (representation.mode.kind == ModeKind::Linear) {
             // As `metamer render` writes a linear:K cube: the pixel projected onto the basis.
             std::vector<double> bands(px, px + n);
@@ -36,7 +36,7 @@ ProbeReadout probePixel(const TonemapPlan& plan, const Representation& represent
         p.lab = xyzToLab(p.xyz, p.whiteXyz);
     }
     p.bits = plan.display.bits;
-    if (image.width == cube.width && image.height == cube.height && !image.counts.empty()) {
+    if (!image.counts.empty()) {
         size_t i = size_t(y) * image.width + x;
         p.counts = glm::ivec3(image.counts[3 * i], image.counts[3 * i + 1], image.counts[3 * i + 2]);
         p.clipped = !image.clipped.empty() && image.clipped[i];

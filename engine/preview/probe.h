@@ -35,10 +35,10 @@ struct ProbeReadout {
     bool clipped = false;  // outside the display's gamut or range
 };
 
-// Reads pixel (x, y) (inside the image) of `cube` (the spectral pass's read-back, before any
-// linear:K projection) and of `image` (the tonemap pass's output for the same frame).
-ProbeReadout probePixel(const TonemapPlan& plan, const Representation& representation, const SpectralCube& cube,
-                        const DisplayImage& image, int x, int y);
+// Pixel (x, y) (inside `image`, the tonemap pass's output for the frame): `values` are its
+// grid.bands() cube values as the spectral pass read them back, before any linear:K projection.
+ProbeReadout probePixel(const TonemapPlan& plan, const Representation& representation, const float* values,
+                        const Grid& grid, const DisplayImage& image, int x, int y);
 
 // One line for the terminal: "probe 64,64: XYZ 20.10 21.31 18.20  L*a*b* 53.28 1.20 -0.53  counts 128 127 126".
 std::string describeProbe(const ProbeReadout& p);

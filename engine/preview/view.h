@@ -1,14 +1,16 @@
 // One view of the preview: the scene under one set of settings (a RenderJob: --set overrides,
-// grid, representation mode, detector, adaptation, display), drawn by the same spectral pass and
-// tonemap pass as `metamer render`. The split view holds two.
+// grid, representation mode, detector, adaptation, display), drawn as `metamer render --write png`
+// draws it: the response pass and the tonemap pass (render/display_frame.h), never the bands. The
+// probe draws the bands of its pixel only (a 1×1 tile of the spectral pass); saving draws the whole
+// cube. The split view holds two.
 #pragma once
 
 #include "color/tonemap.h"
 #include "preview/probe.h"
 #include "render/render_job.h"
+#include "render/display_frame.h"
 #include "render/render_setup.h"
 #include "render/spectral_pass.h"
-#include "render/tonemap_pass.h"
 #include "spectral/cube.h"
 #include "vk/context.h"
 
@@ -20,9 +22,10 @@
 namespace metamer::preview {
 
 struct ViewTimings {
-    double shading_ms = 0;  // spectral pass: every band into the layered target
+    double shading_ms = 0;  // the response pass: the detector's channels
     double tonemap_ms = 0;  // tonemap pass and the read-back of its display image
-    double cube_ms = 0;     // read-back of the cube (for the probe and saving), when it happens
+    double probe_ms = 0;    // the last probe: its pixel's bands drawn and read back
+    double cube_ms = 0;     // the whole cube (for saving) drawn and read back, when it happens
     double build_ms = 0;    // the last (re)build: scene load, spectra, plan, GPU objects
 };
 
@@ -33,20 +36,23 @@ public:
     ~View();
 
     // Takes new settings. A change of detector, adaptation, display, bits or integration remakes
-    // the display plan and the tonemap pass; any other change (overrides, grid, mode) loads the
-    // scene again and remakes both passes. On an error the view keeps its old settings and frame.
+    // the display plan and the display frame (the responses are the detector's); any other change
+    // (overrides, grid, mode) loads the scene again as well. On an error the view keeps its old
+    // settings and frame.
     void update(const RenderJob& job);
     // Loads the scene file again with the same settings (it changed on disk).
     void reload();
 
     // The camera of the next render(); its width and height are taken from the scene.
     void setCamera(const Camera& camera);
-    // Draws the scene and tonemaps it: image() is the new frame; the cube is read back lazily.
+    // Draws the scene's responses and tonemaps them: image() is the new frame.
     void render();
     bool rendered() const { return rendered_; }
 
     const DisplayImage& image() const { return image_; }
-    const SpectralCube& cube();  // the last frame's cube (read back on first use after render())
+    const SpectralCube& cube();  // the last frame's cube, every band (drawn on first use after render())
+    // Pixel (x, y) of the last frame: its bands drawn alone (the same camera; the same values as the
+    // whole cube's pixel up to float rounding), read against image().
     ProbeReadout probe(int x, int y);
 
     // Writes <stem>.exr (the cube, as `metamer render` writes it) and <stem>.png (the display
@@ -57,7 +63,7 @@ public:
     const Scene& scene() const { return loaded_->scene; }
     const LoadedScene& loaded() const { return *loaded_; }
     const TonemapPlan& plan() const { return *plan_; }
-    const SpectralPassPlan& passPlan() const { return pass_->plan(); }
+    const SpectralPassPlan& passPlan() const { return frame_->passPlan(); }
     const ViewTimings& timings() const { return timings_; }
     int width() const { return loaded_->scene.camera.width; }
     int height() const { return loaded_->scene.camera.height; }
@@ -68,12 +74,14 @@ private:
 
     vk::Context& ctx_;
     RenderJob job_;
-    // Declared in dependency order: the tonemap pass reads the spectral pass and the plan, the
-    // spectral pass reads the scene (destroyed in reverse).
+    // The band passes, made on first use: every band of one pixel (the probe), of the image (cube()).
+    SpectralPass& bandPass(std::unique_ptr<SpectralPass>& pass, bool probe);
+
+    // Declared in dependency order: the passes read the plan and the scene (destroyed in reverse).
     std::unique_ptr<LoadedScene> loaded_;
     std::unique_ptr<TonemapPlan> plan_;
-    std::unique_ptr<SpectralPass> pass_;
-    std::unique_ptr<TonemapPass> tonemap_;
+    std::unique_ptr<DisplayFrame> frame_;
+    std::unique_ptr<SpectralPass> probePass_, cubePass_;
     Camera camera_;
     bool hasCamera_ = false;
     bool rendered_ = false;

@@ -16,8 +16,8 @@ SpectralPassOptions responseOptions(SpectralPassOptions options, const TonemapPl
 }  // namespace
 
 DisplayFrame::DisplayFrame(vk::Context& ctx, const Scene& scene, const SceneOnGrid& rendered, const TonemapPlan& plan,
-                           SpectralPassOptions options)
-    : pass_(ctx, scene, rendered, responseOptions(std::move(options), plan)), tonemap_(ctx, pass_, plan) {
+                           SpectralPassOptions options, TonemapOutputs outputs)
+    : pass_(ctx, scene, rendered, responseOptions(std::move(options), plan)), tonemap_(ctx, pass_, plan, outputs) {
     timings_.upload_ms = pass_.timings().upload_ms;
 }
 

@@ -30,7 +30,7 @@ public:
     // plan for them (its detector's weights are on those channels); both must outlive this.
     // `options` gives ssaa, strips; its responseWeights and sampled are set here.
     DisplayFrame(vk::Context& ctx, const Scene& scene, const SceneOnGrid& rendered, const TonemapPlan& plan,
-                 SpectralPassOptions options = {});
+                 SpectralPassOptions options = {}, TonemapOutputs outputs = {});
 
     // As SpectralPass's: the camera (same image size) and, in strip mode, the strip drawn next.
     void setCamera(const Camera& camera) { pass_.setCamera(camera); }

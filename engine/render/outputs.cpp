@@ -109,6 +109,9 @@ RenderOutputs::~RenderOutputs() = default;
 
 bool RenderOutputs::needsCube() const { return cube_ || channels_ || quickLook_; }
 bool RenderOutputs::needsDisplay() const { return png_ || xyz_ || responses_; }
+TonemapOutputs RenderOutputs::displayOutputs() const {
+    return {png_ != nullptr || xyz_ != nullptr, xyz_ != nullptr, responses_ != nullptr};
+}
 
 void RenderOutputs::writeRows(int firstRow, int rows, const float* cube, const DisplayImage* image) {
     const size_t pixels = size_t(width_) * size_t(rows);

@@ -7,6 +7,7 @@
 #pragma once
 
 #include "color/tonemap.h"
+#include "render/tonemap_pass.h"
 #include "io/image_file.h"
 #include "io/spectral_exr.h"
 #include "represent/representation.h"
@@ -75,9 +76,11 @@ public:
     RenderOutputs(const RenderOutputs&) = delete;
     RenderOutputs& operator=(const RenderOutputs&) = delete;
 
-    // Whether the outputs need the cube's pixels, and the display image's.
+    // Whether the outputs need the cube's pixels, and the display image's; which parts of the
+    // display image (the counts also for the clipped-pixel figure when XYZ is written).
     bool needsCube() const;
     bool needsDisplay() const;
+    TonemapOutputs displayOutputs() const;
 
     // Rows [firstRow, firstRow + rows), in order: `cube` (pixel-interleaved, the mode's channels,
     // linear:K already projected) and `image` (the display path's, `rows` rows or more; extra rows

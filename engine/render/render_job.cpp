@@ -208,7 +208,7 @@ void renderDisplayFrames(const RenderJob& job, LoadedScene& loaded, const Tonema
         refuseOversizedTarget(job, loaded.scene, *ctx);
         SpectralPassOptions po;
         po.ssaa = job.ssaa;
-        DisplayFrame frame(*ctx, loaded.scene, loaded.rendered, plan, po);
+        DisplayFrame frame(*ctx, loaded.scene, loaded.rendered, plan, po, out.displayOutputs());
         DisplayImage image;
         std::vector<double> shading, tonemap;
         for (int f = 0; f < std::max(1, job.frames); ++f) {

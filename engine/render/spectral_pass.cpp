@@ -31,8 +31,21 @@ struct SpectralPass::Impl {
     PackedScene packed;
     CameraMatrices camera;
     glm::mat4 fullViewProjection{1.0f};
-    int rows = 0;
+    int rows = 0, columns = 0;
+    int tileColumn = 0, tileRow = 0;  // the tile's top-left pixel
     std::unique_ptr<SpectralResources> resources;
+    // The full image's view-projection, scaled and shifted so that the tile fills the target.
+    void placeTile() {
+        // Columns [c0, c0 + C) of a W-column image span clip-space x in [−1 + 2·c0/W, −1 + 2·(c0 + C)/W],
+        // rows likewise in y (y down); scale and shift those ranges onto [−1, 1].
+        const double W = scene.camera.width, H = scene.camera.height, C = columns, R = rows;
+        glm::mat4 tile(1.0f);
+        tile[0][0] = float(W / C);
+        tile[3][0] = float((W - 2.0 * tileColumn) / C - 1.0);
+        tile[1][1] = float(H / R);
+        tile[3][1] = float((H - 2.0 * tileRow) / R - 1.0);
+        camera.viewProjection = tile * fullViewProjection;
+    }
 
     Impl(vk::Context& c, const Scene& s) : ctx(c), scene(s) {}
 };
@@ -55,9 +68,11 @@ SpectralPass::SpectralPass(vk::Context& ctx, const Scene& scene, const SceneOnGr
     p.hasSpecular = scene.hasSpecular();
     p.hasFluorescence = scene.hasFluorescence();
     p.ssaa = options.ssaa;
-    p.targetWidth = uint32_t(scene.camera.width * options.ssaa);
-    if (options.stripRows < 0) failRuntime("strip rows must be ≥ 0, got {}", options.stripRows);
+    if (options.stripRows < 0 || options.tileColumns < 0)
+        failRuntime("strip rows and tile columns must be ≥ 0, got {} and {}", options.stripRows, options.tileColumns);
     int rows = options.stripRows > 0 ? std::min(options.stripRows, scene.camera.height) : scene.camera.height;
+    int columns = options.tileColumns > 0 ? std::min(options.tileColumns, scene.camera.width) : scene.camera.width;
+    p.targetWidth = uint32_t(columns * options.ssaa);
     p.targetHeight = uint32_t(rows * options.ssaa);
     p.targetBytes = size_t(p.targetWidth) * p.targetHeight * p.layers * 16;
     uint32_t maxDim = ctx.properties().limits.maxFramebufferWidth;
@@ -75,7 +90,8 @@ SpectralPass::SpectralPass(vk::Context& ctx, const Scene& scene, const SceneOnGr
     m.camera = cameraMatrices(scene.camera, scene);
     m.fullViewProjection = m.camera.viewProjection;
     m.rows = rows;
-    if (options.stripRows > 0) setStrip(0);
+    m.columns = columns;
+    if (options.stripRows > 0 || options.tileColumns > 0) setTile(0, 0);
     m.resources = std::make_unique<SpectralResources>(ctx, scene, spectra, m.packed, plan_, options);
     timings_.upload_ms = msSince(t0);
 }
@@ -94,16 +110,13 @@ void SpectralPass::render(SpectralCube& cube) {
 }
 
 int SpectralPass::rows() const { return impl_->rows; }
+int SpectralPass::columns() const { return impl_->columns; }
 
-void SpectralPass::setStrip(int firstRow) {
-    // Rows [r0, r0 + R) of an H-row image span clip-space y in [−1 + 2·r0/H, −1 + 2·(r0 + R)/H]
-    // (y down); scale and shift that range onto [−1, 1] so the strip fills the target.
+void SpectralPass::setTile(int firstColumn, int firstRow) {
     Impl& m = *impl_;
-    double H = m.scene.camera.height, R = m.rows, r0 = firstRow;
-    glm::mat4 strip(1.0f);
-    strip[1][1] = float(H / R);
-    strip[3][1] = float((H - 2.0 * r0) / R - 1.0);
-    m.camera.viewProjection = strip * m.fullViewProjection;
+    m.tileColumn = firstColumn;
+    m.tileRow = firstRow;
+    m.placeTile();
 }
 
 void SpectralPass::setCamera(const Camera& camera) {
@@ -113,6 +126,7 @@ void SpectralPass::setCamera(const Camera& camera) {
                     m.scene.camera.height, camera.width, camera.height);
     m.camera = cameraMatrices(camera, m.scene);
     m.fullViewProjection = m.camera.viewProjection;
+    if (m.rows != m.scene.camera.height || m.columns != m.scene.camera.width) m.placeTile();
 }
 
 void SpectralPass::draw() {
@@ -132,9 +146,9 @@ void SpectralPass::readback(SpectralCube& cube) {
     Impl& m = *impl_;
     if (plan_.responses) failRuntime("the response pass holds a detector's channels, not a cube to read back");
     auto t1 = Clock::now();
-    if (cube.width != m.scene.camera.width || cube.height != m.rows || !(cube.grid == m.grid) ||
+    if (cube.width != m.columns || cube.height != m.rows || !(cube.grid == m.grid) ||
         cube.data.size() != size_t(cube.width) * cube.height * cube.bands())
-        cube = SpectralCube(m.scene.camera.width, m.rows, m.grid);
+        cube = SpectralCube(m.columns, m.rows, m.grid);
     readLayered(m.resources->mapTarget(), plan_.ssaa, cube);
     timings_.readback_ms = msSince(t1);
 }

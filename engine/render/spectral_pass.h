@@ -39,11 +39,14 @@ public:
 
     // Strip mode: the rows [firstRow, firstRow + stripRows) that draw() renders next (rows past the
     // image's bottom are rendered too and should be ignored).
-    void setStrip(int firstRow);
-    int rows() const;  // rows of the target and of readback()'s cube: stripRows, or the image height
+    void setStrip(int firstRow) { setTile(0, firstRow); }
+    // Tile mode (stripRows and tileColumns): the tile whose top-left pixel is (firstColumn, firstRow).
+    void setTile(int firstColumn, int firstRow);
+    int rows() const;     // rows of the target and of readback()'s cube: stripRows, or the image height
+    int columns() const;  // its columns: tileColumns, or the image width
 
     // Moves the camera for the next draw() (the preview's orbit, pan and zoom): `camera` must keep
-    // the image size the pass was made for. In strip mode, call setStrip() again afterwards.
+    // the image size the pass was made for. The strip or tile stays where it was.
     void setCamera(const Camera& camera);
 
     // Draws every band into the layered target and waits (no readback).

@@ -24,6 +24,9 @@ struct SpectralPassOptions {
     // Render the image in horizontal strips of this many rows (0: the whole image at once), for
     // images larger than memory: setStrip() chooses the rows, readback() returns that strip.
     int stripRows = 0;
+    // With stripRows, tiles of this many columns (0: the whole width): setTile() chooses the
+    // tile (the preview's probe draws a 1×1 tile, the pixel under the cursor).
+    int tileColumns = 0;
     // The response pass (non-empty): the outputs are the channels of a detector with these weights
     // [channel][band of the scene's grid], at most TONEMAP_MAX_CHANNELS, instead of the bands —
     // the display path that never writes the bands (docs/color.md, "The response pass"). The

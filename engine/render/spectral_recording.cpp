@@ -35,7 +35,7 @@ void recordSpectralFrame(VkCommandBuffer cmd, const SpectralResources& r, const 
         vkCmdClearColorImage(cmd, color.handle(), VK_IMAGE_LAYOUT_GENERAL, &black, 1, &all);
         vk::imageBarrier(cmd, color.handle(), layers, cleared, drawn);
     }
-    {
+    if (r.hasDepthPrePass) {
         VkClearValue clear{};
         clear.depthStencil = {1.0f, 0};
         VkRenderPassBeginInfo rb{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};

@@ -315,8 +315,8 @@ void SpectralResources::createLayouts() {
 
 // attachments == 0: the depth pre-pass (clears and writes depth). Otherwise a colour pass that
 // loads the pre-pass's depth and shades only the visible surface (depth test EQUAL), so every
-// pixel is shaded once per pass whatever the overdraw.
-VkRenderPass SpectralResources::makeRenderPass(uint32_t attachments) {
+// pixel is shaded once per pass whatever the overdraw — or, clearsDepth, one with its own depth.
+VkRenderPass SpectralResources::makeRenderPass(uint32_t attachments, bool clearsDepth) {
     std::vector<VkAttachmentDescription> descs;
     std::vector<VkAttachmentReference> refs;
     VkImageLayout finalLayout =
@@ -340,7 +340,7 @@ VkRenderPass SpectralResources::makeRenderPass(uint32_t attachments) {
     VkAttachmentDescription da{};
     da.format = VK_FORMAT_D32_SFLOAT;
     da.samples = VK_SAMPLE_COUNT_1_BIT;
-    bool prePass = attachments == 0;
+    const bool prePass = clearsDepth;
     da.loadOp = prePass ? VK_ATTACHMENT_LOAD_OP_CLEAR : VK_ATTACHMENT_LOAD_OP_LOAD;
     da.storeOp = VK_ATTACHMENT_STORE_OP_STORE;  // every later pass loads it
     da.stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
@@ -376,8 +376,9 @@ VkRenderPass SpectralResources::makeRenderPass(uint32_t attachments) {
     return r;
 }
 
-// attachments == 0: the depth pre-pass pipeline (vertex stage only).
-VkPipeline SpectralResources::makePipeline(VkRenderPass renderPass, uint32_t attachments) {
+// attachments == 0: the depth pre-pass pipeline (vertex stage only); writesDepth with attachments:
+// a colour pass without a pre-pass.
+VkPipeline SpectralResources::makePipeline(VkRenderPass renderPass, uint32_t attachments, bool writesDepth) {
     const gpu::SpectralSpecialization spec{packed.ambient,       packed.directional,   packed.point,
                                            plan.hasSpecular,     plan.hasFluorescence, scene.hasTextures(),
                                            scene.hasNormalMaps(), plan.fluorescenceSpectra, plan.responses};
@@ -408,19 +409,20 @@ VkPipeline SpectralResources::makePipeline(VkRenderPass renderPass, uint32_t att
     d.height = plan.targetHeight;
     d.colorAttachments = attachments;
     d.depthTest = true;
-    d.depthWrite = prePass;
+    d.depthWrite = writesDepth;
     // Same vertex shader (gl_Position is invariant) → the same depth in every pass.
-    d.depthCompare = prePass ? VK_COMPARE_OP_LESS : VK_COMPARE_OP_EQUAL;
+    d.depthCompare = prePass ? VK_COMPARE_OP_LESS : writesDepth ? VK_COMPARE_OP_LESS_OR_EQUAL : VK_COMPARE_OP_EQUAL;
     const vk::OwnedShaderModule fragModule(ctx.device(), frag);  // the pipeline keeps what it needs
     pipelines.emplace_back(ctx.device(), vk::createGraphicsPipeline(ctx.device(), d));
     return pipelines.back().get();
 }
 
 void SpectralResources::createPasses() {
-    {
+    hasDepthPrePass = !plan.responses;
+    if (hasDepthPrePass) {
         PassObjects& pre = depthPrePass;
-        pre.renderPass = makeRenderPass(0);
-        pre.pipeline = makePipeline(pre.renderPass, 0);
+        pre.renderPass = makeRenderPass(0, true);
+        pre.pipeline = makePipeline(pre.renderPass, 0, true);
         VkImageView view = depth.layerView(0);
         VkFramebufferCreateInfo fb{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
         fb.renderPass = pre.renderPass;
@@ -444,8 +446,8 @@ void SpectralResources::createPasses() {
         VkRenderPass& rp = full ? rpFull : rpLast;
         VkPipeline& pl = full ? plFull : plLast;
         if (rp == VK_NULL_HANDLE) {
-            rp = makeRenderPass(po.attachments);
-            pl = makePipeline(rp, po.attachments);
+            rp = makeRenderPass(po.attachments, !hasDepthPrePass);
+            pl = makePipeline(rp, po.attachments, !hasDepthPrePass);
         }
         po.renderPass = rp;
         po.pipeline = pl;

@@ -62,6 +62,11 @@ struct SpectralResources {
     vk::OwnedShaderModule vert;
     std::vector<vk::OwnedRenderPass> renderPasses;  // the depth pre-pass's, then one per attachment count
     std::vector<vk::OwnedPipeline> pipelines;
+    // The band passes share a depth pre-pass, so that each shades a pixel once whatever the
+    // overdraw. The response pass's shading is cheap and its geometry is not: it writes depth
+    // itself in its one pass (LESS_OR_EQUAL keeps the last of equal depths, as EQUAL after the
+    // pre-pass does, so it shades the same surface).
+    bool hasDepthPrePass = true;
     PassObjects depthPrePass;
     std::vector<PassObjects> passes;
 
@@ -72,8 +77,8 @@ private:
     void createTextures(std::vector<const TextureOnGrid*> list);
     void createTargets(Readback mode, bool sampled, SpectralPassPlan& plan);
     void createLayouts();
-    VkRenderPass makeRenderPass(uint32_t attachments);
-    VkPipeline makePipeline(VkRenderPass renderPass, uint32_t attachments);
+    VkRenderPass makeRenderPass(uint32_t attachments, bool clearsDepth);
+    VkPipeline makePipeline(VkRenderPass renderPass, uint32_t attachments, bool writesDepth);
     void createPasses();
 };
 

@@ -24,7 +24,7 @@ StripResult displayStrips(const StripJob& j, SpectralPassOptions po) {
     const int W = j.scene->camera.width, H = j.scene->camera.height;
     StripResult r;
     r.responsePass = true;
-    DisplayFrame frame(*j.context, *j.scene, *j.rendered, *j.plan, po);
+    DisplayFrame frame(*j.context, *j.scene, *j.rendered, *j.plan, po, j.outputs->displayOutputs());
     r.description = j.context->deviceInfo().name + ": " + frame.passPlan().describe() +
                     fmt::format(", in strips of {} rows", frame.rows());
     for (int r0 = 0; r0 < H; r0 += frame.rows()) {

@@ -43,6 +43,7 @@ struct TonemapPass::Impl {
     vk::Context& ctx;
     SpectralPass& source;
     const TonemapPlan& plan;
+    TonemapOutputs outputs;
     uint32_t width, height;
     int layers;
     vk::Buffer params, tables, readback;
@@ -56,7 +57,18 @@ struct TonemapPass::Impl {
     vk::OwnedFramebuffer framebuffer;
     vk::OwnedPipeline pipeline;
 
-    Impl(vk::Context& c, SpectralPass& s, const TonemapPlan& p) : ctx(c), source(s), plan(p) {}
+    Impl(vk::Context& c, SpectralPass& s, const TonemapPlan& p, TonemapOutputs o) : ctx(c), source(s), plan(p), outputs(o) {}
+
+    // Whether attachment i is read back.
+    bool wanted(uint32_t i) const {
+        const bool colorimetric = plan.mode != TonemapMode::ResponsesOnly;
+        switch (i) {
+            case TONEMAP_OUT_COUNTS: return outputs.counts && colorimetric;
+            case TONEMAP_OUT_XYZ: return outputs.xyz && colorimetric;
+            case TONEMAP_OUT_RESPONSES: return outputs.responses;
+            default: return outputs.responses && plan.detector.weights.size() > 4;
+        }
+    }
 
     void createBuffers() {
         gpu::TonemapParams p{};
@@ -245,6 +257,7 @@ struct TonemapPass::Impl {
         vkCmdEndRenderPass(cmd);
 
         for (uint32_t i = 0; i < kAttachments; ++i) {
+            if (!wanted(i)) continue;
             VkBufferImageCopy region{};
             region.bufferOffset = VkDeviceSize(i) * width * height * 16;
             region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
@@ -267,23 +280,27 @@ struct TonemapPass::Impl {
         img.width = int(width);
         img.height = int(height);
         img.channels = int(plan.detector.weights.size());
-        img.responses.resize(n * img.channels);
         const float* counts = base;
         const float* xyz = base + 4 * n;
         const float* r0 = base + 8 * n;
         const float* r1 = base + 12 * n;
-        for (size_t i = 0; i < n; ++i)
-            for (int c = 0; c < img.channels; ++c) img.responses[i * img.channels + c] = c < 4 ? r0[4 * i + c] : r1[4 * i + c - 4];
-        if (plan.mode != TonemapMode::ResponsesOnly) {
+        if (wanted(TONEMAP_OUT_RESPONSES)) {
+            img.responses.resize(n * img.channels);
+            for (size_t i = 0; i < n; ++i)
+                for (int c = 0; c < img.channels; ++c)
+                    img.responses[i * img.channels + c] = c < 4 ? r0[4 * i + c] : r1[4 * i + c - 4];
+        }
+        if (wanted(TONEMAP_OUT_XYZ)) {
             img.xyz.resize(n * 3);
+            for (size_t i = 0; i < n; ++i)
+                for (int c = 0; c < 3; ++c) img.xyz[3 * i + c] = xyz[4 * i + c];
+        }
+        if (wanted(TONEMAP_OUT_COUNTS)) {
             img.counts.resize(n * 3);
             img.clipped.resize(n);
             for (size_t i = 0; i < n; ++i) {
                 img.clipped[i] = counts[4 * i + 3] > 0.5f;
-                for (int c = 0; c < 3; ++c) {
-                    img.xyz[3 * i + c] = xyz[4 * i + c];
-                    img.counts[3 * i + c] = uint16_t(counts[4 * i + c]);
-                }
+                for (int c = 0; c < 3; ++c) img.counts[3 * i + c] = uint16_t(counts[4 * i + c]);
                 img.clippedPixels += counts[4 * i + 3] > 0.5f;
             }
         }
@@ -291,8 +308,8 @@ struct TonemapPass::Impl {
     }
 };
 
-TonemapPass::TonemapPass(vk::Context& ctx, SpectralPass& source, const TonemapPlan& plan)
-    : impl_(std::make_unique<Impl>(ctx, source, plan)) {
+TonemapPass::TonemapPass(vk::Context& ctx, SpectralPass& source, const TonemapPlan& plan, TonemapOutputs outputs)
+    : impl_(std::make_unique<Impl>(ctx, source, plan, outputs)) {
     if (plan.detector.weights.size() > TONEMAP_MAX_CHANNELS)
         failInput(Where{"", "--detector"}, "{} channels; the tonemap pass takes at most {}", plan.detector.weights.size(),
                   TONEMAP_MAX_CHANNELS);

@@ -13,10 +13,18 @@
 
 namespace metamer {
 
+// What render() reads back: the rest stays empty in its DisplayImage (a display PNG needs only
+// the counts; every attachment is still drawn).
+struct TonemapOutputs {
+    bool counts = true;     // counts and the clip mask
+    bool xyz = true;
+    bool responses = true;
+};
+
 class TonemapPass {
 public:
     // `source` must have been made with SpectralPassOptions::sampled = true and outlive this.
-    TonemapPass(vk::Context& ctx, SpectralPass& source, const TonemapPlan& plan);
+    TonemapPass(vk::Context& ctx, SpectralPass& source, const TonemapPlan& plan, TonemapOutputs outputs = {});
     ~TonemapPass();
     TonemapPass(const TonemapPass&) = delete;
     TonemapPass& operator=(const TonemapPass&) = delete;
