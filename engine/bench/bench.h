@@ -1,8 +1,10 @@
 // `metamer bench`: the measured speed/accuracy trade of the representation modes and spectral
 // steps on one scene (docs/speed-vs-accuracy.md). Every configuration (mode × step) is rendered
-// on the GPU exactly as `metamer render` would (spectral pass + tonemap pass), timed over several
-// frames, and compared with the reference — full spectral at 1 nm over the scene's grid range —
-// in ΔE2000 and, for spectral modes, in spectral RMSE.
+// on the GPU exactly as `metamer render` would: its display image as `--write png` makes it (the
+// response pass + tonemap pass, render/display_frame.h) and its cube as `--write cube` does (every
+// band, then the tonemap pass over them), each timed over several frames, and compared with the
+// reference — full spectral at 1 nm over the scene's grid range — in ΔE2000 and, for spectral
+// modes, in spectral RMSE.
 #pragma once
 
 #include "represent/representation.h"
@@ -38,9 +40,10 @@ struct BenchRow {
     double stepNm = 0;
     std::string grid;   // "380:780:5": the grid the configuration's spectra were sampled on
     int channels = 0;   // what the renderer carries per pixel: bands, or the mode's channels
-    double renderMsMedian = 0;  // spectral pass + tonemap pass, median over frames 2..N
+    double renderMsMedian = 0;  // a display frame: response pass + tonemap pass, median over frames 2..N
     double renderMsFirst = 0;   // the same for frame 1 (includes the driver's shader compilation)
-    double runMs = 0;           // resample, represent, plan, upload, every frame
+    double cubeMsMedian = 0;    // a cube frame: every band + the tonemap pass over them, median over 2..N
+    double runMs = 0;           // resample, represent, plan, upload, every frame of both
     double de2000Mean = 0, de2000P95 = 0, de2000Max = 0;  // against the reference, lit pixels
     double spectralRmseRelative = 0;  // RMSE of the cube against the 1 nm reference on its bands / mean
     std::string skippedReason;        // non-empty: the configuration could not run (input error)
@@ -81,8 +84,9 @@ BenchResult runBench(const std::filesystem::path& scene, const BenchConfig& conf
 std::vector<size_t> paretoFront(const std::vector<BenchRow>& rows);
 
 // DIR/<scene>.bench.csv: '#' lines with the machine, device, date, frames and size, then the
-// header mode,step_nm,grid,channels,render_ms_median,render_ms_first,run_ms,de2000_mean,
-// de2000_p95,de2000_max,spectral_rmse_relative,skipped_reason and one row per configuration.
+// header mode,step_nm,grid,channels,render_ms_median,render_ms_first,cube_ms_median,run_ms,
+// de2000_mean,de2000_p95,de2000_max,spectral_rmse_relative,skipped_reason and one row per
+// configuration.
 void writeBenchCsv(const std::filesystem::path& path, const BenchResult& result);
 // The same as JSON (missing numbers are null), with the Pareto front's rows marked.
 void writeBenchJson(const std::filesystem::path& path, const BenchResult& result);

@@ -105,6 +105,7 @@ TEST(BenchSweep, FullBeatsRgbUnderIlluminantAAndTheFilesAreWritten) {
         EXPECT_TRUE(std::isfinite(row.renderMsMedian) && row.renderMsMedian > 0);
         EXPECT_TRUE(std::isfinite(row.renderMsFirst) && row.renderMsFirst > 0);
         EXPECT_GE(row.runMs, row.renderMsFirst);
+        EXPECT_TRUE(std::isfinite(row.cubeMsMedian) && row.cubeMsMedian > 0);
         EXPECT_TRUE(std::isfinite(row.de2000P95));
         EXPECT_LE(row.de2000Mean, row.de2000Max);
         EXPECT_LE(row.de2000P95, row.de2000Max);
@@ -135,8 +136,8 @@ TEST(BenchSweep, FullBeatsRgbUnderIlluminantAAndTheFilesAreWritten) {
     writeBenchPlot(dir / "metamers.bench.png", r);
     int rows = 0;
     EXPECT_EQ(firstDataLine(dir / "metamers.bench.csv", &rows),
-              "mode,step_nm,grid,channels,render_ms_median,render_ms_first,run_ms,de2000_mean,de2000_p95,de2000_max,"
-              "spectral_rmse_relative,skipped_reason");
+              "mode,step_nm,grid,channels,render_ms_median,render_ms_first,cube_ms_median,run_ms,de2000_mean,"
+              "de2000_p95,de2000_max,spectral_rmse_relative,skipped_reason");
     EXPECT_EQ(rows, 4);
     nlohmann::json j = nlohmann::json::parse(std::ifstream(dir / "metamers.bench.json"));
     EXPECT_EQ(j["rows"].size(), 4u);
