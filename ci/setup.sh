@@ -11,7 +11,7 @@ packages=(
   libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers vulkan-tools
   glslang-tools spirv-tools
   libglm-dev libeigen3-dev libfmt-dev nlohmann-json3-dev libcli11-dev libtinygltf-dev
-  libopenimageio-dev openimageio-tools
+  libopenexr-dev libpng-dev libopenimageio-dev openimageio-tools
   libglfw3-dev libimgui-dev xvfb fonts-dejavu-core
   libgtest-dev
   clang libclang-rt-14-dev

@@ -151,7 +151,7 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(1, 4))
         ->capture_default_str();
     render->add_flag("--half", job.half, "write float16 instead of float32");
-    render->add_option("--compression", job.compression, "EXR compression (none, zip, zips, piz, ...)")
+    render->add_option("--compression", job.compression, "the cube's OpenEXR compression: piz (default), zip[:1-9], zips, rle, none, ... (docs/io.md)")
         ->capture_default_str();
     render->add_flag("--strict-coverage", strictCoverage, "error when a spectrum's data do not cover the grid");
     render->add_option("--readback", readback, "auto, map (linear host-visible image) or copy")

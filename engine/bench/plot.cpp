@@ -3,8 +3,7 @@
 #include "core/error.h"
 #include "io/image_file.h"
 
-#include <OpenImageIO/imagebuf.h>
-#include <OpenImageIO/imagebufalgo.h>
+#include "io/oiio_module.h"
 #include <fmt/ranges.h>
 
 #include <algorithm>
@@ -83,12 +82,17 @@ std::vector<Tick> logTicks(const LogAxis& a) {
     return t;
 }
 
+// The drawing, by OpenImageIO's ImageBufAlgo in its module (io/oiio_module: loaded only by the
+// processes that draw a plot).
 class Canvas {
 public:
+    using AX = ImageCanvas::AlignX;
+    using AY = ImageCanvas::AlignY;
     Canvas(int w, int h, std::filesystem::path font) : font_(std::move(font)) {
-        buf_.reset(OIIO::ImageSpec(w, h, 3, OIIO::TypeDesc::FLOAT));
-        OIIO::ImageBufAlgo::fill(buf_, {1.0f, 1.0f, 1.0f});
         text_ = !font_.empty() && std::filesystem::exists(font_);
+        canvas_ = makeImageCanvas(w, h, text_ ? font_ : std::filesystem::path());
+        width_ = w;
+        height_ = h;
     }
     bool hasText() const { return text_; }
 
@@ -97,42 +101,36 @@ public:
             int o = k - width / 2;
             bool steep = std::fabs(y1 - y0) > std::fabs(x1 - x0);
             int dx = steep ? o : 0, dy = steep ? 0 : o;
-            OIIO::ImageBufAlgo::render_line(buf_, int(std::lround(x0)) + dx, int(std::lround(y0)) + dy,
-                                            int(std::lround(x1)) + dx, int(std::lround(y1)) + dy, c);
+            canvas_->line(int(std::lround(x0)) + dx, int(std::lround(y0)) + dy, int(std::lround(x1)) + dx,
+                          int(std::lround(y1)) + dy, c);
         }
     }
-    void box(const Rect& r, const Color& c, bool fill) {
-        OIIO::ImageBufAlgo::render_box(buf_, r.x0, r.y0, r.x1, r.y1, c, fill);
-    }
+    void box(const Rect& r, const Color& c, bool fill) { canvas_->box(r.x0, r.y0, r.x1, r.y1, c, fill); }
     // The rectangle `s` would cover with its baseline's left end at (x, y).
     Rect textRect(const std::string& s, int x, int y, int size) const {
-        if (!text_) return {x, y, x, y};
-        OIIO::ROI r = OIIO::ImageBufAlgo::text_size(s, size, font_.string());
-        if (!r.defined()) return {x, y, x, y};
-        return {x + r.xbegin, y + r.ybegin, x + r.xend - 1, y + r.yend - 1};
+        int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+        if (!text_ || !canvas_->textBox(s, size, x0, y0, x1, y1)) return {x, y, x, y};
+        return {x + x0, y + y0, x + x1, y + y1};
     }
     int textWidth(const std::string& s, int size) const {
         Rect r = textRect(s, 0, 0, size);
         return r.x1 - r.x0 + 1;
     }
-    void text(const std::string& s, int x, int y, int size, const Color& c,
-              OIIO::ImageBufAlgo::TextAlignX ax = OIIO::ImageBufAlgo::TextAlignX::Left,
-              OIIO::ImageBufAlgo::TextAlignY ay = OIIO::ImageBufAlgo::TextAlignY::Baseline) {
-        if (text_) OIIO::ImageBufAlgo::render_text(buf_, x, y, s, size, font_.string(), c, ax, ay);
+    void text(const std::string& s, int x, int y, int size, const Color& c, AX ax = AX::Left, AY ay = AY::Baseline) {
+        if (text_) canvas_->text(s, x, y, size, c, ax, ay);
     }
     std::vector<uint16_t> counts() const {
-        const OIIO::ImageSpec& s = buf_.spec();
-        std::vector<float> f(size_t(s.width) * s.height * 3);
-        buf_.get_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, f.data());
+        const std::vector<float> f = canvas_->pixels();
         std::vector<uint16_t> out(f.size());
         for (size_t i = 0; i < f.size(); ++i) out[i] = uint16_t(std::lround(std::clamp(f[i], 0.0f, 1.0f) * 255.0f));
         return out;
     }
 
 private:
-    OIIO::ImageBuf buf_;
+    std::unique_ptr<ImageCanvas> canvas_;
     std::filesystem::path font_;
     bool text_ = false;
+    int width_ = 0, height_ = 0;
 };
 
 }  // namespace
@@ -143,8 +141,8 @@ std::filesystem::path benchPlotFont() {
 }
 
 bool writeBenchPlot(const std::filesystem::path& path, const BenchResult& result, const BenchPlotOptions& options) {
-    using AX = OIIO::ImageBufAlgo::TextAlignX;
-    using AY = OIIO::ImageBufAlgo::TextAlignY;
+    using AX = ImageCanvas::AlignX;
+    using AY = ImageCanvas::AlignY;
     const int W = options.width, H = options.height;
     // Text is ASCII only: OpenImageIO 2.4's render_text draws no glyph for most non-ASCII
     // characters (Δ, ×, ≤ came out as boxes), so the plot writes dE, x and <=.

@@ -1,4 +1,7 @@
 #include "compare/compare.h"
+
+#include "io/exr_file.h"
+#include "io/raster_image.h"
 #include "core/json.h"
 #include "core/statistics.h"
 #include "spectral/resampling.h"
@@ -11,7 +14,6 @@
 #include "io/spectral_exr.h"
 #include "spectral/spectrum.h"
 
-#include <OpenImageIO/imageio.h>
 #include <fmt/ranges.h>
 
 #include <algorithm>
@@ -233,16 +235,10 @@ ImageData readComparable(const fs::path& path) {
     std::error_code ec;
     if (!fs::exists(path, ec)) failInput(where, "file not found");
     if (fs::is_directory(path, ec)) failInput(where, "is a folder, not an image");
-    auto in = OIIO::ImageInput::open(path.string());
-    if (!in) failInput(where, "not a readable image: {}", OIIO::geterror());
-    const OIIO::ImageSpec spec = in->spec();
-    const std::string format = in->format_name();
-    if (spec.deep) failInput(where, "deep images are not supported");
 
     // Spectral channels decide the reader: the layout's own parser (grid, wavelength order) is in
     // io/spectral_exr.
-    if (format == "openexr" && hasSpectralChannels(spec.channelnames)) {
-        in->close();
+    if (imageSignature(path) == "openexr" && hasSpectralChannels(readExrHeader(path, where).channels)) {
         SpectralExrImage image = readSpectralExrImage(path);
         ImageData d;
         d.width = image.cube.width;
@@ -259,24 +255,16 @@ ImageData readComparable(const fs::path& path) {
         return d;
     }
 
+    RasterImage img = readRasterImage(path, where);
     ImageData d;
-    d.width = spec.width;
-    d.height = spec.height;
-    d.channels = spec.channelnames;
+    d.width = img.width;
+    d.height = img.height;
+    d.channels = img.channels;
     d.source = path.string();
-    d.data.resize(size_t(spec.width) * spec.height * spec.nchannels);
-    if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, d.data.data()))
-        failInput(where, "cannot read pixels: {}", in->geterror());
-    if (spec.format.is_floating_point()) {
-        d.kind = fmt::format("{} {}", format, spec.format.c_str());
-    } else {
-        // OpenImageIO hands integer pixels over as 0..1; counts are what a display image means
-        // (an error of 1 is one count).
-        int bits = spec.get_int_attribute("oiio:BitsPerSample", int(spec.format.size() * 8));
-        double maxCount = std::ldexp(1.0, bits) - 1.0;
-        for (float& v : d.data) v = float(std::round(double(v) * maxCount));
-        d.kind = fmt::format("{} {}-bit counts", format, bits);
-    }
+    d.data = std::move(img.pixels);
+    // Integer images come as counts: what a display image means (an error of 1 is one count).
+    d.kind = img.floatingPoint ? fmt::format("{} {}", img.format, img.bits == 16 ? "half" : "float")
+                               : fmt::format("{} {}-bit counts", img.format, img.bits);
     return d;
 }
 

@@ -1,5 +1,6 @@
-// Writing an ordinary (non-spectral) image — display PNGs, XYZ and detector-response EXRs —
-// through OpenImageIO and AtomicOutput: the file appears whole or not at all.
+// Writing an ordinary (non-spectral) image — display PNGs (libpng, io/png_file), XYZ and
+// detector-response EXRs (OpenEXR, io/exr_file) — through AtomicOutput: the file appears whole or
+// not at all. The format comes from the extension: .png or .exr.
 // Tests: engine/compare/compare_test.cpp, tests/cli_test.cpp.
 #pragma once
 
@@ -21,7 +22,7 @@ struct ImageFile {
 // Writes an image strip by strip (rows in order); the file appears only at commit().
 class ImageFileWriter {
 public:
-    // bits: 8 or 16 for integer formats (PNG), 32 for float (EXR, zip).
+    // bits: 8 or 16 for PNG, 32 for EXR (float, piz).
     ImageFileWriter(const std::filesystem::path& path, const ImageFile& image, int bits);
     ~ImageFileWriter();
     ImageFileWriter(const ImageFileWriter&) = delete;

@@ -2,9 +2,7 @@
 
 #include "core/error.h"
 #include "io/atomic_file.h"
-
-#include <OpenImageIO/half.h>
-#include <OpenImageIO/imageio.h>
+#include "io/exr_file.h"
 
 #include <algorithm>
 #include <charconv>
@@ -22,14 +20,6 @@ namespace {
 constexpr float kHalfMax = 65504.0f;
 constexpr double kGridTolerance_nm = 1e-4;
 constexpr const char* kQuantity = "spectral radiance per band (docs/physics.md), W·sr⁻¹·m⁻²·nm⁻¹";
-
-// OpenEXR compressions OpenImageIO knows; an optional ":level" suffix is allowed (zip:9, dwaa:45).
-bool knownCompression(const std::string& c) {
-    static const char* names[] = {"none", "rle",  "zips", "zip",  "piz",
-                                  "pxr24", "b44", "b44a", "dwaa", "dwab"};
-    std::string base = c.substr(0, c.find(':'));
-    return std::find(std::begin(names), std::end(names), base) != std::end(names);
-}
 
 // A parsed S0.<λ><unit> / T.<λ><unit> channel.
 struct BandChannel {
@@ -99,13 +89,13 @@ std::optional<double> bandOf(const std::string& name, std::string_view component
 }
 
 // The grid spanned by sorted channel wavelengths; errors name the file and the offending pair.
-Grid gridOf(const std::vector<BandChannel>& bands, const OIIO::ImageSpec& spec, const Where& where) {
+Grid gridOf(const std::vector<BandChannel>& bands, const std::string& gridAttribute, const Where& where) {
     const size_t n = bands.size();
     for (size_t i = 1; i < n; ++i)
         if (bands[i].wavelength_nm - bands[i - 1].wavelength_nm < kGridTolerance_nm)
             failInput(where, "two spectral channels at {} nm", bands[i].wavelength_nm);
     // Prefer our own metamer:grid attribute when it agrees with the channels: exact values.
-    if (std::string text = spec.get_string_attribute("metamer:grid"); !text.empty()) {
+    if (const std::string& text = gridAttribute; !text.empty()) {
         try {
             Grid g = Grid::parse(text, where);
             bool agrees = g.bands() == static_cast<int>(n);
@@ -154,16 +144,15 @@ struct SpectralExrWriter::Impl {
     int width = 0, height = 0, bands = 0, nextRow = 0;
     bool half = false;
     AtomicOutput out;
-    std::unique_ptr<OIIO::ImageOutput> writer;
+    std::unique_ptr<ExrWriter> writer;
     ExrWriteReport report;
-    std::vector<::half> halves;  // Imath half, from OpenImageIO/half.h
+    std::vector<float> clamped;  // half: the strip with finite overflow clamped to ±65504
     explicit Impl(const fs::path& p) : path(p), out(p) {}
 };
 
 SpectralExrWriter::SpectralExrWriter(const fs::path& path, int width, int height, const Grid& grid,
                                      const ExrWriteOptions& options)
     : impl_(std::make_unique<Impl>(path)) {
-    using namespace OIIO;
     Impl& m = *impl_;
     m.width = width;
     m.height = height;
@@ -171,45 +160,33 @@ SpectralExrWriter::SpectralExrWriter(const fs::path& path, int width, int height
     m.half = options.half;
     if (width <= 0 || height <= 0 || m.bands <= 0)
         failRuntime("cannot write '{}': a {}×{} cube with {} bands", path.string(), width, height, m.bands);
-    if (!knownCompression(options.compression))
-        failInput(Where{"", "compression"},
-                  "unknown OpenEXR compression '{}' (none, rle, zips, zip, piz, pxr24, b44, b44a, "
-                  "dwaa, dwab)",
-                  options.compression);
-    ImageSpec spec(width, height, m.bands, m.half ? TypeDesc::HALF : TypeDesc::FLOAT);
-    spec.channelnames.clear();
-    for (int b = 0; b < m.bands; ++b) spec.channelnames.push_back(spectralChannelName(grid.wavelength(b)));
-    spec.attribute("compression", options.compression);
-    spec.attribute("spectralLayoutVersion", "1.0");
-    spec.attribute("emissiveUnits", "W.m^-2.sr^-1");
-    spec.attribute("metamer:grid", grid.str());
-    spec.attribute("metamer:quantity", kQuantity);
-    spec.attribute("metamer:resampling", resamplingName(grid.resampling));
-    for (const auto& [key, value] : options.extraAttributes) spec.attribute(key, value);
-    m.writer = ImageOutput::create("openexr");
-    if (!m.writer) failRuntime("cannot write '{}': no OpenEXR writer: {}", path.string(), OIIO::geterror());
-    if (!m.writer->open(m.out.tempPath().string(), spec))
-        failRuntime("cannot write '{}': {}", path.string(), m.writer->geterror());
+    if (!knownExrCompression(options.compression))
+        failInput(Where{"", "compression"}, "unknown OpenEXR compression '{}' ({}; zip, zips take :1 to :9, dwaa, "
+                  "dwab a :level)", options.compression, exrCompressionNames());
+    std::vector<std::string> channels;
+    for (int b = 0; b < m.bands; ++b) channels.push_back(spectralChannelName(grid.wavelength(b)));
+    StringAttributes a = {{"spectralLayoutVersion", "1.0"},
+                          {"emissiveUnits", "W.m^-2.sr^-1"},
+                          {"metamer:grid", grid.str()},
+                          {"metamer:quantity", kQuantity},
+                          {"metamer:resampling", resamplingName(grid.resampling)},
+                          {"Software", "metamer"}};
+    a.insert(a.end(), options.extraAttributes.begin(), options.extraAttributes.end());
+    m.writer = std::make_unique<ExrWriter>(m.out.tempPath(), width, height, channels, m.half, options.compression, a);
 }
 
-SpectralExrWriter::~SpectralExrWriter() {
-    // Not committed: close the writer; AtomicOutput then removes the temporary file.
-    if (impl_ && impl_->writer) impl_->writer->close();
-}
+SpectralExrWriter::~SpectralExrWriter() = default;  // not committed: AtomicOutput removes the temporary file
 
 void SpectralExrWriter::writeRows(int firstRow, int rows, const float* data) {
-    using namespace OIIO;
     Impl& m = *impl_;
     if (firstRow != m.nextRow || rows <= 0 || firstRow + rows > m.height)
         failRuntime("cannot write '{}': rows {}..{} out of order (next is {}, height {})", m.path.string(), firstRow,
                     firstRow + rows, m.nextRow, m.height);
     const size_t count = size_t(m.width) * rows * m.bands;
-    const void* pixels = data;
-    TypeDesc pixelType = TypeDesc::FLOAT;
+    const float* pixels = data;
     if (m.half) {
-        // Half: clamp finite overflow ourselves (a plain conversion would turn it into ±Inf) and
-        // convert once, so OpenImageIO writes the buffer as is.
-        m.halves.resize(count);
+        // Half: clamp finite overflow ourselves (a plain conversion would turn it into ±Inf).
+        m.clamped.resize(count);
         for (size_t i = 0; i < count; ++i) {
             float v = data[i];
             if (!std::isfinite(v)) {
@@ -218,17 +195,13 @@ void SpectralExrWriter::writeRows(int firstRow, int rows, const float* data) {
                 ++m.report.clampedToHalfMax;
                 v = std::copysign(kHalfMax, v);
             }
-            m.halves[i] = half(v);
+            m.clamped[i] = v;
         }
-        pixels = m.halves.data();
-        pixelType = TypeDesc::HALF;
+        pixels = m.clamped.data();
     } else {
         for (size_t i = 0; i < count; ++i) m.report.nonFinite += !std::isfinite(data[i]);
     }
-    // The whole image in one call when it is (the fastest path), else scanline blocks in order.
-    bool ok = rows == m.height ? m.writer->write_image(pixelType, pixels)
-                               : m.writer->write_scanlines(firstRow, firstRow + rows, 0, pixelType, pixels);
-    if (!ok) failRuntime("cannot write '{}': {}", m.path.string(), m.writer->geterror());
+    m.writer->writeRows(firstRow, rows, pixels);
     m.nextRow = firstRow + rows;
 }
 
@@ -236,10 +209,7 @@ ExrWriteReport SpectralExrWriter::commit() {
     Impl& m = *impl_;
     if (m.nextRow != m.height)
         failRuntime("cannot write '{}': {} of {} rows written", m.path.string(), m.nextRow, m.height);
-    bool ok = m.writer->close();
-    std::string err = ok ? "" : m.writer->geterror();
-    m.writer.reset();
-    if (!ok) failRuntime("cannot write '{}': {}", m.path.string(), err);
+    m.writer->close();
     m.out.commit();
     return m.report;
 }
@@ -263,31 +233,27 @@ bool hasSpectralChannels(const std::vector<std::string>& channelNames) {
 
 namespace {
 
-// Opens `path` as a flat OpenEXR file, or fails naming it: missing, a folder, unreadable, another
-// format, deep.
-std::unique_ptr<OIIO::ImageInput> openExr(const fs::path& path, const Where& where) {
-    std::error_code ec;
-    if (!fs::exists(path, ec)) failInput(where, "file not found");
-    if (fs::is_directory(path, ec)) failInput(where, "is a folder, not an OpenEXR file");
-    auto in = OIIO::ImageInput::open(path.string());
-    if (!in) failInput(where, "not a readable OpenEXR file: {}", OIIO::geterror());
-    if (std::string(in->format_name()) != "openexr")
-        failInput(where, "not an OpenEXR file (it reads as {})", in->format_name());
-    if (in->spec().deep) failInput(where, "deep OpenEXR images are not supported");
-    return in;
+std::string attributeOf(const ExrHeader& h, const std::string& name) {
+    for (const auto& [k, v] : h.attributes)
+        if (k == name) return v;
+    return "";
+}
+
+std::string someChannels(const std::vector<std::string>& channels) {
+    std::string names;
+    for (size_t c = 0; c < channels.size() && c < 8; ++c) names += (c ? ", " : "") + channels[c];
+    if (channels.size() > 8) names += ", ...";
+    return names;
 }
 
 }  // namespace
 
 SpectralExrImage readSpectralExrImage(const fs::path& path) {
-    using namespace OIIO;
     Where where{path.string()};
-    auto in = openExr(path, where);
-    const ImageSpec& spec = in->spec();
-
+    const ExrHeader h = readExrHeader(path, where);
     std::vector<BandChannel> emissive, reflective;
-    for (int c = 0; c < spec.nchannels; ++c) {
-        const std::string& name = spec.channelnames[c];
+    for (int c = 0; c < int(h.channels.size()); ++c) {
+        const std::string& name = h.channels[size_t(c)];
         if (auto w = bandOf(name, "S0")) emissive.push_back({*w, c});
         else if (auto t = bandOf(name, "T")) reflective.push_back({*t, c});
     }
@@ -297,47 +263,19 @@ SpectralExrImage readSpectralExrImage(const fs::path& path) {
         chosen = &reflective;
         result.component = SpectralComponent::Reflective;
     }
-    if (chosen->empty()) {
-        std::string names;
-        for (int c = 0; c < spec.nchannels && c < 8; ++c) names += (c ? ", " : "") + spec.channelnames[c];
-        if (spec.nchannels > 8) names += ", ...";
-        failInput(where, "no spectral channels (expected S0.<λ>nm or T.<λ>nm; found {})", names);
-    }
+    if (chosen->empty())
+        failInput(where, "no spectral channels (expected S0.<λ>nm or T.<λ>nm; found {})", someChannels(h.channels));
     auto& bands = *chosen;
     // EXR stores channels alphabetically ("1000,0nm" before "300,0nm"): sort by wavelength.
     std::stable_sort(bands.begin(), bands.end(), [](const BandChannel& a, const BandChannel& b) {
         return a.wavelength_nm < b.wavelength_nm;
     });
-    Grid grid = gridOf(bands, spec, where);
-
-    SpectralCube& cube = result.cube;
-    cube = SpectralCube(spec.width, spec.height, grid);
-    const int n = static_cast<int>(bands.size());
-    int chBegin = bands.front().index, chEnd = bands.front().index + 1;
-    for (const auto& b : bands) {
-        chBegin = std::min(chBegin, b.index);
-        chEnd = std::max(chEnd, b.index + 1);
-    }
-    bool direct = chEnd - chBegin == n;
-    for (int i = 0; direct && i < n; ++i) direct = bands[i].index == chBegin + i;
-    if (direct) {
-        if (!in->read_image(0, 0, chBegin, chEnd, TypeDesc::FLOAT, cube.data.data()))
-            failInput(where, "cannot read pixels: {}", in->geterror());
-        return result;
-    }
-    // Channels out of wavelength order (or interleaved with others): read the span, then permute.
-    const int span = chEnd - chBegin;
-    const size_t pixels = static_cast<size_t>(spec.width) * spec.height;
-    std::vector<float> buffer(pixels * span);
-    if (!in->read_image(0, 0, chBegin, chEnd, TypeDesc::FLOAT, buffer.data()))
-        failInput(where, "cannot read pixels: {}", in->geterror());
-    std::vector<int> source(n);
-    for (int i = 0; i < n; ++i) source[i] = bands[i].index - chBegin;
-    for (size_t p = 0; p < pixels; ++p) {
-        const float* src = buffer.data() + p * span;
-        float* dst = cube.data.data() + p * n;
-        for (int i = 0; i < n; ++i) dst[i] = src[source[i]];
-    }
+    Grid grid = gridOf(bands, attributeOf(h, "metamer:grid"), where);
+    // OpenEXR reads the channels straight into the cube's band order.
+    std::vector<std::string> names;
+    for (const auto& b : bands) names.push_back(h.channels[size_t(b.index)]);
+    result.cube = SpectralCube(h.width, h.height, grid);
+    result.cube.data = readExrChannels(path, names, where);
     return result;
 }
 
@@ -386,15 +324,14 @@ size_t indexOn(const std::vector<double>& axis, double x) {
 }  // namespace
 
 BispectralExr readBispectralExr(const fs::path& path) {
-    using namespace OIIO;
     Where where{path.string()};
-    auto in = openExr(path, where);
-    const ImageSpec& spec = in->spec();
-    if (spec.width != 1 || spec.height != 1 || spec.depth > 1)
+    const ExrHeader h = readExrHeader(path, where);
+    if (h.width != 1 || h.height != 1)
         failInput(where,
                   "is a {}×{} image; a Donaldson matrix file must be 1×1 (one material: bispectral textures are not "
                   "supported)",
-                  spec.width, spec.height);
+                  h.width, h.height);
+    const std::vector<std::string>& channels = h.channels;
 
     BispectralExr result;
     struct PairChannel {
@@ -402,8 +339,8 @@ BispectralExr readBispectralExr(const fs::path& path) {
         int index;
     };
     std::vector<PairChannel> pairs;
-    for (int c = 0; c < spec.nchannels; ++c) {
-        const std::string& name = spec.channelnames[c];
+    for (int c = 0; c < int(channels.size()); ++c) {
+        const std::string& name = channels[size_t(c)];
         if (auto p = bispectralPairOf(name))
             pairs.push_back({p->first, p->second, c});
         else if (bandOf(name, "T"))
@@ -411,16 +348,10 @@ BispectralExr readBispectralExr(const fs::path& path) {
         else
             ++result.otherChannels;
     }
-    if (pairs.empty()) {
-        std::string names;
-        for (int c = 0; c < spec.nchannels && c < 8; ++c) names += (c ? ", " : "") + spec.channelnames[c];
-        if (spec.nchannels > 8) names += ", ...";
+    if (pairs.empty())
         failInput(where, "no bispectral channels (expected T.<λin>nm.<λout>nm; found {})",
-                  names.empty() ? std::string("none") : names);
-    }
-    std::vector<float> pixel(size_t(spec.nchannels));
-    if (!in->read_image(0, 0, 0, spec.nchannels, TypeDesc::FLOAT, pixel.data()))
-        failInput(where, "cannot read pixels: {}", in->geterror());
+                  channels.empty() ? std::string("none") : someChannels(channels));
+    const std::vector<float> pixel = readExrChannels(path, channels, where);
 
     BispectralMatrix& d = result.matrix;
     d.source = path.string();
@@ -439,10 +370,10 @@ BispectralExr readBispectralExr(const fs::path& path) {
     d.values.assign(d.in_nm.size() * d.out_nm.size(), 0.0);
     std::vector<int> owner(d.values.size(), -1);
     for (const auto& p : pairs) {
-        const std::string& name = spec.channelnames[p.index];
+        const std::string& name = channels[size_t(p.index)];
         const size_t k = indexOn(d.in_nm, p.in) * d.out_nm.size() + indexOn(d.out_nm, p.out);
         if (owner[k] >= 0)
-            failInput(where, "channels '{}' and '{}' both hold D({:g} nm, {:g} nm)", spec.channelnames[owner[k]], name,
+            failInput(where, "channels '{}' and '{}' both hold D({:g} nm, {:g} nm)", channels[size_t(owner[k])], name,
                       p.in, p.out);
         owner[k] = p.index;
         const double v = pixel[size_t(p.index)];

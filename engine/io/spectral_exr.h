@@ -16,7 +16,7 @@ namespace metamer {
 
 struct ExrWriteOptions {
     bool half = false;               // float16 instead of float32
-    std::string compression = "zip"; // any OpenImageIO OpenEXR compression: none, zip, zips, piz, ...
+    std::string compression = "piz"; // an OpenEXR compression (io/exr_file.h): none, rle, zips, zip, piz, ...
     std::vector<std::pair<std::string, std::string>> extraAttributes;  // string header attributes
 };
 

@@ -62,7 +62,7 @@ std::string detectorFileName(const std::string& name);
 
 struct OutputOptions {
     bool half = false;                  // the cube in float16
-    std::string compression = "zip";    // the cube's OpenEXR compression
+    std::string compression = "piz";    // the cube's OpenEXR compression
 };
 
 class RenderOutputs {

@@ -1,10 +1,9 @@
 #include "scene/texture.h"
 
 #include "color/srgb.h"
+#include "io/exr_file.h"
+#include "io/raster_image.h"
 #include "io/spectral_exr.h"
-
-#include <OpenImageIO/filesystem.h>
-#include <OpenImageIO/imageio.h>
 
 #include <cmath>
 #include <cstring>
@@ -71,36 +70,41 @@ Texture readSpectral(const fs::path& path, const Where& where) {
     return t;
 }
 
-// Any image OpenImageIO reads, as float RGB (grey is replicated, alpha and other channels are
-// dropped), with its encoding decided. `name` is the file or the embedded image, for messages.
-std::vector<float> readRgb(OIIO::ImageInput& in, const std::string& name, TextureEncoding encoding,
+// An image as float RGB (grey is replicated, alpha and other channels are dropped; integer
+// counts scaled to 0 … 1), with its encoding decided. `name` is the file or the embedded image,
+// for messages.
+std::vector<float> readRgb(const RasterImage& in, const std::string& name, TextureEncoding encoding,
                            const Where& where, int& width, int& height, bool& wasFloat) {
-    const OIIO::ImageSpec spec = in.spec();
-    if (spec.deep) failInput(where, "texture '{}': deep images are not supported", name);
-    if (spec.depth > 1) failInput(where, "texture '{}': volume images are not supported", name);
-    checkSize(spec.width, spec.height, name, where);
-    const int n = spec.nchannels;
+    checkSize(in.width, in.height, name, where);
+    const int n = int(in.channels.size());
     if (n != 1 && n != 3 && n != 4)
         failInput(where, "texture '{}' has {} channels; expected 1 (grey), 3 (RGB) or 4 (RGBA)", name, n);
-    width = spec.width;
-    height = spec.height;
-    wasFloat = spec.format.is_floating_point();
-    std::vector<float> raw(size_t(width) * height * n);
-    if (!in.read_image(0, 0, 0, n, OIIO::TypeDesc::FLOAT, raw.data()))
-        failInput(where, "texture '{}': cannot read pixels: {}", name, in.geterror());
+    width = in.width;
+    height = in.height;
+    wasFloat = in.floatingPoint;
     bool srgb = encoding == TextureEncoding::Srgb || (encoding == TextureEncoding::Auto && !wasFloat);
     std::vector<float> rgb(size_t(width) * height * 3);
     for (size_t p = 0; p < size_t(width) * height; ++p)
         for (int c = 0; c < 3; ++c) {
-            float v = raw[p * n + (n == 1 ? 0 : c)];
+            float v = in.normalized(p * n + (n == 1 ? 0 : c));
             rgb[p * 3 + c] = srgb ? float(srgbDecode(double(v))) : v;
         }
     return rgb;
 }
 
-// An RGB, normal or height texture from an open image: what loadTexture does after the file's
-// kind is known.
-Texture imageTexture(OIIO::ImageInput& in, const std::string& name, TextureRole role, TextureEncoding encoding,
+// Reads an image for a texture; its errors name the texture and the scene's key.
+RasterImage readTextureImage(const fs::path& path, const Where& where) {
+    try {
+        return readRasterImage(path, Where{path.string()});
+    } catch (const Error& e) {
+        if (e.code() != ExitCode::BadInput) throw;
+        failInput(where, "texture '{}' is not a readable image: {}", path.string(), e.message());
+    }
+}
+
+// An RGB, normal or height texture from an image: what loadTexture does after the file's kind is
+// known.
+Texture imageTexture(const RasterImage& in, const std::string& name, TextureRole role, TextureEncoding encoding,
                      double bumpScale, const Where& where) {
     Texture t;
     t.file = name;
@@ -167,18 +171,23 @@ Texture loadTexture(const fs::path& path, TextureRole role, TextureEncoding enco
     if (!fs::exists(path, ec)) failInput(where, "texture file '{}' not found", path.string());
     if (!fs::is_regular_file(path, ec)) failInput(where, "texture '{}' is not a file", path.string());
 
-    auto in = OIIO::ImageInput::open(path.string());
-    if (!in) failInput(where, "texture '{}' is not a readable image: {}", path.string(), OIIO::geterror());
     // A spectral EXR is recognised by its channels; anything else is an RGB image.
-    if (role == TextureRole::Reflectance && std::string(in->format_name()) == "openexr" &&
-        hasSpectralChannels(in->spec().channelnames)) {
-        in->close();
+    bool spectral = false;
+    if (role == TextureRole::Reflectance && imageSignature(path) == "openexr") {
+        try {
+            spectral = hasSpectralChannels(readExrHeader(path, Where{path.string()}).channels);
+        } catch (const Error& e) {
+            if (e.code() != ExitCode::BadInput) throw;
+            failInput(where, "texture '{}' is not a readable image: {}", path.string(), e.message());
+        }
+    }
+    if (spectral) {
         if (encoding == TextureEncoding::Srgb)
             failInput(where, "texture '{}' is spectral; \"encoding\": \"srgb\" applies to RGB images only",
                       path.string());
         return readSpectral(path, where);
     }
-    return imageTexture(*in, path.string(), role, encoding, bumpScale, where);
+    return imageTexture(readTextureImage(path, where), path.string(), role, encoding, bumpScale, where);
 }
 
 Texture loadTexture(const EncodedImage& image, TextureRole role, TextureEncoding encoding, double bumpScale,
@@ -188,13 +197,14 @@ Texture loadTexture(const EncodedImage& image, TextureRole role, TextureEncoding
     const bool png = b.size() >= 8 && std::memcmp(b.data(), "\x89PNG\r\n\x1a\n", 8) == 0;
     const bool jpeg = b.size() >= 3 && b[0] == 0xff && b[1] == 0xd8 && b[2] == 0xff;
     if (!png && !jpeg) failInput(where, "texture '{}' is neither a PNG nor a JPEG image (glTF's image formats)", image.name);
-    OIIO::Filesystem::IOMemReader memory(const_cast<unsigned char*>(b.data()), b.size());
-    auto in = OIIO::ImageInput::create(png ? "png" : "jpeg");
-    OIIO::ImageSpec spec;
-    if (!in || !in->set_ioproxy(&memory) || !in->open(image.name, spec))
-        failInput(where, "texture '{}' is not a readable image: {}", image.name,
-                  in ? in->geterror() : OIIO::geterror());
-    return imageTexture(*in, image.name, role, encoding, bumpScale, where);
+    RasterImage decoded;
+    try {
+        decoded = readRasterImage(b, image.name, Where{image.name});
+    } catch (const Error& e) {
+        if (e.code() != ExitCode::BadInput) throw;
+        failInput(where, "texture '{}' is not a readable image: {}", image.name, e.message());
+    }
+    return imageTexture(decoded, image.name, role, encoding, bumpScale, where);
 }
 
 }  // namespace metamer

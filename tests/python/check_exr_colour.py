@@ -94,7 +94,7 @@ def check_oiiotool(path, depth):
     assert sorted(names) == sorted(channel_name(w) for w in wavelengths), names
     for name, value in ATTRIBUTES.items():
         assert f'{name}: "{value}"' in out, f"oiiotool does not list {name}: {value!r}\n{out}"
-    assert 'compression: "zip"' in out, out
+    assert 'compression: "piz"' in out, out
     print(f"oiiotool: {len(names)} channels and {len(ATTRIBUTES)} attributes listed")
     return True
 
