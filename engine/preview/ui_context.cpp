@@ -55,6 +55,7 @@ UiContext::UiContext(vk::Context& ctx, const Window& window, Swapchain& swapchai
     info.QueueFamily = ctx.queueFamily();
     info.Queue = ctx.queue();
     info.DescriptorPool = pool_;
+    info.PipelineCache = ctx.pipelineCache();
     info.MinImageCount = swapchain.minImageCount();
     info.ImageCount = swapchain.imageCount();
     info.MSAASamples = VK_SAMPLE_COUNT_1_BIT;

@@ -409,6 +409,7 @@ VkPipeline SpectralResources::makePipeline(VkRenderPass renderPass, uint32_t att
     d.height = plan.targetHeight;
     d.colorAttachments = attachments;
     d.depthTest = true;
+    d.cache = ctx.pipelineCache();
     d.depthWrite = writesDepth;
     // Same vertex shader (gl_Position is invariant) → the same depth in every pass.
     d.depthCompare = prePass ? VK_COMPARE_OP_LESS : writesDepth ? VK_COMPARE_OP_LESS_OR_EQUAL : VK_COMPARE_OP_EQUAL;

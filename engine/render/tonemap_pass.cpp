@@ -225,6 +225,7 @@ struct TonemapPass::Impl {
         desc.vertex = vert.get();
         desc.fragment = frag.get();
         desc.fragmentSpecialization = &si;
+        desc.cache = ctx.pipelineCache();
         desc.width = width;
         desc.height = height;
         desc.colorAttachments = kAttachments;

@@ -1,5 +1,7 @@
 #include "vk/context.h"
 
+#include "vk/pipeline_cache.h"
+
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -125,6 +127,7 @@ ContextOptions contextOptionsFromEnvironment() {
     ContextOptions o;
     if (const char* v = std::getenv("METAMER_VALIDATION")) o.validation = std::strcmp(v, "0") != 0;
     if (const char* d = std::getenv("METAMER_DEVICE")) o.device = d;
+    o.pipelineCacheFolder = pipelineCacheFolder();
     return o;
 }
 
@@ -283,6 +286,13 @@ Context::Context(const ContextOptions& options) {
         pci.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
         pci.queueFamilyIndex = queueFamily_;
         VK_CHECK(vkCreateCommandPool(device_, &pci, nullptr, &commandPool_));
+        pipelineCache_ = std::make_unique<PipelineCache>(device_, properties_, options.pipelineCacheFolder);
+        if (options.verbose && !pipelineCache_->file().empty())
+            std::fprintf(stderr, "metamer: pipeline cache %s (%zu bytes read%s)\n", pipelineCache_->file().c_str(),
+                         pipelineCache_->loadedBytes(),
+                         pipelineCache_->ignoredBecause().empty()
+                             ? ""
+                             : (", the file on disk ignored: " + pipelineCache_->ignoredBecause()).c_str());
     } catch (...) {
         release();
         throw;
@@ -291,9 +301,12 @@ Context::Context(const ContextOptions& options) {
 
 Context::~Context() { release(); }
 
+VkPipelineCache Context::pipelineCache() const { return pipelineCache_ ? pipelineCache_->handle() : VK_NULL_HANDLE; }
+
 void Context::release() {
     if (device_) {
         vkDeviceWaitIdle(device_);
+        pipelineCache_.reset();  // written back to disk here
         if (commandPool_) vkDestroyCommandPool(device_, commandPool_, nullptr);
         vkDestroyDevice(device_, nullptr);  // the layers report leaked children here
     }

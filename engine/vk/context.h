@@ -10,11 +10,15 @@
 #include "vk/check.h"
 
 #include <atomic>
+#include <filesystem>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
 namespace metamer::vk {
+
+class PipelineCache;
 
 struct ContextOptions {
     // Enable VK_LAYER_KHRONOS_validation. Default: on when METAMER_VALIDATION=1.
@@ -31,6 +35,10 @@ struct ContextOptions {
     // instance).
     std::vector<std::string> instanceExtensions;
     std::function<VkSurfaceKHR(VkInstance)> createSurface;
+
+    // Where the pipeline cache is kept between processes (vk/pipeline_cache.h); empty: in memory
+    // only. Default from the environment: METAMER_PIPELINE_CACHE, $XDG_CACHE_HOME/metamer, ~/.cache/metamer.
+    std::filesystem::path pipelineCacheFolder;
 };
 
 ContextOptions contextOptionsFromEnvironment();
@@ -65,6 +73,9 @@ public:
     const VkPhysicalDeviceMemoryProperties& memoryProperties() const { return memory_; }
     const DeviceInfo& deviceInfo() const { return info_; }
     bool validationEnabled() const { return validation_; }
+    // The pipeline cache every pipeline is made with (kept on disk: vk/pipeline_cache.h).
+    VkPipelineCache pipelineCache() const;
+    const PipelineCache& pipelineCacheFile() const { return *pipelineCache_; }
 
     // Validation errors reported so far (the count includes leak reports at destruction, which
     // the owner can only observe through validationErrorsAtExit()).
@@ -103,6 +114,7 @@ private:
     VkQueue presentQueue_ = VK_NULL_HANDLE;
     uint32_t presentFamily_ = 0;
     VkCommandPool commandPool_ = VK_NULL_HANDLE;
+    std::unique_ptr<PipelineCache> pipelineCache_;
     VkPhysicalDeviceProperties properties_{};
     VkPhysicalDeviceMemoryProperties memory_{};
     DeviceInfo info_;

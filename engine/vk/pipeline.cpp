@@ -69,7 +69,7 @@ VkPipeline createGraphicsPipeline(VkDevice device, const GraphicsPipelineDesc& d
     gp.layout = d.layout;
     gp.renderPass = d.renderPass;
     VkPipeline p;
-    VK_CHECK(vkCreateGraphicsPipelines(device, VK_NULL_HANDLE, 1, &gp, nullptr, &p));
+    VK_CHECK(vkCreateGraphicsPipelines(device, d.cache, 1, &gp, nullptr, &p));
     return p;
 }
 

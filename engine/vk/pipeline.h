@@ -26,6 +26,7 @@ struct GraphicsPipelineDesc {
     // Front faces are counter-clockwise seen from their normal side (scene/scene.h). Vulkan
     // judges winding in y-down framebuffer space; the projections' y flip cancels that.
     VkFrontFace frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
+    VkPipelineCache cache = VK_NULL_HANDLE;  // Context::pipelineCache()
 };
 
 VkPipeline createGraphicsPipeline(VkDevice device, const GraphicsPipelineDesc& desc);
