@@ -150,6 +150,23 @@ TEST(Cli, DisplayPathWritesPngXyzAndResponses) {
     resp->close();
 }
 
+// Display outputs alone take the response pass (no band is drawn); with the cube the band passes
+// run and the PNG is computed from them (docs/color.md, "The response pass").
+TEST(Cli, DisplayOutputsAloneTakeTheResponsePassAndTheCubeTheBands) {
+    fs::path out = freshDir("response-pass");
+    CliRun r = run("render " + kScene + " --out " + out.string() + " --write png,xyz -v");
+    ASSERT_EQ(r.code, 0) << r.output;
+    EXPECT_NE(r.output.find("response pass: 3 detector channel(s)"), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find(" bands in "), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(out / "small.exr"));
+    r = run("render " + kScene + " --out " + out.string() + " --write cube,png -v");
+    ASSERT_EQ(r.code, 0) << r.output;
+    EXPECT_EQ(r.output.find("response pass"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find(" bands in "), std::string::npos) << r.output;
+    EXPECT_TRUE(fs::exists(out / "small.exr"));
+    EXPECT_TRUE(fs::exists(out / "small.png"));
+}
+
 TEST(Cli, CustomCsvDetectorWritesItsChannels) {
     fs::path out = freshDir("csvdetector");
     fs::create_directories(out);

@@ -12,8 +12,8 @@ namespace metamer {
 
 std::string SpectralPassPlan::describe() const {
     if (responses)
-        return fmt::format("response pass: {} detector channel(s) in {} RGBA32F layer(s), a depth pre-pass + 1 colour "
-                           "pass, {}×{} target ({} MiB), {} light(s), specular {}, fluorescence {}, ssaa {}",
+        return fmt::format("response pass: {} detector channel(s) in {} RGBA32F layer(s), one pass that writes "
+                           "its own depth (no pre-pass), {}×{} target ({} MiB), {} light(s), specular {}, fluorescence {}, ssaa {}",
                            bands, layers, targetWidth, targetHeight, targetBytes >> 20, lightCount,
                            hasSpecular ? "on" : "off", hasFluorescence ? "on" : "off", ssaa);
     return fmt::format("{} bands in {} RGBA32F layers, a depth pre-pass + {} colour pass(es) of ≤{} attachments, {}×{} target ({} MiB), "
