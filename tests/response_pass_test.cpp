@@ -5,7 +5,9 @@
 // 1e-5 relative, and its display counts are within 1 of the cube path's tonemap pass. Both paths
 // rasterize the same triangles with the same depth, so every pixel is compared, edges included.
 #include "color/tonemap.h"
+#include "io/raster_image.h"
 #include "render/display_frame.h"
+#include "render/render_job.h"
 #include "render/render_setup.h"
 #include "render/tonemap_pass.h"
 #include "support/gpu.h"
@@ -180,6 +182,45 @@ TEST(ResponsePass, EqualsTheCubePathInEveryModeAdaptationAndDisplay) {
     for (const Case& c : cases) {
         SCOPED_TRACE(describe(c));
         compareCase(c);
+    }
+    EXPECT_NO_VALIDATION_ERRORS(before);
+}
+
+// A custom detector's quick-look PNG (CIE 1931 → sRGB, auto exposure) comes from a response pass
+// of the CIE 1931 observer when no cube is written, and from the cube otherwise: the same counts
+// within 1 (the 99th-percentile exposure of float32 XYZ summed two ways).
+TEST(ResponsePass, QuickLookOfACustomDetectorWithoutTheBands) {
+    const uint32_t before = gpu().validationErrors();
+    const fs::path dir = fs::temp_directory_path() / "metamer_response_pass_quicklook";
+    fs::remove_all(dir);
+    for (const char* scene : {"spheres", "textured"}) {
+        SCOPED_TRACE(scene);
+        RenderJob job;
+        job.scene = fs::path(METAMER_SOURCE_DIR) / "scenes" / (std::string(scene) + ".json");
+        job.overrides = {"camera.width=96", "camera.height=80"};
+        job.detector = "csv:" + eightChannelDetector().string();
+        job.validation = true;
+        job.outDir = dir / "responses";
+        job.write = {"png", "responses"};
+        const RenderJobResult viaResponses = runRenderJob(job);
+        EXPECT_TRUE(viaResponses.responsePass);
+        EXPECT_EQ(viaResponses.validationErrors, 0u);
+        job.outDir = dir / "cube";
+        job.write = {"cube", "png"};
+        const RenderJobResult viaCube = runRenderJob(job);
+        EXPECT_FALSE(viaCube.responsePass);
+        const RasterImage a = readRasterImage(dir / "responses" / (std::string(scene) + ".png"), Where{});
+        const RasterImage b = readRasterImage(dir / "cube" / (std::string(scene) + ".png"), Where{});
+        ASSERT_EQ(a.pixels.size(), b.pixels.size());
+        float worst = 0;
+        size_t lit = 0;
+        for (size_t i = 0; i < a.pixels.size(); ++i) {
+            worst = std::max(worst, std::fabs(a.pixels[i] - b.pixels[i]));
+            lit += a.pixels[i] > 0;
+        }
+        EXPECT_LE(worst, 1.0f);
+        EXPECT_GT(lit, a.pixels.size() / 4);  // an image, not a black frame
+        EXPECT_NE(a.attribute("ImageDescription").find("quick-look"), std::string::npos);
     }
     EXPECT_NO_VALIDATION_ERRORS(before);
 }

@@ -30,10 +30,16 @@ QuickLook quickLook(const SpectralCube& cube, const SpectrumLibrary& library) {
     const Detector observer = makeDetector("cie1931", library, cube.grid, Integration::Riemann, Where{});
     std::vector<glm::dvec3> xyz(pixels);
     for (size_t p = 0; p < pixels; ++p) xyz[p] = detectorResponse3(observer, cube.data.data() + p * cube.bands());
+    return quickLookFromXyz(cube.width, cube.height, xyz, cube.grid);
+}
 
+QuickLook quickLookFromXyz(int width, int height, const std::vector<glm::dvec3>& xyz, const Grid& grid) {
+    const size_t pixels = static_cast<size_t>(std::max(0, width)) * std::max(0, height);
+    if (width <= 0 || height <= 0 || xyz.size() != pixels)
+        failRuntime("quick look: the image is {}×{} but {} XYZ values were given", width, height, xyz.size());
     QuickLook q;
-    q.width = cube.width;
-    q.height = cube.height;
+    q.width = width;
+    q.height = height;
     // Auto-exposure: the 99th percentile of the lit pixels goes to Y = 1, so a few highlights clip
     // but a small bright light does not turn the rest of the image black.
     std::vector<double> lit;
@@ -66,7 +72,7 @@ QuickLook quickLook(const SpectralCube& cube, const SpectrumLibrary& library) {
     q.description = fmt::format(
         "metamer quick-look: CIE 1931 XYZ -> sRGB (D65), no chromatic adaptation, Y scale 1/{:.6g} "
         "(99th percentile of Y>0, radiometric W.sr^-1.m^-2); grid {}",
-        q.yPercentile99 > 0 ? q.yPercentile99 : 1.0, cube.grid.str());
+        q.yPercentile99 > 0 ? q.yPercentile99 : 1.0, grid.str());
     return q;
 }
 

@@ -8,6 +8,8 @@
 #include "spectral/cube.h"
 #include "spectral/library.h"
 
+#include <glm/glm.hpp>
+
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -27,5 +29,10 @@ struct QuickLook {
 // CIE 1931 XYZ (Riemann, the observer from `library`) → exposure (the 99th percentile of the lit
 // pixels' Y to Y = 1) → the sRGB display model (D65 white, no chromatic adaptation) → 8 bits.
 QuickLook quickLook(const SpectralCube& cube, const SpectrumLibrary& library);
+
+// The same from the cube's CIE 1931 XYZ (radiometric, W·sr⁻¹·m⁻²; 3 per pixel, row 0 at the top),
+// as the response pass draws it without the bands (render/display_frame.h); `grid` is named in the
+// description.
+QuickLook quickLookFromXyz(int width, int height, const std::vector<glm::dvec3>& xyz, const Grid& grid);
 
 }  // namespace metamer

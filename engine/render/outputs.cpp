@@ -107,7 +107,7 @@ RenderOutputs::RenderOutputs(const OutputTargets& targets, int width, int height
 
 RenderOutputs::~RenderOutputs() = default;
 
-bool RenderOutputs::needsCube() const { return cube_ || channels_ || quickLook_; }
+bool RenderOutputs::needsCube() const { return cube_ || channels_; }
 bool RenderOutputs::needsDisplay() const { return png_ || xyz_ || responses_; }
 TonemapOutputs RenderOutputs::displayOutputs() const {
     return {png_ != nullptr || xyz_ != nullptr, xyz_ != nullptr, responses_ != nullptr};
@@ -131,7 +131,17 @@ void RenderOutputs::writeRows(int firstRow, int rows, const float* cube, const D
 
 void RenderOutputs::writeQuickLook(const SpectralCube& cube, const SpectrumLibrary& library) {
     if (!quickLook_) return;
-    const QuickLook q = quickLook(cube, library);
+    writeQuickLookImage(quickLook(cube, library));
+}
+
+void RenderOutputs::writeQuickLookFromXyz(const std::vector<float>& xyz) {
+    if (!quickLook_) return;
+    std::vector<glm::dvec3> v(xyz.size() / 3);
+    for (size_t i = 0; i < v.size(); ++i) v[i] = {xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]};
+    writeQuickLookImage(quickLookFromXyz(width_, height_, v, grid_));
+}
+
+void RenderOutputs::writeQuickLookImage(const QuickLook& q) {
     ImageFile f{width_, height_, {"R", "G", "B"}, {{"ImageDescription", q.description}, {"oiio:ColorSpace", "sRGB"}}};
     png_ = std::make_unique<ImageFileWriter>(targets_.png, f, 8);
     png_->writeRows(0, height_, q.counts);

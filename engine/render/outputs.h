@@ -6,6 +6,7 @@
 // Tests: tests/cli_test.cpp, tests/strips_test.cpp, tests/interrupted_run_test.cpp.
 #pragma once
 
+#include "color/quick_look.h"
 #include "color/tonemap.h"
 #include "render/tonemap_pass.h"
 #include "io/image_file.h"
@@ -77,8 +78,10 @@ public:
     RenderOutputs& operator=(const RenderOutputs&) = delete;
 
     // Whether the outputs need the cube's pixels, and the display image's; which parts of the
-    // display image (the counts also for the clipped-pixel figure when XYZ is written).
+    // display image (the counts also for the clipped-pixel figure when XYZ is written); whether a
+    // custom detector's quick look is to be written (from the cube, or from CIE 1931 XYZ).
     bool needsCube() const;
+    bool needsQuickLook() const { return quickLook_; }
     bool needsDisplay() const;
     TonemapOutputs displayOutputs() const;
 
@@ -88,6 +91,9 @@ public:
     void writeRows(int firstRow, int rows, const float* cube, const DisplayImage* image);
     // Whole-image outputs: a custom detector's quick-look PNG (at the png target) and the edge mask.
     void writeQuickLook(const SpectralCube& cube, const SpectrumLibrary& library);
+    // The same from the image's radiometric CIE 1931 XYZ, width × height × 3 (the response pass's
+    // responses for the cie1931 detector, riemann).
+    void writeQuickLookFromXyz(const std::vector<float>& xyz);
     void writeEdges(const std::vector<uint16_t>& edges);
 
     // Renames every file into place and says what each holds. `strips` > 1 says so in the lines.
@@ -95,6 +101,8 @@ public:
     size_t clampedToHalf() const { return clampedToHalf_; }
 
 private:
+    void writeQuickLookImage(const QuickLook& q);
+
     OutputTargets targets_;
     int width_, height_;
     Grid grid_;

@@ -230,6 +230,14 @@ void renderDisplayFrames(const RenderJob& job, LoadedScene& loaded, const Tonema
         r.clippedPixels = image.clippedPixels;
         auto t = Clock::now();
         out.writeRows(0, loaded.scene.camera.height, nullptr, &image);
+        if (out.needsQuickLook()) {
+            // A custom detector's quick look: the CIE 1931 observer's responses (radiometric XYZ,
+            // riemann, as color/quick_look integrates the cube) from a response pass of their own.
+            const TonemapPlan cie1931 =
+                makeScenePlan(TonemapSettings{}, loaded.scene, loaded.spectra, loaded.library, &loaded.representation);
+            DisplayFrame look(*ctx, loaded.scene, loaded.rendered, cie1931, po, TonemapOutputs{false, false, true});
+            out.writeQuickLookFromXyz(look.render().responses);
+        }
         r.timings.write_ms = msSince(t);
     }
     ctx.reset();  // destroy before counting: leak reports arrive at device destruction
@@ -341,11 +349,11 @@ RenderJobResult runRenderJob(const RenderJob& job) {
         if (plan->camera) r.cameraFitRmsDeltaE = plan->camera->rmsDeltaE2000;
     }
     const TonemapPlan* planPtr = plan ? &*plan : nullptr;
-    // Whether the render holds the bands: for the cube, the mode's channel image, or a custom
-    // detector's quick look (made from the cube's CIE 1931 XYZ); else the display path draws the
-    // detector's channels only (render/display_frame.h).
+    // Whether the render holds the bands: for the cube or the mode's channel image; else the
+    // display path draws the detector's channels only (render/display_frame.h), and a custom
+    // detector's quick look the CIE 1931 observer's.
     const bool quickLook = files.png && planPtr && planPtr->mode == TonemapMode::ResponsesOnly;
-    const bool needsBands = files.cube || quickLook || files.edges || !display || job.backend == Backend::Cpu;
+    const bool needsBands = files.cube || files.edges || !display || job.backend == Backend::Cpu;
     const RenderMemory memory =
         estimateRenderMemory(W, H, scene.grid.bands(), job.ssaa, job.backend, display, needsBands);
     refuseAbsurdSizes(job, scene, memory);
