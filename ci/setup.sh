@@ -13,7 +13,7 @@ packages=(
   libglm-dev libeigen3-dev libfmt-dev nlohmann-json3-dev libcli11-dev libtinygltf-dev
   libopenexr-dev libpng-dev libopenimageio-dev openimageio-tools
   libglfw3-dev libimgui-dev xvfb fonts-dejavu-core
-  libgtest-dev
+  libgtest-dev libssl-dev
   clang libclang-rt-14-dev
   python3 python3-venv python3-pip python3-openimageio python3-numpy
 )

@@ -1,5 +1,6 @@
 // metamer: the command-line tool. A thin shell: parse arguments, call the engine, print one line
 // per error, map errors to exit codes (README.md, "Exit codes").
+#include "app/batch_command.h"    // metamer batch
 #include "app/bench_command.h"    // metamer bench
 #include "app/compare_command.h"  // metamer compare
 #include "app/preview_command.h"  // metamer preview
@@ -200,6 +201,11 @@ int main(int argc, char** argv) {
     auto* bench = addBenchCommand(app, benchArgs);
     // --- end metamer bench
 
+    // --- metamer batch (engine/app/batch_command.cpp, docs/batch.md)
+    BatchArgs batchArgs;
+    auto* batch = addBatchCommand(app, batchArgs);
+    // --- end metamer batch
+
     // --- metamer preview (engine/app/preview_command.cpp, docs/preview.md)
     PreviewArgs previewArgs;
     auto* preview = addPreviewCommand(app, previewArgs);
@@ -222,6 +228,7 @@ int main(int argc, char** argv) {
         if (devices->parsed()) return listDevices();
         if (compare->parsed()) return runCompare(compareArgs);  // metamer compare
         if (bench->parsed()) return runBenchCommand(benchArgs);  // metamer bench
+        if (batch->parsed()) return runBatchCommand(batchArgs);  // metamer batch
         if (preview->parsed()) return runPreviewCommand(previewArgs);  // metamer preview
 
         job.backend = backend == "cpu" ? Backend::Cpu : Backend::Gpu;

@@ -1,4 +1,5 @@
 #include "color/film.h"
+#include "core/file_reads.h"
 #include "spectral/resampling.h"
 
 #include "spectral/csv.h"
@@ -52,6 +53,7 @@ fs::path descriptionPath(const SpectrumLibrary& library, const std::string& name
 FilmDescription readDescription(const std::string& name, const SpectrumLibrary& library, const Where& where) {
     FilmDescription d;
     d.path = descriptionPath(library, name);
+    noteFileRead(d.path);
     std::ifstream in(d.path);
     if (!in) {
         std::string s = closestMatch(name, filmNames(library));

@@ -1,4 +1,5 @@
 #include "color/rgb_upsampling.h"
+#include "core/file_reads.h"
 
 #include "color/lab.h"
 #include "color/srgb.h"
@@ -590,6 +591,7 @@ void RgbUpsampler::write(const fs::path& path) const {
 }
 
 bool RgbUpsampler::read(const fs::path& path) {
+    noteFileRead(path);
     std::ifstream in(path, std::ios::binary);
     if (!in) return false;
     FileHeader h{};

@@ -1,4 +1,5 @@
 #include "io/exr_file.h"
+#include "core/file_reads.h"
 
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfCompression.h>
@@ -69,6 +70,7 @@ std::string exrCompressionNames() {
 }
 
 ExrHeader readExrHeader(const fs::path& path, const Where& where) {
+    noteFileRead(path);
     std::error_code ec;
     if (!fs::exists(path, ec)) failInput(where, "file not found");
     if (fs::is_directory(path, ec)) failInput(where, "is a folder, not an OpenEXR file");
@@ -102,6 +104,7 @@ ExrHeader readExrHeader(const fs::path& path, const Where& where) {
 
 std::vector<float> readExrChannels(const fs::path& path, const std::vector<std::string>& channels,
                                    const Where& where) {
+    noteFileRead(path);
     useEveryCore();
     try {
         Imf::InputFile in(path.c_str());

@@ -1,4 +1,5 @@
 #include "io/raster_image.h"
+#include "core/file_reads.h"
 
 #include "io/exr_file.h"
 #include "io/oiio_module.h"
@@ -38,6 +39,7 @@ std::string imageSignature(const fs::path& path) {
 }
 
 RasterImage readRasterImage(const fs::path& path, const Where& where) {
+    noteFileRead(path);
     std::error_code ec;
     if (!fs::exists(path, ec)) failInput(where, "file not found");
     if (fs::is_directory(path, ec)) failInput(where, "is a folder, not an image");

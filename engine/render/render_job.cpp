@@ -151,6 +151,32 @@ void refuseOversizedTarget(const RenderJob& job, const Scene& scene, const vk::C
                   scene.camera.width, scene.camera.height, job.ssaa, tw, th, maxW, maxH);
 }
 
+// The job's Vulkan context: the caller's (metamer batch: one device for many jobs), or one of its
+// own. finish() says how many validation errors the job caused; an own context is destroyed first,
+// since leak reports arrive at device destruction.
+class JobContext {
+public:
+    explicit JobContext(const RenderJob& job)
+        : own_(job.context ? nullptr : std::make_unique<vk::Context>(jobContextOptions(job))),
+          ctx_(job.context ? job.context : own_.get()),
+          before_(job.context ? job.context->validationErrors() : 0) {}
+    vk::Context& operator*() { return *ctx_; }
+    vk::Context* operator->() { return ctx_; }
+    vk::Context* get() { return ctx_; }
+    uint32_t finish() {
+        if (own_) {
+            own_.reset();
+            return vk::Context::validationErrorsAtExit();
+        }
+        return ctx_->validationErrors() - before_;
+    }
+
+private:
+    std::unique_ptr<vk::Context> own_;
+    vk::Context* ctx_;
+    uint32_t before_;
+};
+
 // Strip rows when the render is over the memory budget (GPU), else 0; the reason in `why`.
 int stripRowsFor(const RenderJob& job, const Scene& scene, const RenderMemory& memory, const RenderMemory& perRow,
                  bool quickLookOrEdges, std::string& why) {
@@ -176,7 +202,7 @@ int stripRowsFor(const RenderJob& job, const Scene& scene, const RenderMemory& m
 // The image strip by strip on the GPU into `out` (render/strip_render); returns the strip count.
 int renderStripsInto(const RenderJob& job, LoadedScene& loaded, const TonemapPlan* plan, int rows, RenderOutputs& out,
                      RenderJobResult& r) {
-    auto ctx = std::make_unique<vk::Context>(jobContextOptions(job));
+    JobContext ctx(job);
     StripJob sj;
     sj.scene = &loaded.scene;
     sj.rendered = &loaded.rendered;
@@ -188,8 +214,7 @@ int renderStripsInto(const RenderJob& job, LoadedScene& loaded, const TonemapPla
     sj.readback = job.readback;
     sj.outputs = &out;
     const StripResult sr = renderInStrips(sj);
-    ctx.reset();
-    r.validationErrors = vk::Context::validationErrorsAtExit();
+    r.validationErrors = ctx.finish();
     r.timings.shading_ms = sr.shading_ms;
     r.timings.tonemap_ms = sr.tonemap_ms;
     r.timings.readback_ms = sr.readback_ms;
@@ -203,7 +228,7 @@ int renderStripsInto(const RenderJob& job, LoadedScene& loaded, const TonemapPla
 // (render/display_frame.h), one or more whole frames; the bands are never drawn.
 void renderDisplayFrames(const RenderJob& job, LoadedScene& loaded, const TonemapPlan& plan, RenderOutputs& out,
                          RenderJobResult& r) {
-    auto ctx = std::make_unique<vk::Context>(jobContextOptions(job));
+    JobContext ctx(job);
     {
         refuseOversizedTarget(job, loaded.scene, *ctx);
         SpectralPassOptions po;
@@ -240,14 +265,13 @@ void renderDisplayFrames(const RenderJob& job, LoadedScene& loaded, const Tonema
         }
         r.timings.write_ms = msSince(t);
     }
-    ctx.reset();  // destroy before counting: leak reports arrive at device destruction
-    r.validationErrors = vk::Context::validationErrorsAtExit();
+    r.validationErrors = ctx.finish();
 }
 
 // One or more whole frames on the GPU into `out`: the bands, and the display path over them.
 void renderGpuFrames(const RenderJob& job, LoadedScene& loaded, const TonemapPlan* plan, RenderOutputs& out,
                      RenderJobResult& r) {
-    auto ctx = std::make_unique<vk::Context>(jobContextOptions(job));
+    JobContext ctx(job);
     {
         refuseOversizedTarget(job, loaded.scene, *ctx);
         SpectralPassOptions po;
@@ -293,8 +317,7 @@ void renderGpuFrames(const RenderJob& job, LoadedScene& loaded, const TonemapPla
         out.writeQuickLook(cube, loaded.library);
         r.timings.write_ms = msSince(t);
     }
-    ctx.reset();  // destroy before counting: leak reports arrive at device destruction
-    r.validationErrors = vk::Context::validationErrorsAtExit();
+    r.validationErrors = ctx.finish();
 }
 
 // The CPU reference (double precision) and its tonemap into `out`.

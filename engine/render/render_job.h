@@ -10,6 +10,7 @@
 #include "render/spectral_pass.h"
 #include "scene/scene_on_grid.h"
 #include "spectral/cube.h"
+#include "vk/context.h"
 
 #include <filesystem>
 #include <optional>
@@ -46,6 +47,9 @@ struct RenderJob {
     size_t memoryBudget = 0;
     std::string mode = "full";  // representation mode: full, rgb, ac1c2[:N] (represent/representation.h)
     std::optional<std::vector<std::string>> write;
+    // A Vulkan context to render with, owned by the caller and kept between jobs (metamer batch);
+    // null: the job makes its own (validation and device then come from the fields above).
+    vk::Context* context = nullptr;
 };
 
 struct StageTimings {

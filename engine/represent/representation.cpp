@@ -1,4 +1,5 @@
 #include "represent/representation.h"
+#include "core/file_reads.h"
 
 #include "spectral/csv.h"
 #include "spectral/resampling.h"
@@ -258,6 +259,7 @@ Representation makeRepresentation(const Mode& mode, const Grid& grid, const Spec
     if (mode.kind == ModeKind::Rgb) {
         r.reflectanceAnalysis = weightsOnGrid(readSpectralTable(root / "quadrature" / "rgb_weights.csv", 3), grid, true);
         r.lightAnalysis = weightsOnGrid(readSpectralTable(root / "quadrature" / "rgb_light_weights.csv", 3), grid, false);
+        noteFileRead(root / "quadrature" / "rgb.json");
         std::ifstream in(root / "quadrature" / "rgb.json");
         if (!in) failInput(Where{(root / "quadrature" / "rgb.json").string()}, "cannot open the rgb mode's matrices");
         nlohmann::json j = nlohmann::json::parse(in);

@@ -1,4 +1,5 @@
 #include "scene/gltf_mesh.h"
+#include "core/file_reads.h"
 
 #include "scene/shapes.h"
 
@@ -378,6 +379,7 @@ bool readWholeFile(std::vector<unsigned char>* out, std::string* err, const std:
         if (err) *err += "not a regular file";
         return false;
     }
+    noteFileRead(path);
     std::ifstream in(path, std::ios::binary);
     if (!in) {
         if (err) *err += "cannot open the file";

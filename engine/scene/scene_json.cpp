@@ -1,4 +1,5 @@
 #include "scene/scene_json.h"
+#include "core/file_reads.h"
 
 #include "core/json.h"
 #include "io/spectral_exr.h"
@@ -890,6 +891,7 @@ Scene loadScene(const fs::path& file, const SpectrumLibrary& lib, const std::vec
                 const LoadOptions& options) {
     std::error_code ec;
     if (!fs::is_regular_file(file, ec)) failInput(Where{file.string()}, "scene file not found");
+    noteFileRead(file);
     std::ifstream in(file, std::ios::binary);
     if (!in) failInput(Where{file.string()}, "cannot open the scene file");
     std::stringstream ss;

@@ -1,4 +1,5 @@
 #include "spectral/csv.h"
+#include "core/file_reads.h"
 
 #include <cerrno>
 #include <cmath>
@@ -48,6 +49,7 @@ std::string shownField(const std::string& field) {
 
 SpectralTable readSpectralTable(const std::filesystem::path& path, size_t minColumns) {
     Where where{path.string(), "", 0};
+    noteFileRead(path);
     std::ifstream in(path);
     if (!in) failInput(where, "cannot open spectrum file");
     SpectralTable t;
@@ -114,6 +116,7 @@ Spectrum readSpectrumCsv(const std::filesystem::path& path) {
 
 BispectralMatrix readBispectralCsv(const std::filesystem::path& path) {
     Where where{path.string(), "", 0};
+    noteFileRead(path);
     std::ifstream in(path);
     if (!in) failInput(where, "cannot open Donaldson matrix file");
     BispectralMatrix d;

@@ -1,0 +1,127 @@
+#include "app/batch_command.h"
+
+#include "batch/batch.h"
+#include "core/error.h"
+#include "render/render_setup.h"
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <mutex>
+#include <set>
+
+namespace fs = std::filesystem;
+
+namespace metamer {
+
+namespace {
+
+// A sweep of thousands of jobs repeats the same warning (a spectrum that does not cover the grid)
+// for every job: each distinct warning is printed once.
+void warnOnce(const std::string& line) {
+    static std::mutex m;
+    static std::set<std::string> seen;
+    std::lock_guard<std::mutex> lock(m);
+    if (seen.insert(line).second) std::fprintf(stderr, "%s\n", line.c_str());
+}
+
+fs::path outFolder(const BatchArgs& a, const Sweep& sweep) {
+    if (!a.out.empty()) return a.out;
+    if (!sweep.out.empty()) return sweep.out;
+    return fs::path("out") / fs::path(a.sweep).stem();
+}
+
+std::string duration(double seconds) {
+    if (seconds < 120) return fmt::format("{:.0f} s", seconds);
+    if (seconds < 7200) return fmt::format("{:.0f} min", seconds / 60);
+    return fmt::format("{:.1f} h", seconds / 3600);
+}
+
+}  // namespace
+
+CLI::App* addBatchCommand(CLI::App& app, BatchArgs& a) {
+    auto* c = app.add_subcommand("batch", "render a sweep of jobs (a dataset), resumable and sharded (docs/batch.md)");
+    c->add_option("sweep", a.sweep, "sweep file (.json) or manifest (.jsonl, .csv)");
+    c->add_option("--out,-o", a.out, "the dataset's folder (default: the sweep's \"out\", else out/<sweep name>)");
+    c->add_flag("--list", a.list, "print the jobs (id, status, origin) without rendering; validates every job");
+    c->add_flag("--dry-run", a.dryRun, "validate every job and say what would be rendered; renders nothing");
+    c->add_option("--shard", a.shard,
+                  "render shard I of N (0 ≤ I < N; default: SLURM_ARRAY_TASK_ID of SLURM_ARRAY_TASK_COUNT, else all)");
+    c->add_flag("--retry-failed", a.retryFailed, "render again the jobs whose record says they failed");
+    c->add_option("--index", a.index, "gather every job record under DIR into DIR/index.csv and index.json");
+    c->add_flag("--validation", a.validation, "enable Vulkan validation layers; an error fails the job");
+    c->add_option("--device", a.device, "Vulkan device index or name substring (default: best; env METAMER_DEVICE)");
+    c->add_flag("--quiet,-q", a.quiet, "no progress output");
+    return c;
+}
+
+int runBatchCommand(const BatchArgs& a) {
+    if (!a.index.empty()) {
+        if (!a.sweep.empty()) failInput(Where{"", "--index"}, "--index DIR gathers records; give it without a sweep file");
+        const IndexSummary s = writeBatchIndex(a.index);
+        std::printf("index: %zu job records (%zu done, %zu failed) → %s, %s\n", s.records, s.done, s.failed,
+                    s.csv.c_str(), s.json.c_str());
+        return 0;
+    }
+    if (a.sweep.empty()) failInput(Where{"", "sweep"}, "give a sweep file (or --index DIR)");
+    setWarningSink(warnOnce);
+    const Sweep sweep = readSweep(a.sweep);
+    const auto [shard, shards] = parseShard(a.shard);
+    BatchOptions o;
+    o.out = outFolder(a, sweep);
+    o.shard = shard;
+    o.shards = shards;
+    o.retryFailed = a.retryFailed;
+    o.validation = a.validation;
+    o.device = a.device;
+    const std::vector<size_t> positions = shardPositions(sweep.jobs.size(), shard, shards);
+
+    if (a.list || a.dryRun) {
+        size_t done = 0, failed = 0, todo = 0;
+        for (size_t p : positions) {
+            const ResolvedJob j = resolveJob(sweep, p, o.out);
+            const std::optional<JobRecord> r = readJobRecord(j.render.outDir);
+            const char* status = !r || r->digest != j.digest ? "to render"
+                                 : r->status == JobStatus::Done ? "done"
+                                                                : "failed";
+            (!r || r->digest != j.digest ? todo : r->status == JobStatus::Done ? done : failed)++;
+            if (a.list) std::printf("%s\t%s\t%s\n", j.id.c_str(), status, sweep.jobs[p].origin.c_str());
+        }
+        std::fprintf(a.list ? stderr : stdout, "%s: %zu jobs%s, all valid: %zu done, %zu failed, %zu to render, in %s\n",
+                     a.sweep.c_str(), positions.size(),
+                     shards > 1 ? fmt::format(" in shard {}/{}", shard, shards).c_str() : "", done, failed, todo,
+                     o.out.c_str());
+        return 0;
+    }
+
+    vk::ContextOptions co = vk::contextOptionsFromEnvironment();
+    co.validation = co.validation || a.validation;
+    if (!a.device.empty()) co.device = a.device;
+    vk::Context ctx(co);
+    const bool terminal = ::isatty(STDERR_FILENO);
+    auto progress = [&](const BatchProgress& p) {
+        if (a.quiet) return;
+        const double rate = p.elapsedSeconds > 0 ? p.done / p.elapsedSeconds : 0;
+        const std::string eta = rate > 0 ? duration((p.total - p.done) / rate) : "?";
+        if (terminal)
+            std::fprintf(stderr, "\r\033[K[%zu/%zu] %zu rendered, %zu skipped, %zu failed; %.1f jobs/s, ETA %s",
+                         p.done, p.total, p.rendered, p.skipped, p.failed, rate, eta.c_str());
+        else
+            std::fprintf(stderr, "[%zu/%zu] %s\n", p.done, p.total, p.line.c_str());
+        std::fflush(stderr);
+    };
+    const BatchSummary s = runBatch(sweep, o, ctx, progress);
+    if (terminal && !a.quiet) std::fprintf(stderr, "\n");
+    std::printf("%s: %zu jobs%s: %zu rendered, %zu skipped (done before), %zu failed, in %.1f s (median %.3f s a "
+                "rendered job) → %s\n",
+                a.sweep.c_str(), s.jobs, shards > 1 ? fmt::format(" in shard {}/{}", shard, shards).c_str() : "",
+                s.rendered, s.skipped, s.failed, s.seconds, s.renderSecondsMedian, o.out.c_str());
+    for (const std::string& f : s.failures) std::printf("failed: %s\n", f.c_str());
+    if (shards == 1 && s.jobs > 0) {
+        const IndexSummary i = writeBatchIndex(o.out);
+        std::printf("index: %zu job records → %s, %s\n", i.records, i.csv.c_str(), i.json.c_str());
+    }
+    return s.failed ? int(ExitCode::Failure) : 0;
+}
+
+}  // namespace metamer

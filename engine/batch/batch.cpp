@@ -1,0 +1,418 @@
+#include "batch/batch.h"
+
+#include "core/file_reads.h"
+#include "core/statistics.h"
+#include "core/timing.h"
+#include "io/atomic_file.h"
+#include "render/render_setup.h"
+
+#include <fmt/chrono.h>
+#include <fmt/ranges.h>
+#include <openssl/evp.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+namespace fs = std::filesystem;
+using Json = nlohmann::ordered_json;
+
+namespace metamer {
+
+namespace {
+
+constexpr const char* kRecordFile = "job.json";
+constexpr int kRecordVersion = 1;
+
+// SHA-256 of `data`, lower-case hex (libcrypto's EVP interface).
+class Sha256 {
+public:
+    Sha256() : ctx_(EVP_MD_CTX_new()) {
+        if (!ctx_ || EVP_DigestInit_ex(ctx_, EVP_sha256(), nullptr) != 1) failRuntime("SHA-256 is not available");
+    }
+    ~Sha256() { EVP_MD_CTX_free(ctx_); }
+    Sha256(const Sha256&) = delete;
+    Sha256& operator=(const Sha256&) = delete;
+    void add(const void* data, size_t n) { EVP_DigestUpdate(ctx_, data, n); }
+    void add(const std::string& s) { add(s.data(), s.size()); }
+    std::string hex() {
+        unsigned char md[EVP_MAX_MD_SIZE];
+        unsigned int n = 0;
+        EVP_DigestFinal_ex(ctx_, md, &n);
+        std::string h;
+        for (unsigned int i = 0; i < n; ++i) h += fmt::format("{:02x}", md[i]);
+        return h;
+    }
+
+private:
+    EVP_MD_CTX* ctx_;
+};
+
+std::string fileDigest(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) failRuntime("cannot read {} to hash it", path.string());
+    Sha256 h;
+    std::vector<char> buffer(1 << 16);
+    while (in) {
+        in.read(buffer.data(), std::streamsize(buffer.size()));
+        h.add(buffer.data(), size_t(in.gcount()));
+    }
+    return h.hex();
+}
+
+std::string hostName() {
+    char h[256] = {};
+    return ::gethostname(h, sizeof h - 1) == 0 ? std::string(h) : std::string("?");
+}
+
+std::string utcNow() {
+    const auto now = std::chrono::system_clock::now();
+    return fmt::format("{:%Y-%m-%dT%H:%M:%SZ}", fmt::gmtime(std::chrono::system_clock::to_time_t(now)));
+}
+
+// Writes `doc` to `path` through a temporary file and a rename: readers see the old file or the new.
+void writeJsonAtomically(const fs::path& path, const Json& doc) {
+    AtomicOutput out(path);
+    {
+        std::ofstream f(out.tempPath());
+        f << doc.dump(2) << "\n";
+        if (!f) failRuntime("cannot write {}", path.string());
+    }
+    out.commit();
+}
+
+void writeTextAtomically(const fs::path& path, const std::string& text) {
+    AtomicOutput out(path);
+    {
+        std::ofstream f(out.tempPath(), std::ios::binary);
+        f << text;
+        if (!f) failRuntime("cannot write {}", path.string());
+    }
+    out.commit();
+}
+
+// Temporary files a killed process left in a job's folder (io/atomic_file's ".NAME.tmp-PID-N").
+void removeStaleTemporaries(const fs::path& folder) {
+    std::error_code ec;
+    if (!fs::is_directory(folder, ec)) return;
+    for (const auto& e : fs::directory_iterator(folder, ec)) {
+        const std::string name = e.path().filename().string();
+        if (name.size() > 1 && name[0] == '.' && name.find(".tmp-") != std::string::npos) fs::remove(e.path(), ec);
+    }
+}
+
+bool outputsExist(const JobRecord& r, const fs::path& folder) {
+    if (!r.json.contains("outputs") || !r.json["outputs"].is_array() || r.json["outputs"].empty()) return false;
+    std::error_code ec;
+    for (const Json& o : r.json["outputs"])
+        if (!o.contains("file") || !o["file"].is_string() || !fs::is_regular_file(folder / o["file"].get<std::string>(), ec))
+            return false;
+    return true;
+}
+
+Json recordBase(const Sweep& sweep, const ResolvedJob& j, const BatchOptions& o) {
+    Json r = Json::object();
+    r["metamer_batch_record"] = kRecordVersion;
+    r["id"] = j.id;
+    r["digest"] = j.digest;
+    r["position"] = j.position;
+    r["origin"] = sweep.jobs[j.position].origin;
+    r["sweep"] = sweep.file.string();
+    r["settings"] = j.settings;
+    Json inputs = Json::array();
+    for (const fs::path& p : j.inputs) inputs.push_back(p.string());
+    r["inputs"] = inputs;
+    r["host"] = hostName();
+    r["shard"] = fmt::format("{}/{}", o.shard, o.shards);
+    return r;
+}
+
+}  // namespace
+
+std::vector<size_t> shardPositions(size_t jobs, int shard, int shards) {
+    std::vector<size_t> p;
+    for (size_t k = size_t(shard); k < jobs; k += size_t(shards)) p.push_back(k);
+    return p;
+}
+
+std::pair<int, int> parseShard(const std::string& text) {
+    auto parse = [](const std::string& s, const Where& where, const char* what) {
+        try {
+            size_t used = 0;
+            const long v = std::stol(s, &used);
+            if (used == s.size() && v >= 0 && v < 1000000) return int(v);
+        } catch (const std::exception&) {
+        }
+        failInput(where, "expected {}, got '{}'", what, s);
+    };
+    int shard = 0, shards = 1;
+    if (!text.empty()) {
+        const Where where{"", "--shard"};
+        const size_t slash = text.find('/');
+        if (slash == std::string::npos) failInput(where, "expected I/N (shard I of N, 0 ≤ I < N), got '{}'", text);
+        shard = parse(text.substr(0, slash), where, "I/N with a whole number I");
+        shards = parse(text.substr(slash + 1), where, "I/N with a whole number N");
+        if (shards < 1 || shard >= shards) failInput(where, "expected I/N with 0 ≤ I < N, got '{}'", text);
+        return {shard, shards};
+    }
+    const char* id = std::getenv("SLURM_ARRAY_TASK_ID");
+    const char* count = std::getenv("SLURM_ARRAY_TASK_COUNT");
+    if (id && count) {
+        const char* minText = std::getenv("SLURM_ARRAY_TASK_MIN");
+        const int min = minText ? parse(minText, Where{"", "SLURM_ARRAY_TASK_MIN"}, "a task id") : 0;
+        shard = parse(id, Where{"", "SLURM_ARRAY_TASK_ID"}, "a task id") - min;
+        shards = parse(count, Where{"", "SLURM_ARRAY_TASK_COUNT"}, "a task count");
+        if (shards < 1 || shard < 0 || shard >= shards)
+            failInput(Where{"", "SLURM_ARRAY_TASK_ID"},
+                      "task {} (minimum {}) of {} tasks is not a shard: submit the array as --array=0-{} (or any "
+                      "contiguous range)",
+                      id, min, count, shards - 1);
+    }
+    return {shard, shards};
+}
+
+ResolvedJob resolveJob(const Sweep& sweep, size_t position, const fs::path& out) {
+    const SweepJob& sj = sweep.jobs.at(position);
+    ResolvedJob r;
+    r.position = position;
+    r.settings = sj.settings();
+    try {
+        r.render = makeRenderJob(sweep, sj, {});
+        FileReadLog reads;
+        const std::unique_ptr<LoadedScene> loaded = loadJobScene(r.render);
+        OutputFiles files;
+        const TonemapSettings settings = tonemapSettings(r.render, loaded->scene, &files);
+        if (files.png || files.xyz || files.responses) makeJobTonemapPlan(r.render, *loaded, settings);
+        r.inputs = reads.files();
+    } catch (const Error& e) {
+        throw Error(e.code(), Where{sweep.file.string(), sj.where.key, sj.where.line},
+                    fmt::format("job {} of {} ({}) cannot be rendered: {}", position + 1, sweep.jobs.size(),
+                                sj.origin, e.what()));
+    }
+    // The digest: the settings, then the content of every input file, in an order that does not
+    // depend on where the files are (so the same sweep has the same ids on every machine).
+    std::vector<std::string> contents;
+    for (const fs::path& p : r.inputs) contents.push_back(fileDigest(p));
+    std::sort(contents.begin(), contents.end());
+    Sha256 h;
+    h.add(fmt::format("metamer batch job {}\n", kRecordVersion));
+    h.add(r.settings.dump());
+    for (const std::string& c : contents) h.add("\n" + c);
+    r.digest = h.hex();
+    r.id = fs::path(sj.scene).stem().string() + "-" + r.digest.substr(0, 16);
+    r.render.outDir = out / r.id;
+    return r;
+}
+
+std::optional<JobRecord> readJobRecord(const fs::path& folder) {
+    std::ifstream in(folder / kRecordFile);
+    if (!in) return std::nullopt;
+    Json doc;
+    try {
+        doc = Json::parse(in);
+    } catch (const nlohmann::json::parse_error&) {
+        return std::nullopt;  // not ours, or damaged: the job is rendered again
+    }
+    if (!doc.is_object() || doc.value("metamer_batch_record", 0) != kRecordVersion || !doc.contains("id") ||
+        !doc.contains("digest") || !doc.contains("status"))
+        return std::nullopt;
+    JobRecord r;
+    r.id = doc["id"].get<std::string>();
+    r.digest = doc["digest"].get<std::string>();
+    r.status = doc["status"] == "done" ? JobStatus::Done : JobStatus::Failed;
+    if (doc.contains("error") && doc["error"].is_string()) r.error = doc["error"].get<std::string>();
+    r.json = std::move(doc);
+    return r;
+}
+
+BatchSummary runBatch(const Sweep& sweep, const BatchOptions& o, vk::Context& context,
+                      const std::function<void(const BatchProgress&)>& progress) {
+    const auto start = Clock::now();
+    BatchSummary s;
+    // Every job of the shard is loaded and checked before the first render.
+    std::vector<ResolvedJob> jobs;
+    std::map<std::string, size_t> seen;
+    for (size_t position : shardPositions(sweep.jobs.size(), o.shard, o.shards)) {
+        jobs.push_back(resolveJob(sweep, position, o.out));
+        const auto [it, fresh] = seen.emplace(jobs.back().id, position);
+        if (!fresh)
+            failInput(Where{sweep.file.string(), sweep.jobs[position].where.key, sweep.jobs[position].where.line},
+                      "jobs {} and {} render the same thing (same scene, settings and input files): {}", it->second + 1,
+                      position + 1, jobs.back().id);
+    }
+    s.jobs = jobs.size();
+    BatchProgress p;
+    p.total = jobs.size();
+    std::vector<double> renderSeconds;
+    for (ResolvedJob& j : jobs) {
+        const fs::path folder = j.render.outDir;
+        const std::optional<JobRecord> record = readJobRecord(folder);
+        if (record && record->digest == j.digest &&
+            ((record->status == JobStatus::Done && outputsExist(*record, folder)) ||
+             (record->status == JobStatus::Failed && !o.retryFailed))) {
+            if (record->status == JobStatus::Done) {
+                ++s.skipped;
+                ++p.skipped;
+                p.line = fmt::format("{}: done before, skipped", j.id);
+            } else {
+                ++s.failed;
+                ++p.failed;
+                s.failures.push_back(j.id + ": " + record->error);
+                p.line = fmt::format("{}: failed before (--retry-failed renders it again): {}", j.id, record->error);
+            }
+        } else {
+            removeStaleTemporaries(folder);
+            const auto t0 = Clock::now();
+            Json rec = recordBase(sweep, j, o);
+            j.render.context = &context;
+            j.render.validation = o.validation;
+            try {
+                const RenderJobResult r = runRenderJob(j.render);
+                if (r.validationErrors)
+                    failRuntime("{} Vulkan validation error(s) while rendering (see the log)", r.validationErrors);
+                rec["status"] = "done";
+                rec["error"] = nullptr;
+                Json outputs = Json::array();
+                for (const WrittenFile& f : r.written)
+                    outputs.push_back({{"file", f.path.lexically_relative(folder).generic_string()}, {"what", f.what}});
+                rec["outputs"] = outputs;
+                rec["notes"] = r.notes;
+                rec["timings_ms"] = {{"load", r.timings.load_ms},         {"upload", r.timings.upload_ms},
+                                     {"shading", r.timings.shading_ms},   {"readback", r.timings.readback_ms},
+                                     {"tonemap", r.timings.tonemap_ms},   {"write", r.timings.write_ms},
+                                     {"job", msSince(t0)}};
+                ++s.rendered;
+                ++p.rendered;
+                renderSeconds.push_back(msSince(t0) / 1000.0);
+                p.line = fmt::format("{}: rendered in {:.2f} s", j.id, msSince(t0) / 1000.0);
+            } catch (const std::exception& e) {
+                rec["status"] = "failed";
+                rec["error"] = e.what();
+                rec["outputs"] = Json::array();
+                rec["timings_ms"] = {{"job", msSince(t0)}};
+                ++s.failed;
+                ++p.failed;
+                s.failures.push_back(j.id + ": " + e.what());
+                p.line = fmt::format("{}: FAILED: {}", j.id, e.what());
+            }
+            rec["finished"] = utcNow();
+            writeJsonAtomically(folder / kRecordFile, rec);
+        }
+        ++p.done;
+        p.elapsedSeconds = msSince(start) / 1000.0;
+        if (progress) progress(p);
+    }
+    s.seconds = msSince(start) / 1000.0;
+    if (!renderSeconds.empty()) s.renderSecondsMedian = median(renderSeconds);
+    return s;
+}
+
+namespace {
+
+std::string csvField(const std::string& s) {
+    if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
+    std::string q = "\"";
+    for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+    return q + "\"";
+}
+
+std::string cellText(const Json& v) {
+    if (v.is_null()) return "";
+    if (v.is_string()) return v.get<std::string>();
+    if (v.is_array()) {
+        std::vector<std::string> parts;
+        for (const Json& e : v) parts.push_back(cellText(e));
+        return fmt::format("{}", fmt::join(parts, ";"));
+    }
+    return v.dump();
+}
+
+}  // namespace
+
+IndexSummary writeBatchIndex(const fs::path& dir) {
+    std::error_code ec;
+    if (!fs::is_directory(dir, ec)) failInput(Where{dir.string()}, "not a folder of batch results");
+    std::vector<Json> rows;
+    std::vector<std::string> columns = {"id", "status", "error", "scene"};
+    std::set<std::string> known(columns.begin(), columns.end());
+    auto addColumn = [&](const std::string& c) {
+        if (known.insert(c).second) columns.push_back(c);
+    };
+    std::vector<fs::path> folders;
+    for (const auto& e : fs::directory_iterator(dir, ec))
+        if (e.is_directory()) folders.push_back(e.path());
+    std::sort(folders.begin(), folders.end());
+    std::vector<std::pair<std::string, std::string>> extra;  // settings columns, in first-seen order
+    for (const fs::path& folder : folders) {
+        const std::optional<JobRecord> rec = readJobRecord(folder);
+        if (!rec) continue;
+        const Json& j = rec->json;
+        Json row = Json::object();
+        row["id"] = rec->id;
+        row["status"] = j["status"];
+        row["error"] = rec->error.empty() ? Json(nullptr) : Json(rec->error);
+        // value() returns copies: kept in locals, since items() refers to its object.
+        const Json settings = j.value("settings", Json::object());
+        const Json render = settings.value("render", Json::object());
+        const Json timings = j.value("timings_ms", Json::object());
+        row["scene"] = settings.value("scene", "");
+        for (const Json& o : settings.value("set", Json::array())) {
+            const std::string text = o.get<std::string>();
+            const size_t eq = text.find('=');
+            const std::string key = "set:" + text.substr(0, eq);
+            row[key] = eq == std::string::npos ? "" : text.substr(eq + 1);
+            extra.push_back({key, ""});
+        }
+        for (const auto& [k, v] : render.items()) {
+            row[k] = v.is_array() ? Json(cellText(v)) : v;
+            extra.push_back({k, ""});
+        }
+        std::vector<std::string> outputs;
+        for (const Json& o : j.value("outputs", Json::array()))
+            outputs.push_back((fs::path(rec->id) / o.value("file", "")).generic_string());
+        row["outputs"] = fmt::format("{}", fmt::join(outputs, ";"));
+        for (const auto& [k, v] : timings.items()) {
+            row["ms_" + k] = v;
+            extra.push_back({"ms_" + k, ""});
+        }
+        row["position"] = j.value("position", 0);
+        row["host"] = j.value("host", "");
+        row["shard"] = j.value("shard", "");
+        row["finished"] = j.value("finished", "");
+        row["digest"] = rec->digest;
+        rows.push_back(std::move(row));
+    }
+    for (const auto& [k, unused] : extra) addColumn(k);
+    for (const char* c : {"outputs", "position", "host", "shard", "finished", "digest"}) addColumn(c);
+    std::stable_sort(rows.begin(), rows.end(),
+                     [](const Json& a, const Json& b) { return a["position"].get<size_t>() < b["position"].get<size_t>(); });
+    IndexSummary s;
+    s.records = rows.size();
+    std::string csv;
+    for (size_t c = 0; c < columns.size(); ++c) csv += (c ? "," : "") + csvField(columns[c]);
+    csv += "\n";
+    Json json = Json::array();
+    for (const Json& row : rows) {
+        Json flat = Json::object();
+        for (size_t c = 0; c < columns.size(); ++c) {
+            const Json v = row.contains(columns[c]) ? row[columns[c]] : Json(nullptr);
+            csv += (c ? "," : "") + csvField(cellText(v));
+            flat[columns[c]] = v;
+        }
+        csv += "\n";
+        json.push_back(flat);
+        (row["status"] == "done" ? s.done : s.failed)++;
+    }
+    s.csv = dir / "index.csv";
+    s.json = dir / "index.json";
+    writeTextAtomically(s.csv, csv);
+    writeJsonAtomically(s.json, json);
+    return s;
+}
+
+}  // namespace metamer

@@ -1,0 +1,95 @@
+// metamer batch: a sweep's jobs rendered by one process on one Vulkan device, each into its own
+// folder with a record of what it is (job.json), skipped when its record says it is done,
+// resumable after any interruption, split into deterministic shards for job arrays, and gathered
+// into a dataset index from what is on disk. docs/batch.md. Tests: engine/batch/batch_test.cpp,
+// tests/batch_test.cpp.
+#pragma once
+
+#include "batch/sweep.h"
+#include "vk/context.h"
+
+#include <nlohmann/json.hpp>
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace metamer {
+
+// Shard `shard` of `shards` (0 ≤ shard < shards): the jobs at positions k with k mod shards ==
+// shard, in order. Balanced (sizes differ by at most one) and disjoint.
+std::vector<size_t> shardPositions(size_t jobs, int shard, int shards);
+
+// "I/N" (0-based I), or — when `text` is empty — SLURM_ARRAY_TASK_ID − SLURM_ARRAY_TASK_MIN of
+// SLURM_ARRAY_TASK_COUNT from the environment, else 0/1. Errors name --shard or the variable.
+std::pair<int, int> parseShard(const std::string& text);
+
+// A job resolved: loaded and checked, its id made from what it renders.
+struct ResolvedJob {
+    size_t position = 0;   // in the sweep, 0-based
+    std::string id;        // <scene stem>-<first 16 hex digits of the digest>: the job's folder name
+    std::string digest;    // SHA-256 (hex) of the settings and the content of every file the job reads
+    nlohmann::ordered_json settings;  // SweepJob::settings()
+    std::vector<std::filesystem::path> inputs;  // the files it reads (scene, spectra, meshes, textures, …)
+    RenderJob render;      // outDir = the job's folder
+};
+
+// Loads each job's scene and display plan as the render will (overrides, spectra, paths,
+// detector, adaptation, display, grid, mode), without rendering, and derives its id. The first
+// job that cannot load is an input error naming the sweep file, the job's row or line, and the
+// scene's own file and key.
+ResolvedJob resolveJob(const Sweep& sweep, size_t position, const std::filesystem::path& out);
+
+enum class JobStatus { Done, Failed };
+
+struct JobRecord {
+    std::string id, digest;
+    JobStatus status = JobStatus::Done;
+    std::string error;                     // when failed
+    nlohmann::ordered_json json;           // the whole record as on disk
+};
+
+// The record in `folder`/job.json, if there is a readable one.
+std::optional<JobRecord> readJobRecord(const std::filesystem::path& folder);
+
+struct BatchOptions {
+    std::filesystem::path out;   // the dataset's folder: one sub-folder per job
+    int shard = 0, shards = 1;
+    bool retryFailed = false;    // render jobs whose record says they failed (else they are skipped)
+    bool validation = false;     // Vulkan validation layers; a validation error fails the job
+    std::string device;
+};
+
+struct BatchProgress {
+    size_t done = 0, total = 0;  // jobs of this shard handled so far (rendered, skipped or failed)
+    size_t rendered = 0, skipped = 0, failed = 0;
+    double elapsedSeconds = 0;
+    std::string line;            // what happened to the last job, one line
+};
+
+struct BatchSummary {
+    size_t jobs = 0, rendered = 0, skipped = 0, failed = 0;
+    double seconds = 0;
+    double renderSecondsMedian = 0;  // per rendered job, load to record
+    std::vector<std::string> failures;  // "id: error", one per failed job
+};
+
+// Resolves this shard's jobs (all of them before the first render), then renders each one that
+// has no record saying it is done (or failed, unless retryFailed) with `context` (one device for
+// all), writing its outputs atomically and then its record. A job that fails while rendering is
+// recorded with its error and the batch goes on.
+BatchSummary runBatch(const Sweep& sweep, const BatchOptions& options, vk::Context& context,
+                      const std::function<void(const BatchProgress&)>& progress = {});
+
+struct IndexSummary {
+    size_t records = 0, done = 0, failed = 0;
+    std::filesystem::path csv, json;
+};
+
+// Every job record under `dir` (dir/*/job.json) gathered into dir/index.csv and dir/index.json
+// (written atomically): job id, status, error, settings (one column per scene override key and
+// render setting), outputs, timings. Rebuilt from what is on disk each time.
+IndexSummary writeBatchIndex(const std::filesystem::path& dir);
+
+}  // namespace metamer

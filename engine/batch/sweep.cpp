@@ -1,0 +1,481 @@
+#include "batch/sweep.h"
+
+#include "core/json.h"
+#include "io/exr_file.h"
+#include "scene/overrides.h"
+
+#include <fmt/ranges.h>
+
+#include <fstream>
+#include <sstream>
+
+namespace fs = std::filesystem;
+using Json = nlohmann::ordered_json;
+
+namespace metamer {
+
+namespace {
+
+enum class KeyType { String, Int, Bool, StringList };
+
+struct RenderKey {
+    const char* name;
+    KeyType type;
+};
+
+// The render settings a sweep may set, by the names `metamer render` gives them as flags.
+const RenderKey kRenderKeys[] = {
+    {"detector", KeyType::String},    {"adapt", KeyType::String},      {"display", KeyType::String},
+    {"bits", KeyType::Int},           {"integration", KeyType::String}, {"xyz", KeyType::String},
+    {"mode", KeyType::String},        {"grid", KeyType::String},        {"resample", KeyType::String},
+    {"write", KeyType::StringList},   {"size", KeyType::String},        {"ssaa", KeyType::Int},
+    {"half", KeyType::Bool},          {"compression", KeyType::String}, {"backend", KeyType::String},
+    {"strict_coverage", KeyType::Bool},
+};
+
+const RenderKey* findRenderKey(const std::string& name) {
+    for (const RenderKey& k : kRenderKeys)
+        if (name == k.name) return &k;
+    return nullptr;
+}
+
+[[noreturn]] void unknownKey(const Where& where, const std::string& key, const std::vector<std::string>& allowed,
+                             const char* what) {
+    const std::string near = closestMatch(key, allowed);
+    failInput(where, "unknown {} '{}'{}; expected one of: {}", what, key,
+              near.empty() ? "" : fmt::format(" (did you mean '{}'?)", near), fmt::join(allowed, ", "));
+}
+
+// A render setting's value, checked for its type; "write" as a list of names ("png,xyz" or an array).
+Json renderValue(const std::string& key, const Json& v, const Where& where) {
+    const RenderKey* k = findRenderKey(key);
+    if (!k) unknownKey(where, key, sweepRenderKeys(), "render setting");
+    switch (k->type) {
+        case KeyType::String:
+            if (!v.is_string() || v.get<std::string>().empty())
+                failInput(where, "expected a non-empty string, got {}", jsonTypeName(v));
+            return v;
+        case KeyType::Int:
+            if (!v.is_number_integer()) failInput(where, "expected an integer, got {}", jsonTypeName(v));
+            return v;
+        case KeyType::Bool:
+            if (!v.is_boolean()) failInput(where, "expected true or false, got {}", jsonTypeName(v));
+            return v;
+        case KeyType::StringList: {
+            Json list = Json::array();
+            auto add = [&](const std::string& s) {
+                std::string item;
+                std::istringstream in(s);
+                while (std::getline(in, item, ','))
+                    if (!item.empty()) list.push_back(item);
+            };
+            if (v.is_string()) {
+                add(v.get<std::string>());
+            } else if (v.is_array()) {
+                for (const Json& e : v) {
+                    if (!e.is_string()) failInput(where, "expected output names (strings), got {}", jsonTypeName(e));
+                    add(e.get<std::string>());
+                }
+            } else {
+                failInput(where, "expected a list of outputs (\"png,xyz\" or [\"png\", \"xyz\"]), got {}",
+                          jsonTypeName(v));
+            }
+            if (list.empty()) failInput(where, "expected at least one output");
+            return list;
+        }
+    }
+    return v;
+}
+
+// A scene override from a sweep: "KEY=VALUE" as on the command line, or KEY and a JSON value.
+std::string overrideText(const std::string& key, const Json& v) {
+    if (v.is_string()) {
+        // A string that would parse as JSON (e.g. "0.5", "true") is written quoted, so it stays a string.
+        const std::string s = v.get<std::string>();
+        return key + "=" + (Json::accept(s) ? v.dump() : s);
+    }
+    return key + "=" + v.dump();
+}
+
+std::vector<std::string> readOverrides(const Json& v, const Where& where) {
+    std::vector<std::string> out;
+    if (v.is_array()) {
+        for (size_t i = 0; i < v.size(); ++i) {
+            if (!v[i].is_string()) failInput(where.index(i), "expected \"KEY=VALUE\", got {}", jsonTypeName(v[i]));
+            out.push_back(v[i].get<std::string>());
+        }
+    } else if (v.is_object()) {
+        for (const auto& [k, value] : v.items()) out.push_back(overrideText(k, value));
+    } else {
+        failInput(where, "expected overrides: [\"KEY=VALUE\", ...] or {{\"KEY\": VALUE, ...}}, got {}",
+                  jsonTypeName(v));
+    }
+    for (const std::string& o : out) parseOverride(o, where.str());  // KEY=VALUE syntax, early
+    return out;
+}
+
+Json readRender(const Json& v, const Where& where) {
+    if (!v.is_object()) failInput(where, "expected an object of render settings, got {}", jsonTypeName(v));
+    Json out = Json::object();
+    for (const auto& [k, value] : v.items()) out[k] = renderValue(k, value, where.child(k));
+    return out;
+}
+
+void merge(Json& into, const Json& from) {
+    for (const auto& [k, v] : from.items()) into[k] = v;
+}
+
+void requireKeys(const Json& obj, const Where& where, const std::vector<std::string>& allowed, const char* what) {
+    for (const auto& [k, v] : obj.items())
+        if (std::find(allowed.begin(), allowed.end(), k) == allowed.end()) unknownKey(where.child(k), k, allowed, what);
+}
+
+// A listed job: {"scene": ..., "set": ..., "render": ...}.
+SweepJob readRow(const Json& row, const Where& where) {
+    if (!row.is_object()) failInput(where, "expected a job object {{\"scene\": ..., \"set\": ..., \"render\": ...}}, got {}",
+                                    jsonTypeName(row));
+    requireKeys(row, where, {"scene", "set", "render"}, "job key");
+    SweepJob j;
+    j.where = where;
+    if (!row.contains("scene") || !row["scene"].is_string() || row["scene"].get<std::string>().empty())
+        failInput(where.child("scene"), "every job needs \"scene\": the scene file (relative to the sweep's folder)");
+    j.scene = row["scene"].get<std::string>();
+    if (row.contains("set")) j.overrides = readOverrides(row["set"], where.child("set"));
+    if (row.contains("render")) j.render = readRender(row["render"], where.child("render"));
+    return j;
+}
+
+struct Axis {
+    std::string name;
+    std::string setKey, renderKey;  // exactly one
+    std::vector<Json> values;
+    Where where;
+};
+
+Axis readAxis(const Json& a, const Where& where) {
+    if (!a.is_object())
+        failInput(where, "expected an axis {{\"set\": KEY or \"render\": NAME, \"values\": [...]}}, got {}",
+                  jsonTypeName(a));
+    requireKeys(a, where, {"name", "set", "render", "values"}, "axis key");
+    Axis x;
+    x.where = where;
+    const bool hasSet = a.contains("set"), hasRender = a.contains("render");
+    if (hasSet == hasRender)
+        failInput(where, "an axis varies either a scene key (\"set\": \"lights.0.spectrum\") or a render setting "
+                  "(\"render\": \"detector\"): exactly one of the two");
+    if (hasSet) {
+        if (!a["set"].is_string() || a["set"].get<std::string>().empty())
+            failInput(where.child("set"), "expected a scene key path, e.g. \"lights.0.spectrum\"");
+        x.setKey = a["set"].get<std::string>();
+    } else {
+        if (!a["render"].is_string()) failInput(where.child("render"), "expected a render setting's name");
+        x.renderKey = a["render"].get<std::string>();
+        if (!findRenderKey(x.renderKey)) unknownKey(where.child("render"), x.renderKey, sweepRenderKeys(), "render setting");
+    }
+    x.name = a.contains("name") && a["name"].is_string() ? a["name"].get<std::string>() : hasSet ? x.setKey : x.renderKey;
+    if (!a.contains("values") || !a["values"].is_array() || a["values"].empty())
+        failInput(where.child("values"), "expected a non-empty array of values");
+    for (size_t i = 0; i < a["values"].size(); ++i) {
+        const Json& v = a["values"][i];
+        if (hasSet) {
+            parseOverride(overrideText(x.setKey, v), where.child("values").index(i).str());
+            x.values.push_back(v);
+        } else {
+            x.values.push_back(renderValue(x.renderKey, v, where.child("values").index(i)));
+        }
+    }
+    return x;
+}
+
+std::string shortValue(const Json& v) {
+    std::string s = v.is_string() ? v.get<std::string>() : v.dump();
+    return s.size() > 40 ? s.substr(0, 37) + "..." : s;
+}
+
+Sweep readSweepJson(const fs::path& file, Sweep sweep) {
+    std::ifstream in(file);
+    if (!in) failInput(Where{file.string()}, "cannot open the sweep file");
+    Json doc;
+    try {
+        doc = Json::parse(in);
+    } catch (const nlohmann::json::parse_error& e) {
+        failInput(Where{file.string()}, "not valid JSON: {}", e.what());
+    }
+    const Where top{file.string()};
+    if (!doc.is_object()) failInput(top, "expected a sweep object {{\"scenes\": [...], \"axes\": [...], ...}}");
+    requireKeys(doc, top, {"scenes", "rows", "set", "render", "axes", "out"}, "sweep key");
+    std::vector<std::string> common;
+    Json commonRender = Json::object();
+    if (doc.contains("set")) common = readOverrides(doc["set"], top.child("set"));
+    if (doc.contains("render")) commonRender = readRender(doc["render"], top.child("render"));
+    if (doc.contains("out")) {
+        if (!doc["out"].is_string() || doc["out"].get<std::string>().empty())
+            failInput(top.child("out"), "expected the output folder (relative to the sweep's folder)");
+        const fs::path out = doc["out"].get<std::string>();
+        sweep.out = out.is_absolute() ? out : sweep.folder / out;
+    }
+    std::vector<SweepJob> bases;
+    if (doc.contains("scenes")) {
+        const Json& s = doc["scenes"];
+        if (!s.is_array()) failInput(top.child("scenes"), "expected an array of scene files, got {}", jsonTypeName(s));
+        for (size_t i = 0; i < s.size(); ++i) {
+            if (!s[i].is_string() || s[i].get<std::string>().empty())
+                failInput(top.child("scenes").index(i), "expected a scene file, got {}", jsonTypeName(s[i]));
+            SweepJob j;
+            j.scene = s[i].get<std::string>();
+            j.where = top.child("scenes").index(i);
+            bases.push_back(j);
+        }
+    }
+    if (doc.contains("rows")) {
+        const Json& r = doc["rows"];
+        if (!r.is_array()) failInput(top.child("rows"), "expected an array of jobs, got {}", jsonTypeName(r));
+        for (size_t i = 0; i < r.size(); ++i) bases.push_back(readRow(r[i], top.child("rows").index(i)));
+    }
+    if (bases.empty()) failInput(top, "no jobs: give \"scenes\" (crossed with \"axes\") or \"rows\", or both");
+    std::vector<Axis> axes;
+    if (doc.contains("axes")) {
+        const Json& a = doc["axes"];
+        if (!a.is_array()) failInput(top.child("axes"), "expected an array of axes, got {}", jsonTypeName(a));
+        for (size_t i = 0; i < a.size(); ++i) axes.push_back(readAxis(a[i], top.child("axes").index(i)));
+    }
+    // Every base × the cartesian product of the axes, the last axis varying fastest.
+    for (const SweepJob& base : bases) {
+        std::vector<size_t> at(axes.size(), 0);
+        while (true) {
+            SweepJob j = base;
+            j.overrides.insert(j.overrides.begin(), common.begin(), common.end());
+            Json render = commonRender;
+            merge(render, base.render);
+            std::vector<std::string> picked;
+            for (size_t a = 0; a < axes.size(); ++a) {
+                const Json& v = axes[a].values[at[a]];
+                if (!axes[a].setKey.empty())
+                    j.overrides.push_back(overrideText(axes[a].setKey, v));
+                else
+                    render[axes[a].renderKey] = v;
+                picked.push_back(axes[a].name + "=" + shortValue(v));
+            }
+            j.render = render;
+            j.origin = j.where.key + (picked.empty() ? "" : fmt::format(" × {}", fmt::join(picked, ", ")));
+            sweep.jobs.push_back(std::move(j));
+            size_t a = axes.size();
+            while (a > 0 && ++at[a - 1] == axes[a - 1].values.size()) at[--a] = 0;
+            if (a == 0) break;
+        }
+    }
+    return sweep;
+}
+
+Sweep readManifestJsonl(const fs::path& file, Sweep sweep) {
+    std::ifstream in(file);
+    if (!in) failInput(Where{file.string()}, "cannot open the manifest");
+    std::string line;
+    for (int n = 1; std::getline(in, line); ++n) {
+        if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+        const Where where{file.string(), "", n};
+        Json row;
+        try {
+            row = Json::parse(line);
+        } catch (const nlohmann::json::parse_error& e) {
+            failInput(where, "not a JSON object on one line: {}", e.what());
+        }
+        SweepJob j = readRow(row, where);
+        j.origin = fmt::format("line {}", n);
+        sweep.jobs.push_back(std::move(j));
+    }
+    if (sweep.jobs.empty()) failInput(Where{file.string()}, "no jobs: the manifest has no lines");
+    return sweep;
+}
+
+// One CSV record: fields split at commas outside double quotes ("" inside quotes is a quote).
+std::vector<std::string> csvFields(const std::string& line, const Where& where) {
+    std::vector<std::string> f(1);
+    bool quoted = false;
+    for (size_t i = 0; i < line.size(); ++i) {
+        const char c = line[i];
+        if (quoted) {
+            if (c == '"' && i + 1 < line.size() && line[i + 1] == '"') {
+                f.back() += '"';
+                ++i;
+            } else if (c == '"') {
+                quoted = false;
+            } else {
+                f.back() += c;
+            }
+        } else if (c == '"') {
+            quoted = true;
+        } else if (c == ',') {
+            f.emplace_back();
+        } else if (c != '\r') {
+            f.back() += c;
+        }
+    }
+    if (quoted) failInput(where, "a quoted field is not closed on this line");
+    return f;
+}
+
+// A CSV cell as the JSON value of a render setting of that key's type.
+Json cellValue(const std::string& key, const std::string& text, const Where& where) {
+    const RenderKey* k = findRenderKey(key);
+    if (k->type == KeyType::Int) {
+        try {
+            size_t used = 0;
+            const long v = std::stol(text, &used);
+            if (used == text.size()) return renderValue(key, Json(v), where);
+        } catch (const std::exception&) {
+        }
+        failInput(where, "expected an integer, got '{}'", text);
+    }
+    if (k->type == KeyType::Bool) {
+        if (text == "true" || text == "1") return true;
+        if (text == "false" || text == "0") return false;
+        failInput(where, "expected true or false, got '{}'", text);
+    }
+    return renderValue(key, Json(text), where);
+}
+
+Sweep readManifestCsv(const fs::path& file, Sweep sweep) {
+    std::ifstream in(file);
+    if (!in) failInput(Where{file.string()}, "cannot open the manifest");
+    std::string line;
+    std::vector<std::string> header;
+    int n = 0;
+    while (header.empty() && std::getline(in, line)) {
+        ++n;
+        if (line.find_first_not_of(" \t\r") != std::string::npos) header = csvFields(line, Where{file.string(), "", n});
+    }
+    const Where headerWhere{file.string(), "", n};
+    if (header.empty()) failInput(Where{file.string()}, "no header line: expected scene,set:KEY,...,detector,...");
+    int sceneColumn = -1;
+    std::vector<std::string> allowed = {"scene", "set:KEY"};
+    for (const std::string& k : sweepRenderKeys()) allowed.push_back(k);
+    for (size_t c = 0; c < header.size(); ++c) {
+        const std::string& h = header[c];
+        if (h == "scene") {
+            sceneColumn = int(c);
+        } else if (h.rfind("set:", 0) == 0) {
+            if (h.size() == 4) failInput(headerWhere, "column {}: 'set:' needs a scene key, e.g. set:lights.0.spectrum", c + 1);
+        } else if (!findRenderKey(h)) {
+            unknownKey(Where{file.string(), fmt::format("column {}", c + 1), n}, h, allowed, "column");
+        }
+    }
+    if (sceneColumn < 0) failInput(headerWhere, "no 'scene' column");
+    while (std::getline(in, line)) {
+        ++n;
+        if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+        const Where where{file.string(), "", n};
+        const std::vector<std::string> f = csvFields(line, where);
+        if (f.size() != header.size())
+            failInput(where, "{} fields where the header has {} columns", f.size(), header.size());
+        SweepJob j;
+        j.where = where;
+        j.origin = fmt::format("line {}", n);
+        for (size_t c = 0; c < f.size(); ++c) {
+            if (f[c].empty()) continue;
+            const Where cell{file.string(), header[c], n};
+            if (int(c) == sceneColumn) {
+                j.scene = f[c];
+            } else if (header[c].rfind("set:", 0) == 0) {
+                const std::string o = header[c].substr(4) + "=" + f[c];
+                parseOverride(o, cell.str());
+                j.overrides.push_back(o);
+            } else {
+                j.render[header[c]] = cellValue(header[c], f[c], cell);
+            }
+        }
+        if (j.scene.empty()) failInput(Where{file.string(), "scene", n}, "every job needs a scene file");
+        sweep.jobs.push_back(std::move(j));
+    }
+    if (sweep.jobs.empty()) failInput(Where{file.string()}, "no jobs: the manifest has a header and no rows");
+    return sweep;
+}
+
+}  // namespace
+
+const std::vector<std::string>& sweepRenderKeys() {
+    static const std::vector<std::string> keys = [] {
+        std::vector<std::string> k;
+        for (const RenderKey& r : kRenderKeys) k.push_back(r.name);
+        return k;
+    }();
+    return keys;
+}
+
+Json SweepJob::settings() const {
+    Json s = Json::object();
+    s["scene"] = scene.lexically_normal().generic_string();
+    s["set"] = overrides;
+    Json r = Json::object();
+    std::vector<std::string> keys;
+    for (const auto& [k, v] : render.items()) keys.push_back(k);
+    std::sort(keys.begin(), keys.end());
+    for (const std::string& k : keys) r[k] = render[k];
+    s["render"] = r;
+    return s;
+}
+
+Sweep readSweep(const fs::path& file) {
+    std::error_code ec;
+    if (!fs::is_regular_file(file, ec)) failInput(Where{file.string()}, "sweep file not found (or not a file)");
+    Sweep sweep;
+    sweep.file = file;
+    sweep.folder = fs::absolute(file).parent_path();
+    const std::string ext = file.extension().string();
+    if (ext == ".json") return readSweepJson(file, sweep);
+    if (ext == ".jsonl") return readManifestJsonl(file, sweep);
+    if (ext == ".csv") return readManifestCsv(file, sweep);
+    failInput(Where{file.string()}, "expected a sweep file (.json) or a manifest (.jsonl, .csv), not '{}'", ext);
+}
+
+RenderJob makeRenderJob(const Sweep& sweep, const SweepJob& j, const fs::path& outDir) {
+    RenderJob job;
+    job.scene = j.scene.is_absolute() ? j.scene : sweep.folder / j.scene;
+    job.overrides = j.overrides;
+    job.outDir = outDir;
+    for (const auto& [key, v] : j.render.items()) {
+        const Where where{j.where.file, j.where.key.empty() ? "render." + key : j.where.key + ".render." + key,
+                          j.where.line};
+        auto fail = [&](const std::string& expected) {
+            failInput(where, "{}: '{}' for {}: expected {}", j.origin, v.is_string() ? v.get<std::string>() : v.dump(),
+                      key, expected);
+        };
+        if (key == "detector") job.detector = v.get<std::string>();
+        else if (key == "adapt") job.adaptation = v.get<std::string>();
+        else if (key == "display") job.display = v.get<std::string>();
+        else if (key == "integration") job.integration = v.get<std::string>();
+        else if (key == "xyz") job.xyz = v.get<std::string>();
+        else if (key == "mode") job.mode = v.get<std::string>();
+        else if (key == "bits") {
+            if (v != 8 && v != 16) fail("8 or 16");
+            job.bits = v.get<int>();
+        } else if (key == "grid") job.grid = Grid::parse(v.get<std::string>(), where);
+        else if (key == "resample") job.resampling = parseResampling(v.get<std::string>(), where);
+        else if (key == "write") job.write = v.get<std::vector<std::string>>();
+        else if (key == "size") {
+            const std::string s = v.get<std::string>();
+            int w = 0, h = 0;
+            char x = 0, extra = 0;
+            if (std::sscanf(s.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X') || w < 1 ||
+                h < 1 || w > 65536 || h > 65536)
+                fail("WIDTHxHEIGHT in pixels, e.g. 64x64");
+            job.overrides.push_back(fmt::format("camera.width={}", w));
+            job.overrides.push_back(fmt::format("camera.height={}", h));
+        } else if (key == "ssaa") {
+            if (v < 1 || v > 4) fail("1 to 4");
+            job.ssaa = v.get<int>();
+        } else if (key == "half") job.half = v.get<bool>();
+        else if (key == "compression") {
+            if (!knownExrCompression(v.get<std::string>())) fail("an OpenEXR compression: " + exrCompressionNames());
+            job.compression = v.get<std::string>();
+        } else if (key == "backend") {
+            if (v != "gpu" && v != "cpu") fail("gpu or cpu");
+            job.backend = v == "cpu" ? Backend::Cpu : Backend::Gpu;
+        } else if (key == "strict_coverage") {
+            job.coverage = v.get<bool>() ? CoveragePolicy::Error : CoveragePolicy::ZeroWithWarning;
+        }
+    }
+    return job;
+}
+
+}  // namespace metamer

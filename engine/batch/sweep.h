@@ -1,0 +1,50 @@
+// A sweep: the list of renders a dataset is made of, read from a sweep file (base scenes or listed
+// rows, crossed with axes of scene overrides and render settings) or from a plain manifest (JSONL
+// or CSV, one job per line). Each job is a scene, its overrides and its render settings, in the
+// order the file gives them; where it came from is kept for error messages. docs/batch.md,
+// "The sweep file". Tests: engine/batch/sweep_test.cpp.
+#pragma once
+
+#include "core/error.h"
+#include "render/render_job.h"
+
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace metamer {
+
+// The render settings a sweep may set per job (render_job.h's fields by their CLI names).
+const std::vector<std::string>& sweepRenderKeys();
+
+struct SweepJob {
+    std::filesystem::path scene;              // as the sweep names it (relative to the sweep's folder)
+    std::vector<std::string> overrides;        // KEY=VALUE, applied in order
+    nlohmann::ordered_json render = nlohmann::ordered_json::object();  // key → value, sweepRenderKeys()
+    std::string origin;  // "rows[2] × axes illuminant=illuminants/A", "line 7": for messages
+    Where where;         // the sweep file and the row's key or line
+
+    // What the job renders, as one canonical JSON object (sorted render keys): what its id hashes,
+    // with the content of the files it reads (batch/batch.h).
+    nlohmann::ordered_json settings() const;
+};
+
+struct Sweep {
+    std::filesystem::path file;    // the sweep or manifest as given
+    std::filesystem::path folder;  // the folder its relative paths resolve against
+    std::filesystem::path out;     // "out" in the sweep file, resolved; empty when not given
+    std::vector<SweepJob> jobs;
+};
+
+// Reads a sweep (.json) or a manifest (.jsonl, .csv). Input errors name the file and the key
+// (rows.2.render.detector, axes.1.values) or the line and column.
+Sweep readSweep(const std::filesystem::path& file);
+
+// The render job of a sweep job: the scene resolved against the sweep's folder, its overrides,
+// settings applied to RenderJob's fields (size "WxH" becomes camera.width/height overrides), the
+// outputs in `outDir`. Errors in a value name the job's origin and the key.
+RenderJob makeRenderJob(const Sweep& sweep, const SweepJob& job, const std::filesystem::path& outDir);
+
+}  // namespace metamer
