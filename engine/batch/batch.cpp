@@ -301,7 +301,19 @@ BatchSummary runBatch(const Sweep& sweep, const BatchOptions& o, vk::Context& co
                 p.line = fmt::format("{}: FAILED: {}", j.id, e.what());
             }
             rec["finished"] = utcNow();
-            writeJsonAtomically(folder / kRecordFile, rec);
+            try {
+                writeJsonAtomically(folder / kRecordFile, rec);
+            } catch (const std::exception& e) {
+                // Without a record the job is rendered again next time; the batch goes on.
+                if (rec["status"] == "done") {
+                    --s.rendered;
+                    --p.rendered;
+                    ++s.failed;
+                    ++p.failed;
+                }
+                s.failures.push_back(fmt::format("{}: its record could not be written: {}", j.id, e.what()));
+                p.line = s.failures.back();
+            }
         }
         ++p.done;
         p.elapsedSeconds = msSince(start) / 1000.0;

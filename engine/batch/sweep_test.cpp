@@ -1,0 +1,165 @@
+// Sweep files and manifests (batch/sweep): the jobs they expand to, in order, and the errors a
+// user gets for each mistake — naming the file, the key or the line, and what was expected.
+#include "batch/sweep.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <unistd.h>
+
+using namespace metamer;
+namespace fs = std::filesystem;
+using Json = nlohmann::ordered_json;
+
+namespace {
+
+fs::path scratch() {
+    const fs::path d = fs::temp_directory_path() / fmt::format("metamer-sweep-test-{}", ::getpid());
+    fs::create_directories(d);
+    return d;
+}
+
+fs::path write(const std::string& name, const std::string& text) {
+    const fs::path p = scratch() / name;
+    std::ofstream(p) << text;
+    return p;
+}
+
+std::string errorOf(const std::string& name, const std::string& text) {
+    try {
+        readSweep(write(name, text));
+    } catch (const Error& e) {
+        EXPECT_EQ(e.code(), ExitCode::BadInput) << e.what();
+        return e.what();
+    }
+    return "(no error)";
+}
+
+const char* kSweep = R"({
+  "scenes": ["a.json", "b.json"],
+  "set": {"camera.width": 32},
+  "render": {"write": "png,xyz", "detector": "cie1931"},
+  "rows": [{"scene": "c.json", "set": ["lights.0.scale=2"], "render": {"mode": "rgb"}}],
+  "axes": [
+    {"name": "light", "set": "lights.0.spectrum", "values": ["illuminants/D65", "illuminants/A"]},
+    {"render": "detector", "values": ["cie1931", "cie1964", "camera:nikon_d5100"]}
+  ],
+  "out": "dataset"
+})";
+
+}  // namespace
+
+TEST(Sweep, ScenesAndRowsCrossedWithTheAxesLastAxisFastest) {
+    const fs::path file = write("sweep.json", kSweep);
+    const Sweep s = readSweep(file);
+    ASSERT_EQ(s.jobs.size(), 3u * 2 * 3);
+    EXPECT_EQ(s.out, fs::absolute(file).parent_path() / "dataset");
+    const SweepJob& first = s.jobs[0];
+    EXPECT_EQ(first.scene, "a.json");
+    EXPECT_EQ(first.overrides, (std::vector<std::string>{"camera.width=32", "lights.0.spectrum=illuminants/D65"}));
+    EXPECT_EQ(first.render["detector"], "cie1931");
+    EXPECT_EQ(first.render["write"], Json::array({"png", "xyz"}));
+    EXPECT_EQ(first.origin, "scenes.0 × light=illuminants/D65, detector=cie1931");
+    EXPECT_EQ(s.jobs[1].render["detector"], "cie1964");  // the last axis varies fastest
+    EXPECT_EQ(s.jobs[3].overrides.back(), "lights.0.spectrum=illuminants/A");
+    // A row: the common overrides first, then its own, then the axes'; its render settings over
+    // the common ones, the axes' over both.
+    const SweepJob& row = s.jobs[12];
+    EXPECT_EQ(row.scene, "c.json");
+    EXPECT_EQ(row.overrides, (std::vector<std::string>{"camera.width=32", "lights.0.scale=2",
+                                                       "lights.0.spectrum=illuminants/D65"}));
+    EXPECT_EQ(row.render["mode"], "rgb");
+    EXPECT_EQ(row.where.key, "rows.0");
+    // The canonical settings: render keys sorted, so the same job written differently has one id.
+    EXPECT_EQ(row.settings().dump(),
+              R"({"scene":"c.json","set":["camera.width=32","lights.0.scale=2","lights.0.spectrum=illuminants/D65"],)"
+              R"("render":{"detector":"cie1931","mode":"rgb","write":["png","xyz"]}})");
+}
+
+TEST(Sweep, ManifestsInJsonLinesAndCsvGiveTheSameJobs) {
+    const Sweep jsonl = readSweep(write("m.jsonl", R"({"scene": "a.json", "set": {"lights.0.spectrum": "illuminants/A"}, "render": {"bits": 16, "size": "64x48"}}
+
+{"scene": "b.json", "render": {"write": ["png"], "half": true}}
+)"));
+    const Sweep csv = readSweep(write("m.csv", "scene,set:lights.0.spectrum,bits,size,write,half\n"
+                                               "a.json,illuminants/A,16,64x48,,\n"
+                                               "b.json,,,,\"png\",true\n"));
+    ASSERT_EQ(jsonl.jobs.size(), 2u);
+    ASSERT_EQ(csv.jobs.size(), 2u);
+    for (size_t i = 0; i < 2; ++i) EXPECT_EQ(jsonl.jobs[i].settings(), csv.jobs[i].settings()) << i;
+    EXPECT_EQ(jsonl.jobs[1].origin, "line 3");
+    EXPECT_EQ(csv.jobs[1].origin, "line 3");
+    // A quoted CSV field may hold commas: several outputs in one cell.
+    const Sweep quoted = readSweep(write("q.csv", "scene,write\na.json,\"png,xyz\"\n"));
+    EXPECT_EQ(quoted.jobs[0].render["write"], Json::array({"png", "xyz"}));
+}
+
+TEST(Sweep, MistakesNameTheFileTheKeyOrLineAndWhatWasExpected) {
+    std::string e = errorOf("s1.json", R"({"scenes": ["a.json"], "axis": []})");
+    EXPECT_NE(e.find("s1.json: axis: unknown sweep key 'axis' (did you mean 'axes'?)"), std::string::npos) << e;
+    e = errorOf("s2.json", R"({"scenes": ["a.json"], "render": {"detectr": "cie1931"}})");
+    EXPECT_NE(e.find("render.detectr: unknown render setting 'detectr' (did you mean 'detector'?)"), std::string::npos)
+        << e;
+    e = errorOf("s3.json", R"({"scenes": ["a.json"], "axes": [{"set": "x", "render": "mode", "values": [1]}]})");
+    EXPECT_NE(e.find("axes.0: an axis varies either"), std::string::npos) << e;
+    e = errorOf("s4.json", R"({"scenes": ["a.json"], "axes": [{"set": "lights.0.scale", "values": []}]})");
+    EXPECT_NE(e.find("axes.0.values: expected a non-empty array"), std::string::npos) << e;
+    e = errorOf("s5.json", R"({"scenes": ["a.json"], "axes": [{"render": "bits", "values": [8, "16"]}]})");
+    EXPECT_NE(e.find("axes.0.values.1: expected an integer, got a string"), std::string::npos) << e;
+    e = errorOf("s6.json", R"({"rows": [{"set": ["a=1"]}]})");
+    EXPECT_NE(e.find("rows.0.scene: every job needs \"scene\""), std::string::npos) << e;
+    e = errorOf("s7.json", R"({"set": ["camera.width"], "scenes": ["a.json"]})");
+    EXPECT_NE(e.find("KEY=VALUE"), std::string::npos) << e;
+    e = errorOf("s8.json", R"({"out": "x"})");
+    EXPECT_NE(e.find("no jobs"), std::string::npos) << e;
+    e = errorOf("s9.json", "{\"scenes\": [\"a.json\"],");
+    EXPECT_NE(e.find("s9.json: not valid JSON"), std::string::npos) << e;
+    e = errorOf("m1.csv", "scene,detectr\na.json,cie1931\n");
+    EXPECT_NE(e.find("m1.csv:1: column 2: unknown column 'detectr' (did you mean 'detector'?)"), std::string::npos) << e;
+    e = errorOf("m2.csv", "scene,bits\na.json,16\nb.json,16,extra\n");
+    EXPECT_NE(e.find("m2.csv:3: 3 fields where the header has 2 columns"), std::string::npos) << e;
+    e = errorOf("m3.csv", "scene,bits\na.json,sixteen\n");
+    EXPECT_NE(e.find("m3.csv:2: bits: expected an integer, got 'sixteen'"), std::string::npos) << e;
+    e = errorOf("m4.jsonl", "{\"scene\": \"a.json\"}\n{\"scene\": \"b.json\", \"render\": {\"half\": 1}}\n");
+    EXPECT_NE(e.find("m4.jsonl:2: render.half: expected true or false, got a number"), std::string::npos) << e;
+    e = errorOf("m5.txt", "scene\n");
+    EXPECT_NE(e.find("expected a sweep file (.json) or a manifest (.jsonl, .csv)"), std::string::npos) << e;
+    // Values are checked when a job is made: the size, with the job's origin.
+    const Sweep s = readSweep(write("s10.json", R"({"scenes": ["a.json"], "axes": [{"render": "size", "values": ["64x64", "64by64"]}]})"));
+    EXPECT_NO_THROW(makeRenderJob(s, s.jobs[0], "out"));
+    try {
+        makeRenderJob(s, s.jobs[1], "out");
+        ADD_FAILURE() << "no error";
+    } catch (const Error& err) {
+        EXPECT_NE(std::string(err.what()).find("s10.json: scenes.0.render.size: scenes.0 × size=64by64: '64by64' for size: "
+                                               "expected WIDTHxHEIGHT"),
+                  std::string::npos)
+            << err.what();
+    }
+}
+
+TEST(Sweep, RenderJobsCarryEverySetting) {
+    const Sweep s = readSweep(write("s11.json", R"({"scenes": ["sub/a.json"], "render": {
+        "detector": "camera:nikon_d5100", "adapt": "cat16", "display": "crt", "bits": 16, "integration": "trapezoid",
+        "xyz": "absolute", "mode": "ac1c2:8", "grid": "380:780:10", "resample": "sprague", "write": "png,responses",
+        "size": "40x30", "ssaa": 2, "half": true, "compression": "zip", "backend": "cpu", "strict_coverage": true}})"));
+    const RenderJob j = makeRenderJob(s, s.jobs[0], "out/x");
+    EXPECT_EQ(j.scene, s.folder / "sub/a.json");
+    EXPECT_EQ(j.outDir, "out/x");
+    EXPECT_EQ(*j.detector, "camera:nikon_d5100");
+    EXPECT_EQ(*j.adaptation, "cat16");
+    EXPECT_EQ(*j.display, "crt");
+    EXPECT_EQ(*j.bits, 16);
+    EXPECT_EQ(*j.integration, "trapezoid");
+    EXPECT_EQ(*j.xyz, "absolute");
+    EXPECT_EQ(j.mode, "ac1c2:8");
+    EXPECT_EQ(j.grid->str(), "380:780:10");
+    EXPECT_EQ(*j.resampling, Resampling::Sprague);
+    EXPECT_EQ(*j.write, (std::vector<std::string>{"png", "responses"}));
+    EXPECT_EQ(j.overrides, (std::vector<std::string>{"camera.width=40", "camera.height=30"}));
+    EXPECT_EQ(j.ssaa, 2);
+    EXPECT_TRUE(j.half);
+    EXPECT_EQ(j.compression, "zip");
+    EXPECT_EQ(j.backend, Backend::Cpu);
+    EXPECT_EQ(j.coverage, CoveragePolicy::Error);
+}
