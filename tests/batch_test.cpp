@@ -1,0 +1,193 @@
+// `metamer batch` as a user runs it: exit codes, the listing, a batch killed mid-run and resumed
+// (nothing partial left, only the missing jobs rendered), and shards run side by side with
+// `xargs -P` gathered into the same index as one whole run (docs/batch.md).
+#include "support/cli.h"
+
+#include <fmt/format.h>
+
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <thread>
+
+namespace fs = std::filesystem;
+using namespace metamer;
+
+namespace {
+
+fs::path freshDir(const std::string& name) {
+    fs::path d = fs::temp_directory_path() / fmt::format("metamer-batch-cli-{}-{}", ::getpid(), name);
+    fs::remove_all(d);
+    fs::create_directories(d);
+    return d;
+}
+
+test::CliRun shell(const std::string& cmd) {
+    test::CliRun r;
+    FILE* p = popen((cmd + " 2>&1").c_str(), "r");
+    if (!p) return r;
+    char buf[4096];
+    while (size_t n = fread(buf, 1, sizeof buf, p)) r.output.append(buf, n);
+    const int status = pclose(p);
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
+    return r;
+}
+
+// A sweep over the CLI tests' small scene: `lights` light spectra × `detectors`.
+fs::path writeSweep(const fs::path& dir, const std::string& render, int lights = 3) {
+    const char* spectra[] = {"illuminants/D65", "illuminants/A", "illuminants/FL2", "illuminants/D50",
+                             "illuminants/E",   "illuminants/FL11", "illuminants/FL1", "illuminants/FL3"};
+    std::string values;
+    for (int i = 0; i < lights; ++i) values += fmt::format("{}\"{}\"", i ? ", " : "", spectra[i]);
+    const fs::path p = dir / "sweep.json";
+    std::ofstream(p) << fmt::format(R"({{
+  "scenes": ["{}/tests/data/cli/small.json"],
+  "render": {},
+  "axes": [{{"name": "light", "set": "lights.1.spectrum", "values": [{}]}},
+           {{"render": "detector", "values": ["cie1931", "cie1964"]}}]
+}})",
+                                    METAMER_SOURCE_DIR, render, values);
+    return p;
+}
+
+size_t countFiles(const fs::path& dir, const std::string& name) {
+    size_t n = 0;
+    std::error_code ec;
+    for (const auto& e : fs::recursive_directory_iterator(dir, ec))
+        if (e.path().filename().string().find(name) != std::string::npos) ++n;
+    return n;
+}
+
+std::vector<std::string> lines(const fs::path& file) {
+    std::ifstream in(file);
+    std::vector<std::string> v;
+    for (std::string l; std::getline(in, l);) v.push_back(l);
+    return v;
+}
+
+}  // namespace
+
+TEST(BatchCli, RendersListsSkipsAndSaysWhatFailedInItsExitCode) {
+    const fs::path dir = freshDir("basic");
+    const fs::path sweep = writeSweep(dir, R"({"write": "png,xyz", "size": "24x16"})");
+    const std::string out = (dir / "out").string();
+    test::CliRun r = test::runMetamer("batch " + sweep.string() + " --out " + out + " --validation");
+    ASSERT_EQ(r.code, 0) << r.output;
+    EXPECT_NE(r.output.find("6 jobs: 6 rendered, 0 skipped (done before), 0 failed"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("[6/6] small-"), std::string::npos) << r.output;  // a line per job (not a terminal)
+    EXPECT_EQ(lines(dir / "out" / "index.csv").size(), 7u);
+    r = test::runMetamer("batch " + sweep.string() + " --out " + out + " -q");
+    ASSERT_EQ(r.code, 0) << r.output;
+    EXPECT_NE(r.output.find("0 rendered, 6 skipped"), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find("[1/6]"), std::string::npos) << r.output;
+    r = test::runMetamer("batch " + sweep.string() + " --out " + out + " --list");
+    ASSERT_EQ(r.code, 0) << r.output;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\t'), 12) << r.output;
+    EXPECT_NE(r.output.find("\tdone\tscenes.0 × light=illuminants/FL2, detector=cie1964"), std::string::npos)
+        << r.output;
+
+    // A bad sweep: exit 2, the file and key named, nothing rendered.
+    std::ofstream(dir / "bad.json") << R"({"scenes": ["x.json"], "axes": [{"render": "detektor", "values": ["a"]}]})";
+    r = test::runMetamer("batch " + (dir / "bad.json").string() + " --out " + (dir / "bad-out").string());
+    EXPECT_EQ(r.code, 2) << r.output;
+    EXPECT_NE(r.output.find("bad.json: axes.0.render: unknown render setting 'detektor' (did you mean 'detector'?)"),
+              std::string::npos)
+        << r.output;
+    EXPECT_FALSE(fs::exists(dir / "bad-out"));
+    // A job whose scene cannot load: exit 2 before the first render.
+    std::ofstream(dir / "bad-key.json") << fmt::format(
+        R"({{"scenes": ["{}/tests/data/cli/small.json"], "axes": [{{"set": "lights.1.spectrum", "values": ["illuminants/D65", "illuminants/nope"]}}]}})",
+        METAMER_SOURCE_DIR);
+    r = test::runMetamer("batch " + (dir / "bad-key.json").string() + " --out " + (dir / "bad-out").string());
+    EXPECT_EQ(r.code, 2) << r.output;
+    EXPECT_NE(r.output.find("job 2 of 2"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("lights.1.spectrum"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(dir / "bad-out"));
+    // A job that fails while rendering (its PNG cannot be put in place: a folder is in the way): the
+    // others render, exit 1, the failure named; the next run leaves it failed, --retry-failed retries.
+    const fs::path failOut = dir / "fails-out";
+    r = test::runMetamer("batch " + sweep.string() + " --out " + failOut.string() + " --list");
+    ASSERT_EQ(r.code, 0) << r.output;
+    const size_t at = r.output.find("small-");  // the first job's line (warnings come first)
+    ASSERT_NE(at, std::string::npos) << r.output;
+    const std::string id = r.output.substr(at, r.output.find('\t', at) - at);
+    fs::create_directories(failOut / id / "small.png" / "in-the-way");
+    r = test::runMetamer("batch " + sweep.string() + " --out " + failOut.string() + " -q");
+    EXPECT_EQ(r.code, 1) << r.output;
+    EXPECT_NE(r.output.find("5 rendered, 0 skipped (done before), 1 failed"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("failed: " + id + ": "), std::string::npos) << r.output;
+    r = test::runMetamer("batch " + sweep.string() + " --out " + failOut.string() + " -q");
+    EXPECT_EQ(r.code, 1) << r.output;
+    EXPECT_NE(r.output.find("0 rendered, 5 skipped (done before), 1 failed"), std::string::npos) << r.output;
+    fs::remove_all(failOut / id / "small.png");
+    r = test::runMetamer("batch " + sweep.string() + " --out " + failOut.string() + " -q --retry-failed");
+    EXPECT_EQ(r.code, 0) << r.output;
+    EXPECT_NE(r.output.find("1 rendered, 5 skipped (done before), 0 failed"), std::string::npos) << r.output;
+}
+
+TEST(BatchCli, AKilledBatchResumesWithNothingPartialLeftAndRendersOnlyTheMissingJobs) {
+    for (const char* signal : {"KILL", "TERM"}) {
+        SCOPED_TRACE(signal);
+        const fs::path dir = freshDir(std::string("killed-") + signal);
+        // 16 jobs of a cube and a PNG at 160×120 × 89 bands: long enough to be killed mid-way.
+        const fs::path sweep = writeSweep(dir, R"({"write": "cube,png", "size": "160x120"})", 8);
+        const fs::path out = dir / "out";
+        const std::string cmd = std::string(METAMER_BINARY) + " batch " + sweep.string() + " --out " + out.string() +
+                                " -q > " + (dir / "log").string() + " 2>&1";
+        const pid_t pid = fork();
+        ASSERT_GE(pid, 0);
+        if (pid == 0) {
+            execl("/bin/sh", "sh", "-c", ("exec " + cmd).c_str(), (char*)nullptr);
+            _exit(127);
+        }
+        // Kill it once three jobs are recorded (or after 60 s).
+        const auto start = std::chrono::steady_clock::now();
+        while (countFiles(out, "job.json") < 3 && std::chrono::steady_clock::now() - start < std::chrono::seconds(60))
+            std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        ::kill(pid, std::string(signal) == "KILL" ? SIGKILL : SIGTERM);
+        int status = 0;
+        ::waitpid(pid, &status, 0);
+        const size_t recorded = countFiles(out, "job.json");
+        ASSERT_GE(recorded, 3u);
+        ASSERT_LT(recorded, 16u) << "the batch finished before it could be killed";
+        if (std::string(signal) == "TERM") EXPECT_EQ(countFiles(out, ".tmp-"), 0u);  // the handler removed them
+        const test::CliRun r = test::runMetamer("batch " + sweep.string() + " --out " + out.string() + " -q");
+        ASSERT_EQ(r.code, 0) << r.output;
+        EXPECT_NE(r.output.find(fmt::format("{} rendered, {} skipped", 16 - recorded, recorded)), std::string::npos)
+            << r.output;
+        EXPECT_EQ(countFiles(out, ".tmp-"), 0u);
+        EXPECT_EQ(countFiles(out, "job.json"), 16u);
+        EXPECT_EQ(countFiles(out, "small.exr"), 16u);
+    }
+}
+
+TEST(BatchCli, ShardsUnderXargsGiveTheSameDatasetAsOneRun) {
+    const fs::path dir = freshDir("xargs");
+    const fs::path sweep = writeSweep(dir, R"({"write": "png,xyz", "size": "24x16"})", 4);
+    test::CliRun whole = test::runMetamer("batch " + sweep.string() + " --out " + (dir / "whole").string() + " -q");
+    ASSERT_EQ(whole.code, 0) << whole.output;
+    // docs/batch.md, "One workstation": the shards side by side, then the index.
+    const std::string m = METAMER_BINARY;
+    test::CliRun r = shell("seq 0 3 | xargs -P 2 -I{} " + m + " batch " + sweep.string() + " --shard {}/4 --out " +
+                           (dir / "sharded").string() + " -q && " + m + " batch --index " + (dir / "sharded").string());
+    ASSERT_EQ(r.code, 0) << r.output;
+    EXPECT_NE(r.output.find("index: 8 job records (8 done, 0 failed)"), std::string::npos) << r.output;
+    const std::vector<std::string> a = lines(dir / "whole" / "index.csv"), b = lines(dir / "sharded" / "index.csv");
+    ASSERT_EQ(a.size(), 9u);
+    ASSERT_EQ(b.size(), 9u);
+    EXPECT_EQ(a[0], b[0]);  // the same columns
+    for (size_t i = 1; i < a.size(); ++i) {
+        const std::string id = a[i].substr(0, a[i].find(','));
+        EXPECT_EQ(b[i].substr(0, b[i].find(',')), id);  // the same jobs, in sweep order
+        for (const char* f : {"small.png", "small.xyz.exr"}) {
+            const test::CliRun cmp = shell("cmp " + (dir / "whole" / id / f).string() + " " + (dir / "sharded" / id / f).string());
+            EXPECT_EQ(cmp.code, 0) << id << "/" << f << ": " << cmp.output;
+        }
+    }
+}
