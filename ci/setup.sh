@@ -14,6 +14,7 @@ packages=(
   libopenexr-dev libpng-dev libopenimageio-dev openimageio-tools
   libglfw3-dev libimgui-dev xvfb fonts-dejavu-core
   libgtest-dev libssl-dev
+  slurmctld slurmd slurm-client munge
   clang libclang-rt-14-dev
   python3 python3-venv python3-pip python3-openimageio python3-numpy
 )

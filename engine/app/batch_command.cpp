@@ -1,6 +1,7 @@
 #include "app/batch_command.h"
 
 #include "batch/batch.h"
+#include "batch/slurm_script.h"
 #include "core/error.h"
 #include "render/render_setup.h"
 
@@ -52,6 +53,16 @@ CLI::App* addBatchCommand(CLI::App& app, BatchArgs& a) {
     c->add_flag("--validation", a.validation, "enable Vulkan validation layers; an error fails the job");
     c->add_option("--device", a.device, "Vulkan device index or name substring (default: best; env METAMER_DEVICE)");
     c->add_flag("--quiet,-q", a.quiet, "no progress output");
+    c->add_flag("--slurm", a.slurm,
+                "validate every job, then write DIR/slurm/{array.sbatch,index.sbatch,submit.sh}: a Slurm job array of "
+                "--tasks shards and the index after it; renders nothing");
+    c->add_option("--tasks", a.tasks, "--slurm: array tasks (shards)")->check(CLI::Range(1, 100000))->capture_default_str();
+    c->add_option("--array-limit", a.arrayLimit, "--slurm: at most K tasks at once (sbatch --array=...%K)")
+        ->check(CLI::Range(1, 100000));
+    c->add_option("--partition", a.partition, "--slurm: the partition (sbatch -p)");
+    c->add_option("--time", a.time, "--slurm: time limit per task (sbatch -t), e.g. 02:00:00");
+    c->add_option("--cpus-per-task", a.cpusPerTask, "--slurm: CPUs per task (sbatch -c)")->check(CLI::Range(1, 1024));
+    c->add_option("--mem", a.mem, "--slurm: memory per task (sbatch --mem), e.g. 8G");
     return c;
 }
 
@@ -75,6 +86,32 @@ int runBatchCommand(const BatchArgs& a) {
     o.validation = a.validation;
     o.device = a.device;
     const std::vector<size_t> positions = shardPositions(sweep.jobs.size(), shard, shards);
+
+    if (a.slurm) {
+        if (!a.shard.empty()) failInput(Where{"", "--shard"}, "--slurm writes every shard's task; give no --shard");
+        // Every job checked here, before anything is submitted.
+        for (size_t p = 0; p < sweep.jobs.size(); ++p) resolveJob(sweep, p, o.out);
+        SlurmOptions so;
+        so.tasks = a.tasks;
+        so.arrayLimit = a.arrayLimit;
+        so.partition = a.partition;
+        so.time = a.time;
+        so.cpusPerTask = a.cpusPerTask;
+        so.mem = a.mem;
+        so.metamer = fs::read_symlink("/proc/self/exe");
+        so.sweep = fs::absolute(a.sweep);
+        so.out = fs::absolute(o.out);
+        if (a.retryFailed) so.extraArgs.push_back("--retry-failed");
+        if (a.validation) so.extraArgs.push_back("--validation");
+        const SlurmScripts scripts = writeSlurmScripts(so);
+        std::printf("%s: %zu jobs, all valid, in %d array tasks (%zu jobs each at most)\n", a.sweep.c_str(),
+                    sweep.jobs.size(), a.tasks, (sweep.jobs.size() + size_t(a.tasks) - 1) / size_t(a.tasks));
+        std::printf("wrote %s (the array), %s (the index), %s\n", scripts.array.c_str(), scripts.index.c_str(),
+                    scripts.submit.c_str());
+        std::printf("submit with: sh %s   (again to resume; logs in %s)\n", scripts.submit.c_str(),
+                    scripts.logs.c_str());
+        return 0;
+    }
 
     if (a.list || a.dryRun) {
         size_t done = 0, failed = 0, todo = 0;

@@ -17,6 +17,10 @@ struct BatchArgs {
     std::string index;      // --index DIR: only gather the records under DIR
     bool list = false, dryRun = false, retryFailed = false, validation = false, quiet = false;
     std::string device;
+    // --slurm: write the job array's scripts instead of rendering (batch/slurm_script.h).
+    bool slurm = false;
+    int tasks = 4, arrayLimit = 0, cpusPerTask = 0;
+    std::string partition, time, mem;
 };
 
 CLI::App* addBatchCommand(CLI::App& app, BatchArgs& args);

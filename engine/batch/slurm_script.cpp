@@ -1,0 +1,92 @@
+#include "batch/slurm_script.h"
+
+#include "core/error.h"
+#include "io/atomic_file.h"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <fstream>
+
+namespace fs = std::filesystem;
+
+namespace metamer {
+
+namespace {
+
+void writeScript(const fs::path& path, const std::string& text) {
+    AtomicOutput out(path);
+    {
+        std::ofstream f(out.tempPath(), std::ios::binary);
+        f << text;
+        if (!f) failRuntime("cannot write {}", path.string());
+    }
+    fs::permissions(out.tempPath(), fs::perms::owner_all | fs::perms::group_read | fs::perms::group_exec |
+                                        fs::perms::others_read | fs::perms::others_exec);
+    out.commit();
+}
+
+std::string header(const SlurmOptions& o, const std::string& name, const std::string& log) {
+    std::string h = "#!/bin/bash\n";
+    h += fmt::format("#SBATCH --job-name={}\n", name);
+    h += fmt::format("#SBATCH --output={}\n", log);
+    if (!o.partition.empty()) h += fmt::format("#SBATCH --partition={}\n", o.partition);
+    if (!o.time.empty()) h += fmt::format("#SBATCH --time={}\n", o.time);
+    if (!o.mem.empty()) h += fmt::format("#SBATCH --mem={}\n", o.mem);
+    return h;
+}
+
+}  // namespace
+
+std::string shellQuote(const std::string& text) {
+    std::string q = "'";
+    for (char c : text) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return q + "'";
+}
+
+SlurmScripts writeSlurmScripts(const SlurmOptions& o) {
+    if (o.tasks < 1) failInput(Where{"", "--tasks"}, "expected at least 1 array task, got {}", o.tasks);
+    if (o.arrayLimit < 0) failInput(Where{"", "--array-limit"}, "expected a positive limit, got {}", o.arrayLimit);
+    const fs::path dir = o.out / "slurm";
+    SlurmScripts s{dir / "array.sbatch", dir / "index.sbatch", dir / "submit.sh", dir / "logs"};
+    std::error_code ec;
+    fs::create_directories(s.logs, ec);
+    if (ec) failRuntime("cannot create {}: {}", s.logs.string(), ec.message());
+    const std::string name = o.jobName.empty() ? "metamer-" + o.sweep.stem().string() : o.jobName;
+    std::vector<std::string> extra;
+    for (const std::string& a : o.extraArgs) extra.push_back(shellQuote(a));
+    const std::string extraText = extra.empty() ? "" : " " + fmt::format("{}", fmt::join(extra, " "));
+
+    std::string array = header(o, name, (s.logs / "task-%A_%a.log").string());
+    array += fmt::format("#SBATCH --array=0-{}{}\n", o.tasks - 1, o.arrayLimit ? fmt::format("%{}", o.arrayLimit) : "");
+    if (o.cpusPerTask) array += fmt::format("#SBATCH --cpus-per-task={}\n", o.cpusPerTask);
+    array += fmt::format(
+        "# Written by metamer batch --slurm (docs/batch.md). Each task renders the shard\n"
+        "# SLURM_ARRAY_TASK_ID of SLURM_ARRAY_TASK_COUNT; a resubmission skips what is done.\n"
+        "set -euo pipefail\n"
+        "echo \"metamer batch: array task $SLURM_ARRAY_TASK_ID of $SLURM_ARRAY_TASK_COUNT on $(hostname)\"\n"
+        "exec {} batch {} --out {}{}\n",
+        shellQuote(o.metamer.string()), shellQuote(o.sweep.string()), shellQuote(o.out.string()), extraText);
+    std::string index = header(o, name + "-index", (s.logs / "index-%j.log").string());
+    index += fmt::format(
+        "# Written by metamer batch --slurm: the dataset index from every task's records.\n"
+        "set -euo pipefail\n"
+        "exec {} batch --index {}\n",
+        shellQuote(o.metamer.string()), shellQuote(o.out.string()));
+    std::string submit = fmt::format(
+        "#!/bin/sh\n"
+        "# Written by metamer batch --slurm (docs/batch.md): submits the array, then the index to run\n"
+        "# after every task has ended. Prints the two job ids. Run it again to resume.\n"
+        "set -eu\n"
+        "array=$(sbatch --parsable {})\n"
+        "array=${{array%%;*}}\n"
+        "index=$(sbatch --parsable --dependency=afterany:\"$array\" {})\n"
+        "echo \"array $array index ${{index%%;*}}\"\n",
+        shellQuote(s.array.string()), shellQuote(s.index.string()));
+    writeScript(s.array, array);
+    writeScript(s.index, index);
+    writeScript(s.submit, submit);
+    return s;
+}
+
+}  // namespace metamer

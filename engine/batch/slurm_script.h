@@ -1,0 +1,39 @@
+// The Slurm job array of a sweep: an sbatch script whose every task renders one shard (the shard
+// comes from SLURM_ARRAY_TASK_ID and SLURM_ARRAY_TASK_COUNT, batch/batch.h), a second script that
+// gathers the index, and submit.sh, which submits the array and then the index as a job that runs
+// after every task has ended (afterany: also when some failed or were cancelled). Plain sbatch
+// options only, so the scripts run unchanged on a university cluster. docs/batch.md, "Slurm".
+// Tests: tests/slurm_test.sh (a real single-node Slurm).
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace metamer {
+
+struct SlurmOptions {
+    int tasks = 4;             // array tasks = shards
+    int arrayLimit = 0;        // at most this many tasks at once (%K); 0: no limit
+    std::string partition;     // -p; empty: the cluster's default
+    std::string time;          // -t per task, e.g. "02:00:00"; empty: the partition's default
+    int cpusPerTask = 0;       // -c; 0: Slurm's default
+    std::string mem;           // --mem per task, e.g. "8G"; empty: the default
+    std::string jobName;       // -J
+    std::filesystem::path metamer;  // the metamer binary, absolute
+    std::filesystem::path sweep;    // the sweep file, absolute
+    std::filesystem::path out;      // the dataset folder, absolute
+    std::vector<std::string> extraArgs;  // passed to every task's metamer batch (--retry-failed, …)
+};
+
+struct SlurmScripts {
+    std::filesystem::path array, index, submit, logs;
+};
+
+// Writes out/slurm/{array.sbatch, index.sbatch, submit.sh} (atomically) and creates out/slurm/logs.
+SlurmScripts writeSlurmScripts(const SlurmOptions& options);
+
+// `text` quoted for a POSIX shell: '...' with every ' written as '\''.
+std::string shellQuote(const std::string& text);
+
+}  // namespace metamer
