@@ -182,6 +182,20 @@ TEST(BatchCli, ShardsUnderXargsGiveTheSameDatasetAsOneRun) {
     ASSERT_EQ(a.size(), 9u);
     ASSERT_EQ(b.size(), 9u);
     EXPECT_EQ(a[0], b[0]);  // the same columns
+    // A batch job's files are those `metamer render` writes for the same settings (a batch reuses
+    // the device, pipelines and parsed tables of the jobs before).
+    {
+        const std::string last = a.back().substr(0, a.back().find(','));
+        test::CliRun render = test::runMetamer(fmt::format(
+            "render {}/tests/data/cli/small.json --out {} --set lights.1.spectrum=illuminants/D50 --set camera.width=24 "
+            "--set camera.height=16 --detector cie1964 --write png,xyz",
+            METAMER_SOURCE_DIR, (dir / "render").string()));
+        ASSERT_EQ(render.code, 0) << render.output;
+        for (const char* f : {"small.png", "small.xyz.exr"}) {
+            const test::CliRun cmp = shell("cmp " + (dir / "whole" / last / f).string() + " " + (dir / "render" / f).string());
+            EXPECT_EQ(cmp.code, 0) << last << "/" << f << " differs from metamer render's: " << cmp.output;
+        }
+    }
     for (size_t i = 1; i < a.size(); ++i) {
         const std::string id = a[i].substr(0, a[i].find(','));
         EXPECT_EQ(b[i].substr(0, b[i].find(',')), id);  // the same jobs, in sweep order

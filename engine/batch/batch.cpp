@@ -18,6 +18,7 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include <tuple>
 
 namespace fs = std::filesystem;
 using Json = nlohmann::ordered_json;
@@ -53,7 +54,7 @@ private:
     EVP_MD_CTX* ctx_;
 };
 
-std::string fileDigest(const fs::path& path) {
+std::string readDigest(const fs::path& path) {
     std::ifstream in(path, std::ios::binary);
     if (!in) failRuntime("cannot read {} to hash it", path.string());
     Sha256 h;
@@ -63,6 +64,20 @@ std::string fileDigest(const fs::path& path) {
         h.add(buffer.data(), size_t(in.gcount()));
     }
     return h.hex();
+}
+
+// The digest of a file, kept for the process under its size and modification time: the jobs of a
+// sweep read the same library files.
+std::string fileDigest(const fs::path& path) {
+    static std::map<std::string, std::tuple<uintmax_t, fs::file_time_type, std::string>> cache;
+    std::error_code e1, e2;
+    const uintmax_t size = fs::file_size(path, e1);
+    const auto mtime = fs::last_write_time(path, e2);
+    if (e1 || e2) return readDigest(path);
+    auto& entry = cache[path.string()];
+    if (std::get<2>(entry).empty() || std::get<0>(entry) != size || std::get<1>(entry) != mtime)
+        entry = {size, mtime, readDigest(path)};
+    return std::get<2>(entry);
 }
 
 std::string hostName() {

@@ -215,9 +215,12 @@ void SpectralResources::createLayouts() {
     VkDescriptorSetLayoutCreateInfo sl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
     sl.bindingCount = kBindings;
     sl.pBindings = bindings;
-    VkDescriptorSetLayout handle = VK_NULL_HANDLE;
-    VK_CHECK(vkCreateDescriptorSetLayout(d, &sl, nullptr, &handle));
-    setLayout = vk::OwnedDescriptorSetLayout(d, handle);
+    vk::DeviceObjects& objects = ctx.objects();
+    setLayout = objects.setLayout("spectral.set", [&] {
+        VkDescriptorSetLayout handle = VK_NULL_HANDLE;
+        VK_CHECK(vkCreateDescriptorSetLayout(d, &sl, nullptr, &handle));
+        return handle;
+    });
     VkPushConstantRange range{VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
                               sizeof(gpu::SpectralPushConstants)};
     VkDescriptorSetLayoutBinding textureBindings[TEXTURE_BINDINGS];
@@ -226,17 +229,25 @@ void SpectralResources::createLayouts() {
     VkDescriptorSetLayoutCreateInfo tl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
     tl.bindingCount = TEXTURE_BINDINGS;
     tl.pBindings = textureBindings;
-    VK_CHECK(vkCreateDescriptorSetLayout(d, &tl, nullptr, &handle));
-    textureSetLayout = vk::OwnedDescriptorSetLayout(d, handle);
+    textureSetLayout = objects.setLayout("spectral.textures", [&] {
+        VkDescriptorSetLayout handle = VK_NULL_HANDLE;
+        VK_CHECK(vkCreateDescriptorSetLayout(d, &tl, nullptr, &handle));
+        return handle;
+    });
     VkDescriptorSetLayout layouts[2] = {setLayout.get(), textureSetLayout.get()};
     VkPipelineLayoutCreateInfo pl{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
     pl.setLayoutCount = 2;
     pl.pSetLayouts = layouts;
     pl.pushConstantRangeCount = 1;
     pl.pPushConstantRanges = &range;
-    VkPipelineLayout layout = VK_NULL_HANDLE;
-    VK_CHECK(vkCreatePipelineLayout(d, &pl, nullptr, &layout));
-    pipelineLayout = vk::OwnedPipelineLayout(d, layout);
+    pipelineLayout = objects.pipelineLayout(
+        "spectral.layout",
+        [&] {
+            VkPipelineLayout layout = VK_NULL_HANDLE;
+            VK_CHECK(vkCreatePipelineLayout(d, &pl, nullptr, &layout));
+            return layout;
+        },
+        {setLayout, textureSetLayout});
 
     const uint32_t materialCount = uint32_t(std::max<size_t>(1, scene.materials.size()));
     VkDescriptorPoolSize sizes[3] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1},
@@ -370,15 +381,21 @@ VkRenderPass SpectralResources::makeRenderPass(uint32_t attachments, bool clears
     rp.pSubpasses = &sub;
     rp.dependencyCount = 1;
     rp.pDependencies = &dep;
-    VkRenderPass r;
-    VK_CHECK(vkCreateRenderPass(ctx.device(), &rp, nullptr, &r));
-    renderPasses.emplace_back(ctx.device(), r);
-    return r;
+    renderPasses.push_back(ctx.objects().renderPass(
+        fmt::format("spectral.pass attachments={} clearsDepth={} mapped={}", attachments, clearsDepth,
+                    plan.mappedReadback),
+        [&] {
+            VkRenderPass r = VK_NULL_HANDLE;
+            VK_CHECK(vkCreateRenderPass(ctx.device(), &rp, nullptr, &r));
+            return r;
+        }));
+    return renderPasses.back().get();
 }
 
 // attachments == 0: the depth pre-pass pipeline (vertex stage only); writesDepth with attachments:
 // a colour pass without a pre-pass.
-VkPipeline SpectralResources::makePipeline(VkRenderPass renderPass, uint32_t attachments, bool writesDepth) {
+VkPipeline SpectralResources::makePipeline(const vk::SharedHandle<VkRenderPass>& renderPass, uint32_t attachments,
+                                           bool writesDepth) {
     const gpu::SpectralSpecialization spec{packed.ambient,       packed.directional,   packed.point,
                                            plan.hasSpecular,     plan.hasFluorescence, scene.hasTextures(),
                                            scene.hasNormalMaps(), plan.fluorescenceSpectra, plan.responses};
@@ -388,16 +405,10 @@ VkPipeline SpectralResources::makePipeline(VkRenderPass renderPass, uint32_t att
     for (uint32_t id = 0; id < kIds; ++id) entries[id] = {id, id * 4, 4};
     VkSpecializationInfo si{kIds, entries, sizeof(spec), &spec};
     bool prePass = attachments == 0;
-    VkShaderModule frag = VK_NULL_HANDLE;
-    if (!prePass) {
-        const SpirvCode& fragCode = kSpectralFrag[attachments - 1];
-        frag = vk::createShaderModule(ctx.device(), fragCode.code, fragCode.bytes);
-    }
     vk::GraphicsPipelineDesc d;
-    d.renderPass = renderPass;
+    d.renderPass = renderPass.get();
     d.layout = pipelineLayout.get();
     d.vertex = vert.get();
-    d.fragment = frag;
     d.fragmentSpecialization = &si;
     using V = gpu::SpectralVertex;
     d.bindings = {{0, sizeof(V), VK_VERTEX_INPUT_RATE_VERTEX}};
@@ -413,8 +424,25 @@ VkPipeline SpectralResources::makePipeline(VkRenderPass renderPass, uint32_t att
     d.depthWrite = writesDepth;
     // Same vertex shader (gl_Position is invariant) → the same depth in every pass.
     d.depthCompare = prePass ? VK_COMPARE_OP_LESS : writesDepth ? VK_COMPARE_OP_LESS_OR_EQUAL : VK_COMPARE_OP_EQUAL;
-    const vk::OwnedShaderModule fragModule(ctx.device(), frag);  // the pipeline keeps what it needs
-    pipelines.emplace_back(ctx.device(), vk::createGraphicsPipeline(ctx.device(), d));
+    // Everything the pipeline depends on is in its key (the render pass and layout are shared, so
+    // their handles name their descriptions).
+    const std::string key =
+        fmt::format("spectral.pipeline attachments={} writesDepth={} {}x{} pass={} layout={} spec={}", attachments,
+                    writesDepth, d.width, d.height, static_cast<void*>(renderPass.get()),
+                    static_cast<void*>(pipelineLayout.get()), vk::keyBytes(&spec, sizeof spec));
+    pipelines.push_back(ctx.objects().pipeline(
+        key,
+        [&] {
+            VkShaderModule frag = VK_NULL_HANDLE;
+            if (!prePass) {
+                const SpirvCode& fragCode = kSpectralFrag[attachments - 1];
+                frag = vk::createShaderModule(ctx.device(), fragCode.code, fragCode.bytes);
+            }
+            const vk::OwnedShaderModule fragModule(ctx.device(), frag);  // the pipeline keeps what it needs
+            d.fragment = frag;
+            return vk::createGraphicsPipeline(ctx.device(), d);
+        },
+        {renderPass, pipelineLayout}));
     return pipelines.back().get();
 }
 
@@ -423,7 +451,7 @@ void SpectralResources::createPasses() {
     if (hasDepthPrePass) {
         PassObjects& pre = depthPrePass;
         pre.renderPass = makeRenderPass(0, true);
-        pre.pipeline = makePipeline(pre.renderPass, 0, true);
+        pre.pipeline = makePipeline(renderPasses.back(), 0, true);
         VkImageView view = depth.layerView(0);
         VkFramebufferCreateInfo fb{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
         fb.renderPass = pre.renderPass;
@@ -448,7 +476,7 @@ void SpectralResources::createPasses() {
         VkPipeline& pl = full ? plFull : plLast;
         if (rp == VK_NULL_HANDLE) {
             rp = makeRenderPass(po.attachments, !hasDepthPrePass);
-            pl = makePipeline(rp, po.attachments, !hasDepthPrePass);
+            pl = makePipeline(renderPasses.back(), po.attachments, !hasDepthPrePass);
         }
         po.renderPass = rp;
         po.pipeline = pl;

@@ -14,6 +14,7 @@
 #include "scene/scene.h"
 #include "scene/scene_on_grid.h"
 #include "vk/context.h"
+#include "vk/device_objects.h"
 #include "vk/handle.h"
 #include "vk/resources.h"
 
@@ -54,14 +55,15 @@ struct SpectralResources {
     std::vector<vk::Image> textures;
     std::vector<std::array<int, 3>> materialTextures;  // per material: diffuse, specular, normal texture
     vk::OwnedSampler textureSampler;
-    vk::OwnedDescriptorSetLayout setLayout, textureSetLayout;
-    vk::OwnedPipelineLayout pipelineLayout;
+    // Shared with every pass of the same configuration (vk/device_objects.h).
+    vk::SharedHandle<VkDescriptorSetLayout> setLayout, textureSetLayout;
+    vk::SharedHandle<VkPipelineLayout> pipelineLayout;
     vk::OwnedDescriptorPool descriptorPool;  // frees the sets with it
     VkDescriptorSet descriptorSet = VK_NULL_HANDLE;
     std::vector<VkDescriptorSet> materialSets;
     vk::OwnedShaderModule vert;
-    std::vector<vk::OwnedRenderPass> renderPasses;  // the depth pre-pass's, then one per attachment count
-    std::vector<vk::OwnedPipeline> pipelines;
+    std::vector<vk::SharedHandle<VkRenderPass>> renderPasses;  // the depth pre-pass's, then one per attachment count
+    std::vector<vk::SharedHandle<VkPipeline>> pipelines;
     // The band passes share a depth pre-pass, so that each shades a pixel once whatever the
     // overdraw. The response pass's shading is cheap and its geometry is not: it writes depth
     // itself in its one pass (LESS_OR_EQUAL keeps the last of equal depths, as EQUAL after the
@@ -78,7 +80,7 @@ private:
     void createTargets(Readback mode, bool sampled, SpectralPassPlan& plan);
     void createLayouts();
     VkRenderPass makeRenderPass(uint32_t attachments, bool clearsDepth);
-    VkPipeline makePipeline(VkRenderPass renderPass, uint32_t attachments, bool writesDepth);
+    VkPipeline makePipeline(const vk::SharedHandle<VkRenderPass>& renderPass, uint32_t attachments, bool writesDepth);
     void createPasses();
 };
 

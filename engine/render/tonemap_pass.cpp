@@ -1,6 +1,7 @@
 #include "render/tonemap_pass.h"
 
 #include "interface.h"
+#include "vk/device_objects.h"
 #include "vk/barrier.h"
 #include "vk/handle.h"
 #include "vk/pipeline.h"
@@ -49,13 +50,14 @@ struct TonemapPass::Impl {
     vk::Buffer params, tables, readback;
     vk::Image targets[kAttachments];
     vk::OwnedSampler sampler;
-    vk::OwnedDescriptorSetLayout setLayout;
-    vk::OwnedPipelineLayout pipelineLayout;
+    // Shared with every tonemap pass of the same configuration (vk/device_objects.h).
+    vk::SharedHandle<VkDescriptorSetLayout> setLayout;
+    vk::SharedHandle<VkPipelineLayout> pipelineLayout;
     vk::OwnedDescriptorPool pool;  // frees `set` with it
     VkDescriptorSet set = VK_NULL_HANDLE;
-    vk::OwnedRenderPass renderPass;
+    vk::SharedHandle<VkRenderPass> renderPass;
     vk::OwnedFramebuffer framebuffer;
-    vk::OwnedPipeline pipeline;
+    vk::SharedHandle<VkPipeline> pipeline;
 
     Impl(vk::Context& c, SpectralPass& s, const TonemapPlan& p, TonemapOutputs o) : ctx(c), source(s), plan(p), outputs(o) {}
 
@@ -134,12 +136,24 @@ struct TonemapPass::Impl {
         VkDescriptorSetLayoutCreateInfo sl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
         sl.bindingCount = 3;
         sl.pBindings = b;
-        VK_CHECK(vkCreateDescriptorSetLayout(d, &sl, nullptr, setLayout.put(d)));
+        vk::DeviceObjects& objects = ctx.objects();
+        setLayout = objects.setLayout("tonemap.set", [&] {
+            VkDescriptorSetLayout h = VK_NULL_HANDLE;
+            VK_CHECK(vkCreateDescriptorSetLayout(d, &sl, nullptr, &h));
+            return h;
+        });
         const VkDescriptorSetLayout layout = setLayout.get();
         VkPipelineLayoutCreateInfo pl{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
         pl.setLayoutCount = 1;
         pl.pSetLayouts = &layout;
-        VK_CHECK(vkCreatePipelineLayout(d, &pl, nullptr, pipelineLayout.put(d)));
+        pipelineLayout = objects.pipelineLayout(
+            "tonemap.layout",
+            [&] {
+                VkPipelineLayout h = VK_NULL_HANDLE;
+                VK_CHECK(vkCreatePipelineLayout(d, &pl, nullptr, &h));
+                return h;
+            },
+            {setLayout});
 
         VkDescriptorPoolSize sizes[3] = {{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1},
                                          {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1},
@@ -192,7 +206,11 @@ struct TonemapPass::Impl {
         rp.pAttachments = att;
         rp.subpassCount = 1;
         rp.pSubpasses = &sub;
-        VK_CHECK(vkCreateRenderPass(d, &rp, nullptr, renderPass.put(d)));
+        renderPass = objects.renderPass("tonemap.pass", [&] {
+            VkRenderPass h = VK_NULL_HANDLE;
+            VK_CHECK(vkCreateRenderPass(d, &rp, nullptr, &h));
+            return h;
+        });
         VkImageView views[kAttachments];
         for (uint32_t i = 0; i < kAttachments; ++i) views[i] = targets[i].layerView(0);
         VkFramebufferCreateInfo fb{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
@@ -216,20 +234,28 @@ struct TonemapPass::Impl {
         VkSpecializationMapEntry entries[kIds];
         for (uint32_t id = 0; id < kIds; ++id) entries[id] = {id, id * 4, 4};
         VkSpecializationInfo si{kIds, entries, sizeof(spec), &spec};
-        // The pipeline keeps what it needs of the modules.
-        const vk::OwnedShaderModule vert(d, vk::createShaderModule(d, kSpirv_tonemap_vert, sizeof(kSpirv_tonemap_vert)));
-        const vk::OwnedShaderModule frag(d, vk::createShaderModule(d, kSpirv_tonemap_frag, sizeof(kSpirv_tonemap_frag)));
-        vk::GraphicsPipelineDesc desc;
-        desc.renderPass = renderPass.get();
-        desc.layout = pipelineLayout.get();
-        desc.vertex = vert.get();
-        desc.fragment = frag.get();
-        desc.fragmentSpecialization = &si;
-        desc.cache = ctx.pipelineCache();
-        desc.width = width;
-        desc.height = height;
-        desc.colorAttachments = kAttachments;
-        pipeline = vk::OwnedPipeline(d, vk::createGraphicsPipeline(d, desc));
+        const std::string key = fmt::format("tonemap.pipeline {}x{} pass={} layout={} spec={}", width, height,
+                                            static_cast<void*>(renderPass.get()),
+                                            static_cast<void*>(pipelineLayout.get()), vk::keyBytes(&spec, sizeof spec));
+        pipeline = objects.pipeline(
+            key,
+            [&] {
+                // The pipeline keeps what it needs of the modules.
+                const vk::OwnedShaderModule vert(d, vk::createShaderModule(d, kSpirv_tonemap_vert, sizeof(kSpirv_tonemap_vert)));
+                const vk::OwnedShaderModule frag(d, vk::createShaderModule(d, kSpirv_tonemap_frag, sizeof(kSpirv_tonemap_frag)));
+                vk::GraphicsPipelineDesc desc;
+                desc.renderPass = renderPass.get();
+                desc.layout = pipelineLayout.get();
+                desc.vertex = vert.get();
+                desc.fragment = frag.get();
+                desc.fragmentSpecialization = &si;
+                desc.cache = ctx.pipelineCache();
+                desc.width = width;
+                desc.height = height;
+                desc.colorAttachments = kAttachments;
+                return vk::createGraphicsPipeline(d, desc);
+            },
+            {renderPass, pipelineLayout});
     }
 
     // The spectral target is sampled in GENERAL when it is a mapped linear image (the host may

@@ -2,6 +2,8 @@
 #include "core/file_reads.h"
 
 #include <cerrno>
+#include <map>
+#include <mutex>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -47,9 +49,10 @@ std::string shownField(const std::string& field) {
 
 }  // namespace
 
-SpectralTable readSpectralTable(const std::filesystem::path& path, size_t minColumns) {
+namespace {
+
+SpectralTable parseSpectralTable(const std::filesystem::path& path, size_t minColumns) {
     Where where{path.string(), "", 0};
-    noteFileRead(path);
     std::ifstream in(path);
     if (!in) failInput(where, "cannot open spectrum file");
     SpectralTable t;
@@ -99,6 +102,39 @@ SpectralTable readSpectralTable(const std::filesystem::path& path, size_t minCol
     if (t.wavelengths_nm.size() < 2)
         failInput(where, "needs at least 2 data lines (wavelength_nm,value), found {}", t.wavelengths_nm.size());
     if (!t.columnNames.empty() && t.columnNames.size() != width) t.columnNames.clear();
+    return t;
+}
+
+}  // namespace
+
+// A batch (metamer batch) loads the same library tables for every job: parsed tables are kept
+// for the process, each under its file's absolute path, size and modification time, so an edited
+// file is read again. Errors are not kept (the next read reports them again).
+SpectralTable readSpectralTable(const std::filesystem::path& path, size_t minColumns) {
+    noteFileRead(path);
+    struct Entry {
+        uintmax_t size;
+        std::filesystem::file_time_type mtime;
+        SpectralTable table;
+    };
+    static std::mutex mutex;
+    static std::map<std::pair<std::string, size_t>, Entry> cache;
+    std::error_code sizeError, timeError;
+    const uintmax_t size = std::filesystem::file_size(path, sizeError);
+    const auto mtime = std::filesystem::last_write_time(path, timeError);
+    const bool cacheable = !sizeError && !timeError && std::filesystem::is_regular_file(path, sizeError);
+    std::error_code ec;
+    const std::pair<std::string, size_t> key{std::filesystem::absolute(path, ec).string(), minColumns};
+    if (cacheable) {
+        std::lock_guard<std::mutex> lock(mutex);
+        const auto it = cache.find(key);
+        if (it != cache.end() && it->second.size == size && it->second.mtime == mtime) return it->second.table;
+    }
+    SpectralTable t = parseSpectralTable(path, minColumns);
+    if (cacheable) {
+        std::lock_guard<std::mutex> lock(mutex);
+        cache[key] = Entry{size, mtime, t};
+    }
     return t;
 }
 

@@ -1,5 +1,6 @@
 #include "vk/context.h"
 
+#include "vk/device_objects.h"
 #include "vk/pipeline_cache.h"
 
 #include <algorithm>
@@ -287,6 +288,7 @@ Context::Context(const ContextOptions& options) {
         pci.queueFamilyIndex = queueFamily_;
         VK_CHECK(vkCreateCommandPool(device_, &pci, nullptr, &commandPool_));
         pipelineCache_ = std::make_unique<PipelineCache>(device_, properties_, options.pipelineCacheFolder);
+        objects_ = std::make_unique<DeviceObjects>(device_);
         if (options.verbose && !pipelineCache_->file().empty())
             std::fprintf(stderr, "metamer: pipeline cache %s (%zu bytes read%s)\n", pipelineCache_->file().c_str(),
                          pipelineCache_->loadedBytes(),
@@ -306,6 +308,7 @@ VkPipelineCache Context::pipelineCache() const { return pipelineCache_ ? pipelin
 void Context::release() {
     if (device_) {
         vkDeviceWaitIdle(device_);
+        objects_.reset();        // every pass is gone: what the cache holds is destroyed here
         pipelineCache_.reset();  // written back to disk here
         if (commandPool_) vkDestroyCommandPool(device_, commandPool_, nullptr);
         vkDestroyDevice(device_, nullptr);  // the layers report leaked children here

@@ -19,6 +19,7 @@
 namespace metamer::vk {
 
 class PipelineCache;
+class DeviceObjects;
 
 struct ContextOptions {
     // Enable VK_LAYER_KHRONOS_validation. Default: on when METAMER_VALIDATION=1.
@@ -76,6 +77,9 @@ public:
     // The pipeline cache every pipeline is made with (kept on disk: vk/pipeline_cache.h).
     VkPipelineCache pipelineCache() const;
     const PipelineCache& pipelineCacheFile() const { return *pipelineCache_; }
+    // Render passes, layouts and pipelines shared by every pass made with this context
+    // (vk/device_objects.h).
+    DeviceObjects& objects() { return *objects_; }
 
     // Validation errors reported so far (the count includes leak reports at destruction, which
     // the owner can only observe through validationErrorsAtExit()).
@@ -115,6 +119,7 @@ private:
     uint32_t presentFamily_ = 0;
     VkCommandPool commandPool_ = VK_NULL_HANDLE;
     std::unique_ptr<PipelineCache> pipelineCache_;
+    std::unique_ptr<DeviceObjects> objects_;
     VkPhysicalDeviceProperties properties_{};
     VkPhysicalDeviceMemoryProperties memory_{};
     DeviceInfo info_;
