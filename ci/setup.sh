@@ -16,7 +16,7 @@ packages=(
   libgtest-dev libssl-dev
   slurmctld slurmd slurm-client munge
   clang libclang-rt-14-dev
-  python3 python3-venv python3-pip python3-openimageio python3-numpy
+  python3 python3-venv python3-pip python3-openimageio python3-numpy python3-pandas
 )
 
 missing=()

@@ -178,6 +178,16 @@ TEST(BatchCli, ShardsUnderXargsGiveTheSameDatasetAsOneRun) {
                            (dir / "sharded").string() + " -q && " + m + " batch --index " + (dir / "sharded").string());
     ASSERT_EQ(r.code, 0) << r.output;
     EXPECT_NE(r.output.find("index: 8 job records (8 done, 0 failed)"), std::string::npos) << r.output;
+    // The index loads in one line with pandas, CSV and JSON alike (Debian's python3-pandas).
+    test::CliRun pandas = shell(
+        "/usr/bin/python3 -c \"import pandas as pd, sys; d = pd.read_csv(sys.argv[1] + '/index.csv'); "
+        "j = pd.read_json(sys.argv[1] + '/index.json'); "
+        "assert len(d) == 8 and (d.status == 'done').all() and list(d.id) == list(j.id), d; "
+        "assert set(d['set:lights.1.spectrum']) == {'illuminants/D65', 'illuminants/A', 'illuminants/FL2', 'illuminants/D50'}; "
+        "print('pandas', d.shape, j.shape, d.groupby('detector').ms_job.median().size)\" " +
+        (dir / "sharded").string());
+    EXPECT_EQ(pandas.code, 0) << pandas.output;
+    EXPECT_NE(pandas.output.find("pandas (8, "), std::string::npos) << pandas.output;
     const std::vector<std::string> a = lines(dir / "whole" / "index.csv"), b = lines(dir / "sharded" / "index.csv");
     ASSERT_EQ(a.size(), 9u);
     ASSERT_EQ(b.size(), 9u);
