@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # metamer batch on a real Slurm (docs/batch.md, "Slurm"): starts a single-node cluster (munged,
 # slurmctld, slurmd from Debian, in a temporary folder, recipe of shared/notes/slurm.md), writes a
-# 24-job sweep's job array with `metamer batch --slurm --tasks 4`, submits it, cancels one array
+# 48-job sweep's job array with `metamer batch --slurm --tasks 4`, submits it, cancels one array
 # task mid-run, checks that what it left is whole, resubmits, checks that only the missing jobs
 # were rendered, and compares the merged index and every output file, byte for byte, with a local
 # `metamer batch` of the same sweep. Every daemon it started is stopped by its PID, whatever the
@@ -110,20 +110,22 @@ wait_jobs() {
 }
 records() { find "$W/data/$1" -name job.json 2>/dev/null | wc -l; }
 
-# --- the sweep: 12 lights × 2 detectors = 24 jobs, a cube and a PNG each
+# --- the sweep: 12 lights × 2 detectors × 2 adaptations = 48 jobs, a cube and a PNG each (12 a
+# task: long enough for task 1 to be cancelled while it runs)
 lights='"illuminants/D65","illuminants/A","illuminants/FL2","illuminants/D50","illuminants/E","illuminants/FL11","illuminants/FL1","illuminants/FL3","illuminants/FL4","illuminants/FL5","illuminants/FL6","illuminants/FL7"'
 cat > "$W/data/sweep.json" <<EOF
-{"scenes": ["$src/tests/data/cli/small.json"], "render": {"write": "cube,png", "size": "192x128"},
+{"scenes": ["$src/tests/data/cli/small.json"], "render": {"write": "cube,png", "size": "256x192"},
  "axes": [{"name": "light", "set": "lights.1.spectrum", "values": [$lights]},
-          {"render": "detector", "values": ["cie1931", "cie1964"]}]}
+          {"render": "detector", "values": ["cie1931", "cie1964"]},
+          {"render": "adapt", "values": ["bradford", "cat16"]}]}
 EOF
 "$metamer" batch "$W/data/sweep.json" --out "$W/data/local" -q > "$W/log/local.out" 2>&1 || fail "the local batch failed: $(cat "$W/log/local.out")"
-[ "$(records local)" = 24 ] || fail "the local batch recorded $(records local) jobs, not 24"
+[ "$(records local)" = 48 ] || fail "the local batch recorded $(records local) jobs, not 48"
 
 # --- the array: 4 tasks, one cancelled mid-run
 "$metamer" batch "$W/data/sweep.json" --out "$W/data/cluster" --slurm --tasks 4 > "$W/log/slurm-write.out" 2>&1 \
   || fail "metamer batch --slurm failed: $(cat "$W/log/slurm-write.out")"
-grep -q "24 jobs, all valid, in 4 array tasks" "$W/log/slurm-write.out" || fail "unexpected: $(cat "$W/log/slurm-write.out")"
+grep -q "48 jobs, all valid, in 4 array tasks" "$W/log/slurm-write.out" || fail "unexpected: $(cat "$W/log/slurm-write.out")"
 t0=$SECONDS
 ids=$(sh "$W/data/cluster/slurm/submit.sh") || fail "submit.sh failed: $ids"
 array=$(echo "$ids" | awk '{print $2}')
@@ -132,13 +134,13 @@ echo "slurm_test: submitted array $array (4 tasks) and index $index"
 # Cancel task 1 once it has recorded its first job.
 for _ in $(seq 1 600); do
   grep -l '"shard": "1/4"' "$W"/data/cluster/*/job.json >/dev/null 2>&1 && break
-  sleep 0.05
+  sleep 0.02
 done
 scancel "${array}_1" || fail "scancel ${array}_1 failed"
 wait_jobs "$array,$index" 300
 first=$(records cluster)
-echo "slurm_test: first submission: $first of 24 jobs recorded in $((SECONDS - t0)) s (task 1 cancelled)"
-[ "$first" -lt 24 ] || fail "task 1 finished before it was cancelled: nothing left to resume"
+echo "slurm_test: first submission: $first of 48 jobs recorded in $((SECONDS - t0)) s (task 1 cancelled)"
+[ "$first" -lt 48 ] || fail "task 1 finished before it was cancelled: nothing left to resume"
 [ "$first" -ge 1 ] || fail "nothing was recorded"
 state=$(scontrol -o show job "${array}_1" | grep -o 'JobState=[A-Z]*')
 [ "$state" = "JobState=CANCELLED" ] || fail "task 1 is $state, not cancelled"
@@ -160,7 +162,7 @@ for task in 0 1 2 3; do
   rendered=$((rendered + $(echo "$line" | awk '{print $1}')))
   echo "$line" | grep -q ' 0 failed' || fail "task $task: $line"
 done
-[ "$rendered" -eq $((24 - first)) ] || fail "the resubmission rendered $rendered jobs; $((24 - first)) were missing"
+[ "$rendered" -eq $((48 - first)) ] || fail "the resubmission rendered $rendered jobs; $((48 - first)) were missing"
 for task in 0 1 2 3; do
   state=$(scontrol -o show job "${array2}_${task}" | grep -o 'JobState=[A-Z]*')
   [ "$state" = "JobState=COMPLETED" ] || fail "resubmitted task $task is $state"
@@ -171,7 +173,7 @@ done
 cut -d, -f1,2 "$W/data/local/index.csv" > "$W/log/local-ids"
 cut -d, -f1,2 "$W/data/cluster/index.csv" > "$W/log/cluster-ids"
 cmp -s "$W/log/local-ids" "$W/log/cluster-ids" || fail "the indexes list different jobs: $(diff "$W/log/local-ids" "$W/log/cluster-ids")"
-[ "$(grep -c ',done,' "$W/data/cluster/index.csv")" = 24 ] || fail "not every job is done in the index"
+[ "$(grep -c ',done,' "$W/data/cluster/index.csv")" = 48 ] || fail "not every job is done in the index"
 files=0
 while read -r id; do
   for f in small.exr small.png; do
@@ -179,5 +181,5 @@ while read -r id; do
     files=$((files + 1))
   done
 done < <(tail -n +2 "$W/data/local/index.csv" | cut -d, -f1)
-echo "slurm_test: PASS: 24 jobs in 4 array tasks; task 1 cancelled after $first jobs were recorded; the resubmission rendered the $rendered missing; index and $files files equal to the local batch's"
+echo "slurm_test: PASS: 48 jobs in 4 array tasks; task 1 cancelled after $first jobs were recorded; the resubmission rendered the $rendered missing; index and $files files equal to the local batch's"
 exit 0
