@@ -135,8 +135,8 @@ TEST(BatchCli, AKilledBatchResumesWithNothingPartialLeftAndRendersOnlyTheMissing
     for (const char* signal : {"KILL", "TERM"}) {
         SCOPED_TRACE(signal);
         const fs::path dir = freshDir(std::string("killed-") + signal);
-        // 16 jobs of a cube and a PNG at 160×120 × 89 bands: long enough to be killed mid-way.
-        const fs::path sweep = writeSweep(dir, R"({"write": "cube,png", "size": "160x120"})", 8);
+        // 16 jobs of a cube and a PNG at 256×192 × 89 bands: long enough to be killed mid-way.
+        const fs::path sweep = writeSweep(dir, R"({"write": "cube,png", "size": "256x192"})", 8);
         const fs::path out = dir / "out";
         const std::string cmd = std::string(METAMER_BINARY) + " batch " + sweep.string() + " --out " + out.string() +
                                 " -q > " + (dir / "log").string() + " 2>&1";
