@@ -16,7 +16,7 @@ packages=(
   libgtest-dev libssl-dev
   slurmctld slurmd slurm-client munge
   clang libclang-rt-14-dev
-  python3 python3-venv python3-pip python3-openimageio python3-numpy python3-pandas
+  python3 python3-venv python3-pip python3-openimageio python3-numpy
 )
 
 missing=()
@@ -30,12 +30,17 @@ if ((${#missing[@]})); then
 fi
 
 # Debian's python3 sees python3-openimageio; the venv inherits it (--system-site-packages) and
-# adds colour-science from PyPI, pinned so the oracle does not move under the tests.
+# adds colour-science from PyPI, pinned so the oracle does not move under the tests, and pandas
+# (the reader the batch index is tested with; Debian's python3-pandas is built for Debian's numpy,
+# not the venv's, and would break colour-science's import).
 venv="$here/.venv"
 if [ ! -x "$venv/bin/python" ]; then
   /usr/bin/python3 -m venv --system-site-packages "$venv"
 fi
 if ! "$venv/bin/python" -c "import colour" 2>/dev/null; then
   "$venv/bin/pip" install --quiet --disable-pip-version-check "colour-science==0.4.7"
+fi
+if ! "$venv/bin/python" -c "import pandas" 2>/dev/null; then
+  "$venv/bin/pip" install --quiet --disable-pip-version-check "pandas==2.2.3"
 fi
 echo "metamer: set-up complete"
