@@ -40,7 +40,7 @@ fi
 if ! "$venv/bin/python" -c "import colour" 2>/dev/null; then
   "$venv/bin/pip" install --quiet --disable-pip-version-check "colour-science==0.4.7"
 fi
-if ! "$venv/bin/python" -c "import pandas" 2>/dev/null; then
+if ! "$venv/bin/python" -c "from pandas import Series" 2>/dev/null; then
   "$venv/bin/pip" install --quiet --disable-pip-version-check "pandas==2.2.3"
 fi
 echo "metamer: set-up complete"
