@@ -118,10 +118,10 @@ int runBatchCommand(const BatchArgs& a) {
         for (size_t p : positions) {
             const ResolvedJob j = resolveJob(sweep, p, o.out);
             const std::optional<JobRecord> r = readJobRecord(j.render.outDir);
-            const char* status = !r || r->digest != j.digest ? "to render"
-                                 : r->status == JobStatus::Done ? "done"
-                                                                : "failed";
-            (!r || r->digest != j.digest ? todo : r->status == JobStatus::Done ? done : failed)++;
+            const bool fresh = !r || r->digest != j.digest;
+            const bool isDone = !fresh && r->status == JobStatus::Done;
+            const char* status = fresh ? "to render" : isDone ? "done" : "failed";
+            (fresh ? todo : isDone ? done : failed)++;
             if (a.list) std::printf("%s\t%s\t%s\n", j.id.c_str(), status, sweep.jobs[p].origin.c_str());
         }
         std::fprintf(a.list ? stderr : stdout, "%s: %zu jobs%s, all valid: %zu done, %zu failed, %zu to render, in %s\n",

@@ -1,5 +1,6 @@
 #include "batch/batch.h"
 
+#include "core/csv_text.h"
 #include "core/file_reads.h"
 #include "core/statistics.h"
 #include "core/timing.h"
@@ -88,27 +89,6 @@ std::string hostName() {
 std::string utcNow() {
     const auto now = std::chrono::system_clock::now();
     return fmt::format("{:%Y-%m-%dT%H:%M:%SZ}", fmt::gmtime(std::chrono::system_clock::to_time_t(now)));
-}
-
-// Writes `doc` to `path` through a temporary file and a rename: readers see the old file or the new.
-void writeJsonAtomically(const fs::path& path, const Json& doc) {
-    AtomicOutput out(path);
-    {
-        std::ofstream f(out.tempPath());
-        f << doc.dump(2) << "\n";
-        if (!f) failRuntime("cannot write {}", path.string());
-    }
-    out.commit();
-}
-
-void writeTextAtomically(const fs::path& path, const std::string& text) {
-    AtomicOutput out(path);
-    {
-        std::ofstream f(out.tempPath(), std::ios::binary);
-        f << text;
-        if (!f) failRuntime("cannot write {}", path.string());
-    }
-    out.commit();
 }
 
 // Temporary files a killed process left in a job's folder (io/atomic_file's ".NAME.tmp-PID-N").
@@ -317,7 +297,7 @@ BatchSummary runBatch(const Sweep& sweep, const BatchOptions& o, vk::Context& co
             }
             rec["finished"] = utcNow();
             try {
-                writeJsonAtomically(folder / kRecordFile, rec);
+                writeFileAtomically(folder / kRecordFile, rec.dump(2) + "\n");
             } catch (const std::exception& e) {
                 // Without a record the job is rendered again next time; the batch goes on.
                 if (rec["status"] == "done") {
@@ -340,13 +320,6 @@ BatchSummary runBatch(const Sweep& sweep, const BatchOptions& o, vk::Context& co
 }
 
 namespace {
-
-std::string csvField(const std::string& s) {
-    if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
-    std::string q = "\"";
-    for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
-    return q + "\"";
-}
 
 std::string cellText(const Json& v) {
     if (v.is_null()) return "";
@@ -374,7 +347,7 @@ IndexSummary writeBatchIndex(const fs::path& dir) {
     for (const auto& e : fs::directory_iterator(dir, ec))
         if (e.is_directory()) folders.push_back(e.path());
     std::sort(folders.begin(), folders.end());
-    std::vector<std::pair<std::string, std::string>> extra;  // settings columns, in first-seen order
+    std::vector<std::string> extra;  // settings and timing columns, in first-seen order
     for (const fs::path& folder : folders) {
         const std::optional<JobRecord> rec = readJobRecord(folder);
         if (!rec) continue;
@@ -393,11 +366,11 @@ IndexSummary writeBatchIndex(const fs::path& dir) {
             const size_t eq = text.find('=');
             const std::string key = "set:" + text.substr(0, eq);
             row[key] = eq == std::string::npos ? "" : text.substr(eq + 1);
-            extra.push_back({key, ""});
+            extra.push_back(key);
         }
         for (const auto& [k, v] : render.items()) {
             row[k] = v.is_array() ? Json(cellText(v)) : v;
-            extra.push_back({k, ""});
+            extra.push_back(k);
         }
         std::vector<std::string> outputs;
         for (const Json& o : j.value("outputs", Json::array()))
@@ -405,7 +378,7 @@ IndexSummary writeBatchIndex(const fs::path& dir) {
         row["outputs"] = fmt::format("{}", fmt::join(outputs, ";"));
         for (const auto& [k, v] : timings.items()) {
             row["ms_" + k] = v;
-            extra.push_back({"ms_" + k, ""});
+            extra.push_back("ms_" + k);
         }
         row["position"] = j.value("position", 0);
         row["host"] = j.value("host", "");
@@ -414,21 +387,21 @@ IndexSummary writeBatchIndex(const fs::path& dir) {
         row["digest"] = rec->digest;
         rows.push_back(std::move(row));
     }
-    for (const auto& [k, unused] : extra) addColumn(k);
+    for (const std::string& k : extra) addColumn(k);
     for (const char* c : {"outputs", "position", "host", "shard", "finished", "digest"}) addColumn(c);
     std::stable_sort(rows.begin(), rows.end(),
                      [](const Json& a, const Json& b) { return a["position"].get<size_t>() < b["position"].get<size_t>(); });
     IndexSummary s;
     s.records = rows.size();
     std::string csv;
-    for (size_t c = 0; c < columns.size(); ++c) csv += (c ? "," : "") + csvField(columns[c]);
+    for (size_t c = 0; c < columns.size(); ++c) csv += (c ? "," : "") + csvQuoted(columns[c]);
     csv += "\n";
     Json json = Json::array();
     for (const Json& row : rows) {
         Json flat = Json::object();
         for (size_t c = 0; c < columns.size(); ++c) {
             const Json v = row.contains(columns[c]) ? row[columns[c]] : Json(nullptr);
-            csv += (c ? "," : "") + csvField(cellText(v));
+            csv += (c ? "," : "") + csvQuoted(cellText(v));
             flat[columns[c]] = v;
         }
         csv += "\n";
@@ -437,8 +410,8 @@ IndexSummary writeBatchIndex(const fs::path& dir) {
     }
     s.csv = dir / "index.csv";
     s.json = dir / "index.json";
-    writeTextAtomically(s.csv, csv);
-    writeJsonAtomically(s.json, json);
+    writeFileAtomically(s.csv, csv);
+    writeFileAtomically(s.json, json.dump(2) + "\n");
     return s;
 }
 

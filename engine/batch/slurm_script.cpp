@@ -6,7 +6,6 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
-#include <fstream>
 
 namespace fs = std::filesystem;
 
@@ -14,16 +13,11 @@ namespace metamer {
 
 namespace {
 
+// Executable by everyone who may read it (sbatch does not need it; a user running submit.sh does).
 void writeScript(const fs::path& path, const std::string& text) {
-    AtomicOutput out(path);
-    {
-        std::ofstream f(out.tempPath(), std::ios::binary);
-        f << text;
-        if (!f) failRuntime("cannot write {}", path.string());
-    }
-    fs::permissions(out.tempPath(), fs::perms::owner_all | fs::perms::group_read | fs::perms::group_exec |
-                                        fs::perms::others_read | fs::perms::others_exec);
-    out.commit();
+    writeFileAtomically(path, text);
+    fs::permissions(path, fs::perms::owner_all | fs::perms::group_read | fs::perms::group_exec | fs::perms::others_read |
+                              fs::perms::others_exec);
 }
 
 std::string header(const SlurmOptions& o, const std::string& name, const std::string& log) {

@@ -1,5 +1,6 @@
 #include "batch/sweep.h"
 
+#include "core/csv_text.h"
 #include "core/json.h"
 #include "io/exr_file.h"
 #include "scene/overrides.h"
@@ -288,33 +289,6 @@ Sweep readManifestJsonl(const fs::path& file, Sweep sweep) {
     return sweep;
 }
 
-// One CSV record: fields split at commas outside double quotes ("" inside quotes is a quote).
-std::vector<std::string> csvFields(const std::string& line, const Where& where) {
-    std::vector<std::string> f(1);
-    bool quoted = false;
-    for (size_t i = 0; i < line.size(); ++i) {
-        const char c = line[i];
-        if (quoted) {
-            if (c == '"' && i + 1 < line.size() && line[i + 1] == '"') {
-                f.back() += '"';
-                ++i;
-            } else if (c == '"') {
-                quoted = false;
-            } else {
-                f.back() += c;
-            }
-        } else if (c == '"') {
-            quoted = true;
-        } else if (c == ',') {
-            f.emplace_back();
-        } else if (c != '\r') {
-            f.back() += c;
-        }
-    }
-    if (quoted) failInput(where, "a quoted field is not closed on this line");
-    return f;
-}
-
 // A CSV cell as the JSON value of a render setting of that key's type.
 Json cellValue(const std::string& key, const std::string& text, const Where& where) {
     const RenderKey* k = findRenderKey(key);
@@ -343,7 +317,7 @@ Sweep readManifestCsv(const fs::path& file, Sweep sweep) {
     int n = 0;
     while (header.empty() && std::getline(in, line)) {
         ++n;
-        if (line.find_first_not_of(" \t\r") != std::string::npos) header = csvFields(line, Where{file.string(), "", n});
+        if (line.find_first_not_of(" \t\r") != std::string::npos) header = splitCsvRecord(line, Where{file.string(), "", n});
     }
     const Where headerWhere{file.string(), "", n};
     if (header.empty()) failInput(Where{file.string()}, "no header line: expected scene,set:KEY,...,detector,...");
@@ -365,7 +339,7 @@ Sweep readManifestCsv(const fs::path& file, Sweep sweep) {
         ++n;
         if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
         const Where where{file.string(), "", n};
-        const std::vector<std::string> f = csvFields(line, where);
+        const std::vector<std::string> f = splitCsvRecord(line, where);
         if (f.size() != header.size())
             failInput(where, "{} fields where the header has {} columns", f.size(), header.size());
         SweepJob j;

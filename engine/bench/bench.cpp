@@ -3,6 +3,7 @@
 #include "color/delta_e.h"
 #include "color/lab.h"
 #include "color/tonemap.h"
+#include "core/csv_text.h"
 #include "core/json.h"
 #include "core/statistics.h"
 #include "core/timing.h"
@@ -206,22 +207,7 @@ double spectralRmseRelative(const SpectralCube& cube, const Reference& ref) {
 
 std::string fmtNumber(double v) { return std::isfinite(v) ? fmt::format("{:.6g}", v) : ""; }
 
-std::string csvField(const std::string& s) {
-    if (s.find_first_of(",\"\n") == std::string::npos) return s;
-    std::string q = "\"";
-    for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
-    return q + "\"";
-}
 
-
-void writeText(const std::filesystem::path& path, const std::string& text) {
-    AtomicOutput out(path);
-    std::ofstream f(out.tempPath(), std::ios::binary);
-    f << text;
-    f.close();
-    if (!f) failRuntime("cannot write '{}'", path.string());
-    out.commit();
-}
 
 }  // namespace
 
@@ -380,9 +366,9 @@ void writeBenchCsv(const std::filesystem::path& path, const BenchResult& r) {
                          fmtNumber(row.renderMsFirst), fmtNumber(row.cubeMsMedian), fmtNumber(row.runMs),
                          fmtNumber(row.de2000Mean),
                          fmtNumber(row.de2000P95), fmtNumber(row.de2000Max), fmtNumber(row.spectralRmseRelative),
-                         csvField(row.skippedReason));
+                         csvQuoted(row.skippedReason));
     }
-    writeText(path, s);
+    writeFileAtomically(path, s);
 }
 
 void writeBenchJson(const std::filesystem::path& path, const BenchResult& r) {
@@ -427,7 +413,7 @@ void writeBenchJson(const std::filesystem::path& path, const BenchResult& r) {
     }
     j["rows"] = std::move(rows);
     j["pareto_front"] = front;
-    writeText(path, j.dump(2) + "\n");
+    writeFileAtomically(path, j.dump(2) + "\n");
 }
 
 }  // namespace metamer

@@ -473,14 +473,7 @@ void writeStatsJson(const fs::path& path, const CompareStats& stats, const nlohm
     nlohmann::json j = statsToJson(stats);
     if (extra.is_object())
         for (const auto& [key, value] : extra.items()) j[key] = value;
-    AtomicOutput out(path);
-    {
-        std::ofstream file(out.tempPath());
-        file << j.dump(2) << '\n';
-        file.flush();
-        if (!file) failRuntime("cannot write '{}': write failed", path.string());
-    }
-    out.commit();
+    writeFileAtomically(path, j.dump(2) + "\n");
 }
 
 }  // namespace metamer

@@ -6,6 +6,7 @@
 #include <cerrno>
 #include <cstring>
 #include <fcntl.h>
+#include <fstream>
 #include <unistd.h>
 
 namespace fs = std::filesystem;
@@ -105,6 +106,17 @@ int liveTempFileCount() noexcept {
     for (int i = 0; i < kSlots; ++i)
         if (g_slots[i].state.load(std::memory_order_acquire) == Live) ++n;
     return n;
+}
+
+void writeFileAtomically(const fs::path& path, const std::string& bytes) {
+    AtomicOutput out(path);
+    {
+        std::ofstream f(out.tempPath(), std::ios::binary);
+        f << bytes;
+        f.close();
+        if (!f) failRuntime("cannot write '{}': write failed", path.string());
+    }
+    out.commit();
 }
 
 }  // namespace metamer

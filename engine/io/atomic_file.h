@@ -4,6 +4,7 @@
 #pragma once
 
 #include <filesystem>
+#include <string>
 
 namespace metamer {
 
@@ -35,6 +36,10 @@ private:
     int slot_ = -1;  // index in the live-temp registry, -1 when not registered
     bool committed_ = false;
 };
+
+// Writes `bytes` to `path` through an AtomicOutput: readers see the old file or the whole new one.
+// Errors name the path.
+void writeFileAtomically(const std::filesystem::path& path, const std::string& bytes);
 
 // Unlinks every temporary file of a live AtomicOutput. Async-signal-safe (reads a fixed
 // registry and calls only unlink()), for SIGINT/SIGTERM handlers; the process should exit next.

@@ -216,11 +216,7 @@ void SpectralResources::createLayouts() {
     sl.bindingCount = kBindings;
     sl.pBindings = bindings;
     vk::DeviceObjects& objects = ctx.objects();
-    setLayout = objects.setLayout("spectral.set", [&] {
-        VkDescriptorSetLayout handle = VK_NULL_HANDLE;
-        VK_CHECK(vkCreateDescriptorSetLayout(d, &sl, nullptr, &handle));
-        return handle;
-    });
+    setLayout = objects.setLayout("spectral.set", sl);
     VkPushConstantRange range{VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
                               sizeof(gpu::SpectralPushConstants)};
     VkDescriptorSetLayoutBinding textureBindings[TEXTURE_BINDINGS];
@@ -229,25 +225,14 @@ void SpectralResources::createLayouts() {
     VkDescriptorSetLayoutCreateInfo tl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
     tl.bindingCount = TEXTURE_BINDINGS;
     tl.pBindings = textureBindings;
-    textureSetLayout = objects.setLayout("spectral.textures", [&] {
-        VkDescriptorSetLayout handle = VK_NULL_HANDLE;
-        VK_CHECK(vkCreateDescriptorSetLayout(d, &tl, nullptr, &handle));
-        return handle;
-    });
+    textureSetLayout = objects.setLayout("spectral.textures", tl);
     VkDescriptorSetLayout layouts[2] = {setLayout.get(), textureSetLayout.get()};
     VkPipelineLayoutCreateInfo pl{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
     pl.setLayoutCount = 2;
     pl.pSetLayouts = layouts;
     pl.pushConstantRangeCount = 1;
     pl.pPushConstantRanges = &range;
-    pipelineLayout = objects.pipelineLayout(
-        "spectral.layout",
-        [&] {
-            VkPipelineLayout layout = VK_NULL_HANDLE;
-            VK_CHECK(vkCreatePipelineLayout(d, &pl, nullptr, &layout));
-            return layout;
-        },
-        {setLayout, textureSetLayout});
+    pipelineLayout = objects.pipelineLayout("spectral.layout", pl, {setLayout, textureSetLayout});
 
     const uint32_t materialCount = uint32_t(std::max<size_t>(1, scene.materials.size()));
     VkDescriptorPoolSize sizes[3] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1},
@@ -384,11 +369,7 @@ VkRenderPass SpectralResources::makeRenderPass(uint32_t attachments, bool clears
     renderPasses.push_back(ctx.objects().renderPass(
         fmt::format("spectral.pass attachments={} clearsDepth={} mapped={}", attachments, clearsDepth,
                     plan.mappedReadback),
-        [&] {
-            VkRenderPass r = VK_NULL_HANDLE;
-            VK_CHECK(vkCreateRenderPass(ctx.device(), &rp, nullptr, &r));
-            return r;
-        }));
+        rp));
     return renderPasses.back().get();
 }
 

@@ -137,23 +137,12 @@ struct TonemapPass::Impl {
         sl.bindingCount = 3;
         sl.pBindings = b;
         vk::DeviceObjects& objects = ctx.objects();
-        setLayout = objects.setLayout("tonemap.set", [&] {
-            VkDescriptorSetLayout h = VK_NULL_HANDLE;
-            VK_CHECK(vkCreateDescriptorSetLayout(d, &sl, nullptr, &h));
-            return h;
-        });
+        setLayout = objects.setLayout("tonemap.set", sl);
         const VkDescriptorSetLayout layout = setLayout.get();
         VkPipelineLayoutCreateInfo pl{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
         pl.setLayoutCount = 1;
         pl.pSetLayouts = &layout;
-        pipelineLayout = objects.pipelineLayout(
-            "tonemap.layout",
-            [&] {
-                VkPipelineLayout h = VK_NULL_HANDLE;
-                VK_CHECK(vkCreatePipelineLayout(d, &pl, nullptr, &h));
-                return h;
-            },
-            {setLayout});
+        pipelineLayout = objects.pipelineLayout("tonemap.layout", pl, {setLayout});
 
         VkDescriptorPoolSize sizes[3] = {{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1},
                                          {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1},
@@ -206,11 +195,7 @@ struct TonemapPass::Impl {
         rp.pAttachments = att;
         rp.subpassCount = 1;
         rp.pSubpasses = &sub;
-        renderPass = objects.renderPass("tonemap.pass", [&] {
-            VkRenderPass h = VK_NULL_HANDLE;
-            VK_CHECK(vkCreateRenderPass(d, &rp, nullptr, &h));
-            return h;
-        });
+        renderPass = objects.renderPass("tonemap.pass", rp);
         VkImageView views[kAttachments];
         for (uint32_t i = 0; i < kAttachments; ++i) views[i] = targets[i].layerView(0);
         VkFramebufferCreateInfo fb{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};

@@ -63,6 +63,35 @@ SharedHandle<VkPipeline> DeviceObjects::pipeline(const std::string& key, const s
     return get(pipelines_, key, make, vkDestroyPipeline, std::move(uses));
 }
 
+SharedHandle<VkRenderPass> DeviceObjects::renderPass(const std::string& key, const VkRenderPassCreateInfo& info) {
+    return renderPass(key, [&] {
+        VkRenderPass h = VK_NULL_HANDLE;
+        VK_CHECK(vkCreateRenderPass(device_, &info, nullptr, &h));
+        return h;
+    });
+}
+
+SharedHandle<VkDescriptorSetLayout> DeviceObjects::setLayout(const std::string& key,
+                                                             const VkDescriptorSetLayoutCreateInfo& info) {
+    return setLayout(key, [&] {
+        VkDescriptorSetLayout h = VK_NULL_HANDLE;
+        VK_CHECK(vkCreateDescriptorSetLayout(device_, &info, nullptr, &h));
+        return h;
+    });
+}
+
+SharedHandle<VkPipelineLayout> DeviceObjects::pipelineLayout(const std::string& key, const VkPipelineLayoutCreateInfo& info,
+                                                             std::vector<std::shared_ptr<void>> uses) {
+    return pipelineLayout(
+        key,
+        [&] {
+            VkPipelineLayout h = VK_NULL_HANDLE;
+            VK_CHECK(vkCreatePipelineLayout(device_, &info, nullptr, &h));
+            return h;
+        },
+        std::move(uses));
+}
+
 std::string keyBytes(const void* data, size_t size) {
     std::string s;
     const auto* b = static_cast<const unsigned char*>(data);

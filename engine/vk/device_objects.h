@@ -36,6 +36,11 @@ public:
                                                   const std::function<VkDescriptorSetLayout()>& make);
     SharedHandle<VkPipelineLayout> pipelineLayout(const std::string& key, const std::function<VkPipelineLayout()>& make,
                                                   std::vector<std::shared_ptr<void>> uses);
+    // The same, made from a create-info (the usual caller: `info` describes what the key names).
+    SharedHandle<VkRenderPass> renderPass(const std::string& key, const VkRenderPassCreateInfo& info);
+    SharedHandle<VkDescriptorSetLayout> setLayout(const std::string& key, const VkDescriptorSetLayoutCreateInfo& info);
+    SharedHandle<VkPipelineLayout> pipelineLayout(const std::string& key, const VkPipelineLayoutCreateInfo& info,
+                                                  std::vector<std::shared_ptr<void>> uses);
     // `uses`: what the pipeline was made with (its layout, render pass), kept alive as long as it is.
     SharedHandle<VkPipeline> pipeline(const std::string& key, const std::function<VkPipeline()>& make,
                                       std::vector<std::shared_ptr<void>> uses);
