@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets (fuzz/) with clang in build-fuzz/ and runs each for a bounded time,
-# both at once (one core each), starting from the committed seed corpus in fuzz/corpus/<target>/.
+# all at once (one process each), starting from the committed seed corpus in fuzz/corpus/<target>/.
 # Exits non-zero on a finding: a crash, a sanitizer report (ASan, UBSan), an exception other than
 # metamer::Error, a hang (> 10 s on one input) or more than 2 GiB of memory. The input that did it is
 # kept under build-fuzz/findings/ and printed in the log; reproduce with
@@ -12,7 +12,7 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 seconds="${1:-${METAMER_FUZZ_SECONDS:-60}}"
 shift || true
 targets=("$@")
-((${#targets[@]})) || targets=(scene spectrum)
+((${#targets[@]})) || targets=(scene spectrum envi_header)
 build="$here/build-fuzz"
 
 mkdir -p "$build"

@@ -13,10 +13,10 @@ packages=(
   libglm-dev libeigen3-dev libfmt-dev nlohmann-json3-dev libcli11-dev libtinygltf-dev
   libopenexr-dev libpng-dev libopenimageio-dev openimageio-tools
   libglfw3-dev libimgui-dev xvfb fonts-dejavu-core
-  libgtest-dev libssl-dev
+  libgtest-dev libssl-dev libhdf5-dev pybind11-dev
   slurmctld slurmd slurm-client munge
   clang libclang-rt-14-dev
-  python3 python3-venv python3-pip python3-openimageio python3-numpy
+  python3 python3-dev python3-venv python3-pip python3-openimageio python3-numpy python3-pytest
 )
 
 missing=()
@@ -37,10 +37,20 @@ venv="$here/.venv"
 if [ ! -x "$venv/bin/python" ]; then
   /usr/bin/python3 -m venv --system-site-packages "$venv"
 fi
+# h5py and Spectral Python are the readers the HDF5 and ENVI outputs are tested with (Debian's
+# python3-h5py is built for Debian's numpy, as pandas is). numpy is pinned so the oracle's and the
+# readers' numpy is the one the tests were written against.
+pip_in_venv=("$venv/bin/pip" install --quiet --disable-pip-version-check)
+if ! "$venv/bin/python" -c "import numpy; assert numpy.__version__ == '2.2.6'" 2>/dev/null; then
+  "${pip_in_venv[@]}" "numpy==2.2.6"
+fi
 if ! "$venv/bin/python" -c "import colour" 2>/dev/null; then
-  "$venv/bin/pip" install --quiet --disable-pip-version-check "colour-science==0.4.7"
+  "${pip_in_venv[@]}" "colour-science==0.4.7" "numpy==2.2.6"
 fi
 if ! "$venv/bin/python" -c "from pandas import Series" 2>/dev/null; then
-  "$venv/bin/pip" install --quiet --disable-pip-version-check "pandas==2.2.3"
+  "${pip_in_venv[@]}" "pandas==2.2.3" "numpy==2.2.6"
+fi
+if ! "$venv/bin/python" -c "import h5py, spectral" 2>/dev/null; then
+  "${pip_in_venv[@]}" "h5py==3.13.0" "spectral==0.24" "numpy==2.2.6"
 fi
 echo "metamer: set-up complete"

@@ -19,7 +19,6 @@ namespace metamer {
 namespace {
 
 // The CIE 1931 observer's data: a cube reaching into them has a colour to compare.
-constexpr double kVisibleLo = 360.0, kVisibleHi = 830.0;
 constexpr size_t kWorstBands = 5;
 
 std::string describe(const ImageData& d) {
@@ -148,29 +147,16 @@ int runCompare(const CompareArgs& args) {
     ImageData a = readComparable(args.a);
     ImageData b = readComparable(args.b);
 
-    CompareOptions options;
-    if (tolerance) applyTolerance(*tolerance, options);
-    if (args.pixelThreshold >= 0.0) options.pixelThreshold = args.pixelThreshold;
-    if (args.relativeFloor >= 0.0) options.relativeFloor = args.relativeFloor;
-    options.resample = args.resample;
+    CompareRequest request;
+    if (args.pixelThreshold >= 0.0) request.pixelThreshold = args.pixelThreshold;
+    if (args.relativeFloor >= 0.0) request.relativeFloor = args.relativeFloor;
+    request.resample = args.resample;
+    request.detector = args.detector;
+    request.adapt = args.adapt;
+    request.display = args.display;
+    request.noDeltaE = args.noDeltaE;
+    CompareOptions options = makeCompareOptions(request, b, tolerance ? &*tolerance : nullptr);
     if (!args.mask.empty()) options.mask = readMask(args.mask, b.width, b.height);
-    // ΔE2000 by default where there is a colour to see; on request (flags, a ΔE limit) always, so
-    // that an unusable request is an error rather than a silent omission.
-    bool requested = explicitDeltaE || (tolerance && tolerance->wantsDeltaE());
-    bool visible = b.grid && b.grid->start_nm <= kVisibleHi && b.grid->end_nm >= kVisibleLo;
-    if (visible && !requested && !args.noDeltaE && !SpectrumLibrary().contains(kCie1931Observer)) {
-        // Only a default: a comparison of radiance does not need the spectra library.
-        warn(Where{}, fmt::format("no ΔE2000: the spectra library at {} has no {}",
-                                  SpectrumLibrary::defaultRoot().string(), kCie1931Observer));
-        visible = false;
-    }
-    if (!args.noDeltaE && (requested || visible)) {
-        TonemapSettings settings;
-        if (!args.detector.empty()) settings.detector = args.detector;
-        if (!args.adapt.empty()) settings.adaptation = parseAdaptation(args.adapt, Where{"", "--adapt"});
-        if (!args.display.empty()) settings.display = args.display;
-        options.display = settings;
-    }
 
     CompareStats stats = compareImages(a, b, options);
     if (args.quiet) printOneLine(stats);

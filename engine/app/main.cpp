@@ -40,33 +40,7 @@ extern "C" void onSignal(int sig) {
     _exit(128 + sig);
 }
 
-// Messages quote what the user's files contain (a binary file named .csv, a JSON string with
-// invalid UTF-8, a line with a carriage return): keep the error one printable line by writing
-// control characters and bytes that are not UTF-8 as \xNN.
-std::string printable(const std::string& s) {
-    std::string out;
-    for (size_t i = 0; i < s.size();) {
-        auto c = static_cast<unsigned char>(s[i]);
-        if (c >= 0x20 && c < 0x7f) {
-            out += char(c);
-            ++i;
-            continue;
-        }
-        size_t n = c >= 0xc2 && c <= 0xdf ? 2 : c >= 0xe0 && c <= 0xef ? 3 : c >= 0xf0 && c <= 0xf4 ? 4 : 0;
-        bool valid = n > 0 && i + n <= s.size();
-        for (size_t k = 1; valid && k < n; ++k) valid = (static_cast<unsigned char>(s[i + k]) & 0xc0) == 0x80;
-        if (valid) {
-            out.append(s, i, n);
-            i += n;
-        } else {
-            out += fmt::format("\\x{:02x}", c);
-            ++i;
-        }
-    }
-    return out;
-}
-
-void printError(const std::string& message) { std::fprintf(stderr, "metamer: %s\n", printable(message).c_str()); }
+void printError(const std::string& message) { std::fprintf(stderr, "metamer: %s\n", printableMessage(message).c_str()); }
 
 void printTimings(const RenderJobResult& r) {
     const StageTimings& t = r.timings;
@@ -178,6 +152,10 @@ int main(int argc, char** argv) {
     render->add_option("--xyz", xyz, "XYZ output scale: relative (white Y = 100) or absolute (cd/m²)");
     render->add_option("--write", write, "outputs, comma-separated: cube, png, xyz, responses, edges (default cube,png)")
         ->delimiter(',');
+    std::vector<std::string> format;
+    render->add_option("--format", format, "the cube's containers, comma-separated: exr (default), hdf5, hdf5:gzip[:1-9], "
+                       "envi[:bsq|bil|bip] (docs/io.md)")
+        ->delimiter(',');
     render->add_flag("--no-png", noPng, "skip the display PNG");
     render->add_flag("--timings", timings, "print per-stage timings");
     render->add_option("--frames", job.frames, "render N frames (timing: first frame and median of the rest)")
@@ -242,6 +220,7 @@ int main(int argc, char** argv) {
         if (!integration.empty()) job.integration = integration;
         if (!xyz.empty()) job.xyz = xyz;
         if (!write.empty()) job.write = write;
+        if (!format.empty()) job.format = format;
         if (noPng) {
             // --no-png: whatever would be written, but not the PNG.
             std::vector<std::string> w = job.write ? *job.write : std::vector<std::string>{"cube"};

@@ -2,6 +2,7 @@
 
 #include "io/exr_file.h"
 #include "io/raster_image.h"
+#include "io/spectral_image.h"
 #include "core/json.h"
 #include "core/statistics.h"
 #include "spectral/resampling.h"
@@ -235,11 +236,15 @@ ImageData readComparable(const fs::path& path) {
     std::error_code ec;
     if (!fs::exists(path, ec)) failInput(where, "file not found");
     if (fs::is_directory(path, ec)) failInput(where, "is a folder, not an image");
+    // A FIFO or a device would block or never end.
+    if (!fs::is_regular_file(path, ec)) failInput(where, "not a regular file");
 
     // Spectral channels decide the reader: the layout's own parser (grid, wavelength order) is in
-    // io/spectral_exr.
-    if (imageSignature(path) == "openexr" && hasSpectralChannels(readExrHeader(path, where).channels)) {
-        SpectralExrImage image = readSpectralExrImage(path);
+    // io/spectral_exr; HDF5 and ENVI files are cubes (io/spectral_image).
+    const std::optional<CubeFormat> format = cubeFormatOf(path);
+    if ((format && *format != CubeFormat::Exr) ||
+        (imageSignature(path) == "openexr" && hasSpectralChannels(readExrHeader(path, where).channels))) {
+        SpectralImage image = readSpectralImage(path);
         ImageData d;
         d.width = image.cube.width;
         d.height = image.cube.height;

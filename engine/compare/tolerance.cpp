@@ -1,5 +1,7 @@
 #include "compare/tolerance.h"
 
+#include "color/adaptation.h"
+#include "color/cie_xyz.h"
 #include "core/error.h"
 #include "core/json.h"
 
@@ -178,6 +180,34 @@ std::string formatNumber(double v) {
         if (mantissa.back() == '.') mantissa.pop_back();
     }
     return mantissa + s.substr(e);
+}
+
+CompareOptions makeCompareOptions(const CompareRequest& request, const ImageData& b, const Tolerance* tolerance) {
+    constexpr double kVisibleLo = 360.0, kVisibleHi = 830.0;
+    CompareOptions options;
+    if (tolerance) applyTolerance(*tolerance, options);
+    if (request.pixelThreshold) options.pixelThreshold = *request.pixelThreshold;
+    if (request.relativeFloor) options.relativeFloor = *request.relativeFloor;
+    options.resample = request.resample;
+    // ΔE2000 by default where there is a colour to see; on request (flags, a ΔE limit) always, so
+    // that an unusable request is an error rather than a silent omission.
+    const bool named = !request.detector.empty() || !request.adapt.empty() || !request.display.empty();
+    const bool requested = named || (tolerance && tolerance->wantsDeltaE());
+    bool visible = b.grid && b.grid->start_nm <= kVisibleHi && b.grid->end_nm >= kVisibleLo;
+    if (visible && !requested && !request.noDeltaE && !SpectrumLibrary().contains(kCie1931Observer)) {
+        // Only a default: a comparison of radiance does not need the spectra library.
+        warn(Where{}, fmt::format("no ΔE2000: the spectra library at {} has no {}",
+                                  SpectrumLibrary::defaultRoot().string(), kCie1931Observer));
+        visible = false;
+    }
+    if (!request.noDeltaE && (requested || visible)) {
+        TonemapSettings settings;
+        if (!request.detector.empty()) settings.detector = request.detector;
+        if (!request.adapt.empty()) settings.adaptation = parseAdaptation(request.adapt, Where{"", "--adapt"});
+        if (!request.display.empty()) settings.display = request.display;
+        options.display = settings;
+    }
+    return options;
 }
 
 }  // namespace metamer

@@ -43,6 +43,21 @@ struct Verdict {
 // finite limit can be said to hold for them.
 Verdict judge(const CompareStats& stats, const Tolerance& tolerance);
 
+// What a caller asks of a comparison, as `metamer compare`'s flags (and metamer.compare's
+// arguments) say it. Empty strings and unset numbers: the tolerance file's, else the defaults.
+struct CompareRequest {
+    std::optional<double> pixelThreshold, relativeFloor;
+    bool resample = false;
+    std::string detector, adapt, display;  // ΔE2000 through these (each: the default when empty)
+    bool noDeltaE = false;
+};
+
+// The options of a comparison against the reference `b`: the tolerance's settings, then the
+// request's. ΔE2000 is computed where asked (a detector, adaptation or display named, a ΔE limit
+// in the tolerance) and by default where B is a cube with visible bands and the library has the
+// CIE 1931 observer. The mask is the caller's (readMask).
+CompareOptions makeCompareOptions(const CompareRequest& request, const ImageData& b, const Tolerance* tolerance);
+
 // "2.1e-03", "0.5", "0": numbers in verdicts and summaries, short and unambiguous.
 std::string formatNumber(double v);
 

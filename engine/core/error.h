@@ -63,6 +63,11 @@ size_t editDistance(const std::string& a, const std::string& b);
 // The closest candidate to `wanted` if it is close enough to be a plausible typo, else "".
 std::string closestMatch(const std::string& wanted, const std::vector<std::string>& candidates);
 
+// Messages quote what the user's files contain (a binary file named .csv, a JSON string with
+// invalid UTF-8, a line with a carriage return): the message as one printable line, control
+// characters and bytes that are not UTF-8 written as \xNN. What the CLI and the Python module print.
+std::string printableMessage(const std::string& s);
+
 // Warnings go to stderr with their context; tests can capture them.
 void warn(const Where& where, const std::string& message);
 // Route warnings elsewhere (nullptr restores stderr). Returns the previous sink.

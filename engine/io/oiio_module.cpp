@@ -21,6 +21,10 @@ fs::path modulePath() {
     if (dladdr(reinterpret_cast<void*>(&modulePath), &info) && info.dli_fname) {
         std::error_code ec;
         fs::path self = fs::canonical(info.dli_fname, ec);
+        // Beside it, or one folder up: the Python module is built into build/python/.
+        if (!ec && !fs::exists(self.parent_path() / "libmetamer_oiio.so", ec) &&
+            fs::exists(self.parent_path().parent_path() / "libmetamer_oiio.so", ec))
+            return self.parent_path().parent_path() / "libmetamer_oiio.so";
         if (!ec) return self.parent_path() / "libmetamer_oiio.so";
     }
     return "libmetamer_oiio.so";

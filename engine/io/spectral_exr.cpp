@@ -88,30 +88,31 @@ std::optional<double> bandOf(const std::string& name, std::string_view component
     return parseWavelength(rest);
 }
 
-// The grid spanned by sorted channel wavelengths; errors name the file and the offending pair.
-Grid gridOf(const std::vector<BandChannel>& bands, const std::string& gridAttribute, const Where& where) {
-    const size_t n = bands.size();
+}  // namespace
+
+Grid gridOfWavelengths(const std::vector<double>& wl, const std::string& gridText, const Where& where,
+                       const std::string& what) {
+    const size_t n = wl.size();
+    if (n == 0) failInput(where, "no {}", what);
     for (size_t i = 1; i < n; ++i)
-        if (bands[i].wavelength_nm - bands[i - 1].wavelength_nm < kGridTolerance_nm)
-            failInput(where, "two spectral channels at {} nm", bands[i].wavelength_nm);
-    // Prefer our own metamer:grid attribute when it agrees with the channels: exact values.
-    if (const std::string& text = gridAttribute; !text.empty()) {
+        if (wl[i] - wl[i - 1] < kGridTolerance_nm) failInput(where, "two {} at {} nm", what, wl[i]);
+    // Prefer our own grid text (metamer:grid) when it agrees with the wavelengths: exact values.
+    if (!gridText.empty()) {
         try {
-            Grid g = Grid::parse(text, where);
+            Grid g = Grid::parse(gridText, where);
             bool agrees = g.bands() == static_cast<int>(n);
             for (size_t i = 0; agrees && i < n; ++i)
-                agrees = std::fabs(g.wavelength(static_cast<int>(i)) - bands[i].wavelength_nm) <=
-                         kGridTolerance_nm;
+                agrees = std::fabs(g.wavelength(static_cast<int>(i)) - wl[i]) <= kGridTolerance_nm;
             if (agrees) return g;
         } catch (const Error&) {
-            // Not ours or out of the render limits: fall back to the channels.
+            // Not ours or out of the render limits: fall back to the wavelengths.
         }
     }
     Grid g;
-    g.start_nm = bands.front().wavelength_nm;
-    g.end_nm = bands.back().wavelength_nm;
+    g.start_nm = wl.front();
+    g.end_nm = wl.back();
     if (n == 1) {
-        g.step_nm = 1.0;  // one band: the step is not recorded in the channels
+        g.step_nm = 1.0;  // one band: the step is not recorded in the wavelengths
         return g;
     }
     double step = (g.end_nm - g.start_nm) / static_cast<double>(n - 1);
@@ -119,18 +120,12 @@ Grid gridOf(const std::vector<BandChannel>& bands, const std::string& gridAttrib
     double snapped = std::round(step * 1e6) / 1e6;
     g.step_nm = std::fabs(snapped - step) * static_cast<double>(n - 1) < 1e-6 ? snapped : step;
     for (size_t i = 1; i < n; ++i) {
-        if (std::fabs(g.start_nm + static_cast<double>(i) * g.step_nm - bands[i].wavelength_nm) >
-            kGridTolerance_nm)
-            failInput(where,
-                      "spectral channels are not on a uniform grid: {} nm and {} nm are {} nm apart, "
-                      "the mean step is {} nm",
-                      bands[i - 1].wavelength_nm, bands[i].wavelength_nm,
-                      bands[i].wavelength_nm - bands[i - 1].wavelength_nm, g.step_nm);
+        if (std::fabs(g.start_nm + static_cast<double>(i) * g.step_nm - wl[i]) > kGridTolerance_nm)
+            failInput(where, "{} are not on a uniform grid: {} nm and {} nm are {} nm apart, the mean step is {} nm",
+                      what, wl[i - 1], wl[i], wl[i] - wl[i - 1], g.step_nm);
     }
     return g;
 }
-
-}  // namespace
 
 std::string spectralChannelName(double wavelength_nm) {
     std::string n = fmt::format("S0.{:.6f}nm", wavelength_nm);
@@ -270,7 +265,9 @@ SpectralExrImage readSpectralExrImage(const fs::path& path) {
     std::stable_sort(bands.begin(), bands.end(), [](const BandChannel& a, const BandChannel& b) {
         return a.wavelength_nm < b.wavelength_nm;
     });
-    Grid grid = gridOf(bands, attributeOf(h, "metamer:grid"), where);
+    std::vector<double> wavelengths;
+    for (const auto& b : bands) wavelengths.push_back(b.wavelength_nm);
+    Grid grid = gridOfWavelengths(wavelengths, attributeOf(h, "metamer:grid"), where);
     // OpenEXR reads the channels straight into the cube's band order.
     std::vector<std::string> names;
     for (const auto& b : bands) names.push_back(h.channels[size_t(b.index)]);

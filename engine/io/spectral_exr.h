@@ -61,6 +61,15 @@ struct SpectralExrImage {
     SpectralCube cube;
     SpectralComponent component = SpectralComponent::Emissive;
 };
+// What every cube reader returns (io/spectral_image.h: EXR, HDF5, ENVI).
+using SpectralImage = SpectralExrImage;
+
+// The Grid of a cube's band centres, increasing: they must be uniform within 1e-4 nm. `gridText`
+// ("300:740:5", as the writers record it) gives the exact values when it agrees with them; one
+// band gets a step of 1 nm unless `gridText` says otherwise. Not checked against the render limits
+// of Grid::validate. Errors name `where` and say which two of `what` ("bands") are off.
+Grid gridOfWavelengths(const std::vector<double>& wavelengths_nm, const std::string& gridText, const Where& where,
+                       const std::string& what = "spectral channels");
 
 // Whether an image with these channel names is in the spectral layout (any `S0.` or `T.`
 // channel), so that readSpectralExrImage, not a plain image reader, should read it.

@@ -26,12 +26,45 @@ std::string detectorFileName(const std::string& name) {
     return s;
 }
 
+CubeFormats parseCubeFormats(const std::vector<std::string>& names, const Where& where) {
+    CubeFormats f;
+    f.exr = false;
+    if (names.empty()) failInput(where, "no format named; expected exr, hdf5 or envi (comma-separated)");
+    for (size_t i = 0; i < names.size(); ++i) {
+        const std::string& n = names[i];
+        const Where at = where.key.rfind("--", 0) == 0 ? where : where.index(i);
+        if (n == "exr") f.exr = true;
+        else if (n == "hdf5" || n == "h5") f.hdf5 = true;
+        else if (n == "hdf5:gzip" || n == "h5:gzip") f.hdf5 = true, f.hdf5Gzip = 4;
+        else if (n.rfind("hdf5:gzip:", 0) == 0 || n.rfind("h5:gzip:", 0) == 0) {
+            const std::string level = n.substr(n.rfind(':') + 1);
+            if (level.size() != 1 || level[0] < '1' || level[0] > '9')
+                failInput(at, "'{}': the gzip level is '{}'; expected one digit 1 to 9", n, level);
+            f.hdf5 = true;
+            f.hdf5Gzip = level[0] - '0';
+        } else if (n == "envi" || n == "envi:bsq") f.envi = true, f.enviInterleave = EnviInterleave::Bsq;
+        else if (n == "envi:bil") f.envi = true, f.enviInterleave = EnviInterleave::Bil;
+        else if (n == "envi:bip") f.envi = true, f.enviInterleave = EnviInterleave::Bip;
+        else {
+            std::string near = closestMatch(n, {"exr", "hdf5", "hdf5:gzip", "envi", "envi:bsq", "envi:bil", "envi:bip"});
+            failInput(at, "'{}' is not a cube format; expected exr, hdf5, hdf5:gzip[:1-9] or envi[:bsq|bil|bip]{}", n,
+                      near.empty() ? "" : fmt::format(" (did you mean '{}'?)", near));
+        }
+    }
+    return f;
+}
+
 OutputTargets renderTargets(const std::filesystem::path& dir, const std::string& stem, const OutputFiles& files,
-                            const Representation& representation, const TonemapPlan* plan) {
+                            const Representation& representation, const TonemapPlan* plan,
+                            const CubeFormats& formats) {
     OutputTargets t;
     std::string tag = representation.mode.name();
     std::replace(tag.begin(), tag.end(), ':', '-');
-    if (files.cube) t.cube = dir / (stem + (representation.mode.spectral() ? "" : "." + tag) + ".exr");
+    const bool spectral = representation.mode.spectral();
+    if (files.cube && (formats.exr || !spectral))
+        t.cube = dir / (stem + (spectral ? "" : "." + tag) + ".exr");
+    if (files.cube && spectral && formats.hdf5) t.hdf5 = dir / (stem + ".h5");
+    if (files.cube && spectral && formats.envi) t.envi = dir / (stem + ".hdr");
     if (files.png && plan) t.png = dir / (stem + ".png");
     if (files.xyz && plan && !responsesOnly(plan)) t.xyz = dir / (stem + ".xyz.exr");
     if (files.responses && plan) t.responses = dir / (stem + "." + detectorFileName(plan->detector.name) + ".exr");
@@ -73,6 +106,18 @@ RenderOutputs::RenderOutputs(const OutputTargets& targets, int width, int height
             channels_ = std::make_unique<ImageFileWriter>(targets_.cube, f, 32);
         }
     }
+    if (!targets_.hdf5.empty()) {
+        Hdf5WriteOptions ho;
+        ho.gzipLevel = options_.formats.hdf5Gzip;
+        ho.attributes = provenance_;
+        hdf5_ = std::make_unique<Hdf5CubeWriter>(targets_.hdf5, width_, height_, grid_, ho);
+    }
+    if (!targets_.envi.empty()) {
+        EnviWriteOptions eo;
+        eo.interleave = options_.formats.enviInterleave;
+        eo.attributes = provenance_;
+        envi_ = std::make_unique<EnviCubeWriter>(targets_.envi, width_, height_, grid_, eo);
+    }
     if (!targets_.png.empty() && plan_) {
         if (responsesOnly(plan_)) {
             if (!representation_.mode.spectral())
@@ -107,16 +152,61 @@ RenderOutputs::RenderOutputs(const OutputTargets& targets, int width, int height
 
 RenderOutputs::~RenderOutputs() = default;
 
-bool RenderOutputs::needsCube() const { return cube_ || channels_; }
-bool RenderOutputs::needsDisplay() const { return png_ || xyz_ || responses_; }
+void RenderOutputs::captureInto(CapturedOutputs* capture) {
+    capture_ = capture;
+    CapturedOutputs& c = *capture_;
+    c.width = width_;
+    c.height = height_;
+    const size_t pixels = size_t(width_) * size_t(height_);
+    // Only what this render can make: display outputs need a plan, counts and XYZ a colorimetric one.
+    const bool colorimetric = plan_ && !responsesOnly(plan_);
+    c.keep.png = c.keep.png && colorimetric;
+    c.keep.xyz = c.keep.xyz && colorimetric;
+    c.keep.responses = c.keep.responses && plan_;
+    if (c.keep.cube) {
+        c.cubeChannels = size_t(representation_.channels());
+        c.cube.assign(pixels * c.cubeChannels, 0.0f);
+    }
+    if (c.keep.png) c.counts.assign(pixels * 3, 0);
+    if (c.keep.xyz) c.xyz.assign(pixels * 3, 0.0f);
+    if (c.keep.responses) {
+        c.responseChannels = plan_->detector.channels.size();
+        c.responses.assign(pixels * c.responseChannels, 0.0f);
+    }
+}
+
+bool RenderOutputs::needsCube() const {
+    return cube_ || channels_ || hdf5_ || envi_ || (capture_ && capture_->keep.cube);
+}
+bool RenderOutputs::needsDisplay() const {
+    return png_ || xyz_ || responses_ || (capture_ && (capture_->keep.png || capture_->keep.xyz || capture_->keep.responses));
+}
 TonemapOutputs RenderOutputs::displayOutputs() const {
-    return {png_ != nullptr || xyz_ != nullptr, xyz_ != nullptr, responses_ != nullptr};
+    const bool counts = png_ || capture_ && capture_->keep.png, xyz = xyz_ || capture_ && capture_->keep.xyz,
+               responses = responses_ || capture_ && capture_->keep.responses;
+    return {counts || xyz, xyz, responses};
 }
 
 void RenderOutputs::writeRows(int firstRow, int rows, const float* cube, const DisplayImage* image) {
     const size_t pixels = size_t(width_) * size_t(rows);
+    if (capture_) {
+        // Rows [firstRow, firstRow + rows) of each kept array, from the same pixels as the files.
+        CapturedOutputs& c = *capture_;
+        const size_t first = size_t(firstRow) * size_t(width_);
+        auto keep = [&](auto& into, const auto* from, size_t perPixel) {
+            if (!into.empty() && from) std::copy(from, from + pixels * perPixel, into.begin() + std::ptrdiff_t(first * perPixel));
+        };
+        keep(c.cube, cube, c.cubeChannels);
+        if (image) {
+            keep(c.counts, image->counts.empty() ? nullptr : image->counts.data(), 3);
+            keep(c.xyz, image->xyz.empty() ? nullptr : image->xyz.data(), 3);
+            keep(c.responses, image->responses.empty() ? nullptr : image->responses.data(), c.responseChannels);
+        }
+    }
     if (cube) {
         if (cube_) cube_->writeRows(firstRow, rows, cube);
+        if (hdf5_) hdf5_->writeRows(firstRow, rows, cube);
+        if (envi_) envi_->writeRows(firstRow, rows, cube);
         if (channels_) {
             const size_t channels = size_t(representation_.channels());
             channels_->writeRows(firstRow, rows, std::vector<float>(cube, cube + pixels * channels));
@@ -150,6 +240,7 @@ void RenderOutputs::writeQuickLookImage(const QuickLook& q) {
 }
 
 void RenderOutputs::writeEdges(const std::vector<uint16_t>& edges) {
+    if (capture_ && capture_->keep.edges) capture_->edges = edges;
     if (!edges_) return;
     edges_->writeRows(0, height_, edges);
     const size_t n = size_t(std::count(edges.begin(), edges.end(), uint16_t(255)));
@@ -166,6 +257,23 @@ std::vector<WrittenFile> RenderOutputs::commit(int strips, int stripRows) {
         written.push_back({targets_.cube, line(fmt::format("{}×{} px, {} bands {} nm, W·sr⁻¹·m⁻²·nm⁻¹, {}", width_,
                                                            height_, grid_.bands(), grid_.str(),
                                                            options_.half ? "float16" : "float32"))});
+    }
+    const std::string cubeWhat = fmt::format("{}×{} px, {} bands {} nm, W·sr⁻¹·m⁻²·nm⁻¹, float32", width_, height_,
+                                             grid_.bands(), grid_.str());
+    if (hdf5_) {
+        hdf5_->commit();
+        written.push_back({targets_.hdf5, line(fmt::format("HDF5 /cube [rows, columns, bands], {}{}", cubeWhat,
+                                                           options_.formats.hdf5Gzip
+                                                               ? fmt::format(", gzip {}", options_.formats.hdf5Gzip)
+                                                               : ""))});
+    }
+    if (envi_) {
+        envi_->commit();
+        const char* il = options_.formats.enviInterleave == EnviInterleave::Bsq   ? "bsq"
+                         : options_.formats.enviInterleave == EnviInterleave::Bil ? "bil"
+                                                                                  : "bip";
+        written.push_back({targets_.envi, line(fmt::format("ENVI header + {} ({}), {}",
+                                                           targets_.envi.stem().string() + ".img", il, cubeWhat))});
     }
     if (channels_) {
         channels_->commit();

@@ -9,6 +9,8 @@
 #include "color/quick_look.h"
 #include "color/tonemap.h"
 #include "render/tonemap_pass.h"
+#include "io/envi_cube.h"
+#include "io/hdf5_cube.h"
 #include "io/image_file.h"
 #include "io/spectral_exr.h"
 #include "represent/representation.h"
@@ -40,9 +42,23 @@ struct WrittenFile {
 
 using Attributes = std::vector<std::pair<std::string, std::string>>;
 
+// The containers the spectral cube is written in (--format, the scene's output.format), any of:
+// OpenEXR (<stem>.exr, the default), HDF5 (<stem>.h5) and ENVI (<stem>.hdr + <stem>.img); see
+// docs/io.md. A reduced mode's channel image is OpenEXR only.
+struct CubeFormats {
+    bool exr = true, hdf5 = false, envi = false;
+    int hdf5Gzip = 0;  // 0: none; 1-9: deflate level
+    EnviInterleave enviInterleave = EnviInterleave::Bsq;
+};
+
+// "exr", "hdf5", "hdf5:gzip" (level 4), "hdf5:gzip:N" (1-9), "envi" (BSQ), "envi:bsq|bil|bip";
+// at least one. Input errors name `where` and the entry.
+CubeFormats parseCubeFormats(const std::vector<std::string>& names, const Where& where);
+
 // Where each output goes; an empty path is not written.
 struct OutputTargets {
     std::filesystem::path cube;       // the spectral EXR (spectral modes) or the mode's channel image
+    std::filesystem::path hdf5, envi; // the spectral cube as HDF5 (<stem>.h5) and ENVI (<stem>.hdr)
     std::filesystem::path png;        // the display image, or a custom detector's quick look
     std::filesystem::path xyz, responses, edges;
 };
@@ -51,7 +67,8 @@ struct OutputTargets {
 // reduced mode's channel image), .png, .xyz.exr, .<detector>.exr, .edges.png. `plan` may be null
 // (no display outputs); a custom detector (no colorimetric path) gets no XYZ file.
 OutputTargets renderTargets(const std::filesystem::path& dir, const std::string& stem, const OutputFiles& files,
-                            const Representation& representation, const TonemapPlan* plan);
+                            const Representation& representation, const TonemapPlan* plan,
+                            const CubeFormats& formats = {});
 
 // What every file of a render carries: the scene, the backend, the grid and its resampling rule,
 // the mode.
@@ -61,9 +78,26 @@ Attributes renderProvenance(const std::string& scene, const std::string& backend
 // "camera:nikon_d5100" → "camera-nikon_d5100", "csv:/x/y.csv" → "csv-y": a detector in a file name.
 std::string detectorFileName(const std::string& name);
 
+// A render's outputs kept in memory instead of (or before) files, for a caller that wants arrays
+// (the Python module, engine/python): RenderOutputs fills what `keep` names, row by row, as it
+// would write the files. Pixel-interleaved, row 0 at the top; empty where not kept or not made
+// (no display path for a custom detector, no XYZ without a colorimetric one, no edges on the GPU).
+struct CapturedOutputs {
+    OutputFiles keep{false, false, false, false, false};
+    int width = 0, height = 0;
+    std::vector<float> cube;  // the mode's channels (bands for spectral modes) per pixel
+    size_t cubeChannels = 0;
+    std::vector<uint16_t> counts;  // the display image, 3 per pixel
+    std::vector<float> xyz;        // 3 per pixel, in the plan's xyzUnits
+    std::vector<float> responses;  // responseChannels per pixel, the detector's units
+    size_t responseChannels = 0;
+    std::vector<uint16_t> edges;   // 0 or 255 per pixel
+};
+
 struct OutputOptions {
-    bool half = false;                  // the cube in float16
+    bool half = false;                  // the cube in float16 (OpenEXR only)
     std::string compression = "piz";    // the cube's OpenEXR compression
+    CubeFormats formats;                // the containers (with renderTargets)
 };
 
 class RenderOutputs {
@@ -96,6 +130,10 @@ public:
     void writeQuickLookFromXyz(const std::vector<float>& xyz);
     void writeEdges(const std::vector<uint16_t>& edges);
 
+    // Keeps what `capture->keep` names in `capture` as well as (or instead of) the files; call
+    // before the first writeRows. `capture` must outlive this.
+    void captureInto(CapturedOutputs* capture);
+
     // Renames every file into place and says what each holds. `strips` > 1 says so in the lines.
     std::vector<WrittenFile> commit(int strips = 1, int stripRows = 0);
     size_t clampedToHalf() const { return clampedToHalf_; }
@@ -111,7 +149,10 @@ private:
     Attributes provenance_;
     OutputOptions options_;
     std::unique_ptr<SpectralExrWriter> cube_;
+    std::unique_ptr<Hdf5CubeWriter> hdf5_;
+    std::unique_ptr<EnviCubeWriter> envi_;
     std::unique_ptr<ImageFileWriter> channels_, png_, xyz_, responses_, edges_;
+    CapturedOutputs* capture_ = nullptr;
     bool quickLook_ = false;
     std::string quickLookWhat_, edgesWhat_;
     size_t clampedToHalf_ = 0;

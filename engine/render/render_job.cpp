@@ -393,11 +393,29 @@ RenderJobResult runRenderJob(const RenderJob& job) {
     OutputOptions oo;
     oo.half = job.half;
     oo.compression = job.compression;
-    RenderOutputs out(renderTargets(job.outDir, job.scene.stem().string(), files, loaded->representation, planPtr), W,
-                      H, scene.grid, loaded->representation, planPtr,
-                      renderProvenance(job.scene.string(), job.backend == Backend::Gpu ? "gpu" : "cpu", scene.grid,
-                                       loaded->representation),
-                      oo);
+    Attributes provenance = renderProvenance(job.scene.string(), job.backend == Backend::Gpu ? "gpu" : "cpu",
+                                             scene.grid, loaded->representation);
+    // What else a file needs to be remade: the overrides, the display path, the software.
+    if (!job.overrides.empty()) provenance.push_back({"metamer:overrides", fmt::format("{}", fmt::join(job.overrides, " "))});
+    if (planPtr) provenance.push_back({"metamer:display", planPtr->description});
+    provenance.push_back({"metamer:version", METAMER_VERSION});
+    {
+        const Where sceneOut = scene.output.where.file.empty() ? Where{scene.file.string(), "output"} : scene.output.where;
+        if (job.format) oo.formats = parseCubeFormats(*job.format, Where{"", "--format"});
+        else if (scene.output.format) oo.formats = parseCubeFormats(*scene.output.format, sceneOut.child("format"));
+        if ((oo.formats.hdf5 || oo.formats.envi) && !loaded->representation.mode.spectral())
+            failInput(job.format ? Where{"", "--format"} : sceneOut.child("format"),
+                      "HDF5 and ENVI hold spectral cubes; the {} mode's channel image is written as OpenEXR only",
+                      loaded->representation.mode.name());
+    }
+    const std::string stem = job.scene.stem().string();
+    RenderOutputs out(job.capture ? OutputTargets{}
+                                  : renderTargets(job.outDir, stem, files, loaded->representation, planPtr, oo.formats),
+                      W, H, scene.grid, loaded->representation, planPtr, provenance, oo);
+    if (job.capture) {
+        job.capture->outputs.keep = files;
+        out.captureInto(&job.capture->outputs);
+    }
 
     // 4. The pixels: strips over the memory budget, whole GPU frames, or the CPU reference.
     int strips = 1;
@@ -420,8 +438,40 @@ RenderJobResult runRenderJob(const RenderJob& job) {
     if (files.xyz && planPtr && planPtr->mode == TonemapMode::ResponsesOnly)
         r.notes.push_back(fmt::format("no XYZ output: detector {} has no colorimetric path", planPtr->detector.name));
     r.timings.write_ms += msSince(t);
+    if (job.capture) {
+        CapturedRender& c = *job.capture;
+        c.grid = scene.grid;
+        c.stem = stem;
+        c.plan = plan;  // a copy: `out` still points at this one
+        c.provenance = provenance;
+        c.options = oo;
+        c.loaded = std::move(loaded);
+    }
     r.timings.total_ms = msSince(start);
     return r;
+}
+
+std::vector<WrittenFile> saveCapturedRender(const CapturedRender& render, const std::filesystem::path& dir) {
+    const CapturedOutputs& c = render.outputs;
+    if (!render.loaded) failRuntime("this render holds nothing to save");
+    const TonemapPlan* plan = render.plan ? &*render.plan : nullptr;
+    // What was kept: the render's `write` as far as it could be made (captureInto), so a custom
+    // detector's quick-look PNG is not among them.
+    const OutputFiles files = c.keep;
+    const Representation& representation = render.loaded->representation;
+    RenderOutputs out(renderTargets(dir, render.stem, files, representation, plan, render.options.formats), c.width,
+                      c.height, render.grid,
+                      representation, plan, render.provenance, render.options);
+    DisplayImage image;
+    image.width = c.width;
+    image.height = c.height;
+    image.channels = int(c.responseChannels);
+    image.counts = c.counts;
+    image.xyz = c.xyz;
+    image.responses = c.responses;
+    out.writeRows(0, c.height, c.cube.empty() ? nullptr : c.cube.data(), plan ? &image : nullptr);
+    if (!c.edges.empty()) out.writeEdges(c.edges);
+    return out.commit();
 }
 
 }  // namespace metamer

@@ -13,6 +13,7 @@
 #include "vk/context.h"
 
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -21,8 +22,14 @@ namespace metamer {
 
 enum class Backend { Gpu, Cpu };
 
+struct LoadedScene;  // render/render_setup.h
+struct CapturedRender;
+
 struct RenderJob {
     std::filesystem::path scene;
+    // The scene's text when it is not read from `scene` (the Python module's dict); `scene` still
+    // names it in messages, resolves its relative paths and gives the output files their stem.
+    std::optional<std::string> sceneText;
     std::filesystem::path outDir = "out";
     std::optional<Grid> grid;             // --grid overrides the scene's grid (not its resampling rule)
     std::optional<Resampling> resampling; // --resample overrides the scene's grid.resample
@@ -47,9 +54,13 @@ struct RenderJob {
     size_t memoryBudget = 0;
     std::string mode = "full";  // representation mode: full, rgb, ac1c2[:N] (represent/representation.h)
     std::optional<std::vector<std::string>> write;
+    std::optional<std::vector<std::string>> format;  // --format: the cube's containers (render/outputs.h)
     // A Vulkan context to render with, owned by the caller and kept between jobs (metamer batch);
     // null: the job makes its own (validation and device then come from the fields above).
     vk::Context* context = nullptr;
+    // Keep the outputs that `write` names in memory instead of writing files (outDir is not used);
+    // saveCapturedRender() writes them later. Null: write the files.
+    CapturedRender* capture = nullptr;
 };
 
 struct StageTimings {
@@ -111,5 +122,23 @@ RenderMemory estimateRenderMemory(int width, int height, int bands, int ssaa, Ba
 TonemapSettings tonemapSettings(const RenderJob& job, const Scene& scene, OutputFiles* files);
 
 RenderJobResult runRenderJob(const RenderJob& job);
+
+// A render held in memory (RenderJob::capture): the arrays, and what writing them as the files of
+// `metamer render` needs — the scene on its grid (the representation and, for a custom detector's
+// quick look, the library), the display plan and each file's provenance.
+struct CapturedRender {
+    CapturedOutputs outputs;
+    Grid grid;
+    std::string stem;  // the scene file's stem: <stem>.exr, <stem>.png, ...
+    std::shared_ptr<const LoadedScene> loaded;
+    std::optional<TonemapPlan> plan;
+    Attributes provenance;
+    OutputOptions options;
+};
+
+// Writes a captured render's outputs into `dir` under the names, and with the contents and
+// attributes, that `metamer render --write` gives them (atomically, every file or none renamed
+// into place at the end).
+std::vector<WrittenFile> saveCapturedRender(const CapturedRender& render, const std::filesystem::path& dir);
 
 }  // namespace metamer

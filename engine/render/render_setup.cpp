@@ -9,7 +9,8 @@ std::unique_ptr<LoadedScene> loadJobScene(const RenderJob& job) {
     auto l = std::make_unique<LoadedScene>();
     LoadOptions loadOptions;
     loadOptions.allowOutsidePaths = job.allowOutsidePaths;
-    l->scene = loadScene(job.scene, l->library, job.overrides, loadOptions);
+    l->scene = job.sceneText ? loadSceneFromString(*job.sceneText, job.scene, l->library, job.overrides, loadOptions)
+                             : loadScene(job.scene, l->library, job.overrides, loadOptions);
     if (job.grid) {
         const Resampling sceneRule = l->scene.grid.resampling;
         l->scene.grid = *job.grid;

@@ -333,7 +333,7 @@ private:
     // Names (detector, adaptation, display) are checked by the display path, which knows them.
     void readOutput(const Json& v, const Where& w) {
         asObject(v, w);
-        checkKeys(v, w, {"detector", "adaptation", "display", "bits", "integration", "xyz", "write"});
+        checkKeys(v, w, {"detector", "adaptation", "display", "bits", "integration", "xyz", "write", "format"});
         OutputSettings& o = scene_.output;
         o.where = w;
         if (const Json* d = find(v, "detector")) o.detector = detector(string(*d, w.child("detector")), w.child("detector"));
@@ -351,6 +351,12 @@ private:
             o.write.emplace();
             for (size_t i = 0; i < list.size(); ++i)
                 o.write->push_back(choice(list[i], w.child("write").index(i), {"cube", "png", "xyz", "responses"}));
+        }
+        // The container names are checked with the render's (render/outputs.h, parseCubeFormats).
+        if (const Json* f = find(v, "format")) {
+            const Json& list = asArray(*f, w.child("format"));
+            o.format.emplace();
+            for (size_t i = 0; i < list.size(); ++i) o.format->push_back(string(list[i], w.child("format").index(i)));
         }
     }
 

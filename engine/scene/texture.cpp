@@ -4,6 +4,7 @@
 #include "io/exr_file.h"
 #include "io/raster_image.h"
 #include "io/spectral_exr.h"
+#include "io/spectral_image.h"
 
 #include <cmath>
 #include <cstring>
@@ -45,14 +46,14 @@ void checkSize(int width, int height, const std::string& name, const Where& wher
 Texture readSpectral(const fs::path& path, const Where& where) {
     SpectralExrImage image;
     try {
-        image = readSpectralExrImage(path);
+        image = readSpectralImage(path);
     } catch (const Error& e) {
         failInput(where, "{}", e.what());
     }
     if (image.component != SpectralComponent::Reflective)
         failInput(where,
-                  "texture '{}' holds emissive channels (S0.<λ>nm: radiance); a reflectance texture has T.<λ>nm "
-                  "channels",
+                  "texture '{}' holds spectral radiance (EXR S0.<λ>nm channels, or an HDF5/ENVI cube whose "
+                  "quantity is not reflectance); a reflectance texture has T.<λ>nm channels or quantity reflectance",
                   path.string());
     Texture t;
     t.kind = Texture::Kind::Spectral;
@@ -171,8 +172,13 @@ Texture loadTexture(const fs::path& path, TextureRole role, TextureEncoding enco
     if (!fs::exists(path, ec)) failInput(where, "texture file '{}' not found", path.string());
     if (!fs::is_regular_file(path, ec)) failInput(where, "texture '{}' is not a file", path.string());
 
-    // A spectral EXR is recognised by its channels; anything else is an RGB image.
-    bool spectral = false;
+    // A spectral EXR is recognised by its channels, HDF5 and ENVI cubes by their signatures;
+    // anything else is an RGB image.
+    const std::optional<CubeFormat> format = cubeFormatOf(path);
+    bool spectral = format && *format != CubeFormat::Exr;
+    if (spectral && role != TextureRole::Reflectance)
+        failInput(where, "texture '{}' is a spectral {} cube; a {} map is an image", path.string(),
+                  cubeFormatName(*format), role == TextureRole::Normal ? "normal" : "bump");
     if (role == TextureRole::Reflectance && imageSignature(path) == "openexr") {
         try {
             spectral = hasSpectralChannels(readExrHeader(path, Where{path.string()}).channels);

@@ -1,0 +1,57 @@
+// Hyperspectral cubes as HDF5 files (libhdf5), the layout h5py, MATLAB and most remote-sensing
+// tools read without a plugin: dataset /cube float32 [rows, columns, bands] (chunked one row at a
+// time, optionally gzip with shuffle), /wavelength_nm and /fwhm_nm float64 [bands], and string
+// attributes saying what the numbers are. See docs/io.md. Tests: engine/io/hdf5_cube_test.cpp.
+#pragma once
+
+#include "io/exr_file.h"
+#include "io/spectral_exr.h"
+
+#include <filesystem>
+#include <memory>
+
+namespace metamer {
+
+struct Hdf5WriteOptions {
+    int gzipLevel = 0;            // 0: no compression; 1-9: deflate (with the shuffle filter)
+    StringAttributes attributes;  // UTF-8 string attributes on the root group "/"
+    SpectralComponent component = SpectralComponent::Emissive;  // radiance or reflectance
+};
+
+// Writes a cube strip by strip (rows in order) into one HDF5 file, each strip one hyperslab, so
+// memory stays bounded whatever the image size. The file appears only at commit(); a writer
+// destroyed before that leaves nothing behind (AtomicOutput). Layout:
+//   /cube           float32 [rows, columns, bands], chunks [1, min(columns, 1024), bands]
+//                   attributes units ("W·sr⁻¹·m⁻²·nm⁻¹" or "1"), quantity ("spectral radiance" or
+//                   "reflectance"), grid (Grid::str()), band_width_nm, resampling, interleave
+//   /wavelength_nm  float64 [bands], the band centres
+//   /fwhm_nm        float64 [bands], the band widths (the grid step)
+// HDF5 failures are runtime errors naming the path.
+class Hdf5CubeWriter {
+public:
+    Hdf5CubeWriter(const std::filesystem::path& path, int width, int height, const Grid& grid,
+                   const Hdf5WriteOptions& options = {});
+    ~Hdf5CubeWriter();
+    Hdf5CubeWriter(const Hdf5CubeWriter&) = delete;
+    Hdf5CubeWriter& operator=(const Hdf5CubeWriter&) = delete;
+    // `rows` rows starting at `firstRow`, pixel-interleaved (width × rows × bands floats).
+    void writeRows(int firstRow, int rows, const float* data);
+    void commit();
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+// The whole cube through Hdf5CubeWriter.
+void writeHdf5Cube(const std::filesystem::path& path, const SpectralCube& cube, const Hdf5WriteOptions& options = {});
+
+// Reads /cube (rank 3, any floating-point type, converted to float32) and /wavelength_nm
+// (increasing, uniform within 1e-4 nm; the Grid is taken from them, exact when the cube's `grid`
+// attribute agrees). The `quantity` attribute says reflectance or radiance (absent: radiance).
+// Input errors name the file and the dataset or attribute ("/cube", "/wavelength_nm",
+// "/cube.quantity"): not HDF5, truncated, missing, wrong rank or type, sizes that disagree, more
+// than 2^34 values.
+SpectralImage readHdf5Cube(const std::filesystem::path& path);
+
+}  // namespace metamer

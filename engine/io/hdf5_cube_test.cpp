@@ -1,0 +1,406 @@
+#include "io/hdf5_cube.h"
+
+#include "io/atomic_file.h"
+
+#include <gtest/gtest.h>
+#include <hdf5.h>
+
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <functional>
+#include <limits>
+#include <random>
+#include <unistd.h>
+
+using namespace metamer;
+namespace fs = std::filesystem;
+
+namespace {
+
+// A fresh folder per test, removed afterwards.
+class Hdf5Cube : public ::testing::Test {
+protected:
+    void SetUp() override {
+        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+        dir = fs::temp_directory_path() /
+              fmt::format("metamer-io-{}-{}-{}", ::getpid(), info->test_suite_name(), info->name());
+        fs::remove_all(dir);
+        fs::create_directories(dir);
+        H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // the hand-made files' HDF5 calls print nothing
+    }
+    void TearDown() override { fs::remove_all(dir); }
+
+    std::vector<std::string> files() const {
+        std::vector<std::string> found;
+        for (const auto& e : fs::directory_iterator(dir)) found.push_back(e.path().filename().string());
+        std::sort(found.begin(), found.end());
+        return found;
+    }
+
+    fs::path dir;
+};
+
+SpectralCube randomCube(int w, int h, const Grid& g, unsigned seed) {
+    SpectralCube cube(w, h, g);
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> dist(0.0f, 10.0f);
+    for (float& v : cube.data) v = dist(rng);
+    return cube;
+}
+
+void expectBitExact(const SpectralCube& a, const SpectralCube& b) {
+    ASSERT_EQ(a.width, b.width);
+    ASSERT_EQ(a.height, b.height);
+    ASSERT_EQ(a.grid, b.grid) << a.grid.str() << " vs " << b.grid.str();
+    ASSERT_EQ(a.data.size(), b.data.size());
+    EXPECT_EQ(std::memcmp(a.data.data(), b.data.data(), a.data.size() * sizeof(float)), 0);
+}
+
+// Writes the cube through the strip writer in strips of the given heights.
+void writeInStrips(const fs::path& file, const SpectralCube& cube, const std::vector<int>& strips,
+                   const Hdf5WriteOptions& options) {
+    Hdf5CubeWriter writer(file, cube.width, cube.height, cube.grid, options);
+    int row = 0;
+    for (int rows : strips) {
+        writer.writeRows(row, rows, cube.pixel(0, row));
+        row += rows;
+    }
+    ASSERT_EQ(row, cube.height);
+    writer.commit();
+}
+
+// Runs `read` and checks that it throws an input error naming `file` and `key`, whose message
+// holds `fragment`.
+void expectInputError(const std::function<void()>& read, const fs::path& file, const std::string& key,
+                      const std::string& fragment) {
+    try {
+        read();
+        ADD_FAILURE() << "expected an input error for " << file << " " << key;
+    } catch (const Error& e) {
+        EXPECT_EQ(e.code(), ExitCode::BadInput) << e.what();
+        EXPECT_EQ(e.where().file, file.string()) << e.what();
+        EXPECT_EQ(e.where().key, key) << e.what();
+        EXPECT_NE(e.message().find(fragment), std::string::npos) << e.what();
+    }
+}
+
+// --- Hand-made HDF5 files, for layouts our writer never makes ---------------------------------
+
+hid_t create(const fs::path& file) { return H5Fcreate(file.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT); }
+
+void dataset(hid_t file, const char* name, hid_t type, const std::vector<hsize_t>& dims, hid_t memType,
+             const void* values, bool chunked = false) {
+    hid_t space = H5Screate_simple(int(dims.size()), dims.data(), nullptr);
+    hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
+    if (chunked) {
+        std::vector<hsize_t> chunk(dims.size(), 1);
+        H5Pset_chunk(dcpl, int(chunk.size()), chunk.data());
+    }
+    hid_t set = H5Dcreate2(file, name, type, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
+    ASSERT_GE(set, 0) << name;
+    if (values) ASSERT_GE(H5Dwrite(set, memType, H5S_ALL, H5S_ALL, H5P_DEFAULT, values), 0);
+    H5Dclose(set);
+    H5Pclose(dcpl);
+    H5Sclose(space);
+}
+
+void stringAttribute(hid_t object, const char* name, const char* value) {
+    hid_t type = H5Tcopy(H5T_C_S1);
+    H5Tset_size(type, H5T_VARIABLE);
+    hid_t space = H5Screate(H5S_SCALAR);
+    hid_t a = H5Acreate2(object, name, type, space, H5P_DEFAULT, H5P_DEFAULT);
+    H5Awrite(a, type, &value);
+    H5Aclose(a);
+    H5Sclose(space);
+    H5Tclose(type);
+}
+
+// A file with /cube float32 [rows, cols, bands] (zeros) and /wavelength_nm as given.
+void writeForeign(const fs::path& path, std::vector<hsize_t> cubeDims, const std::vector<double>* wavelengths,
+                  const char* quantity = nullptr) {
+    hid_t f = create(path);
+    size_t n = 1;
+    for (hsize_t d : cubeDims) n *= d;
+    std::vector<float> zeros(n, 0.0f);
+    dataset(f, "cube", H5T_IEEE_F32LE, cubeDims, H5T_NATIVE_FLOAT, zeros.data());
+    if (quantity) {
+        hid_t cube = H5Dopen2(f, "cube", H5P_DEFAULT);
+        stringAttribute(cube, "quantity", quantity);
+        H5Dclose(cube);
+    }
+    if (wavelengths)
+        dataset(f, "wavelength_nm", H5T_IEEE_F64LE, {wavelengths->size()}, H5T_NATIVE_DOUBLE, wavelengths->data());
+    H5Fclose(f);
+}
+
+std::string readStringAttribute(hid_t object, const char* name) {
+    hid_t a = H5Aopen(object, name, H5P_DEFAULT);
+    if (a < 0) return "<missing>";
+    hid_t type = H5Aget_type(a);
+    std::string value = "<not a variable-length UTF-8 string>";
+    if (H5Tis_variable_str(type) > 0 && H5Tget_cset(type) == H5T_CSET_UTF8) {
+        char* text = nullptr;
+        H5Aread(a, type, &text);
+        value = text;
+        H5free_memory(text);
+    }
+    H5Tclose(type);
+    H5Aclose(a);
+    return value;
+}
+
+}  // namespace
+
+TEST_F(Hdf5Cube, EmissiveRoundTripInUnevenStripsIsBitExact) {
+    const SpectralCube cube = randomCube(7, 5, Grid{400, 520, 10}, 1);
+    ASSERT_EQ(cube.bands(), 13);
+    for (int gzip : {0, 1, 6, 9}) {
+        const fs::path file = dir / fmt::format("cube-{}.h5", gzip);
+        writeInStrips(file, cube, {2, 1, 2}, {.gzipLevel = gzip});
+        const SpectralImage back = readHdf5Cube(file);
+        EXPECT_EQ(back.component, SpectralComponent::Emissive);
+        expectBitExact(cube, back.cube);
+    }
+    EXPECT_EQ(files(), (std::vector<std::string>{"cube-0.h5", "cube-1.h5", "cube-6.h5", "cube-9.h5"}));
+}
+
+TEST_F(Hdf5Cube, ReflectiveRoundTripAndOneStripPerRow) {
+    const SpectralCube cube = randomCube(3, 4, Grid{380, 780, 20}, 2);
+    const fs::path file = dir / "reflectance.h5";
+    writeInStrips(file, cube, {1, 1, 1, 1}, {.gzipLevel = 4, .component = SpectralComponent::Reflective});
+    const SpectralImage back = readHdf5Cube(file);
+    EXPECT_EQ(back.component, SpectralComponent::Reflective);
+    expectBitExact(cube, back.cube);
+}
+
+TEST_F(Hdf5Cube, EqualsTheExrWritersValues) {
+    SpectralCube cube = randomCube(9, 6, Grid{300, 740, 5}, 3);
+    cube.data[17] = 0.0f;
+    cube.data[18] = -1.5f;
+    cube.data[19] = 1e-30f;  // a subnormal-adjacent value survives both
+    writeSpectralExr(dir / "cube.exr", cube, {.compression = "zip"});
+    writeHdf5Cube(dir / "cube.h5", cube, {.gzipLevel = 6});
+    expectBitExact(readSpectralExr(dir / "cube.exr"), readHdf5Cube(dir / "cube.h5").cube);
+}
+
+TEST_F(Hdf5Cube, LayoutChunksAndAttributes) {
+    const SpectralCube cube = randomCube(5, 2, Grid{500, 560, 10}, 4);
+    const fs::path file = dir / "layout.h5";
+    writeHdf5Cube(file, cube,
+                  {.gzipLevel = 5, .attributes = {{"metamer:scene", "Macbeth, ünïcode"}, {"metamer:spp", "64"}}});
+    hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+    ASSERT_GE(f, 0);
+    hid_t set = H5Dopen2(f, "cube", H5P_DEFAULT);
+    ASSERT_GE(set, 0);
+    hid_t space = H5Dget_space(set);
+    hsize_t dims[3] = {};
+    ASSERT_EQ(H5Sget_simple_extent_ndims(space), 3);
+    H5Sget_simple_extent_dims(space, dims, nullptr);
+    EXPECT_EQ(dims[0], 2u);
+    EXPECT_EQ(dims[1], 5u);
+    EXPECT_EQ(dims[2], 7u);
+    hid_t type = H5Dget_type(set);
+    EXPECT_GT(H5Tequal(type, H5T_IEEE_F32LE), 0);
+    hid_t dcpl = H5Dget_create_plist(set);
+    EXPECT_EQ(H5Pget_layout(dcpl), H5D_CHUNKED);
+    hsize_t chunk[3] = {};
+    ASSERT_EQ(H5Pget_chunk(dcpl, 3, chunk), 3);
+    EXPECT_EQ(chunk[0], 1u);
+    EXPECT_EQ(chunk[1], 5u);
+    EXPECT_EQ(chunk[2], 7u);
+    ASSERT_EQ(H5Pget_nfilters(dcpl), 2);  // shuffle, then deflate
+    unsigned flags = 0, level = 0;
+    size_t nValues = 1;
+    EXPECT_EQ(H5Pget_filter2(dcpl, 0, &flags, nullptr, nullptr, 0, nullptr, nullptr), H5Z_FILTER_SHUFFLE);
+    EXPECT_EQ(H5Pget_filter2(dcpl, 1, &flags, &nValues, &level, 0, nullptr, nullptr), H5Z_FILTER_DEFLATE);
+    EXPECT_EQ(level, 5u);
+
+    EXPECT_EQ(readStringAttribute(set, "units"), "W·sr⁻¹·m⁻²·nm⁻¹");
+    EXPECT_EQ(readStringAttribute(set, "quantity"), "spectral radiance");
+    EXPECT_EQ(readStringAttribute(set, "grid"), "500:560:10");
+    EXPECT_EQ(readStringAttribute(set, "resampling"), "interpolate");
+    EXPECT_EQ(readStringAttribute(set, "interleave"), "pixel ([row, column, band])");
+    double bandWidth = 0;
+    hid_t a = H5Aopen(set, "band_width_nm", H5P_DEFAULT);
+    ASSERT_GE(a, 0);
+    H5Aread(a, H5T_NATIVE_DOUBLE, &bandWidth);
+    H5Aclose(a);
+    EXPECT_EQ(bandWidth, 10.0);
+    EXPECT_EQ(readStringAttribute(f, "metamer:scene"), "Macbeth, ünïcode");
+    EXPECT_EQ(readStringAttribute(f, "metamer:spp"), "64");
+
+    for (const char* name : {"wavelength_nm", "fwhm_nm"}) {
+        hid_t d = H5Dopen2(f, name, H5P_DEFAULT);
+        ASSERT_GE(d, 0) << name;
+        hid_t t = H5Dget_type(d);
+        EXPECT_GT(H5Tequal(t, H5T_IEEE_F64LE), 0) << name;
+        std::vector<double> v(7);
+        ASSERT_GE(H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()), 0);
+        for (int b = 0; b < 7; ++b)
+            EXPECT_EQ(v[size_t(b)], std::strcmp(name, "fwhm_nm") == 0 ? 10.0 : 500.0 + 10.0 * b) << name << b;
+        H5Tclose(t);
+        H5Dclose(d);
+    }
+    H5Pclose(dcpl);
+    H5Tclose(type);
+    H5Sclose(space);
+    H5Dclose(set);
+    H5Fclose(f);
+}
+
+TEST_F(Hdf5Cube, WideRowsAreChunkedBy1024ColumnsAndUncompressedHasNoFilters) {
+    const SpectralCube cube = randomCube(1500, 2, Grid{400, 420, 10}, 5);
+    const fs::path file = dir / "wide.h5";
+    writeInStrips(file, cube, {1, 1}, {});
+    hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+    hid_t set = H5Dopen2(f, "cube", H5P_DEFAULT);
+    hid_t dcpl = H5Dget_create_plist(set);
+    hsize_t chunk[3] = {};
+    H5Pget_chunk(dcpl, 3, chunk);
+    EXPECT_EQ(chunk[1], 1024u);
+    EXPECT_EQ(H5Pget_nfilters(dcpl), 0);
+    H5Pclose(dcpl);
+    H5Dclose(set);
+    H5Fclose(f);
+    expectBitExact(cube, readHdf5Cube(file).cube);
+}
+
+TEST_F(Hdf5Cube, AbandonedWriterLeavesNoFile) {
+    const SpectralCube cube = randomCube(4, 3, Grid{400, 500, 50}, 6);
+    const int liveBefore = liveTempFileCount();
+    {
+        Hdf5CubeWriter writer(dir / "abandoned.h5", 4, 3, cube.grid, {.gzipLevel = 3});
+        writer.writeRows(0, 2, cube.data.data());
+        EXPECT_EQ(liveTempFileCount(), liveBefore + 1);
+    }
+    EXPECT_TRUE(files().empty()) << ::testing::PrintToString(files());
+    EXPECT_EQ(liveTempFileCount(), liveBefore);
+}
+
+TEST_F(Hdf5Cube, WriterMisuseIsARuntimeErrorNamingThePath) {
+    const Grid grid{400, 500, 50};
+    const std::vector<float> rows(4 * 3 * 3, 1.0f);
+    Hdf5CubeWriter writer(dir / "misuse.h5", 4, 3, grid);
+    try {
+        writer.writeRows(1, 1, rows.data());  // row 0 comes first
+        FAIL() << "expected an error";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.code(), ExitCode::Failure);
+        EXPECT_NE(e.message().find("misuse.h5"), std::string::npos) << e.message();
+    }
+    writer.writeRows(0, 2, rows.data());
+    EXPECT_THROW(writer.commit(), Error);  // 2 of 3 rows
+    EXPECT_THROW(Hdf5CubeWriter(dir / "bad.h5", 1, 1, grid, {.gzipLevel = 10}), Error);
+    std::ofstream(dir / "blocker") << "a file where a folder should be";
+    EXPECT_THROW(Hdf5CubeWriter(dir / "blocker" / "x.h5", 1, 1, grid), Error);
+}
+
+TEST_F(Hdf5Cube, ForeignFileWithoutOurAttributesReads) {
+    // Integer wavelengths, a float64 cube, no grid or quantity attribute: what h5py users write.
+    const fs::path file = dir / "foreign.h5";
+    hid_t f = create(file);
+    const std::vector<double> values = {0.5, 1.5, 2.5, 1e300, 4.5, 5.5};  // [1, 2, 3]
+    dataset(f, "cube", H5T_IEEE_F64BE, {1, 2, 3}, H5T_NATIVE_DOUBLE, values.data(), true);
+    const std::vector<int> nm = {450, 475, 500};
+    dataset(f, "wavelength_nm", H5T_STD_I32LE, {3}, H5T_NATIVE_INT, nm.data());
+    H5Fclose(f);
+    const SpectralImage image = readHdf5Cube(file);
+    EXPECT_EQ(image.component, SpectralComponent::Emissive);
+    EXPECT_EQ(image.cube.grid, (Grid{450, 500, 25}));
+    EXPECT_EQ(image.cube.width, 2);
+    EXPECT_EQ(image.cube.height, 1);
+    EXPECT_EQ(image.cube.at(0, 0, 0), 0.5f);
+    EXPECT_EQ(image.cube.at(1, 0, 2), 5.5f);
+    EXPECT_GE(image.cube.at(1, 0, 0), std::numeric_limits<float>::max());  // beyond float: max or +Inf
+}
+
+TEST_F(Hdf5Cube, OneBandKeepsItsStepThroughTheGridAttribute) {
+    const SpectralCube cube = randomCube(2, 2, Grid{550, 550, 10}, 7);
+    ASSERT_EQ(cube.bands(), 1);
+    writeHdf5Cube(dir / "one.h5", cube);
+    const SpectralImage back = readHdf5Cube(dir / "one.h5");
+    EXPECT_EQ(back.cube.grid.step_nm, 10.0);
+    expectBitExact(cube, back.cube);
+}
+
+TEST_F(Hdf5Cube, MalformedFilesAreInputErrorsNamingTheFileAndKey) {
+    const std::vector<double> three = {400, 410, 420};
+    auto read = [](const fs::path& p) { return [p] { readHdf5Cube(p); }; };
+
+    expectInputError(read(dir / "missing.h5"), dir / "missing.h5", "", "not found");
+    expectInputError(read(dir), dir, "", "not a regular file");
+    std::ofstream(dir / "text.h5") << "hello, not HDF5\n";
+    expectInputError(read(dir / "text.h5"), dir / "text.h5", "", "not an HDF5 file");
+
+    // Truncated: a valid file cut in half.
+    const SpectralCube cube = randomCube(16, 16, Grid{400, 700, 10}, 8);
+    writeHdf5Cube(dir / "whole.h5", cube);
+    fs::copy_file(dir / "whole.h5", dir / "cut.h5");
+    fs::resize_file(dir / "cut.h5", fs::file_size(dir / "whole.h5") / 2);
+    expectInputError(read(dir / "cut.h5"), dir / "cut.h5", "", "truncated or damaged HDF5 file");
+
+    writeForeign(dir / "no-wavelengths.h5", {2, 2, 3}, nullptr);
+    expectInputError(read(dir / "no-wavelengths.h5"), dir / "no-wavelengths.h5", "/wavelength_nm", "missing");
+
+    {
+        hid_t f = create(dir / "no-cube.h5");
+        dataset(f, "wavelength_nm", H5T_IEEE_F64LE, {3}, H5T_NATIVE_DOUBLE, three.data());
+        H5Fclose(f);
+    }
+    expectInputError(read(dir / "no-cube.h5"), dir / "no-cube.h5", "/cube", "missing");
+
+    {
+        hid_t f = create(dir / "group.h5");
+        H5Gclose(H5Gcreate2(f, "cube", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
+        H5Fclose(f);
+    }
+    expectInputError(read(dir / "group.h5"), dir / "group.h5", "/cube", "not a readable dataset");
+
+    writeForeign(dir / "rank2.h5", {4, 3}, &three);
+    expectInputError(read(dir / "rank2.h5"), dir / "rank2.h5", "/cube", "rank 2");
+
+    writeForeign(dir / "count.h5", {2, 2, 4}, &three);
+    expectInputError(read(dir / "count.h5"), dir / "count.h5", "/wavelength_nm", "3 wavelengths but /cube has 4 bands");
+
+    const std::vector<double> gappy = {400, 410, 430};
+    writeForeign(dir / "gappy.h5", {2, 2, 3}, &gappy);
+    expectInputError(read(dir / "gappy.h5"), dir / "gappy.h5", "/wavelength_nm", "not on a uniform grid");
+
+    const std::vector<double> nan = {400, NAN, 420};
+    writeForeign(dir / "nan.h5", {2, 2, 3}, &nan);
+    expectInputError(read(dir / "nan.h5"), dir / "nan.h5", "/wavelength_nm", "is not a wavelength");
+
+    const std::vector<double> down = {420, 410, 400};
+    writeForeign(dir / "down.h5", {2, 2, 3}, &down);
+    expectInputError(read(dir / "down.h5"), dir / "down.h5", "/wavelength_nm", "not increasing");
+
+    const std::vector<double> none;
+    writeForeign(dir / "empty.h5", {2, 0, 3}, &none);
+    expectInputError(read(dir / "empty.h5"), dir / "empty.h5", "/cube", "empty");
+
+    {
+        hid_t f = create(dir / "ints.h5");
+        const std::vector<int> v(12, 1);
+        dataset(f, "cube", H5T_STD_I32LE, {2, 2, 3}, H5T_NATIVE_INT, v.data());
+        dataset(f, "wavelength_nm", H5T_IEEE_F64LE, {3}, H5T_NATIVE_DOUBLE, three.data());
+        H5Fclose(f);
+    }
+    expectInputError(read(dir / "ints.h5"), dir / "ints.h5", "/cube", "integer values");
+
+    writeForeign(dir / "quantity.h5", {1, 1, 3}, &three, "radiance");
+    expectInputError(read(dir / "quantity.h5"), dir / "quantity.h5", "/cube.quantity", "'radiance'");
+}
+
+TEST_F(Hdf5Cube, HugeShapeIsRefusedBeforeAllocating) {
+    // A chunked dataset stores nothing until written: a tiny file can declare 2^40 values.
+    const fs::path file = dir / "huge.h5";
+    hid_t f = create(file);
+    dataset(f, "cube", H5T_IEEE_F32LE, {1 << 20, 1 << 10, 1 << 10}, H5T_NATIVE_FLOAT, nullptr, true);
+    std::vector<double> wl(1 << 10);
+    for (size_t i = 0; i < wl.size(); ++i) wl[i] = 400 + double(i);
+    dataset(f, "wavelength_nm", H5T_IEEE_F64LE, {wl.size()}, H5T_NATIVE_DOUBLE, wl.data());
+    H5Fclose(f);
+    ASSERT_LT(fs::file_size(file), 1u << 20);
+    expectInputError([&] { readHdf5Cube(file); }, file, "/cube", "more than 2^34 values");
+}

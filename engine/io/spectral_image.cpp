@@ -1,0 +1,83 @@
+#include "io/spectral_image.h"
+
+#include "core/error.h"
+#include "io/envi_cube.h"
+#include "io/hdf5_cube.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cstring>
+#include <fstream>
+
+namespace fs = std::filesystem;
+
+namespace metamer {
+
+namespace {
+
+bool isRegularFile(const fs::path& path) {
+    std::error_code ec;
+    return fs::is_regular_file(fs::status(path, ec));
+}
+
+std::string lowerExtension(const fs::path& path) {
+    std::string e = path.extension().string();
+    std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    return e;
+}
+
+}  // namespace
+
+const char* cubeFormatName(CubeFormat format) {
+    switch (format) {
+        case CubeFormat::Exr: return "OpenEXR";
+        case CubeFormat::Hdf5: return "HDF5";
+        case CubeFormat::Envi: return "ENVI";
+    }
+    return "?";
+}
+
+std::optional<CubeFormat> cubeFormatOf(const fs::path& path) {
+    try {
+        // A FIFO or a device would block or never end: only regular files are opened.
+        if (!isRegularFile(path)) return std::nullopt;
+        unsigned char head[8] = {};
+        std::ifstream in(path, std::ios::binary);
+        in.read(reinterpret_cast<char*>(head), sizeof head);
+        const std::streamsize got = in ? std::streamsize(sizeof head) : in.gcount();
+        static const unsigned char kExr[4] = {0x76, 0x2f, 0x31, 0x01};
+        static const unsigned char kHdf5[8] = {0x89, 'H', 'D', 'F', '\r', '\n', 0x1a, '\n'};
+        if (got >= 4 && std::memcmp(head, kExr, 4) == 0) return CubeFormat::Exr;
+        if (got >= 8 && std::memcmp(head, kHdf5, 8) == 0) return CubeFormat::Hdf5;
+        if (got >= 4 && std::memcmp(head, "ENVI", 4) == 0) return CubeFormat::Envi;
+        const std::string ext = lowerExtension(path);
+        if (ext == ".img" || ext == ".raw" || ext == ".dat") {
+            if (isEnviHeaderFile(fs::path(path).replace_extension(".hdr")) ||
+                isEnviHeaderFile(fs::path(path.string() + ".hdr")))
+                return CubeFormat::Envi;
+        }
+    } catch (const std::exception&) {
+        // A path the file system cannot even look at (too long, bad encoding): not a cube.
+    }
+    return std::nullopt;
+}
+
+SpectralImage readSpectralImage(const fs::path& path) {
+    const Where where{path.string()};
+    std::error_code ec;
+    const fs::file_status status = fs::status(path, ec);
+    if (!fs::exists(status)) failInput(where, "not found");
+    if (!fs::is_regular_file(status)) failInput(where, "not a regular file");
+    const std::optional<CubeFormat> format = cubeFormatOf(path);
+    if (!format)
+        failInput(where, "not a spectral image: expected OpenEXR, HDF5 or ENVI (a header starting with 'ENVI', or a "
+                         ".img, .raw or .dat beside one)");
+    switch (*format) {
+        case CubeFormat::Exr: return readSpectralExrImage(path);
+        case CubeFormat::Hdf5: return readHdf5Cube(path);
+        case CubeFormat::Envi: return readEnviCube(path);
+    }
+    failInput(where, "not a spectral image");
+}
+
+}  // namespace metamer

@@ -1,0 +1,411 @@
+// `import metamer`: the engine for Python (docs/python.md). A thin binding: metamer.render runs
+// the same render job as `metamer render`, with the outputs kept in memory (RenderJob::capture),
+// and hands the arrays to numpy without a copy; Render.save writes the CLI's files from them;
+// metamer.compare and metamer.load_cube call the compare and io layers. One Vulkan context per
+// device choice is made on first use and kept for the process (as metamer batch keeps one for its
+// jobs), so a call does not pay the device start-up. Errors are metamer.InputError (what the CLI
+// exits 2 on; also a ValueError) or metamer.Error, carrying the CLI's message.
+// Tests: tests/python/test_module.py (pytest).
+#include "compare/compare.h"
+#include "compare/tolerance.h"
+#include "core/error.h"
+#include "io/spectral_image.h"
+#include "render/render_job.h"
+#include "render/render_setup.h"
+#include "spectral/resampling.h"
+#include "vk/context.h"
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
+
+#include <fmt/format.h>
+
+#include <map>
+#include <memory>
+#include <mutex>
+
+namespace py = pybind11;
+namespace fs = std::filesystem;
+using namespace metamer;
+
+namespace {
+
+PyObject* errorType = nullptr;       // metamer.Error (RuntimeError)
+PyObject* inputErrorType = nullptr;  // metamer.InputError (metamer.Error, ValueError)
+
+// Renders are serialized: a Vulkan queue takes one submitter at a time, and the GIL is released
+// while a render runs.
+std::mutex renderMutex;
+
+// One context per (validation, device) asked for, kept until the interpreter exits.
+std::map<std::pair<bool, std::string>, std::unique_ptr<vk::Context>>& contexts() {
+    static std::map<std::pair<bool, std::string>, std::unique_ptr<vk::Context>> c;
+    return c;
+}
+
+vk::Context& contextFor(const RenderJob& job) {
+    const vk::ContextOptions options = jobContextOptions(job);
+    auto& slot = contexts()[{options.validation, options.device}];
+    if (!slot) slot = std::make_unique<vk::Context>(options);
+    return *slot;
+}
+
+// A numpy view of `data` (shape, C order) that keeps `owner` alive; read-only, so the arrays
+// stay what Render.save() writes.
+template <typename T>
+py::array view(const std::vector<T>& data, std::vector<py::ssize_t> shape, py::handle owner) {
+    if (data.empty()) return py::none();
+    py::array a(py::dtype::of<T>(), shape, {}, data.data(), owner);
+    a.attr("setflags")(py::arg("write") = false);
+    return a;
+}
+
+// The Python result of metamer.render: the captured arrays and the job's report.
+struct Render {
+    CapturedRender captured;
+    RenderJobResult result;
+    bool spectral = true;
+    std::vector<std::string> channelNames;  // non-spectral modes: the mode's channels
+    int bits = 8;
+};
+
+// A str or os.PathLike as a path.
+fs::path pathOf(const py::handle& x) { return py::str(py::module_::import("os").attr("fspath")(x)).cast<std::string>(); }
+
+std::vector<std::string> stringList(const py::handle& value, const char* name) {
+    if (value.is_none()) return {};
+    if (py::isinstance<py::str>(value)) {
+        // "cube,xyz": the CLI's comma-separated form.
+        std::vector<std::string> out;
+        std::string s = value.cast<std::string>();
+        size_t start = 0;
+        while (start <= s.size()) {
+            size_t comma = s.find(',', start);
+            std::string item = s.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+            if (!item.empty()) out.push_back(item);
+            if (comma == std::string::npos) break;
+            start = comma + 1;
+        }
+        return out;
+    }
+    std::vector<std::string> out;
+    try {
+        for (const py::handle& item : value) out.push_back(py::str(item).cast<std::string>());
+    } catch (const py::error_already_set&) {
+        failInput(Where{"", name}, "expected a string or a sequence of strings");
+    }
+    return out;
+}
+
+// overrides: ["KEY=VALUE", ...] as --set takes them, or {key: value} (values as JSON).
+std::vector<std::string> overrideList(const py::handle& value) {
+    if (value.is_none()) return {};
+    if (py::isinstance<py::dict>(value)) {
+        py::module_ json = py::module_::import("json");
+        std::vector<std::string> out;
+        for (auto [k, v] : value.cast<py::dict>()) {
+            std::string text = py::isinstance<py::str>(v) ? v.cast<std::string>()
+                                                          : json.attr("dumps")(v).cast<std::string>();
+            out.push_back(py::str(k).cast<std::string>() + "=" + text);
+        }
+        return out;
+    }
+    return stringList(value, "overrides");
+}
+
+std::optional<std::string> optionalString(const std::optional<std::string>& s) {
+    return s && !s->empty() ? s : std::nullopt;
+}
+
+std::shared_ptr<Render> render(const py::object& scene, const py::object& grid, const py::object& overrides,
+                               const std::string& backend, const std::optional<std::string>& detector,
+                               const std::optional<std::string>& adapt, const std::optional<std::string>& display,
+                               std::optional<int> bits, const std::optional<std::string>& integration,
+                               const std::optional<std::string>& xyz, const std::string& mode, const py::object& write,
+                               const std::optional<std::string>& resample, int ssaa, bool validation,
+                               const std::string& device, bool allowOutsidePaths, const std::string& name,
+                               const py::object& baseDir, const py::object& format) {
+    RenderJob job;
+    if (py::isinstance<py::dict>(scene)) {
+        // A scene given as a dict: its relative paths resolve against base_dir (default: the
+        // current folder), and `name` is its stem for messages and Render.save().
+        fs::path base = baseDir.is_none() ? fs::current_path() : fs::path(py::str(baseDir).cast<std::string>());
+        job.scene = base / (name + ".json");
+        job.sceneText = py::module_::import("json").attr("dumps")(scene).cast<std::string>();
+    } else {
+        job.scene = pathOf(scene);
+    }
+    if (!grid.is_none()) job.grid = Grid::parse(py::str(grid).cast<std::string>(), Where{"", "grid"});
+    if (resample && !resample->empty()) job.resampling = parseResampling(*resample, Where{"", "resample"});
+    job.overrides = overrideList(overrides);
+    if (backend != "gpu" && backend != "cpu")
+        failInput(Where{"", "backend"}, "'{}' is not a backend; expected \"gpu\" or \"cpu\"", backend);
+    job.backend = backend == "cpu" ? Backend::Cpu : Backend::Gpu;
+    if (ssaa < 1 || ssaa > 4) failInput(Where{"", "ssaa"}, "{} samples per side; expected 1 to 4", ssaa);
+    job.ssaa = ssaa;
+    job.detector = optionalString(detector);
+    job.adaptation = optionalString(adapt);
+    job.display = optionalString(display);
+    if (bits && *bits != 8 && *bits != 16) failInput(Where{"", "bits"}, "{} bits; expected 8 or 16", *bits);
+    job.bits = bits;
+    job.integration = optionalString(integration);
+    job.xyz = optionalString(xyz);
+    job.mode = mode;
+    std::vector<std::string> outputs = write.is_none() ? std::vector<std::string>{"cube"} : stringList(write, "write");
+    for (auto& o : outputs)
+        if (o == "display") o = "png";  // the display image is the CLI's PNG
+    job.write = outputs;
+    if (!format.is_none()) job.format = stringList(format, "format");
+    job.validation = validation;
+    job.device = device;
+    job.allowOutsidePaths = allowOutsidePaths;
+
+    auto r = std::make_shared<Render>();
+    job.capture = &r->captured;
+    {
+        py::gil_scoped_release release;
+        std::lock_guard<std::mutex> lock(renderMutex);
+        if (job.backend == Backend::Gpu) job.context = &contextFor(job);
+        r->result = runRenderJob(job);
+    }
+    const Representation& rep = r->captured.loaded->representation;
+    r->spectral = rep.mode.spectral();
+    if (!r->spectral) r->channelNames = rep.channelNames;
+    if (r->captured.plan) r->bits = r->captured.plan->display.bits;
+    return r;
+}
+
+py::dict statsDict(const CompareStats& stats) {
+    return py::module_::import("json").attr("loads")(statsToJson(stats).dump()).cast<py::dict>();
+}
+
+// A compare operand: a path to any file `metamer compare` reads, or a Render (its cube).
+ImageData comparable(const py::object& x, const char* which) {
+    if (py::isinstance<Render>(x)) {
+        const Render& r = x.cast<const Render&>();
+        if (r.captured.outputs.cube.empty() || !r.spectral)
+            failInput(Where{"", which}, "this render kept no spectral cube (render with write=\"cube\")");
+        SpectralCube cube;
+        cube.width = r.captured.outputs.width;
+        cube.height = r.captured.outputs.height;
+        cube.grid = r.captured.grid;
+        cube.data = r.captured.outputs.cube;
+        ImageData d = fromCube(cube);
+        d.source = which;
+        return d;
+    }
+    return readComparable(pathOf(x));
+}
+
+py::dict compare(const py::object& a, const py::object& b, const py::object& mask, const py::object& tolerance,
+                 bool resample, const std::string& detector, const std::string& adapt, const std::string& display,
+                 std::optional<double> pixelThreshold, std::optional<double> relativeFloor, bool deltaE) {
+    // In `metamer compare`'s order: everything named is checked before the comparison.
+    std::optional<Tolerance> limits;
+    if (!tolerance.is_none()) limits = readTolerance(pathOf(tolerance));
+    ImageData A = comparable(a, "a"), B = comparable(b, "b");
+    CompareRequest request;
+    request.pixelThreshold = pixelThreshold;
+    request.relativeFloor = relativeFloor;
+    request.resample = resample;
+    request.detector = detector;
+    request.adapt = adapt;
+    request.display = display;
+    request.noDeltaE = !deltaE;
+    CompareOptions o = makeCompareOptions(request, B, limits ? &*limits : nullptr);
+    if (!mask.is_none()) o.mask = readMask(pathOf(mask), B.width, B.height);
+    CompareStats stats;
+    {
+        py::gil_scoped_release release;
+        stats = compareImages(A, B, o);
+    }
+    py::dict d = statsDict(stats);
+    if (limits) {
+        const Verdict v = judge(stats, *limits);
+        d["passed"] = v.pass;
+        d["failures"] = v.failures;
+    }
+    return d;
+}
+
+// metamer.load_cube: a spectral cube from EXR, HDF5 or ENVI, as a dict of numpy arrays.
+py::dict loadCube(const py::object& path) {
+    const fs::path file = pathOf(path);
+    auto image = std::make_shared<SpectralImage>(readSpectralImage(file));
+    const SpectralCube& c = image->cube;
+    // The array owns the cube through a capsule: no copy of a cube that may be GiBs.
+    py::capsule owner(new std::shared_ptr<SpectralImage>(image),
+                      [](void* p) { delete static_cast<std::shared_ptr<SpectralImage>*>(p); });
+    py::dict d;
+    d["cube"] = view(c.data, {c.height, c.width, c.bands()}, owner);
+    d["wavelengths_nm"] = py::array(py::cast(c.grid.wavelengths()));
+    d["grid"] = c.grid.str();
+    const bool reflective = image->component == SpectralComponent::Reflective;
+    d["quantity"] = reflective ? "reflectance" : "spectral radiance";
+    d["units"] = reflective ? "1" : "W·sr⁻¹·m⁻²·nm⁻¹";
+    return d;
+}
+
+void translate(std::exception_ptr p) {
+    try {
+        if (p) std::rethrow_exception(p);
+    } catch (const Error& e) {
+        PyErr_SetString(e.code() == ExitCode::BadInput ? inputErrorType : errorType,
+                        printableMessage(e.what()).c_str());
+    } catch (const std::bad_alloc&) {
+        PyErr_SetString(PyExc_MemoryError, "out of memory");
+    }
+}
+
+}  // namespace
+
+PYBIND11_MODULE(metamer, m) {
+    m.doc() = "Metamer: full-spectral rendering of spectral radiance cubes (docs/python.md)";
+    errorType = PyErr_NewException("metamer.Error", PyExc_RuntimeError, nullptr);
+    py::object bases = py::make_tuple(py::handle(errorType), py::handle(PyExc_ValueError));
+    inputErrorType = PyErr_NewException("metamer.InputError", bases.ptr(), nullptr);
+    m.attr("Error") = py::handle(errorType);
+    m.attr("InputError") = py::handle(inputErrorType);
+    py::register_exception_translator(&translate);
+    m.attr("__version__") = METAMER_VERSION;
+
+    py::class_<Render, std::shared_ptr<Render>>(m, "Render", "A render held in memory (metamer.render)")
+        .def_property_readonly(
+            "cube",
+            [](py::object self) -> py::object {
+                const Render& r = self.cast<const Render&>();
+                const CapturedOutputs& c = r.captured.outputs;
+                return view(c.cube, {c.height, c.width, py::ssize_t(c.cubeChannels)}, self);
+            },
+            "rows × columns × bands float32 (read-only view): spectral radiance per band, W·sr⁻¹·m⁻²·nm⁻¹; "
+            "a reduced mode's channels when mode is not spectral; None unless write has \"cube\"")
+        .def_property_readonly("wavelengths_nm",
+                               [](const Render& r) -> py::object {
+                                   if (!r.spectral) return py::none();
+                                   return py::array(py::cast(r.captured.grid.wavelengths()));
+                               })
+        .def_property_readonly("grid", [](const Render& r) { return r.captured.grid.str(); })
+        .def_property_readonly("channels",
+                               [](const Render& r) -> py::object {
+                                   if (r.spectral) return py::none();
+                                   return py::cast(r.channelNames);
+                               })
+        .def_property_readonly("units",
+                               [](const Render& r) {
+                                   return r.spectral ? std::string("W·sr⁻¹·m⁻²·nm⁻¹")
+                                                     : std::string("W·sr⁻¹·m⁻²·nm⁻¹ weighted by the mode's channels");
+                               })
+        .def_property_readonly("width", [](const Render& r) { return r.captured.outputs.width; })
+        .def_property_readonly("height", [](const Render& r) { return r.captured.outputs.height; })
+        .def_property_readonly(
+            "xyz",
+            [](py::object self) -> py::object {
+                const CapturedOutputs& c = self.cast<const Render&>().captured.outputs;
+                return view(c.xyz, {c.height, c.width, 3}, self);
+            },
+            "rows × columns × 3 float32: XYZ as the detector sees the scene (xyz_units)")
+        .def_property_readonly("xyz_units", [](const Render& r) { return r.result.xyzUnits; })
+        .def_property_readonly(
+            "responses",
+            [](py::object self) -> py::object {
+                const CapturedOutputs& c = self.cast<const Render&>().captured.outputs;
+                return view(c.responses, {c.height, c.width, py::ssize_t(c.responseChannels)}, self);
+            },
+            "rows × columns × channels float32: the detector's raw responses")
+        .def_property_readonly("response_channels",
+                               [](const Render& r) -> py::object {
+                                   if (!r.captured.plan) return py::none();
+                                   return py::cast(r.captured.plan->detector.channels);
+                               })
+        .def_property_readonly("response_units",
+                               [](const Render& r) -> py::object {
+                                   if (!r.captured.plan) return py::none();
+                                   return py::cast(r.captured.plan->detector.units);
+                               })
+        .def_property_readonly(
+            "display",
+            [](py::object self) -> py::object {
+                const Render& r = self.cast<const Render&>();
+                const CapturedOutputs& c = r.captured.outputs;
+                if (c.counts.empty()) return py::none();
+                if (r.bits == 16) return view(c.counts, {c.height, c.width, 3}, self);
+                py::array_t<uint8_t> a({c.height, c.width, 3});  // 8-bit counts: a copy, as uint8
+                uint8_t* out = a.mutable_data();
+                for (size_t i = 0; i < c.counts.size(); ++i) out[i] = uint8_t(c.counts[i]);
+                return a;
+            },
+            "rows × columns × 3 display counts (uint8 or uint16 by bits), what the PNG holds")
+        .def_property_readonly("display_description", [](const Render& r) { return r.result.displayDescription; })
+        .def_property_readonly(
+            "edges",
+            [](py::object self) -> py::object {
+                const CapturedOutputs& c = self.cast<const Render&>().captured.outputs;
+                return view(c.edges, {c.height, c.width}, self);
+            },
+            "rows × columns uint16, 255 where a pixel's 3×3 neighbourhood sees more than one surface (cpu)")
+        .def_property_readonly("clipped_pixels", [](const Render& r) { return r.result.clippedPixels; })
+        .def_property_readonly("camera_fit_rms_delta_e2000",
+                               [](const Render& r) { return r.result.cameraFitRmsDeltaE; })
+        .def_property_readonly("backend", [](const Render& r) { return r.result.backendDescription; })
+        .def_property_readonly("notes", [](const Render& r) { return r.result.notes; })
+        .def_property_readonly("validation_errors", [](const Render& r) { return r.result.validationErrors; })
+        .def_property_readonly("timings_ms",
+                               [](const Render& r) {
+                                   const StageTimings& t = r.result.timings;
+                                   py::dict d;
+                                   d["load"] = t.load_ms;
+                                   d["upload"] = t.upload_ms;
+                                   d["shading"] = t.shading_ms;
+                                   d["readback"] = t.readback_ms;
+                                   d["tonemap"] = t.tonemap_ms;
+                                   d["total"] = t.total_ms;
+                                   return d;
+                               })
+        .def(
+            "save",
+            [](const Render& r, const py::object& dir) {
+                const fs::path out = pathOf(dir);
+                std::vector<WrittenFile> written;
+                {
+                    py::gil_scoped_release release;
+                    written = saveCapturedRender(r.captured, out);
+                }
+                std::vector<std::string> paths;
+                for (const auto& w : written) paths.push_back(w.path.string());
+                return paths;
+            },
+            py::arg("dir"), "Writes the files `metamer render --write ...` writes into dir; returns their paths")
+        .def("__repr__", [](const Render& r) {
+            const CapturedOutputs& c = r.captured.outputs;
+            return fmt::format("<metamer.Render {}×{} px, grid {}, {}>", c.width, c.height, r.captured.grid.str(),
+                               r.result.backendDescription);
+        });
+
+    m.def("render", &render, py::arg("scene"), py::kw_only(), py::arg("grid") = py::none(),
+          py::arg("overrides") = py::none(), py::arg("backend") = "gpu", py::arg("detector") = py::none(),
+          py::arg("adapt") = py::none(), py::arg("display") = py::none(), py::arg("bits") = py::none(),
+          py::arg("integration") = py::none(), py::arg("xyz") = py::none(), py::arg("mode") = "full",
+          py::arg("write") = py::none(), py::arg("resample") = py::none(), py::arg("ssaa") = 1,
+          py::arg("validation") = false, py::arg("device") = "", py::arg("allow_outside_paths") = false,
+          py::arg("name") = "scene", py::arg("base_dir") = py::none(), py::arg("format") = py::none(),
+          "Renders a scene (a path, or a dict in the scene format) and keeps the outputs that `write` names "
+          "(default: the cube; also \"xyz\", \"responses\", \"display\"/\"png\", \"edges\") in memory. The other "
+          "arguments are `metamer render`'s flags; `format` is the cube's containers for Render.save().");
+    m.def("compare", &compare, py::arg("a"), py::arg("b"), py::kw_only(), py::arg("mask") = py::none(),
+          py::arg("tolerance") = py::none(), py::arg("resample") = false, py::arg("detector") = "",
+          py::arg("adapt") = "", py::arg("display") = "", py::arg("pixel_threshold") = py::none(),
+          py::arg("relative_floor") = py::none(), py::arg("delta_e") = true,
+          "Compares A against the reference B (paths, or Renders' cubes) as `metamer compare` does; the "
+          "statistics as a dict (with \"passed\" and \"failures\" when a tolerance file is given)");
+    m.def("load_cube", &loadCube, py::arg("path"),
+          "Reads a spectral cube (OpenEXR, HDF5 or ENVI): a dict with cube (rows × columns × bands float32), "
+          "wavelengths_nm, grid, quantity and units");
+
+    m.def("_context_count", [] { return contexts().size(); }, "Vulkan contexts made so far (tests)");
+
+    // The contexts go before the interpreter does: destroying a Vulkan device from a static
+    // destructor after Python has finalized would race the driver's threads.
+    py::module_::import("atexit").attr("register")(py::cpp_function([] { contexts().clear(); }));
+}
