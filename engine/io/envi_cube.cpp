@@ -1,6 +1,7 @@
 #include "io/envi_cube.h"
 
 #include "io/atomic_file.h"
+#include "core/file_reads.h"
 
 #include <algorithm>
 #include <bit>
@@ -355,6 +356,9 @@ std::optional<double> nanometresPer(std::string_view units) {
 EnviHeader parseEnviHeader(const std::string& text, const Where& where) {
     if (text.size() > kMaxHeaderBytes)
         failInput(where, "{} bytes: an ENVI header over 16 MiB is refused", text.size());
+    if (text.size() >= 2 && (text.substr(0, 2) == "\xFF\xFE" || text.substr(0, 2) == "\xFE\xFF"))
+        failInput(where, "is UTF-16 text (it starts with a UTF-16 byte-order mark); an ENVI header is ASCII: save it as "
+                         "UTF-8");
     if (const size_t nul = text.find('\0'); nul != std::string::npos)
         failInput(at(where, "", int(std::count(text.begin(), text.begin() + std::ptrdiff_t(nul), '\n')) + 1),
                   "a NUL byte: not a text header");
@@ -490,11 +494,17 @@ bool isRegularFile(const fs::path& path) {
     return fs::is_regular_file(fs::status(path, ec));
 }
 
+// "ENVI" at the start, also after a UTF-8 or UTF-16 byte-order mark (a header saved by an
+// editor as UTF-16 is still meant as one: parseEnviHeader then says what is wrong with it).
 bool startsWithEnvi(const fs::path& path) {
     if (!isRegularFile(path)) return false;
     std::ifstream in(path, std::ios::binary);
-    char magic[4] = {};
-    return in.read(magic, 4) && std::memcmp(magic, "ENVI", 4) == 0;
+    char head[10] = {};
+    in.read(head, sizeof head);
+    const std::string_view h(head, size_t(in.gcount()));
+    // (Split literals: a hex escape would swallow the letter after it.)
+    return h.substr(0, 4) == "ENVI" || h.substr(0, 7) == "\xEF\xBB\xBF" "ENVI" ||
+           h == std::string_view("\xFF\xFE" "E\0N\0V\0I\0", 10) || h == std::string_view("\xFE\xFF" "\0E\0N\0V\0I", 10);
 }
 
 std::string names(const std::vector<fs::path>& paths) {
@@ -585,6 +595,9 @@ SpectralImage readEnviCube(const fs::path& path) {
     const fs::path header = givenHeader ? path : headerFileFor(path);
     const EnviHeader h = parseEnviHeader(readHeaderText(header), Where{header.string()});
     const fs::path data = givenHeader ? dataFileFor(header) : path;
+    // Both files decide the result (metamer batch digests what a render read).
+    noteFileRead(header);
+    noteFileRead(data);
     requireRegularFile(data);
 
     const Where headerWhere{header.string()}, dataWhere{data.string()};

@@ -1,6 +1,7 @@
 #include "io/hdf5_cube.h"
 
 #include "core/error.h"
+#include "core/file_reads.h"
 #include "io/atomic_file.h"
 
 #include <hdf5.h>
@@ -338,6 +339,7 @@ std::optional<std::string> stringAttribute(hid_t object, const char* name, bool*
 }  // namespace
 
 SpectralImage readHdf5Cube(const fs::path& path) {
+    noteFileRead(path);  // metamer batch digests what a render read
     quietHdf5();
     const Where where{path.string()};
     const Where cubeWhere{path.string(), "/cube"}, wavelengthWhere{path.string(), "/wavelength_nm"};

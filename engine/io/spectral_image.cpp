@@ -49,7 +49,7 @@ std::optional<CubeFormat> cubeFormatOf(const fs::path& path) {
         static const unsigned char kHdf5[8] = {0x89, 'H', 'D', 'F', '\r', '\n', 0x1a, '\n'};
         if (got >= 4 && std::memcmp(head, kExr, 4) == 0) return CubeFormat::Exr;
         if (got >= 8 && std::memcmp(head, kHdf5, 8) == 0) return CubeFormat::Hdf5;
-        if (got >= 4 && std::memcmp(head, "ENVI", 4) == 0) return CubeFormat::Envi;
+        if (isEnviHeaderFile(path)) return CubeFormat::Envi;
         const std::string ext = lowerExtension(path);
         if (ext == ".img" || ext == ".raw" || ext == ".dat") {
             if (isEnviHeaderFile(fs::path(path).replace_extension(".hdr")) ||

@@ -54,11 +54,34 @@ vk::Context& contextFor(const RenderJob& job) {
 
 // A numpy view of `data` (shape, C order) that keeps `owner` alive; read-only, so the arrays
 // stay what Render.save() writes.
+//
+// The strides are computed here, never by pybind11: Debian's pybind11 2.10 reads a dtype's item
+// size from numpy 1's descriptor layout, which numpy 2 changed (it reads 0, and the array would
+// repeat its first element).
 template <typename T>
-py::array view(const std::vector<T>& data, std::vector<py::ssize_t> shape, py::handle owner) {
+std::vector<py::ssize_t> cStrides(const std::vector<py::ssize_t>& shape) {
+    std::vector<py::ssize_t> strides(shape.size());
+    py::ssize_t s = py::ssize_t(sizeof(T));
+    for (size_t i = shape.size(); i-- > 0;) {
+        strides[i] = s;
+        s *= shape[i];
+    }
+    return strides;
+}
+
+template <typename T>
+py::object view(const std::vector<T>& data, std::vector<py::ssize_t> shape, py::handle owner) {
     if (data.empty()) return py::none();
-    py::array a(py::dtype::of<T>(), shape, {}, data.data(), owner);
+    py::array a(py::dtype::of<T>(), shape, cStrides<T>(shape), data.data(), owner);
     a.attr("setflags")(py::arg("write") = false);
+    return a;
+}
+
+// A float64 array, a copy of `v`.
+py::array doubles(const std::vector<double>& v) {
+    const std::vector<py::ssize_t> shape{py::ssize_t(v.size())};
+    py::array a(py::dtype::of<double>(), shape, cStrides<double>(shape));
+    std::copy(v.begin(), v.end(), static_cast<double*>(a.mutable_data()));
     return a;
 }
 
@@ -240,7 +263,7 @@ py::dict loadCube(const py::object& path) {
                       [](void* p) { delete static_cast<std::shared_ptr<SpectralImage>*>(p); });
     py::dict d;
     d["cube"] = view(c.data, {c.height, c.width, c.bands()}, owner);
-    d["wavelengths_nm"] = py::array(py::cast(c.grid.wavelengths()));
+    d["wavelengths_nm"] = doubles(c.grid.wavelengths());
     d["grid"] = c.grid.str();
     const bool reflective = image->component == SpectralComponent::Reflective;
     d["quantity"] = reflective ? "reflectance" : "spectral radiance";
@@ -284,7 +307,7 @@ PYBIND11_MODULE(metamer, m) {
         .def_property_readonly("wavelengths_nm",
                                [](const Render& r) -> py::object {
                                    if (!r.spectral) return py::none();
-                                   return py::array(py::cast(r.captured.grid.wavelengths()));
+                                   return doubles(r.captured.grid.wavelengths());
                                })
         .def_property_readonly("grid", [](const Render& r) { return r.captured.grid.str(); })
         .def_property_readonly("channels",
@@ -331,8 +354,9 @@ PYBIND11_MODULE(metamer, m) {
                 const CapturedOutputs& c = r.captured.outputs;
                 if (c.counts.empty()) return py::none();
                 if (r.bits == 16) return view(c.counts, {c.height, c.width, 3}, self);
-                py::array_t<uint8_t> a({c.height, c.width, 3});  // 8-bit counts: a copy, as uint8
-                uint8_t* out = a.mutable_data();
+                const std::vector<py::ssize_t> shape{c.height, c.width, 3};
+                py::array a(py::dtype::of<uint8_t>(), shape, cStrides<uint8_t>(shape));  // 8-bit counts: a copy
+                auto* out = static_cast<uint8_t*>(a.mutable_data());
                 for (size_t i = 0; i < c.counts.size(); ++i) out[i] = uint8_t(c.counts[i]);
                 return a;
             },

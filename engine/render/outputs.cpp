@@ -115,7 +115,9 @@ RenderOutputs::RenderOutputs(const OutputTargets& targets, int width, int height
     if (!targets_.envi.empty()) {
         EnviWriteOptions eo;
         eo.interleave = options_.formats.enviInterleave;
-        eo.attributes = provenance_;
+        // The writer says the grid and its rule itself (`metamer grid`, `metamer resampling`).
+        for (const auto& a : provenance_)
+            if (a.first != "metamer:grid" && a.first != "metamer:resampling") eo.attributes.push_back(a);
         envi_ = std::make_unique<EnviCubeWriter>(targets_.envi, width_, height_, grid_, eo);
     }
     if (!targets_.png.empty() && plan_) {

@@ -67,6 +67,7 @@ def test_cube_is_a_read_only_view_of_the_render():
     r = metamer.render(white_quad())
     a, b = r.cube, r.cube
     assert not a.flags.owndata and np.shares_memory(a, b)  # no copy per access
+    assert a.flags.c_contiguous and a.strides == (8 * 89 * 4, 89 * 4, 4)
     with pytest.raises(ValueError):
         a[0, 0, 0] = 1.0
     del r  # the array keeps the render alive
@@ -96,7 +97,8 @@ def test_scene_file_with_overrides_grid_and_outputs_equals_the_cli(tmp_path):
 
 def test_xyz_agrees_with_colour_science():
     # Absolute XYZ (cd/m²) of a pixel: 683 lm/W × CIE 15's summation of its radiance against the
-    # CIE 1931 observer on the render grid, computed by colour-science from the module's cube.
+    # CIE 1931 observer on the render grid, computed by colour-science from the module's cube
+    # (colour-science takes an explicit k as absolute and divides its result by 100: undone here).
     r = metamer.render(REPO / "scenes" / "spheres.json", grid="380:780:5", xyz="absolute",
                        overrides={"camera.width": 32, "camera.height": 24}, write="cube,xyz")
     cmfs_table = np.genfromtxt(SPECTRA / "observers" / "cie1931_2deg.csv", delimiter=",", skip_header=1)
@@ -105,9 +107,11 @@ def test_xyz_agrees_with_colour_science():
     cmfs = cmfs.copy().align(shape)
     ones = colour.sd_ones(shape)
     worst = 0.0
-    for y, x in [(12, 16), (20, 4), (3, 30), (15, 10)]:
+    lit = [(y, x) for y in range(24) for x in range(32) if r.xyz[y, x, 1] > 1.0]
+    assert len(lit) > 100
+    for y, x in lit:
         sd = colour.SpectralDistribution(r.cube[y, x].astype(float), r.wavelengths_nm)
-        expected = colour.sd_to_XYZ(sd, cmfs, ones, k=683.0, method="Integration")
+        expected = 100.0 * colour.sd_to_XYZ(sd, cmfs, ones, k=683.0, method="Integration")
         got = r.xyz[y, x].astype(float)
         worst = max(worst, float(np.max(np.abs(got - expected) / np.maximum(np.abs(expected), 1e-6))))
     assert worst < 1e-4, worst
@@ -188,12 +192,105 @@ def test_compare_returns_the_statistics(tmp_path):
     assert verdict["passed"] is False and verdict["failures"]
 
 
-def test_cube_formats_round_trip_through_load_cube_and_the_readers(tmp_path):
+def test_saved_hdf5_and_envi_hold_the_render_for_h5py_and_spectral_python(tmp_path):
     import h5py
     import spectral
 
-    r = metamer.render(white_quad(9, 7), grid="400:700:20", write="cube")
-    written = r.save(tmp_path)
-    exr = metamer.load_cube(written[0])
-    np.testing.assert_array_equal(exr["cube"], r.cube)
-    assert exr["units"] == "W·sr⁻¹·m⁻²·nm⁻¹" and exr["grid"] == "400:700:20"
+    r = metamer.render(REPO / "scenes" / "spheres.json", grid="400:700:10", format="exr,hdf5:gzip,envi:bil",
+                       overrides={"camera.width": 24, "camera.height": 18}, write="cube")
+    names = sorted(Path(p).name for p in r.save(tmp_path))
+    assert names == ["spheres.exr", "spheres.h5", "spheres.hdr"]
+    with h5py.File(tmp_path / "spheres.h5", "r") as f:
+        np.testing.assert_array_equal(f["cube"][()], r.cube)
+        np.testing.assert_array_equal(f["wavelength_nm"][()], r.wavelengths_nm)
+        assert f["cube"].attrs["units"] == "W·sr⁻¹·m⁻²·nm⁻¹"
+        assert f.attrs["metamer:overrides"] == "camera.width=24 camera.height=18"
+    img = spectral.open_image(str(tmp_path / "spheres.hdr"))
+    np.testing.assert_array_equal(np.asarray(img.load()), r.cube)
+    assert [float(w) for w in img.metadata["wavelength"]] == list(r.wavelengths_nm)
+    for name in names:
+        c = metamer.load_cube(tmp_path / name)
+        np.testing.assert_array_equal(c["cube"], r.cube)
+    assert metamer.compare(tmp_path / "spheres.h5", tmp_path / "spheres.exr")["max_abs"] == 0
+
+
+def write_envi(stem: Path, cube: np.ndarray, wavelengths, quantity="reflectance", byte_order="<"):
+    """An ENVI BSQ reflectance cube written by hand, as another tool would (not by Metamer)."""
+    lines, samples, bands = cube.shape
+    stem.with_suffix(".img").write_bytes(np.ascontiguousarray(cube.transpose(2, 0, 1)).astype(byte_order + "f4").tobytes())
+    stem.with_suffix(".hdr").write_text(
+        "ENVI\n"
+        f"samples = {samples}\nlines = {lines}\nbands = {bands}\nheader offset = 0\n"
+        "file type = ENVI Standard\ndata type = 4\ninterleave = bsq\n"
+        f"byte order = {0 if byte_order == '<' else 1}\nwavelength units = Nanometers\n"
+        "wavelength = {" + ", ".join(f"{w:g}" for w in wavelengths) + "}\n"
+        f"metamer quantity = {quantity}\n")
+
+
+def textured_quad(texture: str):
+    scene = white_quad(6, 6, albedo=1.0)
+    scene["materials"]["white"] = {"textures": {"diffuse": texture}}
+    scene["grid"] = {"start_nm": 400, "end_nm": 700, "step_nm": 50}
+    return scene
+
+
+def test_hdf5_and_envi_textures_written_by_other_tools_render_their_reflectance(tmp_path):
+    import h5py
+
+    wavelengths = np.arange(400.0, 701.0, 50.0)
+    reflectance = np.linspace(0.1, 0.7, len(wavelengths))
+    cube = np.broadcast_to(reflectance, (4, 4, len(wavelengths))).astype(np.float32)
+    with h5py.File(tmp_path / "paint.h5", "w") as f:
+        f["cube"] = cube
+        f["wavelength_nm"] = wavelengths
+        f["cube"].attrs["quantity"] = "reflectance"
+    write_envi(tmp_path / "paint_le", cube, wavelengths)
+    write_envi(tmp_path / "paint_be", cube, wavelengths, byte_order=">")
+    expected = reflectance * 2.0 / math.pi  # ρ·E/π under the ambient light
+    for texture in ["paint.h5", "paint_le.hdr", "paint_be.img"]:
+        r = metamer.render(textured_quad(texture), base_dir=tmp_path, backend="cpu")
+        np.testing.assert_allclose(r.cube[3, 3], expected, rtol=1e-6, err_msg=texture)
+
+
+@pytest.mark.parametrize("case, damage, message", [
+    ("envi-truncated", lambda p: p.with_suffix(".img").write_bytes(p.with_suffix(".img").read_bytes()[:-4]), "bytes"),
+    ("envi-no-byte-order", lambda p: p.write_text(p.read_text().replace("byte order = 0\n", "")), "byte order"),
+    ("envi-data-type", lambda p: p.write_text(p.read_text().replace("data type = 4", "data type = 12")), "data type"),
+    ("envi-wavelengths", lambda p: p.write_text(p.read_text().replace("wavelength = {400, ", "wavelength = {")), "wavelength"),
+    ("envi-emissive", lambda p: p.write_text(p.read_text().replace("= reflectance", "= spectral radiance")), "radiance"),
+])
+def test_damaged_envi_textures_are_input_errors_naming_the_file(tmp_path, case, damage, message):
+    wavelengths = np.arange(400.0, 701.0, 50.0)
+    write_envi(tmp_path / "t", np.full((2, 2, len(wavelengths)), 0.5, np.float32), wavelengths)
+    damage(tmp_path / "t.hdr")
+    with pytest.raises(metamer.InputError, match=message) as e:
+        metamer.render(textured_quad("t.hdr"), base_dir=tmp_path)
+    assert "materials.white.textures.diffuse" in str(e.value) and "t." in str(e.value)
+
+
+CORPUS = REPO / "tests" / "bad-inputs" / "files" / "cubes"
+
+
+@pytest.mark.parametrize("name, message", [
+    ("truncated.hdr", "is 60 bytes; the header"), ("no-byte-order.hdr", "byte order: missing"),
+    ("data-type-12.hdr", "data type: 12"), ("utf16.hdr", "UTF-16"), ("truncated.h5", "truncated or damaged"),
+    ("no-wavelengths.h5", "/wavelength_nm: missing"), ("rank-2.h5", "/cube: has rank 2"),
+])
+def test_damaged_cubes_given_to_compare_are_input_errors_in_the_module_and_the_cli(tmp_path, name, message):
+    reference = metamer.render(white_quad(2, 2), grid="400:700:50").save(tmp_path)[0]
+    with pytest.raises(metamer.InputError, match=message):
+        metamer.compare(CORPUS / name, reference)
+    cli = subprocess.run([BINARY, "compare", str(CORPUS / name), reference], capture_output=True, text=True)
+    assert cli.returncode == 2 and message in cli.stderr and name.split(".")[0] in cli.stderr
+    assert len(cli.stderr.strip().splitlines()) == 1
+
+
+def test_special_files_are_refused_by_load_cube_and_compare(tmp_path):
+    fifo = tmp_path / "pipe.h5"
+    os.mkfifo(fifo)
+    with pytest.raises(metamer.InputError, match="not a regular file"):
+        metamer.load_cube(fifo)
+    with pytest.raises(metamer.InputError, match="not a regular file"):
+        metamer.compare(fifo, fifo)
+    with pytest.raises(metamer.InputError, match="not a regular file"):
+        metamer.load_cube("/dev/zero")
