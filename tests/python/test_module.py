@@ -294,3 +294,18 @@ def test_special_files_are_refused_by_load_cube_and_compare(tmp_path):
         metamer.compare(fifo, fifo)
     with pytest.raises(metamer.InputError, match="not a regular file"):
         metamer.load_cube("/dev/zero")
+
+
+def test_the_examples_in_docs_python_md_run(tmp_path, monkeypatch):
+    import re
+
+    blocks = re.findall(r"```python\n(.*?)```", (REPO / "docs" / "python.md").read_text(), re.S)
+    assert len(blocks) == 3
+    (tmp_path / "scenes").symlink_to(REPO / "scenes")
+    monkeypatch.chdir(tmp_path)
+    namespace = {}
+    for block in blocks:
+        exec(compile(block, "docs/python.md", "exec"), namespace)
+    assert (tmp_path / "out" / "spheres.h5").exists()
+    assert namespace["stats"]["max_abs"] == 0
+    assert namespace["sd"].name == "the matte sphere" and float(namespace["sd"].values.max()) > 0
