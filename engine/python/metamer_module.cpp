@@ -22,6 +22,7 @@
 
 #include <fmt/format.h>
 
+#include <cstdio>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -34,6 +35,20 @@ namespace {
 
 PyObject* errorType = nullptr;       // metamer.Error (RuntimeError)
 PyObject* inputErrorType = nullptr;  // metamer.InputError (metamer.Error, ValueError)
+PyObject* warningType = nullptr;     // metamer.Warning (UserWarning)
+
+// The engine's warnings (core/error.h) as Python warnings of category metamer.Warning, so a
+// notebook shows them under the cell and `warnings` filters them. Called from whatever thread
+// warns, usually with the GIL released by a render: it takes the GIL itself.
+void warnInPython(const std::string& line) {
+    py::gil_scoped_acquire gil;
+    const std::string text = printableMessage(line.rfind("warning: ", 0) == 0 ? line.substr(9) : line);
+    // With warnings turned into errors the warning cannot stop a render from here: it is printed.
+    if (PyErr_WarnEx(warningType, text.c_str(), 1) < 0) {
+        PyErr_Clear();
+        std::fprintf(stderr, "metamer: warning: %s\n", text.c_str());
+    }
+}
 
 // Renders are serialized: a Vulkan queue takes one submitter at a time, and the GIL is released
 // while a render runs.
@@ -291,6 +306,9 @@ PYBIND11_MODULE(metamer, m) {
     inputErrorType = PyErr_NewException("metamer.InputError", bases.ptr(), nullptr);
     m.attr("Error") = py::handle(errorType);
     m.attr("InputError") = py::handle(inputErrorType);
+    warningType = PyErr_NewException("metamer.Warning", PyExc_UserWarning, nullptr);
+    m.attr("Warning") = py::handle(warningType);
+    setWarningSink(&warnInPython);
     py::register_exception_translator(&translate);
     m.attr("__version__") = METAMER_VERSION;
 
@@ -431,5 +449,8 @@ PYBIND11_MODULE(metamer, m) {
 
     // The contexts go before the interpreter does: destroying a Vulkan device from a static
     // destructor after Python has finalized would race the driver's threads.
-    py::module_::import("atexit").attr("register")(py::cpp_function([] { contexts().clear(); }));
+    py::module_::import("atexit").attr("register")(py::cpp_function([] {
+        contexts().clear();
+        setWarningSink(nullptr);  // stderr again once the interpreter goes
+    }));
 }

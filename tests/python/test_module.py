@@ -156,6 +156,14 @@ def test_the_gil_is_released_while_rendering():
     assert counter > 10000, counter
 
 
+def test_engine_warnings_are_python_warnings():
+    # ColorChecker data cover 380–780 nm: on a 300–740 nm grid the bands below are zero, with a warning.
+    with pytest.warns(metamer.Warning, match=r"materials\.floor\.diffuse.*380.*780") as record:
+        metamer.render(REPO / "scenes" / "spheres.json", grid="300:740:20",
+                       overrides={"camera.width": 8, "camera.height": 8})
+    assert not any(str(w.message).startswith("warning:") for w in record)
+
+
 def test_input_errors_carry_the_cli_message(tmp_path):
     with pytest.raises(metamer.InputError, match="no-such.json"):
         metamer.render(tmp_path / "no-such.json")
