@@ -236,3 +236,49 @@ TEST(Cli, ImagesOverTheMemoryBudgetAreRenderedInStripsWithTheSameResult) {
     EXPECT_NE(cpu.output.find("--memory-budget"), std::string::npos) << cpu.output;
     EXPECT_NE(cpu.output.find("MiB"), std::string::npos) << cpu.output;
 }
+
+// Issue 19, class 3 (engine/app/cli_checks.h): values refused when parsed, with the option's name.
+TEST(CliChecks, UnknownVerbsSuggestTheNearestAndHelpForThemIsAnError) {
+    CliRun typo = run("rendr " + kScene);
+    EXPECT_EQ(typo.code, 2) << typo.output;
+    EXPECT_NE(typo.output.find("'rendr' is not a command (did you mean 'render'?)"), std::string::npos) << typo.output;
+    CliRun help = run("batchx --help");
+    EXPECT_EQ(help.code, 2) << help.output;
+    EXPECT_NE(help.output.find("'batchx' is not a command (did you mean 'batch'?)"), std::string::npos) << help.output;
+    EXPECT_EQ(countLinesStartingWith(help.output, "metamer: "), 1) << help.output;
+    CliRun far = run("zzzzzz");
+    EXPECT_EQ(far.code, 2) << far.output;
+    EXPECT_EQ(far.output.find("did you mean"), std::string::npos) << far.output;
+}
+
+TEST(CliChecks, EmptyAndNonFiniteValuesNameTheOption) {
+    const fs::path out = freshDir("empty-out");
+    CliRun emptyOut = run("render " + kScene + " --out ''");
+    EXPECT_EQ(emptyOut.code, 2) << emptyOut.output;
+    EXPECT_NE(emptyOut.output.find("--out: expected a value, got an empty string"), std::string::npos) << emptyOut.output;
+    EXPECT_FALSE(fs::exists(fs::path(kScene).parent_path() / "small.exr"));
+    CliRun threshold = run("compare a.exr b.exr --pixel-threshold nan");
+    EXPECT_EQ(threshold.code, 2) << threshold.output;
+    EXPECT_NE(threshold.output.find("--pixel-threshold"), std::string::npos) << threshold.output;
+    CliRun negative = run("compare a.exr b.exr --relative-floor -1");
+    EXPECT_EQ(negative.code, 2) << negative.output;
+    EXPECT_NE(negative.output.find("'-1': expected a number of 0 or more"), std::string::npos) << negative.output;
+    EXPECT_EQ(negative.output.find("1.797"), std::string::npos) << negative.output;
+}
+
+TEST(CliChecks, AnUnreadableSpectraLibraryNamesTheVariable) {
+    CliRun r = run("render " + kScene + " --out " + freshDir("no-library").string(), "METAMER_SPECTRA=/nonexistent/spectra");
+    EXPECT_EQ(r.code, 2) << r.output;
+    EXPECT_NE(r.output.find("METAMER_SPECTRA: spectra library '/nonexistent/spectra' not found"), std::string::npos)
+        << r.output;
+}
+
+TEST(CliChecks, CountsOf8And16BitImagesAreNotCompared) {
+    const fs::path d8 = freshDir("counts-8"), d16 = freshDir("counts-16");
+    ASSERT_EQ(run("render " + kScene + " --write png --bits 8 --out " + d8.string()).code, 0);
+    ASSERT_EQ(run("render " + kScene + " --write png --bits 16 --out " + d16.string()).code, 0);
+    CliRun r = run("compare " + (d8 / "small.png").string() + " " + (d16 / "small.png").string());
+    EXPECT_EQ(r.code, 2) << r.output;
+    EXPECT_NE(r.output.find("png 8-bit counts but the reference"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("counts on different scales"), std::string::npos) << r.output;
+}

@@ -12,6 +12,8 @@
 #include "render/tonemap_pass.h"
 #include "support/gpu.h"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -56,7 +58,10 @@ int worstCount(const std::vector<uint16_t>& a, const std::vector<uint16_t>& b) {
 // Eight Gaussian channels over 380–780 nm, one of them with a negative lobe (a colour-matching
 // function's shape), to fill both response layers.
 fs::path eightChannelDetector() {
-    const fs::path path = fs::temp_directory_path() / "metamer_response_pass_eight.csv";
+    // One file per process: two tests of this file run at once under CTest, and one rewriting
+    // the table while the other reads it made the reader see it empty.
+    const fs::path path =
+        fs::temp_directory_path() / ("metamer_response_pass_eight_" + std::to_string(::getpid()) + ".csv");
     std::ofstream f(path);
     f << "wavelength_nm";
     for (int c = 0; c < 8; ++c) f << ",c" << c;

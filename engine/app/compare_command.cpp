@@ -1,4 +1,5 @@
 #include "app/compare_command.h"
+#include "app/cli_checks.h"
 
 #include "color/adaptation.h"
 #include "color/cie_xyz.h"
@@ -122,10 +123,10 @@ CLI::App* addCompareCommand(CLI::App& app, CompareArgs& args) {
     c->add_flag("--no-delta-e", args.noDeltaE, "skip ΔE2000 (computed by default for visible-range cubes)");
     c->add_option("--pixel-threshold", args.pixelThreshold,
                   "relative error above which a pixel counts as different (default 1e-3, or the tolerance file's)")
-        ->check(CLI::NonNegativeNumber);
+        ->check(nonNegativeNumber());
     c->add_option("--relative-floor", args.relativeFloor,
                   "relative errors are taken against at least this fraction of the channel's max |B| (default 1e-4)")
-        ->check(CLI::NonNegativeNumber);
+        ->check(nonNegativeNumber());
     c->add_option("--mask", args.mask,
                   "leave out the pixels where this image (e.g. the render's <scene>.edges.png) is non-zero");
     c->add_flag("--verbose,-v", args.verbose, "print every band (channel), not only the worst");

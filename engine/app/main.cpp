@@ -2,6 +2,7 @@
 // per error, map errors to exit codes (README.md, "Exit codes").
 #include "app/batch_command.h"    // metamer batch
 #include "app/bench_command.h"    // metamer bench
+#include "app/cli_checks.h"       // checks every command line gets
 #include "app/compare_command.h"  // metamer compare
 #include "app/preview_command.h"  // metamer preview
 #include "core/error.h"
@@ -146,7 +147,7 @@ int main(int argc, char** argv) {
     render->add_option("--memory-budget", budgetMiB,
                        "MiB the render may hold at once (default: a quarter of the machine's memory); a larger "
                        "image is rendered in strips and streamed to the files")
-        ->check(CLI::PositiveNumber);
+        ->check(positiveNumber("MiB"));
     render->add_option("--mode", job.mode, "representation: full (default), rgb, ac1c2[:N], linear:K (docs/representations.md)")
         ->capture_default_str();
     render->add_option("--xyz", xyz, "XYZ output scale: relative (white Y = 100) or absolute (cd/m²)");
@@ -190,7 +191,12 @@ int main(int argc, char** argv) {
     // --- end metamer preview
 
     try {
+        checkVerb(app, argc, argv);  // before CLI11: `metamer rendr --help` is an error, not the top-level help
         app.parse(argc, argv);
+        checkParsedValues(app);
+    } catch (const Error& e) {
+        printError(e.text());
+        return int(e.code());
     } catch (const CLI::CallForHelp& e) {
         return app.exit(e);
     } catch (const CLI::CallForAllHelp& e) {
@@ -249,7 +255,7 @@ int main(int argc, char** argv) {
         }
         return 0;
     } catch (const Error& e) {
-        printError(e.what());
+        printError(e.text());
         return int(e.code());
     } catch (const std::bad_alloc&) {
         printError("out of memory");

@@ -187,7 +187,7 @@ ResolvedJob resolveJob(const Sweep& sweep, size_t position, const fs::path& out)
     } catch (const Error& e) {
         throw Error(e.code(), Where{sweep.file.string(), sj.where.key, sj.where.line},
                     fmt::format("job {} of {} ({}) cannot be rendered: {}", position + 1, sweep.jobs.size(),
-                                sj.origin, e.what()));
+                                sj.origin, e.text()));
     }
     // The digest: the settings, then the content of every input file, in an order that does not
     // depend on where the files are (so the same sweep has the same ids on every machine).

@@ -1,6 +1,7 @@
 #include "batch/sweep.h"
 
 #include "core/csv_text.h"
+#include "core/file_reads.h"
 #include "core/json.h"
 #include "io/exr_file.h"
 #include "scene/overrides.h"
@@ -390,8 +391,9 @@ Json SweepJob::settings() const {
 }
 
 Sweep readSweep(const fs::path& file) {
-    std::error_code ec;
-    if (!fs::is_regular_file(file, ec)) failInput(Where{file.string()}, "sweep file not found (or not a file)");
+    requireRegularFile(file, Where{file.string()}, "sweep file");
+    if (std::error_code ec; fs::file_size(file, ec) > kMaxTextFileBytes && !ec)
+        failInput(Where{file.string()}, "the sweep file is over {} MiB", kMaxTextFileBytes >> 20);
     Sweep sweep;
     sweep.file = file;
     sweep.folder = fs::absolute(file).parent_path();

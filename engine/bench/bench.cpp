@@ -307,7 +307,7 @@ BenchResult runBench(const std::filesystem::path& scenePath, const BenchConfig& 
                 }
             } catch (const Error& e) {
                 if (e.code() != ExitCode::BadInput) throw;
-                row.skippedReason = e.what();
+                row.skippedReason = e.text();
                 row.channels = 0;
                 row.renderMsMedian = row.renderMsFirst = row.cubeMsMedian = row.runMs = kNaN;
                 row.de2000Mean = row.de2000P95 = row.de2000Max = row.spectralRmseRelative = kNaN;

@@ -2,6 +2,7 @@
 #include "spectral/resampling.h"
 
 #include "color/cie_xyz.h"
+#include "core/file_reads.h"
 #include "color/film.h"
 #include "spectral/csv.h"
 #include "spectral/spectrum.h"
@@ -99,9 +100,7 @@ Detector customCsv(const std::string& spec, const std::string& pathText, const G
                    const Where& where) {
     if (pathText.empty()) failInput(where, "'{}': expected csv:PATH to a sensitivity table", spec);
     fs::path path = fs::absolute(fs::path(pathText));
-    std::error_code ec;
-    if (!fs::is_regular_file(path, ec))
-        failInput(Where{path.string(), where.key, 0}, "detector sensitivity file not found (from '{}')", spec);
+    requireRegularFile(path, Where{path.string(), where.key, 0}, "detector sensitivity file");
     SpectralTable table = readSpectralTable(path, 1);
     const Where fileWhere{path.string(), where.key, 0};
     if (table.columns.size() > kMaxCsvChannels)

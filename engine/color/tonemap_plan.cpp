@@ -94,6 +94,15 @@ TonemapPlan makeTonemapPlan(const TonemapSettings& settings, const Grid& grid, c
             break;
         case DetectorKind::Camera: {
             p.camera = characterizeCamera(p.detector, p.white.irradiance, library, grid, settings.integration);
+            // A fit that went NaN (a light the camera barely sees: a narrow line) is no fit.
+            bool finite = std::isfinite(p.camera->rmsDeltaE2000) && std::isfinite(p.camera->maxDeltaE2000);
+            for (int i = 0; i < 3; ++i)
+                for (int j = 0; j < 3; ++j) finite = finite && std::isfinite(p.camera->rawToXyz[i][j]);
+            if (!finite)
+                failInput(Where{"", "--detector"},
+                          "camera {} cannot be characterized under the reference white {}: the ColorChecker fit is "
+                          "not finite (rms ΔE2000 {}); the light has too little power where the camera's channels "
+                          "see", p.detector.name, p.white.source, p.camera->rmsDeltaE2000);
             glm::dmat3 balance(0.0);
             for (int c = 0; c < 3; ++c) {
                 if (!(rawWhite[c] > 0.0))

@@ -11,6 +11,7 @@
 #include "color/delta_e.h"
 #include "color/lab.h"
 #include "core/error.h"
+#include "core/file_reads.h"
 #include "io/atomic_file.h"
 #include "io/spectral_exr.h"
 #include "spectral/spectrum.h"
@@ -233,11 +234,7 @@ ImageData fromCube(const SpectralCube& cube) {
 
 ImageData readComparable(const fs::path& path) {
     Where where{path.string()};
-    std::error_code ec;
-    if (!fs::exists(path, ec)) failInput(where, "file not found");
-    if (fs::is_directory(path, ec)) failInput(where, "is a folder, not an image");
-    // A FIFO or a device would block or never end.
-    if (!fs::is_regular_file(path, ec)) failInput(where, "not a regular file");
+    requireRegularFile(path, where, "image");
 
     // Spectral channels decide the reader: the layout's own parser (grid, wavelength order) is in
     // io/spectral_exr; HDF5 and ENVI files are cubes (io/spectral_image).
@@ -290,6 +287,10 @@ CompareStats compareImages(const ImageData& aIn, const ImageData& b, const Compa
     Where aWhere{aName};
     if (aIn.width != b.width || aIn.height != b.height)
         failInput(aWhere, "is {}×{} but the reference {} is {}×{}", aIn.width, aIn.height, bName, b.width, b.height);
+    // Counts of an 8-bit and a 16-bit image are on scales 257 apart: a difference of them means nothing.
+    if (aIn.kind != b.kind && aIn.kind.find("counts") != std::string::npos && b.kind.find("counts") != std::string::npos)
+        failInput(aWhere, "holds {} but the reference {} holds {}: counts on different scales (convert one first)",
+                  aIn.kind, bName, b.kind);
     for (const ImageData* image : {&aIn, &b})
         if (image->data.size() != size_t(image->width) * image->height * image->channels.size())
             failInput(Where{nameOf(*image, "image")}, "holds {} values, not {}×{}×{}", image->data.size(),

@@ -89,7 +89,7 @@ TEST_F(CompareCli, UnusableInputExits2NamingTheFiles) {
 
     CliResult missing = runCompareCli(f("nothing.exr") + " " + f("ref.exr"));
     EXPECT_EQ(missing.code, 2) << missing.output;
-    EXPECT_TRUE(has(missing, "nothing.exr: file not found")) << missing.output;
+    EXPECT_TRUE(has(missing, "nothing.exr: image not found")) << missing.output;
 
     std::string bad = write("bad.json", R"({"max_rell": 1e-3})").string();
     CliResult tolerance = runCompareCli(f("same.exr") + " " + f("ref.exr") + " --tolerance " + bad);

@@ -3,6 +3,7 @@
 #include "color/adaptation.h"
 #include "color/cie_xyz.h"
 #include "core/error.h"
+#include "core/file_reads.h"
 #include "core/json.h"
 
 #include <fmt/ranges.h>
@@ -64,14 +65,8 @@ const std::vector<Criterion>& settings() {
 
 Tolerance readTolerance(const fs::path& path) {
     const std::string file = path.string();
-    std::error_code ec;
-    if (!fs::exists(path, ec)) failInput(Where{file}, "tolerance file not found");
-    if (fs::is_directory(path, ec)) failInput(Where{file}, "is a folder, not a tolerance file");
-    std::ifstream in(path);
-    if (!in) failInput(Where{file}, "cannot open the tolerance file");
-    std::stringstream buffer;
-    buffer << in.rdbuf();
-    const std::string text = buffer.str();
+    // A tolerance file is a few lines of JSON: 1 MiB is generous.
+    const std::string text = readWholeFile(path, Where{file}, "tolerance file", std::uintmax_t(1) << 20);
 
     // nlohmann keeps the last of two equal keys; a tolerance file with two max_rel entries is a
     // mistake whichever one was meant, so the parser callback rejects it.

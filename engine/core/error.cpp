@@ -30,7 +30,8 @@ Error::Error(ExitCode code, Where where, const std::string& message)
     : std::runtime_error(composeWhat(where, message)),
       code_(code),
       where_(std::move(where)),
-      message_(message) {}
+      message_(message),
+      text_(composeWhat(where_, message_)) {}
 
 size_t editDistance(const std::string& a, const std::string& b) {
     std::vector<size_t> row(b.size() + 1);
@@ -48,17 +49,24 @@ size_t editDistance(const std::string& a, const std::string& b) {
 }
 
 std::string closestMatch(const std::string& wanted, const std::vector<std::string>& candidates) {
+    // A typo changes a few characters; beyond a third of the word it is a different word.
+    const size_t allowed = std::max<size_t>(2, wanted.size() / 3);
+    // Bounded work whatever a hostile file holds: names are words, not megabytes, and a candidate
+    // whose length differs by more than `allowed` cannot be within it.
+    constexpr size_t kLongest = 128, kMostCandidates = 20000;
+    if (wanted.size() > kLongest) return {};
     std::string best;
-    size_t bestDistance = SIZE_MAX;
+    size_t bestDistance = SIZE_MAX, looked = 0;
     for (const auto& c : candidates) {
+        if (++looked > kMostCandidates) break;
+        if (c.size() > kLongest || (c.size() > wanted.size() ? c.size() - wanted.size() : wanted.size() - c.size()) > allowed)
+            continue;
         size_t d = editDistance(wanted, c);
         if (d < bestDistance) {
             bestDistance = d;
             best = c;
         }
     }
-    // A typo changes a few characters; beyond a third of the word it is a different word.
-    size_t allowed = std::max<size_t>(2, wanted.size() / 3);
     return bestDistance <= allowed ? best : std::string();
 }
 
@@ -78,7 +86,41 @@ void warn(const Where& where, const std::string& message) {
         std::fprintf(stderr, "%s\n", line.c_str());
 }
 
-std::string printableMessage(const std::string& s) {
+namespace {
+
+// Quoted values ('…') over 160 bytes keep their first 60 and say how long they were; a line over
+// 4000 bytes keeps its start and end. A message quotes what a file holds, which may be megabytes.
+std::string shortened(const std::string& s) {
+    constexpr size_t kLongQuote = 160, kKept = 60, kLongLine = 4000;
+    std::string out;
+    size_t i = 0;
+    while (i < s.size()) {
+        const size_t open = s.find('\'', i);
+        if (open == std::string::npos) break;
+        const size_t close = s.find('\'', open + 1);
+        if (close == std::string::npos) break;
+        const size_t length = close - open - 1;
+        out.append(s, i, open + 1 - i);
+        if (length > kLongQuote) {
+            size_t cut = kKept;
+            while (cut > 0 && (static_cast<unsigned char>(s[open + 1 + cut]) & 0xc0) == 0x80) --cut;  // whole characters
+            out.append(s, open + 1, cut);
+            out += fmt::format("…' ({} bytes)", length);
+        } else {
+            out.append(s, open + 1, length + 1);
+        }
+        i = close + 1;
+    }
+    if (i < s.size()) out.append(s, i, std::string::npos);
+    if (out.size() > kLongLine) out = out.substr(0, kLongLine / 2) + fmt::format(" … ({} bytes) … ", out.size()) +
+                                      out.substr(out.size() - kLongLine / 4);
+    return out;
+}
+
+}  // namespace
+
+std::string printableMessage(const std::string& text) {
+    const std::string s = shortened(text);
     std::string out;
     for (size_t i = 0; i < s.size();) {
         auto c = static_cast<unsigned char>(s[i]);

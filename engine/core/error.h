@@ -38,11 +38,14 @@ public:
     ExitCode code() const { return code_; }
     const Where& where() const { return where_; }
     const std::string& message() const { return message_; }
+    // "where: message" whole: what() is a C string and would end at a NUL byte the message quotes.
+    const std::string& text() const { return text_; }
 
 private:
     ExitCode code_;
     Where where_;
     std::string message_;
+    std::string text_;
 };
 
 // Bad user input: exit code 2.
@@ -65,7 +68,9 @@ std::string closestMatch(const std::string& wanted, const std::vector<std::strin
 
 // Messages quote what the user's files contain (a binary file named .csv, a JSON string with
 // invalid UTF-8, a line with a carriage return): the message as one printable line, control
-// characters and bytes that are not UTF-8 written as \xNN. What the CLI and the Python module print.
+// characters and bytes that are not UTF-8 written as \xNN (a NUL as \x00), quoted values over 160
+// bytes shortened with their length, the line kept under about 4000 bytes. What the CLI and the
+// Python module print.
 std::string printableMessage(const std::string& s);
 
 // Warnings go to stderr with their context; tests can capture them.

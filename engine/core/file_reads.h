@@ -2,13 +2,38 @@
 // (metamer batch's job ids: editing a spectrum changes the id of every job that reads it). Each
 // reader of user data calls noteFileRead() when it opens a file; a FileReadLog alive on the same
 // thread collects the paths (nested logs each see every read). Without a log it costs nothing.
+//
+// Every reader of a user's file first calls requireRegularFile (or readWholeFile, which also caps
+// the size): the one check that a path names a regular file, so a FIFO cannot block a run, a
+// device (/dev/zero) cannot feed it forever and a folder is named as such, not "not found".
 // Tests: engine/core/file_reads_test.cpp.
 #pragma once
 
+#include "core/error.h"
+
+#include <cstdint>
 #include <filesystem>
+#include <string>
+#include <string_view>
 #include <vector>
 
 namespace metamer {
+
+// The most Metamer reads whole into memory from a text file (a scene, a CSV table, a sweep or
+// tolerance file): 256 MiB. Images and cubes are read by their own libraries, sized from their
+// headers.
+constexpr std::uintmax_t kMaxTextFileBytes = std::uintmax_t(256) << 20;
+
+// That `path` exists and is a regular file (symbolic links followed). `what` names the file's role
+// for the message ("spectrum file"): "spectrum file 'x.csv' not found", "... is a folder, not a
+// file", "... is not a regular file (a FIFO)"; the path is left out when `where` already names it.
+// Input errors at `where`.
+void requireRegularFile(const std::filesystem::path& path, const Where& where, std::string_view what);
+
+// requireRegularFile, then that it holds at most `maxBytes` (checked before reading), then its
+// bytes; notes the read (noteFileRead).
+std::string readWholeFile(const std::filesystem::path& path, const Where& where, std::string_view what,
+                          std::uintmax_t maxBytes = kMaxTextFileBytes);
 
 void noteFileRead(const std::filesystem::path& path);
 

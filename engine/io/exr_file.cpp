@@ -70,10 +70,8 @@ std::string exrCompressionNames() {
 }
 
 ExrHeader readExrHeader(const fs::path& path, const Where& where) {
+    requireRegularFile(path, where, "OpenEXR file");
     noteFileRead(path);
-    std::error_code ec;
-    if (!fs::exists(path, ec)) failInput(where, "file not found");
-    if (fs::is_directory(path, ec)) failInput(where, "is a folder, not an OpenEXR file");
     bool tiled = false, deep = false, multiPart = false;
     if (!Imf::isOpenExrFile(path.c_str(), tiled, deep, multiPart))
         failInput(where, "not a readable OpenEXR file (it does not start with OpenEXR's signature)");

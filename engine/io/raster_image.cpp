@@ -39,10 +39,8 @@ std::string imageSignature(const fs::path& path) {
 }
 
 RasterImage readRasterImage(const fs::path& path, const Where& where) {
+    requireRegularFile(path, where, "image");
     noteFileRead(path);
-    std::error_code ec;
-    if (!fs::exists(path, ec)) failInput(where, "file not found");
-    if (fs::is_directory(path, ec)) failInput(where, "is a folder, not an image");
     const std::string kind = imageSignature(path);
     if (kind == "png") return readPng(path, where);
     if (kind == "openexr") {

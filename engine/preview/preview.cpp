@@ -176,7 +176,7 @@ void Session::update(size_t view, const RenderJob& job) {
         needRender_ = true;
         status_.clear();
     } catch (const Error& e) {
-        status(e.what(), true);  // the view keeps its settings and its image
+        status(e.text(), true);  // the view keeps its settings and its image
     }
 }
 
@@ -186,7 +186,7 @@ void Session::setSplit(bool on) {
             views_.push_back(std::make_unique<View>(*ctx_, splitJob(views_[0]->job(), o_.split)));
             views_.back()->setCamera(camera_);
         } catch (const Error& e) {
-            status(e.what(), true);
+            status(e.text(), true);
             return;
         }
     } else if (!on && views_.size() == 2) {
@@ -203,7 +203,7 @@ void Session::reload() {
         try {
             v->reload();
         } catch (const Error& e) {
-            status(std::string("reload: ") + e.what() + " (showing the last good version)", true);
+            status(std::string("reload: ") + e.text() + " (showing the last good version)", true);
             failed = true;
         }
     }
@@ -237,7 +237,7 @@ void Session::save() {
         status_ = "saved " + all;
         statusError_ = false;
     } catch (const Error& e) {
-        status(e.what(), true);
+        status(e.text(), true);
     }
 }
 

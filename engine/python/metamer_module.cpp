@@ -291,7 +291,7 @@ void translate(std::exception_ptr p) {
         if (p) std::rethrow_exception(p);
     } catch (const Error& e) {
         PyErr_SetString(e.code() == ExitCode::BadInput ? inputErrorType : errorType,
-                        printableMessage(e.what()).c_str());
+                        printableMessage(e.text()).c_str());
     } catch (const std::bad_alloc&) {
         PyErr_SetString(PyExc_MemoryError, "out of memory");
     }

@@ -4,6 +4,7 @@
 #include "core/timing.h"
 #include "reference/cpu_renderer.h"
 #include "interface.h"
+#include "io/exr_file.h"
 #include "render/display_frame.h"
 #include "render/render_setup.h"
 #include "render/strip_render.h"
@@ -24,6 +25,7 @@ namespace metamer {
 namespace {
 OutputFiles parseWrite(const std::vector<std::string>& names, const Where& where) {
     OutputFiles f{false, false, false, false, false};
+    if (names.empty()) failInput(where, "no output named; expected one or more of cube, png, xyz, responses, edges");
     for (const auto& n : names) {
         if (n == "cube") f.cube = true;
         else if (n == "png") f.png = true;
@@ -359,6 +361,10 @@ RenderJobResult runRenderJob(const RenderJob& job) {
     OutputFiles files;
     const TonemapSettings settings = tonemapSettings(job, scene, &files);
     const bool display = files.png || files.xyz || files.responses;
+    // Checked before anything is rendered: the writers would find it only at the end.
+    if (!knownExrCompression(job.compression))
+        failInput(Where{"", "--compression"}, "'{}' is not an OpenEXR compression; expected one of {} (zip and zips "
+                  "take a level :1 to :9, dwaa and dwab a :level)", job.compression, exrCompressionNames());
     if (files.edges && job.backend != Backend::Cpu)
         failInput(Where{"", "--write"}, "the edges mask comes from the CPU reference's object ids; use --backend cpu");
 

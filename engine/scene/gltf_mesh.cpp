@@ -432,9 +432,7 @@ bool keepDataUriImage(tinygltf::Image* image, const int index, std::string*, std
 
 GltfModel loadGltf(const fs::path& path, const Where& where, const ReadablePaths* readable) {
     std::string shown = path.string();
-    std::error_code ec;
-    if (!fs::exists(path, ec)) failInput(where, "mesh file '{}' not found", shown);
-    if (!fs::is_regular_file(path, ec)) failInput(where, "mesh file '{}' is not a file", shown);
+    requireRegularFile(path, where, "mesh file");
     std::string ext = path.extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
     if (ext != ".gltf" && ext != ".glb")

@@ -94,7 +94,7 @@ TEST(GltfMesh, ErrorsNameTheKeyAndThePath) {
         {"not_gltf.gltf", "not_gltf.gltf' is not valid glTF"},
         {"model.obj", "model.obj' is not glTF: expected a .gltf or .glb file"},
         {"strip.gltf", "strip.gltf': mesh 0 primitive 0: mode 5 is not TRIANGLES"},
-        {"spectra", "is not a file"},
+        {"spectra", "is a folder, not a file"},
     };
     for (const auto& c : cases) {
         std::string what = errorOf(kData / c.file);

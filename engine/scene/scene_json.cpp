@@ -113,7 +113,20 @@ std::pair<int, int> lineColumn(const std::string& text, size_t offset) {
     return {line, static_cast<int>(offset - lineStart) + 1};
 }
 
+// A file saved as UTF-16 (a byte-order mark, or a NUL in every other byte of its start) is named
+// as such, rather than as a syntax error at column 1.
+void refuseUtf16(const std::string& text, const std::string& file) {
+    const bool bom = text.size() >= 2 && ((text[0] == '\xFF' && text[1] == '\xFE') || (text[0] == '\xFE' && text[1] == '\xFF'));
+    const size_t head = std::min<size_t>(text.size(), 64);
+    size_t nuls = 0;
+    for (size_t i = 0; i < head; ++i) nuls += text[i] == '\0';
+    if (bom || (head >= 4 && nuls * 3 >= head))
+        failInput(Where{file}, "is not UTF-8: it looks like UTF-16{} (save it as UTF-8)",
+                  bom ? " (it starts with a UTF-16 byte-order mark)" : "");
+}
+
 Json parseJson(const std::string& text, const std::string& file) {
+    refuseUtf16(text, file);
     PathTracker tracker(file);
     try {
         return Json::parse(text, std::ref(tracker), /*allow_exceptions=*/true, /*ignore_comments=*/false);
@@ -148,9 +161,12 @@ std::string describe(const Json& v) {
     return jsonTypeName(v);
 }
 
+// A list for a message: at most 20 names, then how many more (a scene may define thousands).
 std::string join(const std::vector<std::string>& items) {
+    constexpr size_t kShown = 20;
     std::string s;
-    for (const auto& i : items) s += (s.empty() ? "" : ", ") + i;
+    for (size_t i = 0; i < items.size() && i < kShown; ++i) s += (s.empty() ? "" : ", ") + items[i];
+    if (items.size() > kShown) s += fmt::format(" and {} more", items.size() - kShown);
     return s;
 }
 
@@ -746,12 +762,11 @@ private:
             if (endsWithCsv(name)) {
                 fs::path path = (dir_ / name).lexically_normal();
                 readable_.check(path, w, "spectrum file", name);
-                std::error_code ec;
-                if (!fs::is_regular_file(path, ec)) failInput(w, "spectrum file '{}' not found", path.string());
+                requireRegularFile(path, w, "spectrum file");
                 try {
                     s.spectrum = readSpectrumCsv(path);
                 } catch (const Error& e) {
-                    failInput(w, "{}", e.what());
+                    failInput(w, "{}", e.text());
                 }
                 s.spectrum.source = name;
             } else {
@@ -759,7 +774,7 @@ private:
                     s.spectrum = lib_.get(name, w);
                 } catch (const Error& e) {
                     if (e.where().file == w.file && e.where().key == w.key) throw;
-                    failInput(w, "library spectrum '{}': {}", name, e.what());
+                    failInput(w, "library spectrum '{}': {}", name, e.text());
                 }
             }
         } else if (v.is_object()) {
@@ -804,7 +819,7 @@ private:
         if (exr || endsWith(".csv")) {
             path = (dir_ / name).lexically_normal();
             readable_.check(path, w, "Donaldson matrix file", name);
-            if (!fs::is_regular_file(path, ec)) failInput(w, "Donaldson matrix file '{}' not found", path.string());
+            requireRegularFile(path, w, "Donaldson matrix file");
         } else {
             fs::path base = (lib_.root() / name).lexically_normal();
             fs::path csv = base.string() + ".csv", exrPath = base.string() + ".exr";
@@ -834,7 +849,7 @@ private:
             }
             m.matrix.validate(Where{path.string()});
         } catch (const Error& e) {
-            failInput(w, "{}", e.what());
+            failInput(w, "{}", e.text());
         }
         m.matrix.source = name;
         return m;
@@ -895,14 +910,8 @@ Scene loadSceneFromString(const std::string& text, const fs::path& file, const S
 
 Scene loadScene(const fs::path& file, const SpectrumLibrary& lib, const std::vector<std::string>& overrides,
                 const LoadOptions& options) {
-    std::error_code ec;
-    if (!fs::is_regular_file(file, ec)) failInput(Where{file.string()}, "scene file not found");
-    noteFileRead(file);
-    std::ifstream in(file, std::ios::binary);
-    if (!in) failInput(Where{file.string()}, "cannot open the scene file");
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return loadSceneFromString(ss.str(), file, lib, overrides, options);
+    return loadSceneFromString(readWholeFile(file, Where{file.string()}, "scene file"), file, lib, overrides,
+                               options);
 }
 
 }  // namespace metamer

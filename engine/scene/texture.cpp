@@ -1,6 +1,7 @@
 #include "scene/texture.h"
 
 #include "color/srgb.h"
+#include "core/file_reads.h"
 #include "io/exr_file.h"
 #include "io/raster_image.h"
 #include "io/spectral_exr.h"
@@ -48,7 +49,7 @@ Texture readSpectral(const fs::path& path, const Where& where) {
     try {
         image = readSpectralImage(path);
     } catch (const Error& e) {
-        failInput(where, "{}", e.what());
+        failInput(where, "{}", e.text());
     }
     if (image.component != SpectralComponent::Reflective)
         failInput(where,
@@ -168,9 +169,7 @@ std::vector<float> heightToNormals(const std::vector<float>& h, int w, int ht, d
 
 Texture loadTexture(const fs::path& path, TextureRole role, TextureEncoding encoding, double bumpScale,
                     const Where& where) {
-    std::error_code ec;
-    if (!fs::exists(path, ec)) failInput(where, "texture file '{}' not found", path.string());
-    if (!fs::is_regular_file(path, ec)) failInput(where, "texture '{}' is not a file", path.string());
+    requireRegularFile(path, where, "texture file");
 
     // A spectral EXR is recognised by its channels, HDF5 and ENVI cubes by their signatures;
     // anything else is an RGB image.

@@ -53,6 +53,7 @@ namespace {
 
 SpectralTable parseSpectralTable(const std::filesystem::path& path, size_t minColumns) {
     Where where{path.string(), "", 0};
+    requireRegularFile(path, where, "spectrum file");
     std::ifstream in(path);
     if (!in) failInput(where, "cannot open spectrum file");
     SpectralTable t;
@@ -152,6 +153,7 @@ Spectrum readSpectrumCsv(const std::filesystem::path& path) {
 
 BispectralMatrix readBispectralCsv(const std::filesystem::path& path) {
     Where where{path.string(), "", 0};
+    requireRegularFile(path, where, "Donaldson matrix file");
     noteFileRead(path);
     std::ifstream in(path);
     if (!in) failInput(where, "cannot open Donaldson matrix file");

@@ -28,17 +28,28 @@ fs::path SpectrumLibrary::defaultRoot() {
 }
 
 SpectrumLibrary::SpectrumLibrary(fs::path root) : root_(std::move(root)) {
+    // Where the folder came from, for messages: the variable when it is set.
+    const char* env = std::getenv("METAMER_SPECTRA");
+    const Where where = env && *env && fs::path(env) == root_ ? Where{"", "METAMER_SPECTRA"} : Where{root_.string()};
+    const std::string shown = where.file.empty() ? fmt::format("'{}'", root_.string()) : std::string("folder");
     std::error_code ec;
     if (!fs::is_directory(root_, ec))
-        failInput(Where{root_.string()}, "spectra library folder not found (set METAMER_SPECTRA)");
-    for (auto it = fs::recursive_directory_iterator(root_, ec); it != fs::recursive_directory_iterator();
-         it.increment(ec)) {
-        if (ec) break;
-        if (!it->is_regular_file() || it->path().extension() != ".csv") continue;
-        fs::path rel = fs::relative(it->path(), root_);
+        failInput(where, "spectra library {} not found{}", shown, where.file.empty() ? "" : " (set METAMER_SPECTRA)");
+    // A folder the scan cannot enter is an input error naming it, not a raw filesystem error.
+    auto unreadable = [&](const fs::path& p, const std::error_code& e) {
+        failInput(where, "spectra library {} cannot be read: {}: {}", shown, p.string(), e.message());
+    };
+    auto it = fs::recursive_directory_iterator(root_, ec);
+    if (ec) unreadable(root_, ec);
+    for (; it != fs::recursive_directory_iterator(); it.increment(ec)) {
+        if (ec) unreadable(it->path(), ec);
+        std::error_code fileEc;
+        if (!it->is_regular_file(fileEc) || it->path().extension() != ".csv") continue;
+        fs::path rel = it->path().lexically_relative(root_);
         rel.replace_extension();
         names_.push_back(rel.generic_string());
     }
+    if (ec) unreadable(root_, ec);
     std::sort(names_.begin(), names_.end());
 }
 

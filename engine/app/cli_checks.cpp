@@ -1,0 +1,77 @@
+#include "app/cli_checks.h"
+
+#include "core/error.h"
+
+#include <cmath>
+#include <cstdlib>
+#include <string_view>
+
+namespace metamer {
+
+namespace {
+
+bool numericType(const std::string& type) {
+    return type.find("FLOAT") != std::string::npos || type.find("INT") != std::string::npos ||
+           type.find("NUMBER") != std::string::npos;
+}
+
+// Whether `text` reads as a number that is NaN or infinite ("nan", "-inf", "1e999").
+bool nonFiniteNumber(const std::string& text) {
+    char* end = nullptr;
+    const double v = std::strtod(text.c_str(), &end);
+    return end != text.c_str() && *end == '\0' && !std::isfinite(v);
+}
+
+void checkOptions(const CLI::App& app) {
+    for (const CLI::Option* o : app.get_options()) {
+        if (o->count() == 0) continue;
+        const std::string name = o->get_name();
+        for (const std::string& value : o->results()) {
+            if (value.empty() && !o->get_type_name().empty())
+                failInput(Where{"", name}, "expected a value, got an empty string");
+            if (numericType(o->get_type_name()) && nonFiniteNumber(value))
+                failInput(Where{"", name}, "expected a finite number, got '{}'", value);
+        }
+    }
+    for (const CLI::App* sub : app.get_subcommands({}))
+        if (sub->parsed()) checkOptions(*sub);
+}
+
+CLI::Validator numberAbove(bool strict, const std::string& unit) {
+    return CLI::Validator(
+        [strict, unit](std::string& text) -> std::string {
+            char* end = nullptr;
+            const double v = std::strtod(text.c_str(), &end);
+            if (end == text.c_str() || *end != '\0') return "'" + text + "' is not a number";
+            if (!std::isfinite(v)) return "expected a finite number, got '" + text + "'";
+            if (strict ? v > 0 : v >= 0) return "";
+            return "'" + text + "': expected a number " + (strict ? "above 0" : "of 0 or more") +
+                   (unit.empty() ? "" : " (" + unit + ")");
+        },
+        strict ? "POSITIVE" : "NONNEGATIVE");
+}
+
+}  // namespace
+
+void checkVerb(const CLI::App& app, int argc, char** argv) {
+    if (argc < 2 || argv[1][0] == '-') return;
+    const std::string verb = argv[1];
+    std::vector<std::string> verbs;
+    for (const CLI::App* sub : app.get_subcommands({})) {
+        verbs.push_back(sub->get_name());
+        if (sub->get_name() == verb) return;
+    }
+    const std::string near = closestMatch(verb, verbs);
+    std::string list;
+    for (const auto& v : verbs) list += (list.empty() ? "" : ", ") + v;
+    failInput(Where{}, "'{}' is not a command{}; the commands are {} (metamer --help)",
+              printableMessage(verb.size() > 40 ? verb.substr(0, 40) + "…" : verb),
+              near.empty() ? "" : fmt::format(" (did you mean '{}'?)", near), list);
+}
+
+void checkParsedValues(const CLI::App& app) { checkOptions(app); }
+
+CLI::Validator positiveNumber(const std::string& unit) { return numberAbove(true, unit); }
+CLI::Validator nonNegativeNumber() { return numberAbove(false, ""); }
+
+}  // namespace metamer
