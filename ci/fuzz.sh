@@ -5,11 +5,11 @@
 # metamer::Error, a hang (> 10 s on one input) or more than 2 GiB of memory. The input that did it is
 # kept under build-fuzz/findings/ and printed in the log; reproduce with
 #   build-fuzz/<target>_fuzzer build-fuzz/findings/<file>
-# Usage: ci/fuzz.sh [SECONDS per target, default $METAMER_FUZZ_SECONDS or 60] [TARGET ...]
+# Usage: ci/fuzz.sh [SECONDS per target, default $METAMER_FUZZ_SECONDS or 30] [TARGET ...]
 # See docs/numerics.md, "Fuzzing and sanitizers".
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-seconds="${1:-${METAMER_FUZZ_SECONDS:-60}}"
+seconds="${1:-${METAMER_FUZZ_SECONDS:-30}}"
 shift || true
 targets=("$@")
 ((${#targets[@]})) || targets=(scene spectrum envi_header)

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Builds and runs the whole test suite (googletest + script tests) under CTest, Vulkan validation
 # layers on, on whatever Vulkan device is present (lavapipe on a machine without a GPU); then the
-# fuzz targets for 60 s each (ci/fuzz.sh) and the suite again, built with AddressSanitizer + UBSan
+# fuzz targets for 30 s each (ci/fuzz.sh) and the suite again, built with AddressSanitizer + UBSan
 # (ci/sanitize.sh). METAMER_SKIP_SANITIZERS=1 runs the plain suite only.
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
