@@ -16,8 +16,12 @@ targets=("$@")
 build="$here/build-fuzz"
 
 mkdir -p "$build"
+# The main build's RGB up-sampling table, when there is one: the same sources fit the same table,
+# so it is copied rather than fitted again (85 s on 2 cores).
+table=()
+[ -f "$here/build/rgb_upsampling_srgb_d65.bin" ] && table=(-DMETAMER_RGB_TABLE_FROM="$here/build/rgb_upsampling_srgb_d65.bin")
 cmake -S "$here" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
-  -DMETAMER_FUZZ=ON -DMETAMER_BUILD_TESTS=OFF >"$build/configure.log" 2>&1 \
+  -DMETAMER_FUZZ=ON -DMETAMER_BUILD_TESTS=OFF "${table[@]}" >"$build/configure.log" 2>&1 \
   || { cat "$build/configure.log"; exit 1; }
 cmake --build "$build" --target fuzzers -j "$(nproc)"
 

@@ -11,8 +11,12 @@ build="$here/build-asan"
 export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-/tmp}"
 
 mkdir -p "$build"
+# The main build's RGB up-sampling table, when there is one: the same sources fit the same table,
+# so it is copied rather than fitted again (85 s on 2 cores).
+table=()
+[ -f "$here/build/rgb_upsampling_srgb_d65.bin" ] && table=(-DMETAMER_RGB_TABLE_FROM="$here/build/rgb_upsampling_srgb_d65.bin")
 cmake -S "$here" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMETAMER_SANITIZE=ON \
-  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-Og -g1 -DNDEBUG" >"$build/configure.log" 2>&1 \
+  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-Og -g1 -DNDEBUG" "${table[@]}" >"$build/configure.log" 2>&1 \
   || { cat "$build/configure.log"; exit 1; }
 cmake --build "$build" -j "$(nproc)"
 

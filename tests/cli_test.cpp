@@ -282,3 +282,46 @@ TEST(CliChecks, CountsOf8And16BitImagesAreNotCompared) {
     EXPECT_NE(r.output.find("png 8-bit counts but the reference"), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("counts on different scales"), std::string::npos) << r.output;
 }
+
+// Issue 19, class 2: a run replaces all its outputs or none, and targets that cannot work are
+// found before the render.
+TEST(CliOutputs, ATargetThatCannotBeWrittenFailsBeforeTheRenderAndKeepsThePreviousSet) {
+    const fs::path out = freshDir("all-or-none");
+    ASSERT_EQ(run("render " + kScene + " --write cube,png --out " + out.string()).code, 0);
+    auto read = [](const fs::path& p) {
+        std::ifstream f(p, std::ios::binary);
+        return std::string(std::istreambuf_iterator<char>(f), {});
+    };
+    const std::string cube = read(out / "small.exr"), png = read(out / "small.png");
+    fs::create_directories(out / "small.xyz.exr");  // the third output's name is taken by a folder
+    CliRun r = run("render " + kScene + " --write cube,png,xyz --set lights.1.scale=0.02 --out " + out.string());
+    EXPECT_EQ(r.code, 1) << r.output;
+    EXPECT_NE(r.output.find("small.xyz.exr': it is a folder"), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find("wrote"), std::string::npos) << r.output;
+    EXPECT_EQ(countLinesStartingWith(r.output, "metamer: "), 1) << r.output;
+    EXPECT_EQ(read(out / "small.exr"), cube);
+    EXPECT_EQ(read(out / "small.png"), png);
+    EXPECT_EQ(std::distance(fs::directory_iterator(out), fs::directory_iterator()), 3);  // no temporaries
+}
+
+TEST(CliOutputs, AnOutFolderThatIsAFileOrADeviceIsAnInputError) {
+    const fs::path dir = freshDir("out-is-a-file");
+    fs::create_directories(dir);
+    std::ofstream(dir / "notes.txt") << "mine";
+    for (const std::string& args : {"render " + kScene, "bench " + kScene, "preview " + kScene}) {
+        CliRun file = run(args + " --out " + (dir / "notes.txt").string());
+        EXPECT_EQ(file.code, 2) << args << "\n" << file.output;
+        EXPECT_NE(file.output.find("--out: '" + (dir / "notes.txt").string() + "' is a file, not a folder"),
+                  std::string::npos) << file.output;
+    }
+    CliRun device = run("render " + kScene + " --out /dev/full");
+    EXPECT_EQ(device.code, 2) << device.output;
+    EXPECT_NE(device.output.find("'/dev/full' is a character device, not a folder"), std::string::npos) << device.output;
+    // A pseudo file system takes no files: found when the outputs are opened, before the render.
+    CliRun proc = run("render " + kScene + " --out /proc/metamer-out");
+    EXPECT_EQ(proc.code, 1) << proc.output;
+    EXPECT_NE(proc.output.find("/proc/metamer-out"), std::string::npos) << proc.output;
+    EXPECT_EQ(proc.output.find("wrote"), std::string::npos) << proc.output;
+    std::ifstream in(dir / "notes.txt");
+    EXPECT_EQ(std::string(std::istreambuf_iterator<char>(in), {}), "mine");
+}

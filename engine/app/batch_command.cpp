@@ -1,5 +1,7 @@
 #include "app/batch_command.h"
 
+#include "app/cli_checks.h"
+
 #include "batch/batch.h"
 #include "batch/slurm_script.h"
 #include "core/error.h"
@@ -43,7 +45,7 @@ std::string duration(double seconds) {
 CLI::App* addBatchCommand(CLI::App& app, BatchArgs& a) {
     auto* c = app.add_subcommand("batch", "render a sweep of jobs (a dataset), resumable and sharded (docs/batch.md)");
     c->add_option("sweep", a.sweep, "sweep file (.json) or manifest (.jsonl, .csv)");
-    c->add_option("--out,-o", a.out, "the dataset's folder (default: the sweep's \"out\", else out/<sweep name>)");
+    c->add_option("--out,-o", a.out, "the dataset's folder (default: the sweep's \"out\", else out/<sweep name>)")->check(outputFolder());
     c->add_flag("--list", a.list, "print the jobs (id, status, origin) without rendering; validates every job");
     c->add_flag("--dry-run", a.dryRun, "validate every job and say what would be rendered; renders nothing");
     c->add_option("--shard", a.shard,

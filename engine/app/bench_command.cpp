@@ -1,5 +1,7 @@
 #include "app/bench_command.h"
 
+#include "app/cli_checks.h"
+
 #include "bench/bench.h"
 #include "bench/plot.h"
 #include "core/error.h"
@@ -80,7 +82,7 @@ CLI::App* addBenchCommand(CLI::App& app, BenchArgs& args) {
         ->check(CLI::Range(1, 1000))
         ->capture_default_str();
     c->add_option("--size", args.size, "image size WIDTHxHEIGHT, e.g. 256x256 (default: the scene's camera)");
-    c->add_option("--out,-o", args.out, "output folder (created if missing)")->capture_default_str();
+    c->add_option("--out,-o", args.out, "output folder (created if missing)")->check(outputFolder())->capture_default_str();
     c->add_option("--set", args.overrides, "override a scene value: KEY=VALUE, e.g. lights.0.spectrum=illuminants/A")
         ->take_all();
     c->add_option("--device", args.device, "Vulkan device index or name substring (default: best; env METAMER_DEVICE)");

@@ -1,9 +1,11 @@
 #include "app/cli_checks.h"
 
 #include "core/error.h"
+#include "core/file_reads.h"
 
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <string_view>
 
 namespace metamer {
@@ -52,6 +54,19 @@ CLI::Validator numberAbove(bool strict, const std::string& unit) {
 }
 
 }  // namespace
+
+CLI::Validator outputFolder() {
+    return CLI::Validator(
+        [](std::string& text) -> std::string {
+            namespace fs = std::filesystem;
+            std::error_code ec;
+            const fs::file_status st = fs::status(text, ec);
+            if (!fs::exists(st) || fs::is_directory(st)) return "";
+            return "'" + text + "' is " + (fs::is_regular_file(st) ? "a file" : specialFileKind(st)) +
+                   ", not a folder; the outputs go into a folder (created if missing)";
+        },
+        "FOLDER");
+}
 
 void checkVerb(const CLI::App& app, int argc, char** argv) {
     if (argc < 2 || argv[1][0] == '-') return;

@@ -24,5 +24,8 @@ void checkParsedValues(const CLI::App& app);
 CLI::Validator positiveNumber(const std::string& unit = "");
 // The same for ≥ 0.
 CLI::Validator nonNegativeNumber();
+// An output folder: missing (it will be created) or a folder, not a file or a device (`--out
+// /dev/full` used to fail only after the render, when the first file was opened).
+CLI::Validator outputFolder();
 
 }  // namespace metamer

@@ -113,7 +113,7 @@ int main(int argc, char** argv) {
     bool timings = false, strictCoverage = false, noPng = false;
     auto* render = app.add_subcommand("render", "render a scene to a spectral radiance cube (EXR) and a quick-look PNG");
     render->add_option("scene", job.scene, "scene file (JSON, docs/scene-format.md)")->required();
-    render->add_option("--out,-o", job.outDir, "output folder (created if missing)")->capture_default_str();
+    render->add_option("--out,-o", job.outDir, "output folder (created if missing)")->check(outputFolder())->capture_default_str();
     render->add_option("--grid", gridText, "spectral grid START:END:STEP in nm, e.g. 300:740:5 (overrides the scene)");
     render->add_option("--resample", resampleText,
                        "how spectra go onto the grid: interpolate (default: tabulated values at data points, "

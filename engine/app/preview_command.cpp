@@ -1,5 +1,7 @@
 #include "app/preview_command.h"
 
+#include "app/cli_checks.h"
+
 #include "core/error.h"
 #include "preview/preview.h"
 
@@ -35,7 +37,7 @@ CLI::App* addPreviewCommand(CLI::App& app, PreviewArgs& a) {
     c->add_option("--window-screenshot", a.windowScreenshot, "write the last frame's whole window, UI included");
     c->add_option("--probe", a.probe, "probe pixel X,Y (row 0 at the top), as if the cursor were there");
     c->add_option("--pin", a.pin, "pin the second probe at pixel X,Y");
-    c->add_option("--out,-o", a.out, "folder that Save (S) writes into")->capture_default_str();
+    c->add_option("--out,-o", a.out, "folder that Save (S) writes into")->check(outputFolder())->capture_default_str();
     c->add_flag("--save", a.save, "save each view's cube and PNG when the window closes");
     c->add_flag("--no-watch", a.noWatch, "do not reload the scene file when it changes on disk");
     c->add_flag("--validation", a.validation, "enable Vulkan validation layers; any error fails the run");

@@ -50,14 +50,20 @@ void requireRegularFile(const std::filesystem::path& path, const Where& where, s
         failInput(where, "{} not found", named(path, where, what));
     }
     if (fs::is_regular_file(st)) return;
-    const char* kind = fs::is_directory(st)           ? nullptr
-                       : fs::is_fifo(st)              ? "a FIFO"
-                       : fs::is_character_file(st)    ? "a character device"
-                       : fs::is_block_file(st)        ? "a block device"
-                       : fs::is_socket(st)            ? "a socket"
-                                                      : "not a plain file";
-    if (!kind) failInput(where, "{} is a folder, not a file", named(path, where, what));
-    failInput(where, "{} is not a regular file ({})", named(path, where, what), kind);
+    if (fs::is_directory(st)) failInput(where, "{} is a folder, not a file", named(path, where, what));
+    failInput(where, "{} is not a regular file ({})", named(path, where, what), specialFileKind(st));
+}
+
+const char* specialFileKind(const std::filesystem::file_status& st) {
+    namespace fs = std::filesystem;
+    if (!fs::exists(st) || fs::is_regular_file(st)) return nullptr;
+    return fs::is_directory(st)        ? "a folder"
+           : fs::is_fifo(st)           ? "a FIFO"
+           : fs::is_character_file(st) ? "a character device"
+           : fs::is_block_file(st)     ? "a block device"
+           : fs::is_socket(st)         ? "a socket"
+           : fs::is_symlink(st)        ? "a symbolic link"
+                                       : "not a plain file";
 }
 
 std::string readWholeFile(const std::filesystem::path& path, const Where& where, std::string_view what,

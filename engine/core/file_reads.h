@@ -30,6 +30,10 @@ constexpr std::uintmax_t kMaxTextFileBytes = std::uintmax_t(256) << 20;
 // Input errors at `where`.
 void requireRegularFile(const std::filesystem::path& path, const Where& where, std::string_view what);
 
+// What a file that is not a regular file is, for messages: "a folder", "a FIFO", "a character
+// device", "a block device", "a socket", "not a plain file"; null for a regular file or none.
+const char* specialFileKind(const std::filesystem::file_status& status);
+
 // requireRegularFile, then that it holds at most `maxBytes` (checked before reading), then its
 // bytes; notes the read (noteFileRead).
 std::string readWholeFile(const std::filesystem::path& path, const Where& where, std::string_view what,

@@ -1,7 +1,9 @@
 #include "io/atomic_file.h"
 
 #include "core/error.h"
+#include "core/file_reads.h"
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <cstring>
@@ -56,13 +58,35 @@ AtomicOutput::AtomicOutput(fs::path finalPath) : final_(std::move(finalPath)) {
     fs::path dir = final_.parent_path();
     if (!dir.empty()) {
         std::error_code ec;
+        const fs::file_status st = fs::status(dir, ec);
+        if (fs::exists(st) && !fs::is_directory(st))
+            failRuntime("cannot write '{}': '{}' is not a folder ({})", final_.string(), dir.string(),
+                        fs::is_regular_file(st) ? "a file" : specialFileKind(st));
         fs::create_directories(dir, ec);
         if (ec) failRuntime("cannot create output folder '{}': {}", dir.string(), ec.message());
+    }
+    // What is at the target now: a file or a symbolic link is replaced (the link itself, not what
+    // it points to); anything else would fail only at the rename, after the work.
+    {
+        std::error_code ec;
+        const fs::file_status st = fs::symlink_status(final_, ec);
+        if (fs::exists(st) && !fs::is_regular_file(st) && !fs::is_symlink(st))
+            failRuntime("cannot write '{}': it is {}; an output replaces a file (remove it or write elsewhere)",
+                        final_.string(), specialFileKind(st));
     }
     std::string name = fmt::format(".{}.tmp-{}-{}{}", final_.filename().string(), ::getpid(),
                                    g_counter.fetch_add(1), final_.extension().string());
     temp_ = dir / name;
     slot_ = registerTemp(temp_.string());
+    const int fd = ::open(temp_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+    if (fd < 0) {
+        const int err = errno;
+        unregisterTemp(slot_);
+        slot_ = -1;
+        failRuntime("cannot write '{}': cannot create a file in '{}': {}", final_.string(),
+                    dir.empty() ? std::string(".") : dir.string(), std::strerror(err));
+    }
+    ::close(fd);
 }
 
 AtomicOutput::~AtomicOutput() {
@@ -70,8 +94,7 @@ AtomicOutput::~AtomicOutput() {
     unregisterTemp(slot_);
 }
 
-void AtomicOutput::commit() {
-    if (committed_) return;
+void AtomicOutput::sync() const {
     // Flush the data before the rename, or a crash could leave an empty file under the final name.
     int fd = ::open(temp_.c_str(), O_RDONLY | O_CLOEXEC);
     if (fd < 0)
@@ -81,18 +104,98 @@ void AtomicOutput::commit() {
     ::close(fd);
     if (syncErr != 0)
         failRuntime("cannot write '{}': fsync failed: {}", final_.string(), std::strerror(syncErr));
-    if (::rename(temp_.c_str(), final_.c_str()) != 0)
-        failRuntime("cannot write '{}': rename from '{}' failed: {}", final_.string(),
-                    temp_.string(), std::strerror(errno));
-    committed_ = true;
-    unregisterTemp(slot_);  // after the rename: a signal in between finds no file, harmless
-    slot_ = -1;
-    // Make the rename itself durable; failure here does not undo a completed write.
-    fs::path dir = final_.parent_path().empty() ? fs::path(".") : final_.parent_path();
-    int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-    if (dfd >= 0) {
-        ::fsync(dfd);
-        ::close(dfd);
+}
+
+void AtomicOutput::commit() { commitTogether({this}); }
+
+namespace {
+
+fs::path folderOf(const fs::path& p) { return p.parent_path().empty() ? fs::path(".") : p.parent_path(); }
+
+// A hidden name beside `target` for its previous content while a set of outputs is renamed.
+fs::path keptName(const fs::path& target) {
+    return folderOf(target) /
+           fmt::format(".{}.old-{}-{}", target.filename().string(), ::getpid(), g_counter.fetch_add(1));
+}
+
+}  // namespace
+
+void commitTogether(const std::vector<AtomicOutput*>& all) {
+    std::vector<AtomicOutput*> outs;
+    for (AtomicOutput* o : all)
+        if (o && !o->committed_) outs.push_back(o);
+    if (outs.empty()) return;
+    for (const AtomicOutput* o : outs) o->sync();
+
+    // The previous set, kept until every new file is in place.
+    // They are registered like temporary files: a signal during the renames removes them too.
+    std::vector<fs::path> kept(outs.size());
+    std::vector<int> keptSlots(outs.size(), -1);
+    auto dropKept = [&] {
+        for (size_t i = 0; i < kept.size(); ++i) {
+            if (!kept[i].empty()) ::unlink(kept[i].c_str()), kept[i].clear();
+            unregisterTemp(keptSlots[i]);
+            keptSlots[i] = -1;
+        }
+    };
+    for (size_t i = 0; i < outs.size(); ++i) {
+        const fs::path& target = outs[i]->final_;
+        std::error_code ec;
+        const fs::file_status st = fs::symlink_status(target, ec);
+        // Nothing there, or something a rename cannot replace (a folder made since the output was
+        // opened: its rename fails below and the set is put back).
+        if (!fs::exists(st) || (!fs::is_regular_file(st) && !fs::is_symlink(st))) continue;
+        const fs::path k = keptName(target);
+        keptSlots[i] = registerTemp(k.string());
+        if (::link(target.c_str(), k.c_str()) != 0) {  // no hard links here (e.g. FAT): a copy
+            fs::copy(target, k, fs::copy_options::copy_symlinks, ec);
+            if (ec) {
+                unregisterTemp(keptSlots[i]);
+                keptSlots[i] = -1;
+                dropKept();
+                failRuntime("cannot write '{}': cannot keep the previous file as '{}' while the new set is put in "
+                            "place: {}", target.string(), k.string(), ec.message());
+            }
+        }
+        kept[i] = k;
+    }
+
+    size_t renamed = 0;
+    int err = 0;
+    for (; renamed < outs.size(); ++renamed)
+        if (::rename(outs[renamed]->temp_.c_str(), outs[renamed]->final_.c_str()) != 0) {
+            err = errno;
+            break;
+        }
+    if (renamed < outs.size()) {
+        // Put the previous set back: each kept file over the new one, new files that had none removed.
+        for (size_t j = 0; j < renamed; ++j) {
+            const fs::path& target = outs[j]->final_;
+            if (kept[j].empty()) ::unlink(target.c_str());
+            else if (::rename(kept[j].c_str(), target.c_str()) == 0) kept[j].clear();  // slot freed by dropKept
+        }
+        dropKept();
+        failRuntime("cannot write '{}': rename from '{}' failed: {}{}", outs[renamed]->final_.string(),
+                    outs[renamed]->temp_.string(), std::strerror(err),
+                    renamed ? "; the other files of this run were not put in place (the previous ones are kept)"
+                            : "");
+    }
+    dropKept();
+    std::vector<fs::path> folders;
+    for (AtomicOutput* o : outs) {
+        o->committed_ = true;
+        unregisterTemp(o->slot_);  // after the rename: a signal in between finds no file, harmless
+        o->slot_ = -1;
+        const fs::path dir = folderOf(o->final_);
+        if (std::find(folders.begin(), folders.end(), dir) == folders.end()) folders.push_back(dir);
+    }
+    // Make the renames themselves durable; failure here does not undo a completed write.
+    for (const fs::path& dir : folders) {
+        int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+        if (dfd >= 0) {
+            ::fsync(dfd);
+            ::close(dfd);
+        }
     }
 }
 

@@ -5,13 +5,16 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 namespace metamer {
 
 class AtomicOutput {
 public:
-    // Creates the target's folder if missing (errors name the path). Does not create any file:
-    // the writer opens tempPath() itself.
+    // Creates the target's folder if missing and an empty temporary file in it, so that a target
+    // that cannot work (a folder or a device at the final path, a folder that is not writable, a
+    // read-only file system) is found now, before the work, not at commit. Errors name the path.
+    // The writer then opens tempPath() itself (truncating it).
     explicit AtomicOutput(std::filesystem::path finalPath);
     ~AtomicOutput();  // removes the temporary file unless committed
 
@@ -31,11 +34,23 @@ public:
     bool committed() const { return committed_; }
 
 private:
+    friend void commitTogether(const std::vector<AtomicOutput*>& outputs);
+    void sync() const;  // fsyncs the temporary file; errors name the final path
+
     std::filesystem::path final_;
     std::filesystem::path temp_;
     int slot_ = -1;  // index in the live-temp registry, -1 when not registered
     bool committed_ = false;
 };
+
+// Renames several outputs into place, all or none: the files of one run replace the previous set
+// together or leave it byte-identical. Every temporary file is flushed first (a failure renames
+// nothing); each target that exists is kept under a hidden name beside it (a hard link, or a copy
+// where the file system has none); then the renames; if one fails, those already renamed are put
+// back (the kept file renamed over the new one, a new file removed) and the error names the file
+// that failed. Outputs already committed are skipped; null entries are ignored. Only a crash
+// during the renames themselves (microseconds) can leave a mix, and a kept ".name.old-…" file.
+void commitTogether(const std::vector<AtomicOutput*>& outputs);
 
 // Writes `bytes` to `path` through an AtomicOutput: readers see the old file or the whole new one.
 // Errors name the path.

@@ -2,6 +2,7 @@
 
 #include "io/atomic_file.h"
 #include "core/file_reads.h"
+#include "core/memory_limits.h"
 
 #include <algorithm>
 #include <bit>
@@ -233,11 +234,11 @@ void EnviCubeWriter::writeRows(int firstRow, int rows, const float* data) {
     m.nextRow = firstRow + rows;
 }
 
-void EnviCubeWriter::commit() {
+std::vector<AtomicOutput*> EnviCubeWriter::finish() {
     Impl& m = *impl_;
     if (m.nextRow != m.height)
         failRuntime("cannot write '{}': {} of {} rows written", m.headerPath.string(), m.nextRow, m.height);
-    if (m.headerOut.committed()) return;
+    if (m.headerOut.committed()) return {};
     if (m.fd >= 0) {
         const int fd = std::exchange(m.fd, -1);
         if (::close(fd) != 0) failRuntime("cannot write '{}': {}", m.dataPath.string(), std::strerror(errno));
@@ -249,9 +250,10 @@ void EnviCubeWriter::commit() {
         if (!out) failRuntime("cannot write '{}': the header could not be written", m.headerPath.string());
     }
     // The data first: a header that exists describes complete data.
-    m.data.commit();
-    m.headerOut.commit();
+    return {&m.data, &m.headerOut};
 }
+
+void EnviCubeWriter::commit() { commitTogether(finish()); }
 
 void writeEnviCube(const fs::path& headerPath, const SpectralCube& cube, const EnviWriteOptions& options) {
     const size_t count = static_cast<size_t>(cube.width) * cube.height * cube.bands();
@@ -632,6 +634,8 @@ SpectralImage readEnviCube(const fs::path& path) {
         failInput(Where{header.string(), "wavelength"}, "{} wavelengths make a grid of {} bands ({})", h.bands,
                   grid.bands(), grid.str());
 
+    requireDecodableSize(uint64_t(h.samples), uint64_t(h.lines), uint64_t(h.bands), 4, 0, Where{header.string()},
+                         "the ENVI cube");
     result.cube = SpectralCube(h.samples, h.lines, grid);
     // In blocks of a million values: a line of a bip file alone may hold 655 million.
     constexpr uint64_t kBlock = uint64_t(1) << 20;

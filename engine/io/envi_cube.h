@@ -20,6 +20,8 @@
 
 namespace metamer {
 
+class AtomicOutput;
+
 enum class EnviInterleave {
     Bsq,  // band-sequential: [band][line][sample]
     Bil,  // band-interleaved by line: [line][band][sample]
@@ -50,6 +52,9 @@ public:
     EnviCubeWriter& operator=(const EnviCubeWriter&) = delete;
     // `rows` rows starting at `firstRow`, pixel-interleaved (width × rows × bands floats).
     void writeRows(int firstRow, int rows, const float* data);
+    // Completes the temporary files (data and header) and returns them, the data first for commitTogether (io/atomic_file.h),
+    // which renames a run's files into place together; commit() is finish() and that.
+    std::vector<AtomicOutput*> finish();
     void commit();
 
 private:

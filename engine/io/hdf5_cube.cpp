@@ -2,6 +2,7 @@
 
 #include "core/error.h"
 #include "core/file_reads.h"
+#include "core/memory_limits.h"
 #include "io/atomic_file.h"
 
 #include <hdf5.h>
@@ -212,18 +213,20 @@ void Hdf5CubeWriter::writeRows(int firstRow, int rows, const float* data) {
     m.nextRow = firstRow + rows;
 }
 
-void Hdf5CubeWriter::commit() {
+std::vector<AtomicOutput*> Hdf5CubeWriter::finish() {
     quietHdf5();
     Impl& m = *impl_;
     if (m.nextRow != m.height)
         failRuntime("cannot write '{}': {} of {} rows written", m.path.string(), m.nextRow, m.height);
-    if (m.out.committed()) return;
+    if (m.out.committed()) return {};
     // Closing the file flushes the chunks still in HDF5's cache: its failure is a failed write.
     const bool cubeClosed = m.cube.close();
     const bool spaceClosed = m.fileSpace.close();
     if (!m.file.close() || !cubeClosed || !spaceClosed) failWrite(m.path, "finish the file");
-    m.out.commit();
+    return {&m.out};
 }
+
+void Hdf5CubeWriter::commit() { commitTogether(finish()); }
 
 void writeHdf5Cube(const fs::path& path, const SpectralCube& cube, const Hdf5WriteOptions& options) {
     const size_t count = static_cast<size_t>(cube.width) * cube.height * cube.bands();
@@ -403,6 +406,7 @@ SpectralImage readHdf5Cube(const fs::path& path) {
                                         wavelengthWhere, "bands");
     if (hsize_t(grid.bands()) != bands)
         failInput(wavelengthWhere, "{} wavelengths make a grid of {} bands ({})", bands, grid.bands(), grid.str());
+    requireDecodableSize(columns, rows, bands, 4, 0, Where{path.string()}, "the HDF5 cube");
     result.cube = SpectralCube(int(columns), int(rows), grid);
     if (H5Dread(cube.set.get(), H5T_NATIVE_FLOAT, H5S_ALL, H5S_ALL, H5P_DEFAULT, result.cube.data.data()) < 0)
         failInput(cubeWhere, "cannot be read (truncated or damaged file?){}", withDetail(hdf5Detail()));

@@ -12,6 +12,8 @@
 
 namespace metamer {
 
+class AtomicOutput;
+
 struct Hdf5WriteOptions {
     int gzipLevel = 0;            // 0: no compression; 1-9: deflate (with the shuffle filter)
     StringAttributes attributes;  // UTF-8 string attributes on the root group "/"
@@ -36,6 +38,9 @@ public:
     Hdf5CubeWriter& operator=(const Hdf5CubeWriter&) = delete;
     // `rows` rows starting at `firstRow`, pixel-interleaved (width × rows × bands floats).
     void writeRows(int firstRow, int rows, const float* data);
+    // Completes the temporary file and returns it for commitTogether (io/atomic_file.h),
+    // which renames a run's files into place together; commit() is finish() and that.
+    std::vector<AtomicOutput*> finish();
     void commit();
 
 private:

@@ -61,14 +61,16 @@ void ImageFileWriter::writeRows(int firstRow, int rows, const std::vector<float>
     m.nextRow = firstRow + rows;
 }
 
-void ImageFileWriter::commit() {
+std::vector<AtomicOutput*> ImageFileWriter::finish() {
     Impl& m = *impl_;
     if (m.nextRow != m.image.height)
         failRuntime("cannot write '{}': {} of {} rows written", m.path.string(), m.nextRow, m.image.height);
     if (m.png) m.png->close();
     if (m.exr) m.exr->close();
-    m.out.commit();
+    return {&m.out};
 }
+
+void ImageFileWriter::commit() { commitTogether(finish()); }
 
 void writeImage(const std::filesystem::path& path, const ImageFile& image, const std::vector<uint16_t>& pixels,
                 int bits) {

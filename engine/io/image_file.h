@@ -13,6 +13,8 @@
 
 namespace metamer {
 
+class AtomicOutput;
+
 struct ImageFile {
     int width = 0, height = 0;
     std::vector<std::string> channels;                    // names, e.g. {"R","G","B"} or {"X","Y","Z"}
@@ -29,6 +31,9 @@ public:
     ImageFileWriter& operator=(const ImageFileWriter&) = delete;
     void writeRows(int firstRow, int rows, const std::vector<uint16_t>& pixels);  // 8/16 bits
     void writeRows(int firstRow, int rows, const std::vector<float>& pixels);     // 32 bits
+    // Completes the temporary file and returns it for commitTogether (io/atomic_file.h),
+    // which renames a run's files into place together; commit() is finish() and that.
+    std::vector<AtomicOutput*> finish();
     void commit();
 
 private:

@@ -64,15 +64,22 @@ const OiioModuleApi& oiioModule() {
 
 bool oiioModuleLoaded() { return loaded; }
 
-RasterImage readWithOpenImageIO(const fs::path& path, const Where& where) {
+RasterImage readWithOpenImageIO(const fs::path& path, const Where& where, const ImageHeaderCheck& check) {
+    RasterImage header;
+    if (std::string e = oiioModule().readFile(path.string(), header, true); !e.empty()) failInput(where, "{}", e);
+    check(header);
     RasterImage img;
-    if (std::string e = oiioModule().readFile(path.string(), img); !e.empty()) failInput(where, "{}", e);
+    if (std::string e = oiioModule().readFile(path.string(), img, false); !e.empty()) failInput(where, "{}", e);
     return img;
 }
 
-RasterImage readWithOpenImageIO(const std::vector<uint8_t>& bytes, const std::string& format, const Where& where) {
+RasterImage readWithOpenImageIO(const std::vector<uint8_t>& bytes, const std::string& format, const Where& where,
+                                const ImageHeaderCheck& check) {
+    RasterImage header;
+    if (std::string e = oiioModule().readMemory(bytes, format, header, true); !e.empty()) failInput(where, "{}", e);
+    check(header);
     RasterImage img;
-    if (std::string e = oiioModule().readMemory(bytes, format, img); !e.empty()) failInput(where, "{}", e);
+    if (std::string e = oiioModule().readMemory(bytes, format, img, false); !e.empty()) failInput(where, "{}", e);
     return img;
 }
 

@@ -35,12 +35,14 @@ public:
 // module left beside a newer binary.
 struct OiioModuleApi {
     int version;
-    // Each returns "" on success or what went wrong, for the caller to put in context.
-    std::string (*readFile)(const std::string& path, RasterImage& out);
-    std::string (*readMemory)(const std::vector<uint8_t>& bytes, const std::string& format, RasterImage& out);
+    // Each returns "" on success or what went wrong, for the caller to put in context. With
+    // `headerOnly`, everything but the pixels (left empty): the caller checks the size first.
+    std::string (*readFile)(const std::string& path, RasterImage& out, bool headerOnly);
+    std::string (*readMemory)(const std::vector<uint8_t>& bytes, const std::string& format, RasterImage& out,
+                              bool headerOnly);
     ImageCanvas* (*makeCanvas)(int width, int height, const std::string& font);
 };
-constexpr int kOiioModuleVersion = 1;
+constexpr int kOiioModuleVersion = 2;
 #define METAMER_OIIO_MODULE_ENTRY "metamer_oiio_module"
 
 // The module, opened on first call; a runtime error names the path tried when it is missing.
@@ -48,9 +50,11 @@ const OiioModuleApi& oiioModule();
 // Whether this process has opened it (for tests and the start-up figures).
 bool oiioModuleLoaded();
 
-// An image in any format OpenImageIO reads; input errors name `where`.
-RasterImage readWithOpenImageIO(const std::filesystem::path& path, const Where& where);
-RasterImage readWithOpenImageIO(const std::vector<uint8_t>& bytes, const std::string& format, const Where& where);
+// An image in any format OpenImageIO reads; input errors name `where`. The header is read first
+// and handed to `check` (raster_image.h) before the pixels are decoded.
+RasterImage readWithOpenImageIO(const std::filesystem::path& path, const Where& where, const ImageHeaderCheck& check);
+RasterImage readWithOpenImageIO(const std::vector<uint8_t>& bytes, const std::string& format, const Where& where,
+                                const ImageHeaderCheck& check);
 std::unique_ptr<ImageCanvas> makeImageCanvas(int width, int height, const std::filesystem::path& font);
 
 }  // namespace metamer

@@ -206,7 +206,8 @@ bool readRows(png_structp png, png_bytepp rows) {
     return true;
 }
 
-RasterImage readPngWith(const Where& where, FILE* file, const std::vector<uint8_t>* bytes) {
+RasterImage readPngWith(const Where& where, FILE* file, const std::vector<uint8_t>* bytes,
+                        const ImageHeaderCheck& check) {
     std::string error;
     png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &error, onError, onWarning);
     png_infop info = png ? png_create_info_struct(png) : nullptr;
@@ -237,6 +238,7 @@ RasterImage readPngWith(const Where& where, FILE* file, const std::vector<uint8_
         img.attributes.push_back({key == "Description" ? "ImageDescription" : key,
                                   std::string(s.text[i].text ? s.text[i].text : "")});  // iTXt has no text_length
     }
+    if (check) check(img);
     const size_t rowBytes = size_t(s.width) * s.channels * (s.bits / 8);
     std::vector<png_byte> data(rowBytes * s.height);
     std::vector<png_bytep> rows(s.height);
@@ -255,16 +257,18 @@ RasterImage readPngWith(const Where& where, FILE* file, const std::vector<uint8_
 
 }  // namespace
 
-RasterImage readPng(const fs::path& path, const Where& where) {
+RasterImage readPng(const fs::path& path, const Where& where, const ImageHeaderCheck& check) {
     FILE* f = std::fopen(path.c_str(), "rb");
     if (!f) failInput(where, "cannot open: {}", std::strerror(errno));
     struct Close {
         FILE* f;
         ~Close() { std::fclose(f); }
     } close{f};
-    return readPngWith(where, f, nullptr);
+    return readPngWith(where, f, nullptr, check);
 }
 
-RasterImage readPng(const std::vector<uint8_t>& bytes, const Where& where) { return readPngWith(where, nullptr, &bytes); }
+RasterImage readPng(const std::vector<uint8_t>& bytes, const Where& where, const ImageHeaderCheck& check) {
+    return readPngWith(where, nullptr, &bytes, check);
+}
 
 }  // namespace metamer

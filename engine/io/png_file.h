@@ -37,7 +37,8 @@ private:
 
 // Reads a PNG (any bit depth, palette and grey expanded) as counts; channels are named Y, YA, RGB
 // or RGBA as OpenImageIO names them. Input errors name `where`.
-RasterImage readPng(const std::filesystem::path& path, const Where& where);
-RasterImage readPng(const std::vector<uint8_t>& bytes, const Where& where);
+// `check` sees the header before the rows are decoded (io/raster_image.h).
+RasterImage readPng(const std::filesystem::path& path, const Where& where, const ImageHeaderCheck& check = {});
+RasterImage readPng(const std::vector<uint8_t>& bytes, const Where& where, const ImageHeaderCheck& check = {});
 
 }  // namespace metamer

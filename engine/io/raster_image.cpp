@@ -1,5 +1,6 @@
 #include "io/raster_image.h"
 #include "core/file_reads.h"
+#include "core/memory_limits.h"
 
 #include "io/exr_file.h"
 #include "io/oiio_module.h"
@@ -38,11 +39,27 @@ std::string imageSignature(const fs::path& path) {
     return imageSignature(head);
 }
 
-RasterImage readRasterImage(const fs::path& path, const Where& where) {
+namespace {
+
+// Before any pixel is decoded: the machine's limit (float32 pixels plus, for integer formats, the
+// decoder's buffer of the file's own samples), then the caller's check.
+ImageHeaderCheck sizeChecked(const Where& where, const ImageHeaderCheck& check) {
+    return [where, check](const RasterImage& h) {
+        const uint64_t fileBytes = h.floatingPoint ? 0 : uint64_t(std::max(1, (h.bits + 7) / 8));
+        requireDecodableSize(uint64_t(std::max(0, h.width)), uint64_t(std::max(0, h.height)), h.channels.size(),
+                             4 + fileBytes, 0, where, h.format.empty() ? std::string("the image") : "the " + h.format + " image");
+        if (check) check(h);
+    };
+}
+
+}  // namespace
+
+RasterImage readRasterImage(const fs::path& path, const Where& where, const ImageHeaderCheck& userCheck) {
     requireRegularFile(path, where, "image");
     noteFileRead(path);
+    const ImageHeaderCheck check = sizeChecked(where, userCheck);
     const std::string kind = imageSignature(path);
-    if (kind == "png") return readPng(path, where);
+    if (kind == "png") return readPng(path, where, check);
     if (kind == "openexr") {
         const ExrHeader h = readExrHeader(path, where);
         RasterImage img;
@@ -53,17 +70,20 @@ RasterImage readRasterImage(const fs::path& path, const Where& where) {
         img.floatingPoint = true;
         img.bits = !h.halfChannels.empty() && h.halfChannels[0] ? 16 : 32;
         img.attributes = h.attributes;
+        check(img);
         img.pixels = readExrChannels(path, h.channels, where);
         return img;
     }
-    return readWithOpenImageIO(path, where);
+    return readWithOpenImageIO(path, where, check);
 }
 
-RasterImage readRasterImage(const std::vector<uint8_t>& bytes, const std::string& name, const Where& where) {
+RasterImage readRasterImage(const std::vector<uint8_t>& bytes, const std::string& name, const Where& where,
+                            const ImageHeaderCheck& userCheck) {
+    const ImageHeaderCheck check = sizeChecked(where, userCheck);
     const std::string kind = imageSignature(bytes);
-    if (kind == "png") return readPng(bytes, where);
+    if (kind == "png") return readPng(bytes, where, check);
     if (kind.empty()) failInput(where, "'{}' is not an image this reader knows from its first bytes", name);
-    return readWithOpenImageIO(bytes, kind, where);
+    return readWithOpenImageIO(bytes, kind, where, check);
 }
 
 }  // namespace metamer

@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -32,13 +33,21 @@ struct RasterImage {
     float normalized(size_t i) const;
 };
 
+// Called with an image's header (everything but the pixels, still empty) before its pixels are
+// decoded; throws to refuse it (a texture too large for the grid). Every read first refuses, from
+// the header, an image whose decoding would take more than a quarter of the machine's memory
+// (core/memory_limits.h requireDecodableSize).
+using ImageHeaderCheck = std::function<void(const RasterImage& header)>;
+
 // The file's format told by its first bytes: "openexr", "png", "jpeg", or "" (anything else).
 std::string imageSignature(const std::filesystem::path& path);
 std::string imageSignature(const std::vector<uint8_t>& bytes);
 
-// Reads an image; input errors (missing, unreadable, deep or volume images) name `where`.
-RasterImage readRasterImage(const std::filesystem::path& path, const Where& where);
+// Reads an image; input errors (missing, unreadable, damaged, deep, volume or too large to decode)
+// name `where`.
+RasterImage readRasterImage(const std::filesystem::path& path, const Where& where, const ImageHeaderCheck& check = {});
 // The same from bytes in memory (a glTF's embedded PNG or JPEG); `name` is for messages.
-RasterImage readRasterImage(const std::vector<uint8_t>& bytes, const std::string& name, const Where& where);
+RasterImage readRasterImage(const std::vector<uint8_t>& bytes, const std::string& name, const Where& where,
+                            const ImageHeaderCheck& check = {});
 
 }  // namespace metamer

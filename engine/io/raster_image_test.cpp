@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <functional>
 #include <unistd.h>
 
 using namespace metamer;
@@ -108,4 +109,88 @@ TEST(RasterImage, OpenImageIOIsLoadedOnlyForOtherFormats) {
                                       {.env = "METAMER_OIIO_MODULE=/nonexistent/libmetamer_oiio.so"});
     EXPECT_NE(missing.code, 0);
     EXPECT_NE(missing.output.find("/nonexistent/libmetamer_oiio.so"), std::string::npos) << missing.output;
+}
+
+namespace {
+
+// A PNG whose header says `width` × `height` 16-bit RGBA, with one byte of pixel data: what a
+// reader learns from the header alone.
+std::vector<uint8_t> pngClaiming(uint32_t width, uint32_t height) {
+    auto be = [](std::vector<uint8_t>& v, uint32_t x) {
+        for (int s = 24; s >= 0; s -= 8) v.push_back(uint8_t(x >> s));
+    };
+    std::vector<uint8_t> f = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+    auto chunk = [&](const char* type, const std::vector<uint8_t>& data) {
+        std::vector<uint8_t> body(type, type + 4);
+        body.insert(body.end(), data.begin(), data.end());
+        uint32_t crc = 0xffffffffu;  // CRC-32 of type and data, so that libpng reads on
+        for (uint8_t b : body) {
+            crc ^= b;
+            for (int k = 0; k < 8; ++k) crc = (crc >> 1) ^ (0xedb88320u & (0u - (crc & 1u)));
+        }
+        be(f, uint32_t(data.size()));
+        f.insert(f.end(), body.begin(), body.end());
+        be(f, ~crc);
+    };
+    std::vector<uint8_t> ihdr;
+    be(ihdr, width);
+    be(ihdr, height);
+    for (int b : {16, 6, 0, 0, 0}) ihdr.push_back(uint8_t(b));
+    chunk("IHDR", ihdr);
+    chunk("IDAT", {0x78, 0x01, 0x63, 0x00, 0x00, 0x00, 0x01, 0x00, 0x01});  // zlib of one zero byte
+    chunk("IEND", {});
+    return f;
+}
+
+std::string inputErrorOf(const std::function<void()>& f) {
+    try {
+        f();
+    } catch (const Error& e) {
+        EXPECT_EQ(e.code(), ExitCode::BadInput) << e.text();
+        return e.text();
+    }
+    ADD_FAILURE() << "no error";
+    return "";
+}
+
+}  // namespace
+
+// Issue 19, class 8: a valid header that claims more than the machine can decode is refused
+// before a pixel is allocated (60000² RGBA16: 54 GiB of floats plus 27 GiB of samples).
+TEST(RasterImage, AnImageTooLargeToDecodeIsRefusedFromItsHeader) {
+    const fs::path dir = scratch("huge");
+    const std::vector<uint8_t> bytes = pngClaiming(60000, 60000);
+    std::ofstream(dir / "huge.png", std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()),
+                                                            std::streamsize(bytes.size()));
+    for (const std::string& e : {inputErrorOf([&] { readRasterImage(dir / "huge.png", Where{"huge.png"}); }),
+                                 inputErrorOf([&] { readRasterImage(bytes, "embedded", Where{"embedded"}); })}) {
+        EXPECT_NE(e.find("the png image is 60000×60000 with 4 channels: decoded it would take 80.5 GiB"),
+                  std::string::npos) << e;
+        EXPECT_NE(e.find("a quarter of this machine's memory"), std::string::npos) << e;
+    }
+    // The caller's own check sees the header first, before the pixels are read.
+    const std::vector<uint8_t> small = pngClaiming(3, 2);
+    int seen = 0;
+    const std::string e = inputErrorOf([&] {
+        readRasterImage(small, "small", Where{"small"}, [&](const RasterImage& h) {
+            ++seen;
+            EXPECT_EQ(h.width, 3);
+            EXPECT_EQ(h.height, 2);
+            EXPECT_TRUE(h.pixels.empty());
+        });
+    });
+    EXPECT_EQ(seen, 1);
+    EXPECT_NE(e.find("cannot read pixels"), std::string::npos) << e;  // no data after the header
+    fs::remove_all(dir);
+}
+
+// Issue 19, class 4: a JPEG cut short decodes with libjpeg's grey fill and a warning; that is
+// damage, an input error on one line.
+TEST(RasterImage, ATruncatedJpegIsAnInputErrorOnOneLine) {
+    const fs::path files = fs::path(METAMER_SOURCE_DIR) / "tests/bad-inputs/files";
+    const RasterImage whole = readRasterImage(files / "tile.jpg", Where{"tile.jpg"});
+    EXPECT_EQ(whole.width, 64);
+    const std::string e = inputErrorOf([&] { readRasterImage(files / "truncated.jpg", Where{"truncated.jpg"}); });
+    EXPECT_NE(e.find("damaged image data"), std::string::npos) << e;
+    EXPECT_EQ(e.find('\n'), std::string::npos) << e;
 }

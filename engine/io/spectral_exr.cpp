@@ -1,6 +1,7 @@
 #include "io/spectral_exr.h"
 
 #include "core/error.h"
+#include "core/memory_limits.h"
 #include "io/atomic_file.h"
 #include "io/exr_file.h"
 
@@ -200,13 +201,19 @@ void SpectralExrWriter::writeRows(int firstRow, int rows, const float* data) {
     m.nextRow = firstRow + rows;
 }
 
-ExrWriteReport SpectralExrWriter::commit() {
+std::vector<AtomicOutput*> SpectralExrWriter::finish() {
     Impl& m = *impl_;
     if (m.nextRow != m.height)
         failRuntime("cannot write '{}': {} of {} rows written", m.path.string(), m.nextRow, m.height);
     m.writer->close();
-    m.out.commit();
-    return m.report;
+    return {&m.out};
+}
+
+const ExrWriteReport& SpectralExrWriter::report() const { return impl_->report; }
+
+ExrWriteReport SpectralExrWriter::commit() {
+    commitTogether(finish());
+    return impl_->report;
 }
 
 ExrWriteReport writeSpectralExr(const fs::path& path, const SpectralCube& cube,
@@ -271,6 +278,8 @@ SpectralExrImage readSpectralExrImage(const fs::path& path) {
     // OpenEXR reads the channels straight into the cube's band order.
     std::vector<std::string> names;
     for (const auto& b : bands) names.push_back(h.channels[size_t(b.index)]);
+    requireDecodableSize(uint64_t(std::max(0, h.width)), uint64_t(std::max(0, h.height)), names.size(), 4, 0, where,
+                         "the spectral OpenEXR image");
     result.cube = SpectralCube(h.width, h.height, grid);
     result.cube.data = readExrChannels(path, names, where);
     return result;

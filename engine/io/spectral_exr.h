@@ -14,6 +14,8 @@
 
 namespace metamer {
 
+class AtomicOutput;
+
 struct ExrWriteOptions {
     bool half = false;               // float16 instead of float32
     std::string compression = "piz"; // an OpenEXR compression (io/exr_file.h): none, rle, zips, zip, piz, ...
@@ -45,6 +47,10 @@ public:
     SpectralExrWriter& operator=(const SpectralExrWriter&) = delete;
     // `rows` rows starting at `firstRow`, pixel-interleaved (width × rows × bands floats).
     void writeRows(int firstRow, int rows, const float* data);
+    // Completes the temporary file and returns it for commitTogether (io/atomic_file.h),
+    // which renames a run's files into place together; commit() is finish() and that.
+    std::vector<AtomicOutput*> finish();
+    const ExrWriteReport& report() const;
     ExrWriteReport commit();
 
 private:

@@ -1,6 +1,7 @@
 #include "render/outputs.h"
 
 #include "color/quick_look.h"
+#include "io/atomic_file.h"
 
 #include <fmt/ranges.h>
 
@@ -251,11 +252,16 @@ void RenderOutputs::writeEdges(const std::vector<uint16_t>& edges) {
 }
 
 std::vector<WrittenFile> RenderOutputs::commit(int strips, int stripRows) {
+    // Every file completed first, then all renamed together: the run replaces its previous set
+    // of files or, when anything fails, leaves it as it was (io/atomic_file.h, commitTogether).
     std::vector<WrittenFile> written;
+    std::vector<AtomicOutput*> files;
+    auto add = [&](std::vector<AtomicOutput*> f) { files.insert(files.end(), f.begin(), f.end()); };
     const std::string inStrips = strips > 1 ? fmt::format("written in {} strips of {} rows", strips, stripRows) : "";
     auto line = [&](const std::string& what) { return inStrips.empty() ? what : inStrips; };
     if (cube_) {
-        clampedToHalf_ = cube_->commit().clampedToHalfMax;
+        add(cube_->finish());
+        clampedToHalf_ = cube_->report().clampedToHalfMax;
         written.push_back({targets_.cube, line(fmt::format("{}×{} px, {} bands {} nm, W·sr⁻¹·m⁻²·nm⁻¹, {}", width_,
                                                            height_, grid_.bands(), grid_.str(),
                                                            options_.half ? "float16" : "float32"))});
@@ -263,14 +269,14 @@ std::vector<WrittenFile> RenderOutputs::commit(int strips, int stripRows) {
     const std::string cubeWhat = fmt::format("{}×{} px, {} bands {} nm, W·sr⁻¹·m⁻²·nm⁻¹, float32", width_, height_,
                                              grid_.bands(), grid_.str());
     if (hdf5_) {
-        hdf5_->commit();
+        add(hdf5_->finish());
         written.push_back({targets_.hdf5, line(fmt::format("HDF5 /cube [rows, columns, bands], {}{}", cubeWhat,
                                                            options_.formats.hdf5Gzip
                                                                ? fmt::format(", gzip {}", options_.formats.hdf5Gzip)
                                                                : ""))});
     }
     if (envi_) {
-        envi_->commit();
+        add(envi_->finish());
         const char* il = options_.formats.enviInterleave == EnviInterleave::Bsq   ? "bsq"
                          : options_.formats.enviInterleave == EnviInterleave::Bil ? "bil"
                                                                                   : "bip";
@@ -278,29 +284,30 @@ std::vector<WrittenFile> RenderOutputs::commit(int strips, int stripRows) {
                                                            targets_.envi.stem().string() + ".img", il, cubeWhat))});
     }
     if (channels_) {
-        channels_->commit();
+        add(channels_->finish());
         written.push_back({targets_.cube, line(fmt::format("{} channel radiance ({}), not a spectrum",
                                                            representation_.mode.name(),
                                                            fmt::join(representation_.channelNames, ", ")))});
     }
     if (png_) {
-        png_->commit();
+        add(png_->finish());
         written.push_back({targets_.png, line(quickLook_ ? quickLookWhat_ : "display counts: " + plan_->description)});
     }
     if (xyz_) {
-        xyz_->commit();
+        add(xyz_->finish());
         written.push_back({targets_.xyz, line("XYZ, " + plan_->xyzUnits)});
     }
     if (responses_) {
-        responses_->commit();
+        add(responses_->finish());
         written.push_back({targets_.responses, line(fmt::format("{} responses ({}), {}", plan_->detector.name,
                                                                 fmt::join(plan_->detector.channels, ", "),
                                                                 plan_->detector.units))});
     }
     if (edges_) {
-        edges_->commit();
+        add(edges_->finish());
         written.push_back({targets_.edges, line(edgesWhat_)});
     }
+    commitTogether(files);
     return written;
 }
 

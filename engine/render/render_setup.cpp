@@ -9,6 +9,7 @@ std::unique_ptr<LoadedScene> loadJobScene(const RenderJob& job) {
     auto l = std::make_unique<LoadedScene>();
     LoadOptions loadOptions;
     loadOptions.allowOutsidePaths = job.allowOutsidePaths;
+    loadOptions.grid = job.grid;
     l->scene = job.sceneText ? loadSceneFromString(*job.sceneText, job.scene, l->library, job.overrides, loadOptions)
                              : loadScene(job.scene, l->library, job.overrides, loadOptions);
     if (job.grid) {

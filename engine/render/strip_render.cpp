@@ -1,5 +1,7 @@
 #include "render/strip_render.h"
 
+#include "core/memory_limits.h"
+
 #include "render/display_frame.h"
 #include "render/tonemap_pass.h"
 
@@ -11,11 +13,7 @@
 
 namespace metamer {
 
-size_t defaultMemoryBudget() {
-    long pages = sysconf(_SC_PHYS_PAGES), size = sysconf(_SC_PAGE_SIZE);
-    if (pages <= 0 || size <= 0) return size_t(2) << 30;
-    return size_t(pages) * size_t(size) / 4;
-}
+size_t defaultMemoryBudget() { return size_t(machineMemoryBytes() / 4); }
 
 namespace {
 

@@ -22,7 +22,8 @@
 
 namespace metamer {
 
-// The machine's default budget: a quarter of its physical memory.
+// The machine's default budget: a quarter of its memory (core/memory_limits.h machineMemoryBytes:
+// physical memory, or the cgroup's limit when lower).
 size_t defaultMemoryBudget();
 
 struct StripJob {

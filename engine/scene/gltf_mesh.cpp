@@ -455,8 +455,22 @@ GltfModel loadGltf(const fs::path& path, const Where& where, const ReadablePaths
         failInput(where, "mesh file '{}' is larger than 4 GiB, more than glTF loading supports", shown);
     const unsigned char* json = bytes.data();
     size_t jsonSize = bytes.size();
+    if (ext == ".glb") {
+        // GLB: a 12-byte header ("glTF", version, total length), then the JSON chunk's length and
+        // type, then the JSON. tinygltf reads the version but accepts any: only 2 is glTF 2.0.
+        if (bytes.size() < 20 || std::memcmp(bytes.data(), "glTF", 4) != 0)
+            failInput(where, "mesh file '{}' is not a GLB file: it does not start with a 20-byte GLB header "
+                      "('glTF', version, length, then the JSON chunk)", shown);
+        uint32_t version = 0, totalLength = 0;
+        std::memcpy(&version, bytes.data() + 4, 4);
+        std::memcpy(&totalLength, bytes.data() + 8, 4);
+        if (version != 2)
+            failInput(where, "mesh file '{}' is GLB version {}; expected version 2 (glTF 2.0)", shown, version);
+        if (totalLength != bytes.size())
+            failInput(where, "mesh file '{}': its GLB header says {} bytes but the file has {} (truncated or "
+                      "padded?)", shown, totalLength, bytes.size());
+    }
     if (ext == ".glb" && bytes.size() >= 20) {
-        // GLB: a 12-byte header, then the JSON chunk's length and type, then the JSON.
         uint32_t chunkLength = 0;
         std::memcpy(&chunkLength, bytes.data() + 12, 4);
         json = bytes.data() + 20;

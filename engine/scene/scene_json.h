@@ -6,6 +6,7 @@
 #include "spectral/library.h"
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,9 @@ struct LoadOptions {
     // detectors) only inside its own folder tree and the spectra library, unless this is set
     // (--allow-outside-paths; docs/scene-format.md, "Paths and what a scene may read").
     bool allowOutsidePaths = false;
+    // The grid the scene will be rendered on when it is not the scene's own (--grid): textures are
+    // checked against it, from their headers, before they are decoded (scene/texture.h).
+    std::optional<Grid> grid;
 };
 
 // Reads `file`, applies `overrides` ("KEY=VALUE", as given to --set) and interprets the result.

@@ -3,6 +3,8 @@
 
 #include "spectral/library.h"
 #include "color/rgb_upsampling.h"
+#include "core/memory_limits.h"
+#include "scene/texture.h"
 
 #include <algorithm>
 #include <cmath>
@@ -209,11 +211,12 @@ SceneOnGrid resampleScene(const Scene& scene, const Grid& grid, CoveragePolicy p
         }
         out.lights.push_back(std::move(e));
     }
-    if (uint64_t bytes = textureMemory(scene, grid); bytes > kMaxTextureMemory)
+    if (uint64_t bytes = textureMemory(scene, grid); bytes > textureMemoryLimit())
         failInput(Where{scene.file.string(), "materials"},
                   "the scene's textures would take {:.1f} GiB on the grid {} nm ({} bands × 4 bytes per texel); the "
-                  "limit is {} GiB: use smaller textures or a coarser grid",
-                  double(bytes) / double(1 << 30), grid.str(), grid.bands(), kMaxTextureMemory >> 30);
+                  "limit is {} (8 GiB, or a quarter of this machine's memory when less): use smaller textures or a "
+                  "coarser grid",
+                  double(bytes) / double(1 << 30), grid.str(), grid.bands(), memorySize(textureMemoryLimit()));
     std::vector<SceneSpectrum> textureProbes;
     textureProbes.reserve(scene.textures.size());
     for (const Texture& t : scene.textures) {

@@ -27,9 +27,6 @@ struct TextureOnGrid {
     const float* texel(int x, int y) const { return &data[(size_t(y) * width + x) * channels]; }
 };
 
-// Textures on the grid take W·H·bands floats each: beyond this in all the render is refused
-// (with the estimate) before any is made.
-constexpr uint64_t kMaxTextureMemory = uint64_t(8) << 30;
 
 struct MaterialOnGrid {
     std::vector<double> diffuse;   // ρd per band

@@ -2,11 +2,13 @@
 
 #include "color/srgb.h"
 #include "core/file_reads.h"
+#include "core/memory_limits.h"
 #include "io/exr_file.h"
 #include "io/raster_image.h"
 #include "io/spectral_exr.h"
 #include "io/spectral_image.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -42,6 +44,32 @@ void checkSize(int width, int height, const std::string& name, const Where& wher
     if (width < 1 || height < 1 || width > kMaxTextureSide || height > kMaxTextureSide)
         failInput(where, "texture '{}' is {}×{} texels; expected 1 to {} per side", name, width, height,
                   kMaxTextureSide);
+}
+
+// Whether `e` was raised at the scene key `where` (not inside the image reader, whose errors name
+// the file alone and are put in the texture's context).
+bool isAt(const Error& e, const Where& where) { return e.where().file == where.file && e.where().key == where.key; }
+
+// A reader's message without its own "not a readable image: ", which the texture's context says.
+std::string withoutPrefix(const std::string& message) {
+    const std::string prefix = "not a readable image: ";
+    return message.rfind(prefix, 0) == 0 ? message.substr(prefix.size()) : message;
+}
+
+// What a texture's header must pass before its texels are decoded: its side, and (given the grid
+// it goes to) its size there.
+ImageHeaderCheck textureHeaderCheck(const std::string& name, TextureRole role, const Grid* grid, const Where& where) {
+    return [name, role, grid, where](const RasterImage& h) {
+        checkSize(h.width, h.height, name, where);
+        if (!grid) return;
+        const uint64_t perTexel = role == TextureRole::Reflectance ? uint64_t(grid->bands()) : 3;
+        const uint64_t bytes = uint64_t(h.width) * uint64_t(h.height) * perTexel * 4;
+        if (bytes > textureMemoryLimit())
+            failInput(where, "texture '{}' is {}×{} texels: on the grid {} nm ({} values × 4 bytes per texel) it would "
+                      "take {}; the limit is {} (8 GiB, or a quarter of this machine's memory when less): use a "
+                      "smaller texture or a coarser grid", name, h.width, h.height, grid->str(), perTexel,
+                      memorySize(bytes), memorySize(textureMemoryLimit()));
+    };
 }
 
 Texture readSpectral(const fs::path& path, const Where& where) {
@@ -95,12 +123,12 @@ std::vector<float> readRgb(const RasterImage& in, const std::string& name, Textu
 }
 
 // Reads an image for a texture; its errors name the texture and the scene's key.
-RasterImage readTextureImage(const fs::path& path, const Where& where) {
+RasterImage readTextureImage(const fs::path& path, const Where& where, const ImageHeaderCheck& check) {
     try {
-        return readRasterImage(path, Where{path.string()});
+        return readRasterImage(path, Where{path.string()}, check);
     } catch (const Error& e) {
-        if (e.code() != ExitCode::BadInput) throw;
-        failInput(where, "texture '{}' is not a readable image: {}", path.string(), e.message());
+        if (e.code() != ExitCode::BadInput || isAt(e, where)) throw;  // the header check's own error: as it is
+        failInput(where, "texture '{}' is not a readable image: {}", path.string(), withoutPrefix(e.message()));
     }
 }
 
@@ -167,8 +195,10 @@ std::vector<float> heightToNormals(const std::vector<float>& h, int w, int ht, d
     return n;
 }
 
+uint64_t textureMemoryLimit() { return std::min(uint64_t(8) << 30, decodedImageLimitBytes()); }
+
 Texture loadTexture(const fs::path& path, TextureRole role, TextureEncoding encoding, double bumpScale,
-                    const Where& where) {
+                    const Where& where, const Grid* grid) {
     requireRegularFile(path, where, "texture file");
 
     // A spectral EXR is recognised by its channels, HDF5 and ENVI cubes by their signatures;
@@ -178,12 +208,21 @@ Texture loadTexture(const fs::path& path, TextureRole role, TextureEncoding enco
     if (spectral && role != TextureRole::Reflectance)
         failInput(where, "texture '{}' is a spectral {} cube; a {} map is an image", path.string(),
                   cubeFormatName(*format), role == TextureRole::Normal ? "normal" : "bump");
+    const ImageHeaderCheck check = textureHeaderCheck(path.string(), role, grid, where);
     if (role == TextureRole::Reflectance && imageSignature(path) == "openexr") {
+        ExrHeader h;
         try {
-            spectral = hasSpectralChannels(readExrHeader(path, Where{path.string()}).channels);
+            h = readExrHeader(path, Where{path.string()});
         } catch (const Error& e) {
             if (e.code() != ExitCode::BadInput) throw;
             failInput(where, "texture '{}' is not a readable image: {}", path.string(), e.message());
+        }
+        spectral = hasSpectralChannels(h.channels);
+        if (spectral) {
+            RasterImage header;
+            header.width = h.width;
+            header.height = h.height;
+            check(header);
         }
     }
     if (spectral) {
@@ -192,11 +231,11 @@ Texture loadTexture(const fs::path& path, TextureRole role, TextureEncoding enco
                       path.string());
         return readSpectral(path, where);
     }
-    return imageTexture(readTextureImage(path, where), path.string(), role, encoding, bumpScale, where);
+    return imageTexture(readTextureImage(path, where, check), path.string(), role, encoding, bumpScale, where);
 }
 
 Texture loadTexture(const EncodedImage& image, TextureRole role, TextureEncoding encoding, double bumpScale,
-                    const Where& where) {
+                    const Where& where, const Grid* grid) {
     // glTF embeds PNG or JPEG (its core image formats); tell them by their signatures.
     const auto& b = image.bytes;
     const bool png = b.size() >= 8 && std::memcmp(b.data(), "\x89PNG\r\n\x1a\n", 8) == 0;
@@ -204,10 +243,10 @@ Texture loadTexture(const EncodedImage& image, TextureRole role, TextureEncoding
     if (!png && !jpeg) failInput(where, "texture '{}' is neither a PNG nor a JPEG image (glTF's image formats)", image.name);
     RasterImage decoded;
     try {
-        decoded = readRasterImage(b, image.name, Where{image.name});
+        decoded = readRasterImage(b, image.name, Where{image.name}, textureHeaderCheck(image.name, role, grid, where));
     } catch (const Error& e) {
-        if (e.code() != ExitCode::BadInput) throw;
-        failInput(where, "texture '{}' is not a readable image: {}", image.name, e.message());
+        if (e.code() != ExitCode::BadInput || isAt(e, where)) throw;
+        failInput(where, "texture '{}' is not a readable image: {}", image.name, withoutPrefix(e.message()));
     }
     return imageTexture(decoded, image.name, role, encoding, bumpScale, where);
 }

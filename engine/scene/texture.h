@@ -28,11 +28,17 @@ enum class TextureEncoding {
 // Largest texture side, texels (larger files are refused with their size).
 constexpr int kMaxTextureSide = 16384;
 
+// The most a scene's textures may take on the grid (W·H·bands float32 texels each, normal maps
+// 3): 8 GiB, or a quarter of the machine's memory when that is less (core/memory_limits.h).
+uint64_t textureMemoryLimit();
+
 // Reads `path` for `role`. `bumpScale` (Height only) is the height difference, in texel widths,
 // that a value step of 1 in the file stands for: the bump's slope is bumpScale × the value's
-// central difference per texel. Input errors name `where` (the scene key) and the file.
+// central difference per texel. Input errors name `where` (the scene key) and the file. A texture
+// over kMaxTextureSide, or (given the `grid` it will be resampled to) one that alone would take
+// more than textureMemoryLimit() there, is refused from the file's header, before decoding.
 Texture loadTexture(const std::filesystem::path& path, TextureRole role, TextureEncoding encoding,
-                    double bumpScale, const Where& where);
+                    double bumpScale, const Where& where, const Grid* grid = nullptr);
 
 // An image held in memory — a glTF file's embedded PNG or JPEG — and the name messages give it.
 struct EncodedImage {
@@ -42,7 +48,7 @@ struct EncodedImage {
 
 // As loadTexture, for an embedded PNG or JPEG (any other bytes are an input error naming it).
 Texture loadTexture(const EncodedImage& image, TextureRole role, TextureEncoding encoding, double bumpScale,
-                    const Where& where);
+                    const Where& where, const Grid* grid = nullptr);
 
 // A height field (width × height values, row 0 at the top, repeating at the edges) turned into
 // tangent-space unit normals: n ∝ (−s·∂h/∂x, s·∂h/∂y_up, 1) with central differences per texel.

@@ -13,9 +13,16 @@
 namespace metamer {
 namespace {
 
+// OpenImageIO's message on one line (its decoders' messages may hold several).
+std::string oneLine(std::string text) {
+    while (!text.empty() && (text.back() == '\n' || text.back() == ' ')) text.pop_back();
+    for (size_t i = 0; (i = text.find('\n', i)) != std::string::npos;) text.replace(i, 1, "; ");
+    return text;
+}
+
 // The spec and pixels of an open image; integer pixels as counts (OpenImageIO hands them over as
 // 0 … 1).
-std::string readOpen(OIIO::ImageInput& in, RasterImage& out) {
+std::string readOpen(OIIO::ImageInput& in, RasterImage& out, bool headerOnly) {
     const OIIO::ImageSpec& spec = in.spec();
     if (spec.deep) return "deep images are not supported";
     if (spec.depth > 1) return "volume images are not supported";
@@ -28,9 +35,13 @@ std::string readOpen(OIIO::ImageInput& in, RasterImage& out) {
     out.bits = spec.get_int_attribute("oiio:BitsPerSample", int(spec.format.size() * 8));
     for (const auto& p : spec.extra_attribs)
         if (p.type() == OIIO::TypeDesc::STRING) out.attributes.push_back({p.name().string(), p.get_string()});
+    if (headerOnly) return "";
     out.pixels.resize(size_t(spec.width) * spec.height * spec.nchannels);
     if (!in.read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, out.pixels.data()))
-        return "cannot read pixels: " + in.geterror();
+        return "cannot read pixels: " + oneLine(in.geterror());
+    // A decoder may meet damage and still succeed: libjpeg fills the rows of a truncated JPEG with
+    // grey and warns. What it reported is damage, not a picture.
+    if (in.has_error()) return "damaged image data: " + oneLine(in.geterror());
     if (!out.floatingPoint) {
         const double maxCount = std::ldexp(1.0, out.bits) - 1.0;
         for (float& v : out.pixels) v = float(std::round(double(v) * maxCount));
@@ -38,19 +49,20 @@ std::string readOpen(OIIO::ImageInput& in, RasterImage& out) {
     return "";
 }
 
-std::string readFile(const std::string& path, RasterImage& out) {
+std::string readFile(const std::string& path, RasterImage& out, bool headerOnly) {
     auto in = OIIO::ImageInput::open(path);
-    if (!in) return "not a readable image: " + OIIO::geterror();
-    return readOpen(*in, out);
+    if (!in) return "not a readable image: " + oneLine(OIIO::geterror());
+    return readOpen(*in, out, headerOnly);
 }
 
-std::string readMemory(const std::vector<uint8_t>& bytes, const std::string& format, RasterImage& out) {
+std::string readMemory(const std::vector<uint8_t>& bytes, const std::string& format, RasterImage& out,
+                       bool headerOnly) {
     OIIO::Filesystem::IOMemReader memory(const_cast<unsigned char*>(bytes.data()), bytes.size());
     auto in = OIIO::ImageInput::create(format);
     OIIO::ImageSpec spec;
     if (!in || !in->set_ioproxy(&memory) || !in->open("memory." + format, spec))
-        return "not a readable image: " + (in ? in->geterror() : OIIO::geterror());
-    return readOpen(*in, out);
+        return "not a readable image: " + oneLine(in ? in->geterror() : OIIO::geterror());
+    return readOpen(*in, out, headerOnly);
 }
 
 class OiioCanvas final : public ImageCanvas {
