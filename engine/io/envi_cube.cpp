@@ -484,12 +484,7 @@ EnviHeader parseEnviHeader(const std::string& text, const Where& where) {
 namespace {
 
 // Found, and a regular file (not a folder, FIFO or device), checked before anything opens it.
-void requireRegularFile(const fs::path& path) {
-    std::error_code ec;
-    const fs::file_status status = fs::status(path, ec);
-    if (!fs::exists(status)) failInput(Where{path.string()}, "not found");
-    if (!fs::is_regular_file(status)) failInput(Where{path.string()}, "not a regular file");
-}
+void requireRegularFile(const fs::path& path) { metamer::requireRegularFile(path, Where{path.string()}, "ENVI cube"); }
 
 bool isRegularFile(const fs::path& path) {
     std::error_code ec;

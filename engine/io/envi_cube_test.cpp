@@ -2,6 +2,9 @@
 
 #include "io/atomic_file.h"
 
+#include "support/cubes.h"
+#include "support/temp_folder.h"
+
 #include <gtest/gtest.h>
 
 #include <bit>
@@ -15,65 +18,16 @@
 
 using namespace metamer;
 namespace fs = std::filesystem;
+using test::expectBitExact;
+using test::randomCube;
+using test::patternCube;
+using test::expectInputError;
+using test::slurp;
+using test::writeText;
 
 namespace {
 
-// A fresh folder per test, removed afterwards.
-class EnviCube : public ::testing::Test {
-protected:
-    void SetUp() override {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        dir = fs::temp_directory_path() /
-              fmt::format("metamer-io-{}-{}-{}", ::getpid(), info->test_suite_name(), info->name());
-        fs::remove_all(dir);
-        fs::create_directories(dir);
-    }
-    void TearDown() override { fs::remove_all(dir); }
-
-    std::vector<std::string> files() const {
-        std::vector<std::string> found;
-        for (const auto& e : fs::directory_iterator(dir)) found.push_back(e.path().filename().string());
-        std::sort(found.begin(), found.end());
-        return found;
-    }
-
-    fs::path dir;
-};
-
-SpectralCube randomCube(int w, int h, const Grid& g, unsigned seed) {
-    SpectralCube cube(w, h, g);
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<float> dist(0.0f, 10.0f);
-    for (float& v : cube.data) v = dist(rng);
-    return cube;
-}
-
-// value(x, y, band) = band + 0.25·x + 0.5·y + 100: distinct everywhere, exact in float.
-SpectralCube patternCube(int w, int h, const Grid& g) {
-    SpectralCube cube(w, h, g);
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x)
-            for (int b = 0; b < g.bands(); ++b) cube.at(x, y, b) = float(b) + 0.25f * float(x) + 0.5f * float(y) + 100;
-    return cube;
-}
-
-void expectBitExact(const SpectralCube& a, const SpectralCube& b) {
-    ASSERT_EQ(a.width, b.width);
-    ASSERT_EQ(a.height, b.height);
-    ASSERT_EQ(a.grid, b.grid) << a.grid.str() << " vs " << b.grid.str();
-    ASSERT_EQ(a.data.size(), b.data.size());
-    EXPECT_EQ(std::memcmp(a.data.data(), b.data.data(), a.data.size() * sizeof(float)), 0);
-}
-
-std::string slurp(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
-void spit(const fs::path& p, const std::string& bytes) {
-    std::ofstream out(p, std::ios::binary | std::ios::trunc);
-    out << bytes;
-}
+class EnviCube : public test::TempFolderTest {};
 
 template <typename T>
 std::string rawBytes(const std::vector<T>& values, bool swap = false) {
@@ -94,22 +48,6 @@ void writeInStrips(const fs::path& header, const SpectralCube& cube, const std::
     }
     ASSERT_EQ(row, cube.height);
     writer.commit();
-}
-
-// Runs `f` and checks that it throws an input error naming `file` and `key`, whose message holds
-// `fragment` (and, when `line` > 0, names that line).
-void expectInputError(const std::function<void()>& f, const std::string& file, const std::string& key,
-                      const std::string& fragment, int line = 0) {
-    try {
-        f();
-        ADD_FAILURE() << "expected an input error for " << file << " " << key;
-    } catch (const Error& e) {
-        EXPECT_EQ(e.code(), ExitCode::BadInput) << e.what();
-        EXPECT_EQ(e.where().file, file) << e.what();
-        EXPECT_EQ(e.where().key, key) << e.what();
-        EXPECT_NE(e.message().find(fragment), std::string::npos) << e.what();
-        if (line > 0) EXPECT_EQ(e.where().line, line) << e.what();
-    }
 }
 
 // A header for a 2×1×3 float32 cube, with `extra` lines and without the keys in `drop`.
@@ -137,7 +75,7 @@ TEST_F(EnviCube, RoundTripOfEveryInterleaveInUnevenStripsIsBitExact) {
             SCOPED_TRACE(fmt::format("{} {}", enviInterleaveName(interleave), int(component)));
             const fs::path file = dir / "cube.hdr";
             writeInStrips(file, cube, {2, 1, 2}, {.interleave = interleave, .component = component});
-            EXPECT_EQ(files(), (std::vector<std::string>{"cube.hdr", "cube.img"}));
+            EXPECT_EQ(namesIn(), (std::vector<std::string>{"cube.hdr", "cube.img"}));
             EXPECT_EQ(fs::file_size(dir / "cube.img"), 7u * 5 * 13 * 4);
             const SpectralImage back = readEnviCube(file);
             EXPECT_EQ(back.component, component);
@@ -227,7 +165,7 @@ TEST_F(EnviCube, AbandonedWriterLeavesNeitherFile) {
         writer.writeRows(0, 2, cube.data.data());
         EXPECT_EQ(liveTempFileCount(), liveBefore + 2);
     }
-    EXPECT_TRUE(files().empty()) << ::testing::PrintToString(files());
+    EXPECT_TRUE(namesIn().empty()) << ::testing::PrintToString(namesIn());
     EXPECT_EQ(liveTempFileCount(), liveBefore);
 }
 
@@ -256,23 +194,23 @@ TEST_F(EnviCube, SiblingsAreFoundFromEitherFile) {
     expectBitExact(cube, readEnviCube(dir / "b.dat").cube);
     fs::remove(dir / "b.dat");
     expectInputError([&] { readEnviCube(dir / "b.hdr"); }, (dir / "b.hdr").string(), "", "no ENVI data file");
-    spit(dir / "lonely.img", std::string(24, '\0'));
+    writeText(dir / "lonely.img", std::string(24, '\0'));
     expectInputError([&] { readEnviCube(dir / "lonely.img"); }, (dir / "lonely.img").string(), "", "no ENVI header");
 }
 
 TEST_F(EnviCube, ByteOrder1AndFloat64AndHeaderOffsetRead) {
     const std::vector<float> bsq = {1.5f, -2.0f, 3.25f, 4.0f, 1e-3f, 6.0f};  // band-major, 2 samples
     const bool bigHost = std::endian::native == std::endian::big;
-    spit(dir / "swapped.hdr", header("", {"byte order"}) + fmt::format("byte order = {}\n", bigHost ? 0 : 1));
-    spit(dir / "swapped.img", rawBytes(bsq, true));
+    writeText(dir / "swapped.hdr", header("", {"byte order"}) + fmt::format("byte order = {}\n", bigHost ? 0 : 1));
+    writeText(dir / "swapped.img", rawBytes(bsq, true));
     SpectralImage image = readEnviCube(dir / "swapped.hdr");
     EXPECT_EQ(image.cube.grid, (Grid{400, 420, 10}));
     EXPECT_EQ(image.cube.data, (std::vector<float>{1.5f, 3.25f, 1e-3f, -2.0f, 4.0f, 6.0f}));
 
     const std::vector<double> bip = {0.1, 0.2, 0.3, 1e300, -1e300, 0.6};
-    spit(dir / "f64.hdr", header("", {"data type", "interleave", "header offset"}) +
+    writeText(dir / "f64.hdr", header("", {"data type", "interleave", "header offset"}) +
                               "data type = 5\ninterleave = BIP\nheader offset = 16\n");
-    spit(dir / "f64.img", std::string(16, 'x') + rawBytes(bip));
+    writeText(dir / "f64.img", std::string(16, 'x') + rawBytes(bip));
     image = readEnviCube(dir / "f64.hdr");
     EXPECT_EQ(image.cube.data[0], 0.1f);
     EXPECT_EQ(image.cube.data[2], 0.3f);
@@ -337,38 +275,38 @@ TEST_F(EnviCube, MalformedCubesAreInputErrorsNamingTheFile) {
     const std::vector<float> six = {1, 2, 3, 4, 5, 6};
     auto read = [](const std::string& p) { return [p] { readEnviCube(p); }; };
 
-    spit(hdr, header());
-    spit(img, rawBytes(six).substr(0, 20));
+    writeText(hdr, header());
+    writeText(img, rawBytes(six).substr(0, 20));
     expectInputError(read(hdr), img, "", "is 20 bytes; the header (c.hdr) describes 24 bytes");
     expectInputError(read(img), img, "", "truncated");
-    spit(img, rawBytes(six) + "!");
+    writeText(img, rawBytes(six) + "!");
     expectInputError(read(hdr), img, "", "too long");
 
-    spit(img, rawBytes(six));
-    spit(hdr, header("", {"wavelength"}) + "wavelength = {400, 410, 430}\n");
+    writeText(img, rawBytes(six));
+    writeText(hdr, header("", {"wavelength"}) + "wavelength = {400, 410, 430}\n");
     expectInputError(read(hdr), hdr, "wavelength", "not on a uniform grid");
-    spit(hdr, header("", {"wavelength"}) + "wavelength = {420, 410, 400}\n");
+    writeText(hdr, header("", {"wavelength"}) + "wavelength = {420, 410, 400}\n");
     expectInputError(read(hdr), hdr, "wavelength", "not increasing");
-    spit(hdr, header("metamer quantity = radiance\n"));
+    writeText(hdr, header("metamer quantity = radiance\n"));
     expectInputError(read(hdr), hdr, "metamer quantity", "'radiance'");
-    spit(hdr, header("", {"byte order"}));
+    writeText(hdr, header("", {"byte order"}));
     expectInputError(read(img), hdr, "byte order", "missing");
 
     expectInputError(read((dir / "missing.hdr").string()), (dir / "missing.hdr").string(), "", "not found");
-    expectInputError(read(dir.string()), dir.string(), "", "not a regular file");
+    expectInputError(read(dir.string()), dir.string(), "", "is a folder, not a file");
     expectInputError(read("/dev/zero"), "/dev/zero", "", "not a regular file");
 }
 
 TEST_F(EnviCube, DataFilesThatAreNotRegularFilesAreRefusedBeforeOpening) {
-    spit(dir / "fifo.hdr", header());
+    writeText(dir / "fifo.hdr", header());
     ASSERT_EQ(::mkfifo((dir / "fifo.img").c_str(), 0600), 0);
     // Opening a FIFO for reading would block until a writer came: the check must come first.
     expectInputError([&] { readEnviCube(dir / "fifo.hdr"); }, (dir / "fifo.img").string(), "", "not a regular file");
     expectInputError([&] { readEnviCube(dir / "fifo.img"); }, (dir / "fifo.img").string(), "", "not a regular file");
-    spit(dir / "folder.hdr", header());
+    writeText(dir / "folder.hdr", header());
     fs::create_directory(dir / "folder.img");
     expectInputError([&] { readEnviCube(dir / "folder.hdr"); }, (dir / "folder.img").string(), "",
-                     "not a regular file");
+                     "is a folder, not a file");
 }
 
 TEST_F(EnviCube, HeaderParserThrowsNothingButMetamerErrorOnRandomBytes) {

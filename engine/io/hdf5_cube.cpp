@@ -346,10 +346,7 @@ SpectralImage readHdf5Cube(const fs::path& path) {
     quietHdf5();
     const Where where{path.string()};
     const Where cubeWhere{path.string(), "/cube"}, wavelengthWhere{path.string(), "/wavelength_nm"};
-    std::error_code ec;
-    const fs::file_status status = fs::status(path, ec);
-    if (!fs::exists(status)) failInput(where, "not found");
-    if (!fs::is_regular_file(status)) failInput(where, "not a regular file");
+    requireRegularFile(path, where, "HDF5 cube");
 
     const Handle fapl = fileAccess();
     Handle file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, orDefault(fapl)), H5Fclose);

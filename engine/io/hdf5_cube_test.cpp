@@ -2,6 +2,9 @@
 
 #include "io/atomic_file.h"
 
+#include "support/cubes.h"
+#include "support/temp_folder.h"
+
 #include <gtest/gtest.h>
 #include <hdf5.h>
 
@@ -15,47 +18,20 @@
 
 using namespace metamer;
 namespace fs = std::filesystem;
+using test::expectBitExact;
+using test::randomCube;
+using test::expectInputError;
 
 namespace {
 
-// A fresh folder per test, removed afterwards.
-class Hdf5Cube : public ::testing::Test {
+// A fresh folder per test; the hand-made files' HDF5 calls print nothing.
+class Hdf5Cube : public test::TempFolderTest {
 protected:
     void SetUp() override {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        dir = fs::temp_directory_path() /
-              fmt::format("metamer-io-{}-{}-{}", ::getpid(), info->test_suite_name(), info->name());
-        fs::remove_all(dir);
-        fs::create_directories(dir);
-        H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // the hand-made files' HDF5 calls print nothing
+        TempFolderTest::SetUp();
+        H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
     }
-    void TearDown() override { fs::remove_all(dir); }
-
-    std::vector<std::string> files() const {
-        std::vector<std::string> found;
-        for (const auto& e : fs::directory_iterator(dir)) found.push_back(e.path().filename().string());
-        std::sort(found.begin(), found.end());
-        return found;
-    }
-
-    fs::path dir;
 };
-
-SpectralCube randomCube(int w, int h, const Grid& g, unsigned seed) {
-    SpectralCube cube(w, h, g);
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<float> dist(0.0f, 10.0f);
-    for (float& v : cube.data) v = dist(rng);
-    return cube;
-}
-
-void expectBitExact(const SpectralCube& a, const SpectralCube& b) {
-    ASSERT_EQ(a.width, b.width);
-    ASSERT_EQ(a.height, b.height);
-    ASSERT_EQ(a.grid, b.grid) << a.grid.str() << " vs " << b.grid.str();
-    ASSERT_EQ(a.data.size(), b.data.size());
-    EXPECT_EQ(std::memcmp(a.data.data(), b.data.data(), a.data.size() * sizeof(float)), 0);
-}
 
 // Writes the cube through the strip writer in strips of the given heights.
 void writeInStrips(const fs::path& file, const SpectralCube& cube, const std::vector<int>& strips,
@@ -68,21 +44,6 @@ void writeInStrips(const fs::path& file, const SpectralCube& cube, const std::ve
     }
     ASSERT_EQ(row, cube.height);
     writer.commit();
-}
-
-// Runs `read` and checks that it throws an input error naming `file` and `key`, whose message
-// holds `fragment`.
-void expectInputError(const std::function<void()>& read, const fs::path& file, const std::string& key,
-                      const std::string& fragment) {
-    try {
-        read();
-        ADD_FAILURE() << "expected an input error for " << file << " " << key;
-    } catch (const Error& e) {
-        EXPECT_EQ(e.code(), ExitCode::BadInput) << e.what();
-        EXPECT_EQ(e.where().file, file.string()) << e.what();
-        EXPECT_EQ(e.where().key, key) << e.what();
-        EXPECT_NE(e.message().find(fragment), std::string::npos) << e.what();
-    }
 }
 
 // --- Hand-made HDF5 files, for layouts our writer never makes ---------------------------------
@@ -162,7 +123,7 @@ TEST_F(Hdf5Cube, EmissiveRoundTripInUnevenStripsIsBitExact) {
         EXPECT_EQ(back.component, SpectralComponent::Emissive);
         expectBitExact(cube, back.cube);
     }
-    EXPECT_EQ(files(), (std::vector<std::string>{"cube-0.h5", "cube-1.h5", "cube-6.h5", "cube-9.h5"}));
+    EXPECT_EQ(namesIn(), (std::vector<std::string>{"cube-0.h5", "cube-1.h5", "cube-6.h5", "cube-9.h5"}));
 }
 
 TEST_F(Hdf5Cube, ReflectiveRoundTripAndOneStripPerRow) {
@@ -274,7 +235,7 @@ TEST_F(Hdf5Cube, AbandonedWriterLeavesNoFile) {
         writer.writeRows(0, 2, cube.data.data());
         EXPECT_EQ(liveTempFileCount(), liveBefore + 1);
     }
-    EXPECT_TRUE(files().empty()) << ::testing::PrintToString(files());
+    EXPECT_TRUE(namesIn().empty()) << ::testing::PrintToString(namesIn());
     EXPECT_EQ(liveTempFileCount(), liveBefore);
 }
 
@@ -329,7 +290,7 @@ TEST_F(Hdf5Cube, MalformedFilesAreInputErrorsNamingTheFileAndKey) {
     auto read = [](const fs::path& p) { return [p] { readHdf5Cube(p); }; };
 
     expectInputError(read(dir / "missing.h5"), dir / "missing.h5", "", "not found");
-    expectInputError(read(dir), dir, "", "not a regular file");
+    expectInputError(read(dir), dir, "", "is a folder, not a file");
     std::ofstream(dir / "text.h5") << "hello, not HDF5\n";
     expectInputError(read(dir / "text.h5"), dir / "text.h5", "", "not an HDF5 file");
 

@@ -2,6 +2,9 @@
 
 #include "io/atomic_file.h"
 
+#include "support/cubes.h"
+#include "support/temp_folder.h"
+
 #include <OpenImageIO/imageio.h>
 #include <OpenEXR/ImfThreading.h>
 #include <gtest/gtest.h>
@@ -16,52 +19,22 @@
 
 using namespace metamer;
 namespace fs = std::filesystem;
+using test::expectBitExact;
+using test::randomCube;
+using test::slurp;
 
 namespace {
 
-// A fresh folder per test, removed afterwards.
-class SpectralExr : public ::testing::Test {
+class SpectralExr : public test::TempFolderTest {
 protected:
-    void SetUp() override {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        dir = fs::temp_directory_path() /
-              fmt::format("metamer-io-{}-{}-{}", ::getpid(), info->test_suite_name(), info->name());
-        fs::remove_all(dir);
-        fs::create_directories(dir);
-    }
-    void TearDown() override { fs::remove_all(dir); }
-
     // Files in the folder other than `keep`: temporary leftovers.
     std::vector<std::string> othersThan(const fs::path& keep) const {
         std::vector<std::string> found;
-        for (const auto& e : fs::directory_iterator(dir))
-            if (e.path() != keep) found.push_back(e.path().filename().string());
+        for (const auto& name : namesIn())
+            if (dir / name != keep) found.push_back(name);
         return found;
     }
-
-    fs::path dir;
 };
-
-SpectralCube randomCube(int w, int h, const Grid& g, unsigned seed, float lo = 0.0f, float hi = 10.0f) {
-    SpectralCube cube(w, h, g);
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<float> dist(lo, hi);
-    for (float& v : cube.data) v = dist(rng);
-    return cube;
-}
-
-std::string slurp(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
-void expectBitExact(const SpectralCube& a, const SpectralCube& b) {
-    ASSERT_EQ(a.width, b.width);
-    ASSERT_EQ(a.height, b.height);
-    ASSERT_EQ(a.grid, b.grid) << a.grid.str() << " vs " << b.grid.str();
-    ASSERT_EQ(a.data.size(), b.data.size());
-    EXPECT_EQ(std::memcmp(a.data.data(), b.data.data(), a.data.size() * sizeof(float)), 0);
-}
 
 }  // namespace
 

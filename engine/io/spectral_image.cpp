@@ -1,6 +1,7 @@
 #include "io/spectral_image.h"
 
 #include "core/error.h"
+#include "core/file_reads.h"
 #include "io/envi_cube.h"
 #include "io/hdf5_cube.h"
 
@@ -64,10 +65,7 @@ std::optional<CubeFormat> cubeFormatOf(const fs::path& path) {
 
 SpectralImage readSpectralImage(const fs::path& path) {
     const Where where{path.string()};
-    std::error_code ec;
-    const fs::file_status status = fs::status(path, ec);
-    if (!fs::exists(status)) failInput(where, "not found");
-    if (!fs::is_regular_file(status)) failInput(where, "not a regular file");
+    requireRegularFile(path, where, "spectral image");
     const std::optional<CubeFormat> format = cubeFormatOf(path);
     if (!format)
         failInput(where, "not a spectral image: expected OpenEXR, HDF5 or ENVI (a header starting with 'ENVI', or a "

@@ -3,6 +3,9 @@
 #include "io/envi_cube.h"
 #include "io/hdf5_cube.h"
 
+#include "support/cubes.h"
+#include "support/temp_folder.h"
+
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -12,39 +15,12 @@
 
 using namespace metamer;
 namespace fs = std::filesystem;
+using test::expectBitExact;
+using test::randomCube;
 
 namespace {
 
-// A fresh folder per test, removed afterwards.
-class SpectralImageFile : public ::testing::Test {
-protected:
-    void SetUp() override {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        dir = fs::temp_directory_path() /
-              fmt::format("metamer-io-{}-{}-{}", ::getpid(), info->test_suite_name(), info->name());
-        fs::remove_all(dir);
-        fs::create_directories(dir);
-    }
-    void TearDown() override { fs::remove_all(dir); }
-
-    fs::path dir;
-};
-
-SpectralCube randomCube(int w, int h, const Grid& g, unsigned seed) {
-    SpectralCube cube(w, h, g);
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<float> dist(0.0f, 10.0f);
-    for (float& v : cube.data) v = dist(rng);
-    return cube;
-}
-
-void expectBitExact(const SpectralCube& a, const SpectralCube& b) {
-    ASSERT_EQ(a.width, b.width);
-    ASSERT_EQ(a.height, b.height);
-    ASSERT_EQ(a.grid, b.grid) << a.grid.str() << " vs " << b.grid.str();
-    ASSERT_EQ(a.data.size(), b.data.size());
-    EXPECT_EQ(std::memcmp(a.data.data(), b.data.data(), a.data.size() * sizeof(float)), 0);
-}
+class SpectralImageFile : public test::TempFolderTest {};
 
 }  // namespace
 
@@ -113,6 +89,6 @@ TEST_F(SpectralImageFile, AnythingElseIsAnInputErrorNamingTheFile) {
     std::ofstream(dir / "cube.png") << "\x89PNG\r\n\x1a\n not a cube";
     expectInputError(dir / "cube.png", "not a spectral image");
     expectInputError(dir / "missing.h5", "not found");
-    expectInputError(dir, "not a regular file");
+    expectInputError(dir, "is a folder, not a file");
     expectInputError("/dev/zero", "not a regular file");
 }
