@@ -325,3 +325,28 @@ TEST(CliOutputs, AnOutFolderThatIsAFileOrADeviceIsAnInputError) {
     std::ifstream in(dir / "notes.txt");
     EXPECT_EQ(std::string(std::istreambuf_iterator<char>(in), {}), "mine");
 }
+
+// A disk that fills during the run: the write fails (exit 1), the previous files stay and no
+// temporary file is left. Needs a small tmpfs, so root (CI runs as root); skipped otherwise.
+TEST(CliOutputs, AFullDiskFailsTheRunAndKeepsThePreviousSet) {
+    const fs::path mount = freshDir("full-disk");
+    fs::create_directories(mount);
+    if (std::system(("mount -t tmpfs -o size=200k tmpfs " + mount.string() + " 2>/dev/null").c_str()) != 0)
+        GTEST_SKIP() << "cannot mount a tmpfs here (not root?)";
+    struct Unmount {
+        fs::path at;
+        ~Unmount() { std::system(("umount " + at.string()).c_str()); }
+    } unmount{mount};
+    const fs::path out = mount / "o";
+    ASSERT_EQ(run("render " + kScene + " --write png --out " + out.string()).code, 0);
+    std::ifstream in(out / "small.png", std::ios::binary);
+    const std::string png(std::istreambuf_iterator<char>(in), {});
+    // A 200 × 200 cube of 89 bands does not fit in 200 KiB.
+    CliRun r = run("render " + kScene + " --write cube,png,xyz --set camera.width=200 --set camera.height=200 --out " +
+                   out.string());
+    EXPECT_EQ(r.code, 1) << r.output;
+    EXPECT_NE(r.output.find("No space left on device"), std::string::npos) << r.output;
+    std::ifstream again(out / "small.png", std::ios::binary);
+    EXPECT_EQ(std::string(std::istreambuf_iterator<char>(again), {}), png);
+    EXPECT_EQ(std::distance(fs::directory_iterator(out), fs::directory_iterator()), 1);
+}
