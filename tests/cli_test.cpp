@@ -281,6 +281,12 @@ TEST(CliChecks, CountsOf8And16BitImagesAreNotCompared) {
     EXPECT_EQ(r.code, 2) << r.output;
     EXPECT_NE(r.output.find("png 8-bit counts but the reference"), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("counts on different scales"), std::string::npos) << r.output;
+    // Two 8-bit formats are on one scale: a PNG and a JPEG of it compare (a JPEG's error is small).
+    ASSERT_EQ(std::system(("oiiotool " + (d8 / "small.png").string() + " --quality 100 -o " +
+                           (d8 / "small.jpg").string()).c_str()), 0);
+    CliRun formats = run("compare " + (d8 / "small.jpg").string() + " " + (d8 / "small.png").string());
+    EXPECT_NE(formats.code, 2) << formats.output;
+    EXPECT_EQ(formats.output.find("different scales"), std::string::npos) << formats.output;
 }
 
 // Issue 19, class 2: a run replaces all its outputs or none, and targets that cannot work are

@@ -27,6 +27,7 @@ struct ImageData {
     std::vector<float> data;            // pixel-interleaved, channels.size() per pixel, row 0 at the top
     std::string source;                 // the file as the user named it, for messages ("" = in memory)
     std::string kind;                   // "spectral radiance", "reflectance", "EXR float", "PNG counts", ...
+    int countBits = 0;                  // integer images: the bits of their counts (8, 16); 0 for values
 
     bool reflective() const;            // a T.<λ>nm cube
 };
