@@ -352,6 +352,7 @@ TEST(CliOutputs, AFullDiskFailsTheRunAndKeepsThePreviousSet) {
                    out.string());
     EXPECT_EQ(r.code, 1) << r.output;
     EXPECT_NE(r.output.find("No space left on device"), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find(".tmp-"), std::string::npos) << r.output;  // the file asked for, not its temporary
     std::ifstream again(out / "small.png", std::ios::binary);
     EXPECT_EQ(std::string(std::istreambuf_iterator<char>(again), {}), png);
     EXPECT_EQ(std::distance(fs::directory_iterator(out), fs::directory_iterator()), 1);

@@ -108,6 +108,14 @@ void AtomicOutput::sync() const {
 
 void AtomicOutput::commit() { commitTogether({this}); }
 
+void AtomicOutput::rethrowNamingFinal(const Error& e) const {
+    std::string text = e.message();
+    const std::string temp = temp_.string(), final = final_.string();
+    for (size_t at = 0; (at = text.find(temp, at)) != std::string::npos; at += final.size())
+        text.replace(at, temp.size(), final);
+    throw Error(e.code(), e.where(), text);
+}
+
 namespace {
 
 fs::path folderOf(const fs::path& p) { return p.parent_path().empty() ? fs::path(".") : p.parent_path(); }

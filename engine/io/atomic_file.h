@@ -3,6 +3,8 @@
 // Tests: engine/io/spectral_exr_test.cpp, tests/interrupted_run_test.cpp.
 #pragma once
 
+#include "core/error.h"
+
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -33,9 +35,22 @@ public:
     void commit();
     bool committed() const { return committed_; }
 
+    // Runs `write` (the writer's work on tempPath()); an Error from it is thrown again with the
+    // temporary file's name replaced by the final one, so that a message from the library (a full
+    // disk, say) names the file the user asked for.
+    template <typename Write>
+    void naming(Write&& write) const {
+        try {
+            write();
+        } catch (const Error& e) {
+            rethrowNamingFinal(e);
+        }
+    }
+
 private:
     friend void commitTogether(const std::vector<AtomicOutput*>& outputs);
     void sync() const;  // fsyncs the temporary file; errors name the final path
+    [[noreturn]] void rethrowNamingFinal(const Error& e) const;
 
     std::filesystem::path final_;
     std::filesystem::path temp_;

@@ -49,7 +49,7 @@ void ImageFileWriter::writeRows(int firstRow, int rows, const std::vector<uint16
     Impl& m = *impl_;
     m.check(firstRow, rows, pixels.size());
     if (!m.png) failRuntime("cannot write '{}': counts go to a PNG", m.path.string());
-    m.png->writeRows(firstRow, rows, pixels.data());
+    m.out.naming([&] { m.png->writeRows(firstRow, rows, pixels.data()); });
     m.nextRow = firstRow + rows;
 }
 
@@ -57,7 +57,7 @@ void ImageFileWriter::writeRows(int firstRow, int rows, const std::vector<float>
     Impl& m = *impl_;
     m.check(firstRow, rows, pixels.size());
     if (!m.exr) failRuntime("cannot write '{}': float pixels go to an EXR", m.path.string());
-    m.exr->writeRows(firstRow, rows, pixels.data());
+    m.out.naming([&] { m.exr->writeRows(firstRow, rows, pixels.data()); });
     m.nextRow = firstRow + rows;
 }
 
@@ -65,8 +65,10 @@ std::vector<AtomicOutput*> ImageFileWriter::finish() {
     Impl& m = *impl_;
     if (m.nextRow != m.image.height)
         failRuntime("cannot write '{}': {} of {} rows written", m.path.string(), m.nextRow, m.image.height);
-    if (m.png) m.png->close();
-    if (m.exr) m.exr->close();
+    m.out.naming([&] {
+        if (m.png) m.png->close();
+        if (m.exr) m.exr->close();
+    });
     return {&m.out};
 }
 

@@ -197,7 +197,7 @@ void SpectralExrWriter::writeRows(int firstRow, int rows, const float* data) {
     } else {
         for (size_t i = 0; i < count; ++i) m.report.nonFinite += !std::isfinite(data[i]);
     }
-    m.writer->writeRows(firstRow, rows, pixels);
+    m.out.naming([&] { m.writer->writeRows(firstRow, rows, pixels); });
     m.nextRow = firstRow + rows;
 }
 
@@ -205,7 +205,7 @@ std::vector<AtomicOutput*> SpectralExrWriter::finish() {
     Impl& m = *impl_;
     if (m.nextRow != m.height)
         failRuntime("cannot write '{}': {} of {} rows written", m.path.string(), m.nextRow, m.height);
-    m.writer->close();
+    m.out.naming([&] { m.writer->close(); });
     return {&m.out};
 }
 
