@@ -586,7 +586,7 @@ struct Scatter {
 
 }  // namespace
 
-SpectralImage readEnviCube(const fs::path& path) {
+SpectralImage readEnviCube(const fs::path& path, const CubeHeaderCheck& check) {
     requireRegularFile(path);
     const bool givenHeader = startsWithEnvi(path) || endsWithNoCase(path.string(), ".hdr");
     const fs::path header = givenHeader ? path : headerFileFor(path);
@@ -629,6 +629,7 @@ SpectralImage readEnviCube(const fs::path& path) {
         failInput(Where{header.string(), "wavelength"}, "{} wavelengths make a grid of {} bands ({})", h.bands,
                   grid.bands(), grid.str());
 
+    if (check) check(h.samples, h.lines, h.bands);
     requireDecodableSize(uint64_t(h.samples), uint64_t(h.lines), uint64_t(h.bands), 4, 0, Where{header.string()},
                          "the ENVI cube");
     result.cube = SpectralCube(h.samples, h.lines, grid);

@@ -105,6 +105,6 @@ EnviHeader parseEnviHeader(const std::string& text, const Where& where);
 // must hold exactly header offset + samples·lines·bands values. "metamer quantity = reflectance"
 // marks reflectance; "metamer grid" gives the exact grid when it agrees with the wavelengths,
 // which must be uniform within 1e-4 nm. Input errors name the file (header or data) and the key.
-SpectralImage readEnviCube(const std::filesystem::path& path);
+SpectralImage readEnviCube(const std::filesystem::path& path, const CubeHeaderCheck& check = {});
 
 }  // namespace metamer

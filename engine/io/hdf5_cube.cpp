@@ -341,7 +341,7 @@ std::optional<std::string> stringAttribute(hid_t object, const char* name, bool*
 
 }  // namespace
 
-SpectralImage readHdf5Cube(const fs::path& path) {
+SpectralImage readHdf5Cube(const fs::path& path, const CubeHeaderCheck& check) {
     noteFileRead(path);  // metamer batch digests what a render read
     quietHdf5();
     const Where where{path.string()};
@@ -403,6 +403,7 @@ SpectralImage readHdf5Cube(const fs::path& path) {
                                         wavelengthWhere, "bands");
     if (hsize_t(grid.bands()) != bands)
         failInput(wavelengthWhere, "{} wavelengths make a grid of {} bands ({})", bands, grid.bands(), grid.str());
+    if (check) check(int(columns), int(rows), int(bands));
     requireDecodableSize(columns, rows, bands, 4, 0, Where{path.string()}, "the HDF5 cube");
     result.cube = SpectralCube(int(columns), int(rows), grid);
     if (H5Dread(cube.set.get(), H5T_NATIVE_FLOAT, H5S_ALL, H5S_ALL, H5P_DEFAULT, result.cube.data.data()) < 0)

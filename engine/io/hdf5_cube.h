@@ -57,6 +57,6 @@ void writeHdf5Cube(const std::filesystem::path& path, const SpectralCube& cube, 
 // Input errors name the file and the dataset or attribute ("/cube", "/wavelength_nm",
 // "/cube.quantity"): not HDF5, truncated, missing, wrong rank or type, sizes that disagree, more
 // than 2^34 values.
-SpectralImage readHdf5Cube(const std::filesystem::path& path);
+SpectralImage readHdf5Cube(const std::filesystem::path& path, const CubeHeaderCheck& check = {});
 
 }  // namespace metamer

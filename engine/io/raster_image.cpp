@@ -41,14 +41,15 @@ std::string imageSignature(const fs::path& path) {
 
 namespace {
 
-// Before any pixel is decoded: the machine's limit (float32 pixels plus, for integer formats, the
-// decoder's buffer of the file's own samples), then the caller's check.
+// Before any pixel is decoded: the caller's check (its message says more: a texture's says the
+// grid), then the machine's limit (float32 pixels plus, for integer formats, the decoder's buffer
+// of the file's own samples).
 ImageHeaderCheck sizeChecked(const Where& where, const ImageHeaderCheck& check) {
     return [where, check](const RasterImage& h) {
+        if (check) check(h);
         const uint64_t fileBytes = h.floatingPoint ? 0 : uint64_t(std::max(1, (h.bits + 7) / 8));
         requireDecodableSize(uint64_t(std::max(0, h.width)), uint64_t(std::max(0, h.height)), h.channels.size(),
                              4 + fileBytes, 0, where, h.format.empty() ? std::string("the image") : "the " + h.format + " image");
-        if (check) check(h);
     };
 }
 

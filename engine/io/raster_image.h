@@ -34,7 +34,7 @@ struct RasterImage {
 };
 
 // Called with an image's header (everything but the pixels, still empty) before its pixels are
-// decoded; throws to refuse it (a texture too large for the grid). Every read first refuses, from
+// decoded; throws to refuse it (a texture too large for the grid). Every read then refuses, from
 // the header, an image whose decoding would take more than a quarter of the machine's memory
 // (core/memory_limits.h requireDecodableSize).
 using ImageHeaderCheck = std::function<void(const RasterImage& header)>;

@@ -250,7 +250,7 @@ std::string someChannels(const std::vector<std::string>& channels) {
 
 }  // namespace
 
-SpectralExrImage readSpectralExrImage(const fs::path& path) {
+SpectralExrImage readSpectralExrImage(const fs::path& path, const CubeHeaderCheck& check) {
     Where where{path.string()};
     const ExrHeader h = readExrHeader(path, where);
     std::vector<BandChannel> emissive, reflective;
@@ -278,6 +278,7 @@ SpectralExrImage readSpectralExrImage(const fs::path& path) {
     // OpenEXR reads the channels straight into the cube's band order.
     std::vector<std::string> names;
     for (const auto& b : bands) names.push_back(h.channels[size_t(b.index)]);
+    if (check) check(h.width, h.height, int(names.size()));
     requireDecodableSize(uint64_t(std::max(0, h.width)), uint64_t(std::max(0, h.height)), names.size(), 4, 0, where,
                          "the spectral OpenEXR image");
     result.cube = SpectralCube(h.width, h.height, grid);

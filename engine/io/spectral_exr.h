@@ -7,6 +7,7 @@
 #include "spectral/cube.h"
 
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <string>
 #include <utility>
@@ -70,6 +71,11 @@ struct SpectralExrImage {
 // What every cube reader returns (io/spectral_image.h: EXR, HDF5, ENVI).
 using SpectralImage = SpectralExrImage;
 
+// Called by every cube reader with the cube's size from its header, before the data are read;
+// throws to refuse it (a texture too large for the grid). The readers then refuse, themselves,
+// a cube whose values would take more than a quarter of the machine's memory.
+using CubeHeaderCheck = std::function<void(int width, int height, int bands)>;
+
 // The Grid of a cube's band centres, increasing: they must be uniform within 1e-4 nm. `gridText`
 // ("300:740:5", as the writers record it) gives the exact values when it agrees with them; one
 // band gets a step of 1 nm unless `gridText` says otherwise. Not checked against the render limits
@@ -85,7 +91,7 @@ bool hasSpectralChannels(const std::vector<std::string>& channelNames);
 // wavelength. Other channels (R, G, B, S1..S3, bispectral T.<λ>nm.<λ>nm) are ignored. The
 // wavelengths must form a uniform grid within 1e-4 nm; the Grid is taken from them (not checked
 // against the render limits of Grid::validate). Input errors name the file.
-SpectralExrImage readSpectralExrImage(const std::filesystem::path& path);
+SpectralExrImage readSpectralExrImage(const std::filesystem::path& path, const CubeHeaderCheck& check = {});
 
 // The same, for callers that only take emissive data: a file with only T channels is an error.
 SpectralCube readSpectralExr(const std::filesystem::path& path);

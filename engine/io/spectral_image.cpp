@@ -63,7 +63,7 @@ std::optional<CubeFormat> cubeFormatOf(const fs::path& path) {
     return std::nullopt;
 }
 
-SpectralImage readSpectralImage(const fs::path& path) {
+SpectralImage readSpectralImage(const fs::path& path, const CubeHeaderCheck& check) {
     const Where where{path.string()};
     requireRegularFile(path, where, "spectral image");
     const std::optional<CubeFormat> format = cubeFormatOf(path);
@@ -71,9 +71,9 @@ SpectralImage readSpectralImage(const fs::path& path) {
         failInput(where, "not a spectral image: expected OpenEXR, HDF5 or ENVI (a header starting with 'ENVI', or a "
                          ".img, .raw or .dat beside one)");
     switch (*format) {
-        case CubeFormat::Exr: return readSpectralExrImage(path);
-        case CubeFormat::Hdf5: return readHdf5Cube(path);
-        case CubeFormat::Envi: return readEnviCube(path);
+        case CubeFormat::Exr: return readSpectralExrImage(path, check);
+        case CubeFormat::Hdf5: return readHdf5Cube(path, check);
+        case CubeFormat::Envi: return readEnviCube(path, check);
     }
     failInput(where, "not a spectral image");
 }

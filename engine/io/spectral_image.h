@@ -19,8 +19,9 @@ const char* cubeFormatName(CubeFormat format);  // "OpenEXR", "HDF5", "ENVI"
 // including a path that is missing or not a regular file. Never throws.
 std::optional<CubeFormat> cubeFormatOf(const std::filesystem::path& path);
 
-// Reads a cube with readSpectralExrImage, readHdf5Cube or readEnviCube as cubeFormatOf says.
-// Input errors name the file: not found, not a regular file, none of the three formats.
-SpectralImage readSpectralImage(const std::filesystem::path& path);
+// Reads a cube with readSpectralExrImage, readHdf5Cube or readEnviCube as cubeFormatOf says;
+// `check` sees its size from the header first (spectral_exr.h). Input errors name the file: not
+// found, not a regular file, none of the three formats, too large to read.
+SpectralImage readSpectralImage(const std::filesystem::path& path, const CubeHeaderCheck& check = {});
 
 }  // namespace metamer

@@ -72,11 +72,17 @@ ImageHeaderCheck textureHeaderCheck(const std::string& name, TextureRole role, c
     };
 }
 
-Texture readSpectral(const fs::path& path, const Where& where) {
+Texture readSpectral(const fs::path& path, const Where& where, const ImageHeaderCheck& check) {
     SpectralExrImage image;
     try {
-        image = readSpectralImage(path);
+        image = readSpectralImage(path, [&](int width, int height, int) {
+            RasterImage header;
+            header.width = width;
+            header.height = height;
+            check(header);
+        });
     } catch (const Error& e) {
+        if (isAt(e, where)) throw;  // the texture check's own error: as it is
         failInput(where, "{}", e.text());
     }
     if (image.component != SpectralComponent::Reflective)
@@ -218,18 +224,12 @@ Texture loadTexture(const fs::path& path, TextureRole role, TextureEncoding enco
             failInput(where, "texture '{}' is not a readable image: {}", path.string(), e.message());
         }
         spectral = hasSpectralChannels(h.channels);
-        if (spectral) {
-            RasterImage header;
-            header.width = h.width;
-            header.height = h.height;
-            check(header);
-        }
     }
     if (spectral) {
         if (encoding == TextureEncoding::Srgb)
             failInput(where, "texture '{}' is spectral; \"encoding\": \"srgb\" applies to RGB images only",
                       path.string());
-        return readSpectral(path, where);
+        return readSpectral(path, where, check);
     }
     return imageTexture(readTextureImage(path, where, check), path.string(), role, encoding, bumpScale, where);
 }

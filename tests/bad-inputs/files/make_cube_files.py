@@ -62,6 +62,12 @@ def main():
     h5("rank-2", cube=cube[0], wavelength_nm=np.array(NM), attrs={"quantity": "reflectance"})
     h5("radiance", cube=cube, wavelength_nm=np.array(NM), attrs={"quantity": "spectral radiance"})
     h5("whole", cube=cube, wavelength_nm=np.array(NM), attrs={"quantity": "reflectance"})
+    # 16384 x 16384 x 4 texels that were never written: a chunked dataset holds no data for them,
+    # so the file is small, but on the grid the texture would take 31 GiB.
+    with h5py.File(os.path.join(HERE, "huge.h5"), "w") as f:
+        f.create_dataset("cube", shape=(16384, 16384, 4), dtype="<f4", chunks=(1, 1024, 4), fillvalue=0.5)
+        f["wavelength_nm"] = np.array(NM)
+        f["cube"].attrs["quantity"] = "reflectance"
     with open(os.path.join(HERE, "whole.h5"), "rb") as f:
         whole = f.read()
     with open(os.path.join(HERE, "truncated.h5"), "wb") as f:
