@@ -314,7 +314,7 @@ TEST(CliOutputs, AnOutFolderThatIsAFileOrADeviceIsAnInputError) {
     const fs::path dir = freshDir("out-is-a-file");
     fs::create_directories(dir);
     std::ofstream(dir / "notes.txt") << "mine";
-    for (const std::string& args : {"render " + kScene, "bench " + kScene, "preview " + kScene}) {
+    for (const std::string& args : {"render " + kScene, "bench " + kScene, "preview " + kScene, std::string("batch sweep.json")}) {
         CliRun file = run(args + " --out " + (dir / "notes.txt").string());
         EXPECT_EQ(file.code, 2) << args << "\n" << file.output;
         EXPECT_NE(file.output.find("--out: '" + (dir / "notes.txt").string() + "' is a file, not a folder"),
