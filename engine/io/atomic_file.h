@@ -1,6 +1,7 @@
 // Atomic file output: write to a temporary file beside the target, then rename it over the target.
 // A failed or interrupted write never leaves a half-written file and never harms an existing one.
-// Tests: engine/io/spectral_exr_test.cpp, tests/interrupted_run_test.cpp.
+// Tests: engine/io/atomic_file_test.cpp, engine/io/spectral_exr_test.cpp, tests/interrupted_run_test.cpp,
+// tests/cli_test.cpp (CliOutputs).
 #pragma once
 
 #include "core/error.h"

@@ -1,7 +1,7 @@
 // Texture files of a material (docs/scene-format.md, "Textures"): reflective spectral EXRs, RGB
 // images and normal or bump maps, read into a Texture (scene/scene.h). Resampling onto the render
 // grid and RGB up-sampling happen later, in scene/scene_on_grid.
-// Tests: tests/textures_test.cpp.
+// Tests: tests/textures_test.cpp, tests/bad-inputs (the texture- and cube- cases).
 #pragma once
 
 #include "core/error.h"
