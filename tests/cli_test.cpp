@@ -357,3 +357,16 @@ TEST(CliOutputs, AFullDiskFailsTheRunAndKeepsThePreviousSet) {
     EXPECT_EQ(std::string(std::istreambuf_iterator<char>(again), {}), png);
     EXPECT_EQ(std::distance(fs::directory_iterator(out), fs::directory_iterator()), 1);
 }
+
+// Options that change only files the run does not write are said (class 3, "meaningful together").
+TEST(CliChecks, OptionsForFilesNotWrittenAreSaid) {
+    const fs::path out = freshDir("no-effect");
+    CliRun half = run("render " + kScene + " --half --format hdf5 --bits 16 --write cube --out " + out.string());
+    EXPECT_EQ(half.code, 0) << half.output;
+    EXPECT_NE(half.output.find("--half: has no effect"), std::string::npos) << half.output;
+    EXPECT_NE(half.output.find("--bits: 16 has no effect"), std::string::npos) << half.output;
+    CliRun compression = run("render " + kScene + " --compression zip --write png --out " + out.string());
+    EXPECT_NE(compression.output.find("--compression: 'zip' has no effect"), std::string::npos) << compression.output;
+    CliRun fine = run("render " + kScene + " --half --compression zip --bits 16 --out " + out.string());
+    EXPECT_EQ(fine.output.find("has no effect"), std::string::npos) << fine.output;
+}

@@ -414,6 +414,20 @@ RenderJobResult runRenderJob(const RenderJob& job) {
                       "HDF5 and ENVI hold spectral cubes; the {} mode's channel image is written as OpenEXR only",
                       loaded->representation.mode.name());
     }
+    // Options that change only a file this run does not write: said, since the user expected them
+    // to matter (the run goes on: a sweep may set them for jobs that write other things).
+    {
+        const bool exrCube = files.cube && (oo.formats.exr || !loaded->representation.mode.spectral());
+        if (job.half && !(exrCube && loaded->representation.mode.spectral()))
+            warn(Where{"", "--half"}, "has no effect: float16 applies to the OpenEXR spectral cube, which this run "
+                 "does not write");
+        if (job.compression != "piz" && !exrCube)
+            warn(Where{"", "--compression"}, fmt::format("'{}' has no effect: it applies to the OpenEXR cube, which "
+                 "this run does not write", job.compression));
+        if (job.bits && !files.png)
+            warn(Where{"", "--bits"}, fmt::format("{} has no effect: it sets the display PNG's counts, which this run "
+                 "does not write", *job.bits));
+    }
     const std::string stem = job.scene.stem().string();
     RenderOutputs out(job.capture ? OutputTargets{}
                                   : renderTargets(job.outDir, stem, files, loaded->representation, planPtr, oo.formats),
