@@ -3,15 +3,14 @@
 #pragma once
 
 #include "spectral/cube.h"
+#include "support/temp_folder.h"
 
-#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <string>
-#include <unistd.h>
 
 namespace metamer::test {
 
@@ -28,25 +27,14 @@ inline SpectralCube smoothCube(int w, int h, const Grid& grid) {
     return cube;
 }
 
-// A fresh folder per test, named after it, removed afterwards.
-class ScratchDir : public ::testing::Test {
+// The shared fresh folder per test (tests/support/temp_folder.h), with a helper to write files in it.
+class ScratchDir : public TempFolderTest {
 protected:
-    void SetUp() override {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        dir = std::filesystem::temp_directory_path() /
-              fmt::format("metamer-compare-{}-{}-{}", ::getpid(), info->test_suite_name(), info->name());
-        std::filesystem::remove_all(dir);
-        std::filesystem::create_directories(dir);
-    }
-    void TearDown() override { std::filesystem::remove_all(dir); }
-
     std::filesystem::path write(const std::string& name, const std::string& text) const {
         std::filesystem::path p = dir / name;
         std::ofstream(p) << text;
         return p;
     }
-
-    std::filesystem::path dir;
 };
 
 }  // namespace metamer::test
