@@ -34,6 +34,16 @@ using mat4 = glm::mat4;
                                   // fluorescence under every light (read when SPEC_FLUORESCENCE_SPECTRA)
 #define BINDING_RESPONSES 4       // GpuResponseBlock, dynamic offset: this material's detector responses
                                   // under every light (read when SPEC_RESPONSES)
+#define BINDING_SHADOW_MATRICES 5 // GpuShadowBlock (static): world → clip of every shadow-map layer
+#define BINDING_SHADOW_MAP 6      // sampler2DArrayShadow: the shadow maps, one layer per directional light,
+                                  // six per point light (read when SPEC_SHADOWS)
+
+// Shadow maps (docs/physics.md, "Shadows"): D32 layers of SHADOW_MAP_SIZE², depth-compared with
+// no filtering; a fragment looks up its position pushed SHADOW_NORMAL_OFFSET texels along its face
+// normal, and the depth pass adds a slope-scaled bias, so that no surface shadows itself.
+#define SHADOW_MAP_SIZE 2048
+#define MAX_SHADOW_LAYERS 96
+#define SHADOW_NORMAL_OFFSET 1.0
 
 // Descriptor set 1 of the spectral pass: the draw's material's textures (one set per material),
 // RGBA32F 2D-array images read with texelFetch (bilinear filtering is done in the shader, in
@@ -53,7 +63,8 @@ using mat4 = glm::mat4;
 #define VERTEX_FLOATS 12
 
 // Specialization constants of spectral.frag: the shader is specialized to the scene. Lights are
-// sorted ambient, then directional, then point, so each kind is a loop without branches.
+// sorted ambient, then directional, then point, then hemisphere, so each kind is a loop without
+// branches.
 #define SPEC_AMBIENT_COUNT 0
 #define SPEC_DIRECTIONAL_COUNT 1
 #define SPEC_POINT_COUNT 2
@@ -65,17 +76,34 @@ using mat4 = glm::mat4;
                                      // comes from per-light spectra (GpuFluorescenceBlock), not coupling × ê/λ
 #define SPEC_RESPONSES 8  // the response pass: the outputs are a detector's channels, not bands, summed from
                           // per-(material, light) response vectors (GpuResponseBlock; docs/color.md)
+#define SPEC_HEMISPHERE_COUNT 9  // hemisphere lights (uniform sky or ground radiance), after the point lights
+#define SPEC_SHADOWS 10          // any light casts shadows: the shadow maps are read
 
 struct GpuLight {
-    vec4 vector;  // directional: xyz = unit vector towards the light; point: xyz = position (m)
+    vec4 vector;  // directional: xyz = unit vector towards the light; point: xyz = position (m);
+                  // hemisphere: xyz = unit vector towards the middle of the hemisphere
+    vec4 shadow;  // x: the light's first shadow-map layer, −1 if it casts no shadows; y: a texel's
+                  // size, m (directional) or m per m of distance (point)
 };
 
 struct GpuLightBlock {
     GpuLight lights[MAX_LIGHTS];
 };
 
+// World → clip of every shadow-map layer (depth 0..1, x and y to the layer's texture coordinates
+// as (xy + 1)/2). A point light's six layers are the cube faces +x, −x, +y, −y, +z, −z.
+struct GpuShadowBlock {
+    mat4 layers[MAX_SHADOW_LAYERS];
+};
+
+// The shadow-map depth pass (shadow.vert).
+struct ShadowPushConstants {
+    mat4 lightViewProjection;
+};
+
 // E(λ) of every light for this pass's bands: lightBands[l * MAX_OUTPUTS + k] holds bands
-// 4k..4k+3 of the pass (irradiance W·m⁻²·nm⁻¹ or intensity W·sr⁻¹·nm⁻¹). Bands past the grid are 0.
+// 4k..4k+3 of the pass (irradiance W·m⁻²·nm⁻¹, intensity W·sr⁻¹·nm⁻¹, or for a hemisphere
+// light radiance W·sr⁻¹·m⁻²·nm⁻¹). Bands past the grid are 0.
 struct GpuLightSpectraBlock {
     vec4 lightBands[MAX_LIGHTS * MAX_OUTPUTS];
 };
@@ -190,11 +218,14 @@ static_assert(sizeof(SpectralVertex) == VERTEX_FLOATS * sizeof(float), "VERTEX_F
 struct SpectralSpecialization {
     int32_t ambient, directional, point;  // SPEC_AMBIENT_COUNT, SPEC_DIRECTIONAL_COUNT, SPEC_POINT_COUNT
     uint32_t hasSpecular, hasFluorescence, hasTextures, hasNormalMaps, fluorescenceSpectra, responses;  // VkBool32
+    int32_t hemisphere;  // SPEC_HEMISPHERE_COUNT
+    uint32_t shadows;    // SPEC_SHADOWS
 };
-static_assert(sizeof(SpectralSpecialization) == 4 * (SPEC_RESPONSES + 1), "one 4-byte field per id");
+static_assert(sizeof(SpectralSpecialization) == 4 * (SPEC_SHADOWS + 1), "one 4-byte field per id");
 static_assert(SPEC_AMBIENT_COUNT == 0 && SPEC_DIRECTIONAL_COUNT == 1 && SPEC_POINT_COUNT == 2 && SPEC_HAS_SPECULAR == 3 &&
                   SPEC_HAS_FLUORESCENCE == 4 && SPEC_HAS_TEXTURES == 5 && SPEC_HAS_NORMAL_MAPS == 6 &&
-                  SPEC_FLUORESCENCE_SPECTRA == 7 && SPEC_RESPONSES == 8,
+                  SPEC_FLUORESCENCE_SPECTRA == 7 && SPEC_RESPONSES == 8 && SPEC_HEMISPHERE_COUNT == 9 &&
+                  SPEC_SHADOWS == 10,
               "SpectralSpecialization's fields are in id order");
 
 // tonemap.frag's specialization constants, in id order.
@@ -207,7 +238,9 @@ static_assert(TONEMAP_SPEC_CHANNELS == 0 && TONEMAP_SPEC_LAYERS == 1 && TONEMAP_
               "TonemapSpecialization's fields are in id order");
 
 static_assert(sizeof(TonemapParams) == 16 * 20 + 16, "std140 layout");
-static_assert(sizeof(GpuLightBlock) == 16 * MAX_LIGHTS, "std140 layout");
+static_assert(sizeof(GpuLightBlock) == 32 * MAX_LIGHTS, "std140 layout");
+static_assert(sizeof(GpuShadowBlock) == 64 * MAX_SHADOW_LAYERS, "std140 layout");
+static_assert(sizeof(ShadowPushConstants) == 64, "push constants must match GLSL");
 static_assert(sizeof(GpuLightSpectraBlock) == 16384, "must fit the minimum maxUniformBufferRange");
 static_assert(sizeof(GpuMaterialBlock) == 16 * (3 * MAX_OUTPUTS + 2 + MAX_LIGHTS / 4), "std140 layout");
 static_assert(sizeof(GpuFluorescenceBlock) == 16384, "must fit the minimum maxUniformBufferRange");

@@ -24,12 +24,17 @@ layout(constant_id = SPEC_FLUORESCENCE_SPECTRA) const bool FLUORESCENCE_SPECTRA 
 // The response pass: the outputs are a detector's channels (OUTPUT_COUNT ≤ RESPONSE_VEC4 vec4),
 // summed from per-(material, light) responses instead of bands (interface.h, GpuResponseBlock).
 layout(constant_id = SPEC_RESPONSES) const bool RESPONSES = false;
+layout(constant_id = SPEC_HEMISPHERE_COUNT) const int HEMISPHERE_COUNT = 0;
+// Any light casts shadows: the shadow maps are read (a scene without pays nothing).
+layout(constant_id = SPEC_SHADOWS) const bool SHADOWS = false;
 
 layout(set = 0, binding = BINDING_LIGHTS, std140) uniform Lights { GpuLightBlock L; };
 layout(set = 0, binding = BINDING_LIGHT_SPECTRA, std140) uniform LightSpectra { GpuLightSpectraBlock E; };
 layout(set = 0, binding = BINDING_MATERIAL, std140) uniform Material { GpuMaterialBlock M; };
 layout(set = 0, binding = BINDING_FLUORESCENCE, std140) uniform Fluorescence { GpuFluorescenceBlock F; };
 layout(set = 0, binding = BINDING_RESPONSES, std140) uniform Responses { GpuResponseBlock R; };
+layout(set = 0, binding = BINDING_SHADOW_MATRICES, std140) uniform Shadows { GpuShadowBlock S; };
+layout(set = 0, binding = BINDING_SHADOW_MAP) uniform sampler2DArrayShadow shadowMap;
 
 layout(set = 1, binding = TEXTURE_BINDING_DIFFUSE) uniform sampler2DArray diffuseTexture;
 layout(set = 1, binding = TEXTURE_BINDING_SPECULAR) uniform sampler2DArray specularTexture;
@@ -205,6 +210,39 @@ float blinnPhongLobe(vec3 n, vec3 wPlusV, float gloss) {
     return gloss == 0.0 ? 1.0 : lobe;
 }
 
+#include "hemisphere_lobe.glsl"
+
+// Whether light l reaches p (1) or is blocked (0), from its shadow map: the layer (a point light's
+// cube face by the major axis of p − light), p pushed SHADOW_NORMAL_OFFSET texels along the face
+// normal ng (towards the light) so that a surface does not shadow itself, one depth comparison (no
+// filtering: the boundary is where the reference's is, to within a texel). Outside the map: lit.
+float visibility(int l, vec3 p, vec3 ng, vec3 w, bool point) {
+    if (!SHADOWS) return 1.0;
+    vec4 info = L.lights[l].shadow;
+    if (info.x < 0.0) return 1.0;
+    int layer = int(info.x);
+    float texel = info.y;
+    if (point) {
+        vec3 a = abs(p - L.lights[l].vector.xyz);
+        texel *= max(a.x, max(a.y, a.z));
+    }
+    if (dot(ng, w) < 0.0) ng = -ng;
+    vec3 o = p + ng * (SHADOW_NORMAL_OFFSET * texel);
+    if (point) {  // the cube face of the offset point, so the lookup never leaves its face
+        vec3 d = o - L.lights[l].vector.xyz, a = abs(d);
+        layer += a.x >= a.y && a.x >= a.z ? (d.x >= 0.0 ? 0 : 1) : a.y >= a.z ? (d.y >= 0.0 ? 2 : 3) : (d.z >= 0.0 ? 4 : 5);
+    }
+    vec4 c = S.layers[layer] * vec4(o, 1.0);
+    vec3 q = c.xyz / c.w;
+    vec2 st = q.xy * 0.5 + 0.5;
+    if (any(lessThan(st, vec2(0.0))) || any(greaterThan(st, vec2(1.0))) || q.z > 1.0) return 1.0;
+    // On a cube face's edge st reaches 1 (the edge of the last texel), which the sampler would
+    // read as its border: keep the lookup on the face's outermost texels.
+    st = clamp(st, vec2(0.5 / float(SHADOW_MAP_SIZE)), vec2(1.0 - 0.5 / float(SHADOW_MAP_SIZE)));
+    // Explicit zero gradients: the lookup sits in non-uniform control flow, and the map has one level.
+    return textureGrad(shadowMap, vec4(st, float(layer), q.z), vec2(0.0), vec2(0.0));
+}
+
 // Blinn–Phong, energy-normalized: g·(N+8)/(8π)·(n·h)^N.
 float specularWeight(vec3 n, vec3 w, vec3 v, float g) {
     if (!HAS_SPECULAR || g <= 0.0) return 0.0;
@@ -243,10 +281,12 @@ void main() {
         addLight(l, INV_PI, 0.0);
         addFluorescence(l, 1.0);
     }
+    vec3 ng = dot(faceNormal, faceNormal) > 0.0 ? normalize(faceNormal) : n;
     [[unroll]] for (int i = 0; i < DIRECTIONAL_COUNT; ++i) {
         int l = AMBIENT_COUNT + i;
         vec3 w = L.lights[l].vector.xyz;
         float g = max(dot(n, w), 0.0);
+        if (g > 0.0) g *= visibility(l, worldPosition, ng, w, false);
         addLight(l, g * INV_PI, specularWeight(n, w, v, g));
         addFluorescence(l, g);
     }
@@ -257,8 +297,20 @@ void main() {
         float d2 = dot(d, d);
         vec3 w = d * inversesqrt(d2);
         float g = max(dot(n, w), 0.0) / d2;
+        if (g > 0.0) g *= visibility(l, worldPosition, ng, w, true);
         addLight(l, g * INV_PI, specularWeight(n, w, v, g));
         addFluorescence(l, g);
+    }
+    // Hemisphere: radiance L from every ω with ω·u > 0, not occluded. Irradiance π·L·(1 + n·u)/2
+    // exactly; the lobe's integral over the lune by the shared quadrature rule (hemisphere_lobe.glsl).
+    [[unroll]] for (int i = 0; i < HEMISPHERE_COUNT; ++i) {
+        int l = AMBIENT_COUNT + DIRECTIONAL_COUNT + POINT_COUNT + i;
+        vec3 up = L.lights[l].vector.xyz;
+        float g = 0.5 * (1.0 + dot(n, up));
+        float gloss = M.params.x;
+        float lobe = HAS_SPECULAR && M.params.z > 0.5 ? (gloss + 8.0) * (INV_PI / 8.0) * hemisphereLobe(n, v, up, gloss) : 0.0;
+        addLight(l, g, lobe);
+        addFluorescence(l, 3.14159265358979 * g);
     }
     // ê/λ and the couplings come scaled by reciprocal powers of two (pack() in spectral_pass.cpp)
     // so that neither overflows before their product does.

@@ -32,6 +32,7 @@ const char* lightType(Light::Type t) {
         case Light::Type::Ambient: return "ambient";
         case Light::Type::Directional: return "directional";
         case Light::Type::Point: return "point";
+        case Light::Type::Hemisphere: return "hemisphere";
     }
     return "?";
 }

@@ -175,4 +175,26 @@ std::optional<RayHit> Bvh::intersect(const Ray& ray, double tMin, double tMax) c
     return best;
 }
 
+bool Bvh::occluded(const Ray& ray, double tMin, double tMax, uint32_t skip) const {
+    if (nodes_.empty()) return false;
+    double tEnter = 0.0;
+    if (!hitsBox(nodes_[0].lo, nodes_[0].hi, ray, tMin, tMax, tEnter)) return false;
+    std::vector<uint32_t> stack;
+    stack.reserve(2 * static_cast<size_t>(depth_) + 2);
+    stack.push_back(0);
+    while (!stack.empty()) {
+        const Node& node = nodes_[stack.back()];
+        const uint32_t self = stack.back();
+        stack.pop_back();
+        if (node.count > 0) {
+            for (uint32_t i = node.first; i < node.first + node.count; ++i)
+                if (i != skip && intersectTriangle(triangles_[i], ray, tMin, tMax)) return true;
+            continue;
+        }
+        for (uint32_t child : {self + 1, node.first})
+            if (hitsBox(nodes_[child].lo, nodes_[child].hi, ray, tMin, tMax, tEnter)) stack.push_back(child);
+    }
+    return false;
+}
+
 }  // namespace metamer

@@ -50,6 +50,10 @@ public:
     std::optional<RayHit> intersect(const Ray& ray, double tMin = 1e-9,
                                     double tMax = std::numeric_limits<double>::infinity()) const;
 
+    // Whether any triangle but `skip` (an index into triangles(), the one a shadow ray leaves) is
+    // hit with t in (tMin, tMax): the shadow ray's question, answered at the first hit found.
+    bool occluded(const Ray& ray, double tMin, double tMax, uint32_t skip) const;
+
     const std::vector<BvhTriangle>& triangles() const { return triangles_; }
     size_t nodeCount() const { return nodes_.size(); }
     int depth() const { return depth_; }

@@ -1,9 +1,12 @@
 #include "reference/cpu_renderer.h"
 
+#include "reference/hemisphere_lobe.h"
+
 #include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <exception>
+#include <limits>
 #include <mutex>
 #include <numbers>
 #include <thread>
@@ -93,7 +96,17 @@ ReferenceRenderer::ReferenceRenderer(const Scene& scene, const SceneOnGrid& onGr
         halfHeight_ = 0.5 * cam.height_m;
     }
 
-    // View-independent spectral factors, per (material, light).
+    // Shadowing lights get a bit of `blocked`; shadow rays start past a distance relative to the
+    // scene's size (see inShadow).
+    shadowBit_.assign(scene.lights.size(), -1);
+    for (size_t l = 0, k = 0; l < scene.lights.size(); ++l)
+        if (scene.lights[l].castsShadows()) shadowBit_[l] = int(k++ % 64);
+    for (const BvhTriangle& t : bvh_.triangles())
+        for (const glm::dvec3& p : {t.p0, t.p1, t.p2})
+            sceneScale_ = std::max({sceneScale_, std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)});
+
+    // View-independent spectral factors, per (material, light). A hemisphere light's spectrum is
+    // its radiance L; its geometric factors (below) make the diffuse term ρd·L·(1 + n·u)/2.
     const size_t nm = scene.materials.size(), nl = scene.lights.size();
     diffuseTerm_.assign(nm * nl * bands_, 0.0);
     specularTerm_.assign(nm * nl * bands_, 0.0);
@@ -153,15 +166,29 @@ Ray ReferenceRenderer::cameraRay(double px, double py) const {
     return ray;
 }
 
-int32_t ReferenceRenderer::trace(const Ray& ray, double* radiance) const {
+int32_t ReferenceRenderer::trace(const Ray& ray, double* radiance, uint64_t* blocked) const {
     std::fill(radiance, radiance + bands_, 0.0);
+    if (blocked) *blocked = 0;
     auto hit = bvh_.intersect(ray, kRayTMin);
     if (!hit) return kBackgroundId;
-    shade(*hit, ray, radiance);
+    uint64_t b = 0;
+    shade(*hit, ray, radiance, b);
+    if (blocked) *blocked = b;
     return static_cast<int32_t>(bvh_.triangles()[hit->index].mesh);
 }
 
-void ReferenceRenderer::shade(const RayHit& hit, const Ray& ray, double* radiance) const {
+// A shadow ray from the hit point towards the light: any triangle but the one it leaves, past
+// 1e-9 of the scene's size (rounding of p, which lies on its triangle only to ~1e-16 of it), and,
+// for a point light, short of the light by as much. Exact: no bias, no shadow map.
+bool ReferenceRenderer::inShadow(size_t l, const glm::dvec3& p, const glm::dvec3& w, uint32_t triangle) const {
+    const Light& light = scene_.lights[l];
+    const double eps = 1e-9 * sceneScale_;
+    double tMax = std::numeric_limits<double>::infinity();
+    if (light.type == Light::Type::Point) tMax = glm::length(light.position - p) - eps;
+    return tMax > eps && bvh_.occluded(Ray{p, w}, eps, tMax, triangle);
+}
+
+void ReferenceRenderer::shade(const RayHit& hit, const Ray& ray, double* radiance, uint64_t& blocked) const {
     const BvhTriangle& tri = bvh_.triangles()[hit.index];
     const Mesh& mesh = scene_.meshes[tri.mesh];
     const uint32_t material = mesh.material;
@@ -226,6 +253,11 @@ void ReferenceRenderer::shade(const RayHit& hit, const Ray& ray, double* radianc
         double gDiffuse = 0.0, gSpecular = 0.0;  // geometric factors; fluorescence uses gDiffuse
         if (light.type == Light::Type::Ambient) {
             gDiffuse = 1.0;  // irradiance E on every surface, whatever its orientation
+        } else if (light.type == Light::Type::Hemisphere) {
+            // Uniform radiance L from every ω with ω·u > 0: irradiance π·L·(1 + n·u)/2, exactly;
+            // the lobe's integral over the lune n·ω > 0, u·ω > 0 by hemisphere_lobe.h's rule.
+            gDiffuse = kPi * (1.0 + glm::dot(n, light.up)) / 2.0;
+            if (hasSpecular_[material]) gSpecular = hemisphereLobe(n, v, light.up, gloss);
         } else {
             glm::dvec3 w;        // unit vector towards the light
             double falloff = 1.0;  // 1/d² for a point light
@@ -240,6 +272,10 @@ void ReferenceRenderer::shade(const RayHit& hit, const Ray& ray, double* radianc
             }
             const double cosI = glm::dot(n, w);
             if (cosI <= 0.0) continue;  // lit from behind the shading normal: nothing
+            if (shadowBit_[l] >= 0 && inShadow(l, p, w, hit.index)) {
+                blocked |= uint64_t(1) << shadowBit_[l];
+                continue;  // blocked: no reflection, no fluorescence
+            }
             gDiffuse = cosI * falloff;
             if (hasSpecular_[material]) {
                 const glm::dvec3 hv = w + v;
@@ -269,24 +305,30 @@ void ReferenceRenderer::shade(const RayHit& hit, const Ray& ray, double* radianc
     }
 }
 
-int32_t ReferenceRenderer::pixel(int x, int y, double* radiance) const {
+int32_t ReferenceRenderer::pixel(int x, int y, double* radiance, uint64_t* blocked) const {
     const int s = options_.ssaa;
     std::vector<double> sample(bands_);
     std::fill(radiance, radiance + bands_, 0.0);
     int32_t id = kBackgroundId;
+    uint64_t shadows = 0;
     for (int j = 0; j < s; ++j) {
         for (int i = 0; i < s; ++i) {
             const Ray ray = cameraRay(x + (i + 0.5) / s, y + (j + 0.5) / s);
-            const int32_t sid = trace(ray, sample.data());
-            if (i == 0 && j == 0)
+            uint64_t b = 0;
+            const int32_t sid = trace(ray, sample.data(), &b);
+            if (i == 0 && j == 0) {
                 id = sid;
-            else if (sid != id)
-                id = kMixedId;
+                shadows = b;
+            } else {
+                if (sid != id) id = kMixedId;
+                if (b != shadows) shadows = kMixedShadows;
+            }
             for (int b = 0; b < bands_; ++b) radiance[b] += sample[b];
         }
     }
     const double inv = 1.0 / (static_cast<double>(s) * s);
     for (int b = 0; b < bands_; ++b) radiance[b] *= inv;
+    if (blocked) *blocked = shadows;
     return id;
 }
 
@@ -295,6 +337,7 @@ ReferenceImage ReferenceRenderer::render() const {
     ReferenceImage image;
     image.cube = SpectralCube(w, h, onGrid_.grid);
     image.objectId.assign(static_cast<size_t>(w) * h, kBackgroundId);
+    image.shadows.assign(static_cast<size_t>(w) * h, 0);
 
     int threads = options_.threads;
     if (threads == 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
@@ -310,7 +353,8 @@ ReferenceImage ReferenceRenderer::render() const {
             std::vector<double> radiance(bands_);
             for (int y = nextRow++; y < h; y = nextRow++) {
                 for (int x = 0; x < w; ++x) {
-                    image.objectId[static_cast<size_t>(y) * w + x] = pixel(x, y, radiance.data());
+                    const size_t at = static_cast<size_t>(y) * w + x;
+                    image.objectId[at] = pixel(x, y, radiance.data(), &image.shadows[at]);
                     float* out = image.cube.pixel(x, y);
                     for (int b = 0; b < bands_; ++b) out[b] = static_cast<float>(radiance[b]);
                 }

@@ -1,5 +1,6 @@
 // The CPU reference renderer: ray casting in double precision, one ray per sub-sample, local
-// illumination (no shadows, no interreflection). It shares only the Scene model and the
+// illumination (one scattering event: no interreflection), with exact shadow rays through the BVH
+// for directional and point lights. It shares only the Scene model and the
 // SceneOnGrid spectra with the GPU path and produces the goldens the GPU is checked against.
 // Every convention (camera, pixels, shading) is spelled out in docs/physics.md.
 #pragma once
@@ -23,9 +24,14 @@ struct ReferenceOptions {
 inline constexpr int32_t kBackgroundId = -1;
 inline constexpr int32_t kMixedId = -2;  // the pixel's sub-samples saw different meshes (or sky)
 
+// Which shadowing lights reach a sample: bit (k mod 64) for the k-th light that casts shadows
+// (Light::castsShadows), set when it is blocked. kMixedShadows: the pixel's sub-samples differ.
+inline constexpr uint64_t kMixedShadows = ~uint64_t(0);
+
 struct ReferenceImage {
     SpectralCube cube;             // spectral radiance per band, W·sr⁻¹·m⁻²·nm⁻¹
     std::vector<int32_t> objectId;  // per pixel, row 0 at the top: mesh index, -1 or -2
+    std::vector<uint64_t> shadows;  // per pixel: the blocked shadowing lights, or kMixedShadows
 };
 
 ReferenceImage renderReference(const Scene& scene, const SceneOnGrid& onGrid,
@@ -46,16 +52,19 @@ public:
 
     // Radiance along one ray into `radiance` (bands() values, overwritten); returns the mesh
     // index hit, or kBackgroundId.
-    int32_t trace(const Ray& ray, double* radiance) const;
+    // `blocked`, when given, gets the shadowing lights the hit point does not see (see kMixedShadows).
+    int32_t trace(const Ray& ray, double* radiance, uint64_t* blocked = nullptr) const;
 
     // Box-averaged radiance of pixel (x, y) over the ssaa×ssaa sub-samples; returns its objectId.
-    int32_t pixel(int x, int y, double* radiance) const;
+    int32_t pixel(int x, int y, double* radiance, uint64_t* blocked = nullptr) const;
 
     ReferenceImage render() const;
 
 private:
     // Outgoing radiance at a hit, towards -ray.direction.
-    void shade(const RayHit& hit, const Ray& ray, double* radiance) const;
+    void shade(const RayHit& hit, const Ray& ray, double* radiance, uint64_t& blocked) const;
+    // Whether light l is blocked between p (on triangle `triangle`) and the light, along w.
+    bool inShadow(size_t l, const glm::dvec3& p, const glm::dvec3& w, uint32_t triangle) const;
 
     const Scene& scene_;
     const SceneOnGrid& onGrid_;
@@ -75,6 +84,8 @@ private:
     // by its geometric factor.
     std::vector<double> diffuseTerm_, specularTerm_, fluorescenceTerm_;
     std::vector<bool> hasSpecular_, hasFluorescence_;  // per material
+    std::vector<int> shadowBit_;                       // per light: its bit in `blocked`, or -1
+    double sceneScale_ = 1.0;                          // the largest coordinate's magnitude, m
     size_t termOffset(uint32_t material, size_t light) const {
         return (static_cast<size_t>(material) * onGrid_.lights.size() + light) * bands_;
     }

@@ -247,8 +247,10 @@ void RenderOutputs::writeEdges(const std::vector<uint16_t>& edges) {
     if (!edges_) return;
     edges_->writeRows(0, height_, edges);
     const size_t n = size_t(std::count(edges.begin(), edges.end(), uint16_t(255)));
-    edgesWhat_ = fmt::format("edge mask: {} of {} pixels see more than one surface in their 3×3 neighbourhood", n,
-                             edges.size());
+    const size_t shadow = size_t(std::count(edges.begin(), edges.end(), uint16_t(128)));
+    edgesWhat_ = fmt::format("edge mask: {} of {} pixels see more than one surface in their 3×3 neighbourhood (255), "
+                             "{} more a shadow boundary (128)",
+                             n, edges.size(), shadow);
 }
 
 std::vector<WrittenFile> RenderOutputs::commit(int strips, int stripRows) {

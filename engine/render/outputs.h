@@ -32,7 +32,8 @@ struct OutputFiles {
     bool xyz = false;        // <scene>.xyz.exr: XYZ as the detector sees it
     bool responses = false;  // <scene>.<detector>.exr: raw detector responses
     bool edges = false;      // <scene>.edges.png: 255 where a pixel's 3×3 neighbourhood sees more
-                             // than one surface (CPU backend only: the goldens' comparison mask)
+                             // than one surface, 128 where it sees a shadow boundary (CPU backend
+                             // only: the goldens' comparison mask)
 };
 
 struct WrittenFile {
@@ -91,7 +92,7 @@ struct CapturedOutputs {
     std::vector<float> xyz;        // 3 per pixel, in the plan's xyzUnits
     std::vector<float> responses;  // responseChannels per pixel, the detector's units
     size_t responseChannels = 0;
-    std::vector<uint16_t> edges;   // 0 or 255 per pixel
+    std::vector<uint16_t> edges;   // 0, 128 (shadow boundary) or 255 (surface edge) per pixel
 };
 
 struct OutputOptions {

@@ -107,20 +107,28 @@ TonemapSettings tonemapSettings(const RenderJob& job, const Scene& scene, Output
 namespace {
 
 // An edge is a pixel that, or a neighbour of which, sees something else: there rasterization and
-// ray casting may pick different surfaces, so the golden comparisons skip it.
+// ray casting may pick different surfaces, so the golden comparisons skip it (255). A shadow
+// boundary is a pixel that, or a neighbour of which, sees a different set of blocked lights, or
+// whose sub-samples do (128): there the GPU's shadow map may put the boundary up to a texel away.
 std::vector<uint16_t> edgeMask(const ReferenceImage& img) {
     const int W = img.cube.width, H = img.cube.height;
     std::vector<uint16_t> edges(size_t(W) * H, 0);
+    const bool shadows = img.shadows.size() == edges.size();
     for (int y = 0; y < H; ++y)
         for (int x = 0; x < W; ++x) {
-            int32_t id = img.objectId[size_t(y) * W + x];
-            bool edge = id == kMixedId;
+            const size_t at = size_t(y) * W + x;
+            const int32_t id = img.objectId[at];
+            const uint64_t blocked = shadows ? img.shadows[at] : 0;
+            bool edge = id == kMixedId, boundary = blocked == kMixedShadows;
             for (int dy = -1; dy <= 1 && !edge; ++dy)
                 for (int dx = -1; dx <= 1 && !edge; ++dx) {
                     int nx = x + dx, ny = y + dy;
-                    if (nx >= 0 && ny >= 0 && nx < W && ny < H) edge = img.objectId[size_t(ny) * W + nx] != id;
+                    if (nx < 0 || ny < 0 || nx >= W || ny >= H) continue;
+                    const size_t there = size_t(ny) * W + nx;
+                    edge = img.objectId[there] != id;
+                    boundary = boundary || (shadows && img.shadows[there] != blocked);
                 }
-            edges[size_t(y) * W + x] = edge ? 255 : 0;
+            edges[at] = edge ? 255 : boundary ? 128 : 0;
         }
     return edges;
 }

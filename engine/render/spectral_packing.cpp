@@ -87,15 +87,18 @@ void packFluorescence(PackedScene& p, const Scene& scene, const SceneOnGrid& g, 
             }
 }
 
-// Lights sorted ambient, directional, point (the shader loops over each kind without
+// Lights sorted ambient, directional, point, hemisphere (the shader loops over each kind without
 // branching); counts them into p.
 std::vector<size_t> lightOrder(const Scene& scene, PackedScene& p) {
     std::vector<size_t> order;
-    for (Light::Type type : {Light::Type::Ambient, Light::Type::Directional, Light::Type::Point})
+    for (Light::Type type : {Light::Type::Ambient, Light::Type::Directional, Light::Type::Point, Light::Type::Hemisphere})
         for (size_t l = 0; l < scene.lights.size(); ++l)
             if (scene.lights[l].type == type) {
                 order.push_back(l);
-                (type == Light::Type::Ambient ? p.ambient : type == Light::Type::Directional ? p.directional : p.point)++;
+                (type == Light::Type::Ambient       ? p.ambient
+                 : type == Light::Type::Directional ? p.directional
+                 : type == Light::Type::Point       ? p.point
+                                                    : p.hemisphere)++;
             }
     return order;
 }
@@ -148,12 +151,19 @@ PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes) {
     }
     // Lights sorted by kind (the shader loops over each kind without branching).
     const std::vector<size_t> order = lightOrder(scene, p);
+    p.shadowMaps = planShadowMaps(scene, SHADOW_MAP_SIZE);
+    for (size_t k = 0; k < p.shadowMaps.layers.size(); ++k) p.shadowBlock.layers[k] = glm::mat4(p.shadowMaps.layers[k].viewProjection);
     for (size_t i = 0; i < order.size(); ++i) {
         const Light& light = scene.lights[order[i]];
+        gpu::GpuLight& out = p.lights.lights[i];
         if (light.type == Light::Type::Directional)
-            p.lights.lights[i].vector = glm::vec4(glm::vec3(-glm::normalize(light.direction)), 0.0f);
+            out.vector = glm::vec4(glm::vec3(-glm::normalize(light.direction)), 0.0f);
         else if (light.type == Light::Type::Point)
-            p.lights.lights[i].vector = glm::vec4(glm::vec3(light.position), 1.0f);
+            out.vector = glm::vec4(glm::vec3(light.position), 1.0f);
+        else if (light.type == Light::Type::Hemisphere)
+            out.vector = glm::vec4(glm::vec3(light.up), 0.0f);
+        const ShadowLight& shadow = p.shadowMaps.lights[order[i]];
+        out.shadow = glm::vec4(float(shadow.firstLayer), float(shadow.texel), 0.0f, 0.0f);
     }
     // The shader holds E(λ) in float32: beyond its largest value E would become +Inf, and Inf × 0
     // (a black band, a light behind the surface) NaN. Refused rather than rendered wrong.

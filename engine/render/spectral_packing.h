@@ -5,6 +5,7 @@
 #pragma once
 
 #include "interface.h"
+#include "render/shadow_maps.h"
 #include "scene/scene.h"
 #include "scene/scene_on_grid.h"
 
@@ -26,8 +27,11 @@ struct PackedScene {
     std::vector<gpu::SpectralVertex> vertices;
     std::vector<uint32_t> indices;
     std::vector<PackedDraw> draws;
-    int ambient = 0, directional = 0, point = 0;  // light counts, in this order in every block
+    int ambient = 0, directional = 0, point = 0, hemisphere = 0;  // light counts, in this order in every block
     gpu::GpuLightBlock lights{};
+    // The shadow maps' layers (render/shadow_maps.h) and their matrices for the shader.
+    ShadowMaps shadowMaps;
+    gpu::GpuShadowBlock shadowBlock{};
     std::vector<gpu::GpuLightSpectraBlock> lightSpectra;  // per pass
     std::vector<gpu::GpuMaterialBlock> materials;         // per pass × material: [pass][material]
     // Fluorescence as per-light spectra (scenes with a Donaldson matrix; interface.h,

@@ -39,6 +39,7 @@ SpectralResources::SpectralResources(vk::Context& c, const Scene& s, const Scene
                                      const PackedScene& p, SpectralPassPlan& pl, const SpectralPassOptions& options)
     : ctx(c), scene(s), packed(p), plan(pl) {
     createBuffers();
+    createShadowMaps();
     // The response pass reads response textures (render/spectral_packing.h) instead of spectral ones.
     std::vector<const TextureOnGrid*> list;
     if (packed.responses) {
@@ -204,13 +205,16 @@ void SpectralResources::createTargets(Readback mode, bool sampled, SpectralPassP
 
 void SpectralResources::createLayouts() {
     VkDevice d = ctx.device();
-    constexpr int kBindings = 5;
+    constexpr int kBindings = 7;
+    constexpr int kDynamic = 4;  // bindings 1..4
     VkDescriptorSetLayoutBinding bindings[kBindings] = {
         {BINDING_LIGHTS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
         {BINDING_LIGHT_SPECTRA, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
         {BINDING_MATERIAL, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
         {BINDING_FLUORESCENCE, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
         {BINDING_RESPONSES, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
+        {BINDING_SHADOW_MATRICES, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
+        {BINDING_SHADOW_MAP, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
     };
     VkDescriptorSetLayoutCreateInfo sl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
     sl.bindingCount = kBindings;
@@ -235,9 +239,9 @@ void SpectralResources::createLayouts() {
     pipelineLayout = objects.pipelineLayout("spectral.layout", pl, {setLayout, textureSetLayout});
 
     const uint32_t materialCount = uint32_t(std::max<size_t>(1, scene.materials.size()));
-    VkDescriptorPoolSize sizes[3] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1},
-                                     {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC, kBindings - 1},
-                                     {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, TEXTURE_BINDINGS * materialCount}};
+    VkDescriptorPoolSize sizes[3] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 2},
+                                     {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC, kDynamic},
+                                     {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, TEXTURE_BINDINGS * materialCount + 1}};
     VkDescriptorPoolCreateInfo pci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     pci.maxSets = 1 + materialCount;
     pci.poolSizeCount = 3;
@@ -251,12 +255,15 @@ void SpectralResources::createLayouts() {
     ai.descriptorSetCount = 1;
     ai.pSetLayouts = &set0;
     VK_CHECK(vkAllocateDescriptorSets(d, &ai, &descriptorSet));
-    VkDescriptorBufferInfo infos[kBindings] = {
+    VkDescriptorBufferInfo infos[kBindings - 1] = {
         {lightBuffer.handle(), 0, sizeof(gpu::GpuLightBlock)},
         {lightSpectraBuffer.handle(), 0, sizeof(gpu::GpuLightSpectraBlock)},
         {materialBuffer.handle(), 0, sizeof(gpu::GpuMaterialBlock)},
         {fluorescenceBuffer.handle(), 0, sizeof(gpu::GpuFluorescenceBlock)},
-        {responseBuffer.handle(), 0, sizeof(gpu::GpuResponseBlock)}};
+        {responseBuffer.handle(), 0, sizeof(gpu::GpuResponseBlock)},
+        {shadowBuffer.handle(), 0, sizeof(gpu::GpuShadowBlock)}};
+    const VkDescriptorImageInfo shadowInfo{shadowSampler.get(), shadowMap.layerView(~0u),
+                                           VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL};
     VkWriteDescriptorSet writes[kBindings];
     for (int i = 0; i < kBindings; ++i) {
         writes[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
@@ -264,7 +271,10 @@ void SpectralResources::createLayouts() {
         writes[i].dstBinding = bindings[i].binding;
         writes[i].descriptorCount = 1;
         writes[i].descriptorType = bindings[i].descriptorType;
-        writes[i].pBufferInfo = &infos[i];
+        if (bindings[i].binding == BINDING_SHADOW_MAP)
+            writes[i].pImageInfo = &shadowInfo;
+        else
+            writes[i].pBufferInfo = &infos[i];
     }
     vkUpdateDescriptorSets(d, kBindings, writes, 0, nullptr);
 
@@ -377,11 +387,12 @@ VkRenderPass SpectralResources::makeRenderPass(uint32_t attachments, bool clears
 // a colour pass without a pre-pass.
 VkPipeline SpectralResources::makePipeline(const vk::SharedHandle<VkRenderPass>& renderPass, uint32_t attachments,
                                            bool writesDepth) {
-    const gpu::SpectralSpecialization spec{packed.ambient,       packed.directional,   packed.point,
-                                           plan.hasSpecular,     plan.hasFluorescence, scene.hasTextures(),
-                                           scene.hasNormalMaps(), plan.fluorescenceSpectra, plan.responses};
+    const gpu::SpectralSpecialization spec{packed.ambient,        packed.directional,   packed.point,
+                                           plan.hasSpecular,      plan.hasFluorescence, scene.hasTextures(),
+                                           scene.hasNormalMaps(), plan.fluorescenceSpectra, plan.responses,
+                                           packed.hemisphere,     packed.shadowMaps.any()};
     // interface.h orders the struct's 4-byte fields by id.
-    constexpr uint32_t kIds = SPEC_RESPONSES + 1;
+    constexpr uint32_t kIds = SPEC_SHADOWS + 1;
     VkSpecializationMapEntry entries[kIds];
     for (uint32_t id = 0; id < kIds; ++id) entries[id] = {id, id * 4, 4};
     VkSpecializationInfo si{kIds, entries, sizeof(spec), &spec};

@@ -50,6 +50,13 @@ struct SpectralResources {
     // Dynamic-offset strides.
     VkDeviceSize lightSpectraStride = 0, materialStride = 0, fluorescenceStride = 0, responseStride = 0;
     vk::Image color, depth;
+    // The shadow maps (render/shadow_maps.h), drawn once when the resources are made — they depend
+    // on the scene, not the camera — and read by the spectral passes through a depth-compare
+    // sampler; a 1×1 placeholder when no light casts shadows. render/shadow_pass.cpp.
+    vk::Image shadowMap;
+    vk::Buffer shadowBuffer;  // GpuShadowBlock
+    vk::OwnedSampler shadowSampler;
+    double shadowMs = 0.0;    // the depth passes' time
     // Textures (one image per SceneOnGrid texture, or per response texture in the response pass,
     // then a placeholder) and one descriptor set of set 1 per material.
     std::vector<vk::Image> textures;
@@ -76,6 +83,7 @@ private:
     VkDeviceSize aligned(VkDeviceSize size) const;
     vk::Buffer uniforms(const void* data, size_t size, size_t count, VkDeviceSize stride, const char* name);
     void createBuffers();
+    void createShadowMaps();
     void createTextures(std::vector<const TextureOnGrid*> list);
     void createTargets(Readback mode, bool sampled, SpectralPassPlan& plan);
     void createLayouts();

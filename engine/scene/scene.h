@@ -39,16 +39,24 @@ struct Camera {
 };
 
 struct Light {
-    enum class Type { Ambient, Directional, Point };
+    // Hemisphere: a uniform environment, radiance L(λ) from every direction ω with ω·up > 0 (a
+    // sky; a ground is a hemisphere whose up points down). Not occluded (docs/physics.md).
+    enum class Type { Ambient, Directional, Point, Hemisphere };
     Type type = Type::Directional;
     // Directional: the direction the light travels (towards the scene), normalized.
     glm::dvec3 direction{0, -1, 0};
     // Point: position in metres.
     glm::dvec3 position{0, 0, 0};
+    // Hemisphere: the unit vector towards the middle of the hemisphere it shines from.
+    glm::dvec3 up{0, 1, 0};
     // spectrum × scale is: ambient and directional, irradiance E(λ) in W·m⁻²·nm⁻¹;
-    // point, radiant intensity I(λ) in W·sr⁻¹·nm⁻¹.
+    // point, radiant intensity I(λ) in W·sr⁻¹·nm⁻¹; hemisphere, radiance L(λ) in W·sr⁻¹·m⁻²·nm⁻¹.
     SceneSpectrum spectrum;
     double scale = 1.0;
+    // Directional and point lights: whether what stands between the light and a surface blocks
+    // it (shadows; docs/physics.md, "Shadows"). Ambient and hemisphere lights are never blocked.
+    bool shadows = true;
+    bool castsShadows() const { return shadows && (type == Type::Directional || type == Type::Point); }
     std::string name;  // "lights.1"
 };
 

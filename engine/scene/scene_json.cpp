@@ -432,20 +432,30 @@ private:
         asObject(v, w);
         Light l;
         l.name = w.key;
-        std::string type = choice(require(v, w, "type", "ambient, directional or point"), w.child("type"),
-                                  {"ambient", "directional", "point"});
+        std::string type = choice(require(v, w, "type", "ambient, directional, point or hemisphere"), w.child("type"),
+                                  {"ambient", "directional", "point", "hemisphere"});
         if (type == "ambient") {
             l.type = Light::Type::Ambient;
-            checkKeys(v, w, {"type", "spectrum", "scale"}, "an ambient light", {"direction", "position"});
+            checkKeys(v, w, {"type", "spectrum", "scale"}, "an ambient light", {"direction", "position", "up", "shadows"});
         } else if (type == "directional") {
             l.type = Light::Type::Directional;
-            checkKeys(v, w, {"type", "direction", "spectrum", "scale"}, "a directional light", {"position"});
+            checkKeys(v, w, {"type", "direction", "spectrum", "scale", "shadows"}, "a directional light",
+                      {"position", "up"});
             l.direction = nonZeroDirection(require(v, w, "direction", "[x, y, z], the way the light travels"),
                                            w.child("direction"));
-        } else {
+        } else if (type == "point") {
             l.type = Light::Type::Point;
-            checkKeys(v, w, {"type", "position", "spectrum", "scale"}, "a point light", {"direction"});
+            checkKeys(v, w, {"type", "position", "spectrum", "scale", "shadows"}, "a point light", {"direction", "up"});
             l.position = vector<3>(require(v, w, "position", "[x, y, z] in metres"), w.child("position"));
+        } else {
+            l.type = Light::Type::Hemisphere;
+            checkKeys(v, w, {"type", "up", "spectrum", "scale"}, "a hemisphere light", {"direction", "position", "shadows"});
+            l.up = nonZeroDirection(require(v, w, "up", "[x, y, z], towards the middle of the hemisphere it shines from"),
+                                    w.child("up"));
+        }
+        if (const Json* s = find(v, "shadows")) {
+            if (!s->is_boolean()) failInput(w.child("shadows"), "expected true or false, got {}", describe(*s));
+            l.shadows = s->get<bool>();
         }
         l.spectrum = spectrum(require(v, w, "spectrum", "a spectrum"), w.child("spectrum"), SpectrumKind::Light);
         if (const Json* s = find(v, "scale")) l.scale = numberIn(*s, w.child("scale"), 0, INFINITY, false, true);

@@ -22,7 +22,7 @@ ReferenceWhite referenceWhite(const Scene& scene, const SceneOnGrid& spectra, co
     double best = -1.0;
     for (size_t l = 0; l < scene.lights.size(); ++l) {
         const Light& light = scene.lights[l];
-        if (light.type == Light::Type::Ambient) continue;
+        if (light.type == Light::Type::Ambient || light.type == Light::Type::Hemisphere) continue;
         std::vector<double> e = spectra.lights[l];
         std::string how = "at normal incidence";
         if (light.type == Light::Type::Point) {
@@ -43,15 +43,18 @@ ReferenceWhite referenceWhite(const Scene& scene, const SceneOnGrid& spectra, co
         }
     }
     if (best <= 0.0) {
-        // Only ambient light (or none that the observer sees): white is what the ambient gives.
+        // Only ambient and hemisphere light (or none that the observer sees): white is what they
+        // give a surface facing each hemisphere's middle (irradiance π·L).
         w.irradiance.assign(spectra.grid.bands(), 0.0);
         w.terms.clear();
-        for (size_t l = 0; l < scene.lights.size(); ++l)
-            if (scene.lights[l].type == Light::Type::Ambient) {
-                for (size_t b = 0; b < w.irradiance.size(); ++b) w.irradiance[b] += spectra.lights[l][b];
-                w.terms.emplace_back(scene.lights[l].spectrum.spectrum, scene.lights[l].scale);
-            }
-        w.source = "the ambient light";
+        for (size_t l = 0; l < scene.lights.size(); ++l) {
+            const Light& light = scene.lights[l];
+            const double f = light.type == Light::Type::Ambient ? 1.0 : light.type == Light::Type::Hemisphere ? M_PI : 0.0;
+            if (f == 0.0) continue;
+            for (size_t b = 0; b < w.irradiance.size(); ++b) w.irradiance[b] += f * spectra.lights[l][b];
+            w.terms.emplace_back(light.spectrum.spectrum, f * light.scale);
+        }
+        w.source = "the ambient and hemisphere lights";
         if (luminanceOf(w.irradiance, cmf) <= 0.0) {
             w.irradiance.assign(spectra.grid.bands(), 1.0);
             w.terms = {{Spectrum::makeConstant(1.0), 1.0}};

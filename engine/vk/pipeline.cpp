@@ -41,6 +41,9 @@ VkPipeline createGraphicsPipeline(VkDevice device, const GraphicsPipelineDesc& d
     rs.cullMode = VK_CULL_MODE_NONE;  // two-sided shading: back faces are visible
     rs.frontFace = d.frontFace;
     rs.lineWidth = 1.0f;
+    rs.depthBiasEnable = d.depthBiasConstant != 0.0f || d.depthBiasSlope != 0.0f;
+    rs.depthBiasConstantFactor = d.depthBiasConstant;
+    rs.depthBiasSlopeFactor = d.depthBiasSlope;
     VkPipelineMultisampleStateCreateInfo ms{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
     ms.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
     VkPipelineDepthStencilStateCreateInfo ds{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};

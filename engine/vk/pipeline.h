@@ -23,6 +23,8 @@ struct GraphicsPipelineDesc {
     uint32_t colorAttachments = 0;
     bool depthTest = false, depthWrite = false;
     VkCompareOp depthCompare = VK_COMPARE_OP_LESS;
+    // Depth bias (the shadow-map pass): enabled when either factor is non-zero.
+    float depthBiasConstant = 0.0f, depthBiasSlope = 0.0f;
     // Front faces are counter-clockwise seen from their normal side (scene/scene.h). Vulkan
     // judges winding in y-down framebuffer space; the projections' y flip cancels that.
     VkFrontFace frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;

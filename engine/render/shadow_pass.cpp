@@ -1,0 +1,155 @@
+// The shadow maps' depth passes (SpectralResources::createShadowMaps): each layer of
+// render/shadow_maps.h's plan drawn once, depth only, with a slope-scaled bias, and left in
+// DEPTH_STENCIL_READ_ONLY_OPTIMAL for the spectral passes' depth-compare sampler.
+#include "core/timing.h"
+#include "interface.h"
+#include "render/spectral_resources.h"
+#include "vk/pipeline.h"
+
+#include "shadow.vert.spv.h"
+
+#include <cstddef>
+
+namespace metamer {
+
+namespace {
+
+// Depth bias of the depth pass, in the units of vkCmdSetDepthBias: the constant term is negligible
+// for a float depth buffer; the slope term pushes each texel's depth back by what its surface's
+// slope makes of 2 texels, which, with the lookup's one-texel normal offset, keeps every bundled
+// surface free of self-shadowing (docs/physics.md, "Shadows").
+constexpr float kDepthBiasConstant = 1.0f;
+constexpr float kDepthBiasSlope = 2.0f;
+
+}  // namespace
+
+void SpectralResources::createShadowMaps() {
+    auto t0 = Clock::now();
+    VkDevice d = ctx.device();
+    const ShadowMaps& maps = packed.shadowMaps;
+    const uint32_t size = maps.any() ? SHADOW_MAP_SIZE : 1, layers = uint32_t(std::max<size_t>(1, maps.layers.size()));
+    vk::ImageDesc desc;
+    desc.format = VK_FORMAT_D32_SFLOAT;
+    desc.width = desc.height = size;
+    desc.layers = layers;
+    desc.usage = VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
+    desc.name = "shadow maps";
+    shadowMap = vk::Image(ctx, desc);
+    shadowBuffer = uniforms(&packed.shadowBlock, sizeof(gpu::GpuShadowBlock), 1, sizeof(gpu::GpuShadowBlock), "shadow matrices");
+
+    // Depth compare, no filtering: a texel is lit when the fragment's depth is at most the map's.
+    // Outside the map the border (depth 1) lights it.
+    VkSamplerCreateInfo sci{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+    sci.magFilter = sci.minFilter = VK_FILTER_NEAREST;
+    sci.mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
+    sci.addressModeU = sci.addressModeV = sci.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_BORDER;
+    sci.borderColor = VK_BORDER_COLOR_FLOAT_OPAQUE_WHITE;
+    sci.compareEnable = VK_TRUE;
+    sci.compareOp = VK_COMPARE_OP_LESS_OR_EQUAL;
+    VkSampler sampler = VK_NULL_HANDLE;
+    VK_CHECK(vkCreateSampler(d, &sci, nullptr, &sampler));
+    shadowSampler = vk::OwnedSampler(d, sampler);
+
+    // One render pass: clear, draw, leave the layer for the fragment shader.
+    VkAttachmentDescription da{};
+    da.format = VK_FORMAT_D32_SFLOAT;
+    da.samples = VK_SAMPLE_COUNT_1_BIT;
+    da.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+    da.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+    da.stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
+    da.stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+    da.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+    da.finalLayout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL;
+    VkAttachmentReference ref{0, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
+    VkSubpassDescription sub{};
+    sub.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
+    sub.pDepthStencilAttachment = &ref;
+    VkSubpassDependency dep{};
+    dep.srcSubpass = 0;
+    dep.dstSubpass = VK_SUBPASS_EXTERNAL;
+    dep.srcStageMask = VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT;
+    dep.dstStageMask = VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT;
+    dep.srcAccessMask = VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
+    dep.dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
+    VkRenderPassCreateInfo rp{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO};
+    rp.attachmentCount = 1;
+    rp.pAttachments = &da;
+    rp.subpassCount = 1;
+    rp.pSubpasses = &sub;
+    rp.dependencyCount = 1;
+    rp.pDependencies = &dep;
+    VkRenderPass renderPass = VK_NULL_HANDLE;
+    VK_CHECK(vkCreateRenderPass(d, &rp, nullptr, &renderPass));
+    const vk::OwnedRenderPass ownedPass(d, renderPass);
+
+    VkPushConstantRange range{VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(gpu::ShadowPushConstants)};
+    VkPipelineLayoutCreateInfo plci{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    plci.pushConstantRangeCount = 1;
+    plci.pPushConstantRanges = &range;
+    VkPipelineLayout layout = VK_NULL_HANDLE;
+    VK_CHECK(vkCreatePipelineLayout(d, &plci, nullptr, &layout));
+    const vk::OwnedPipelineLayout ownedLayout(d, layout);
+
+    std::vector<vk::OwnedFramebuffer> framebuffers;
+    for (uint32_t l = 0; l < layers; ++l) {
+        VkImageView view = shadowMap.layerView(l);
+        VkFramebufferCreateInfo fb{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
+        fb.renderPass = renderPass;
+        fb.attachmentCount = 1;
+        fb.pAttachments = &view;
+        fb.width = fb.height = size;
+        fb.layers = 1;
+        VkFramebuffer framebuffer = VK_NULL_HANDLE;
+        VK_CHECK(vkCreateFramebuffer(d, &fb, nullptr, &framebuffer));
+        framebuffers.emplace_back(d, framebuffer);
+    }
+
+    vk::OwnedPipeline pipeline;
+    const bool draws = maps.any() && !packed.draws.empty();
+    if (draws) {
+        const vk::OwnedShaderModule vertex(d, vk::createShaderModule(d, kSpirv_shadow_vert, sizeof(kSpirv_shadow_vert)));
+        vk::GraphicsPipelineDesc pd;
+        pd.renderPass = renderPass;
+        pd.layout = layout;
+        pd.vertex = vertex.get();
+        using V = gpu::SpectralVertex;
+        pd.bindings = {{0, sizeof(V), VK_VERTEX_INPUT_RATE_VERTEX}};
+        pd.attributes = {{VERTEX_POSITION, 0, VK_FORMAT_R32G32B32_SFLOAT, uint32_t(offsetof(V, position))}};
+        pd.width = pd.height = size;
+        pd.depthTest = pd.depthWrite = true;
+        pd.depthCompare = VK_COMPARE_OP_LESS;
+        pd.depthBiasConstant = kDepthBiasConstant;
+        pd.depthBiasSlope = kDepthBiasSlope;
+        pd.cache = ctx.pipelineCache();
+        pipeline = vk::OwnedPipeline(d, vk::createGraphicsPipeline(d, pd));
+    }
+
+    ctx.submitAndWait([&](VkCommandBuffer cmd) {
+        for (uint32_t l = 0; l < layers; ++l) {
+            VkClearValue clear{};
+            clear.depthStencil = {1.0f, 0};
+            VkRenderPassBeginInfo rb{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
+            rb.renderPass = renderPass;
+            rb.framebuffer = framebuffers[l].get();
+            rb.renderArea = {{0, 0}, {size, size}};
+            rb.clearValueCount = 1;
+            rb.pClearValues = &clear;
+            vkCmdBeginRenderPass(cmd, &rb, VK_SUBPASS_CONTENTS_INLINE);
+            if (draws) {
+                vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.get());
+                VkDeviceSize zero = 0;
+                VkBuffer vb = vertexBuffer.handle();
+                vkCmdBindVertexBuffers(cmd, 0, 1, &vb, &zero);
+                vkCmdBindIndexBuffer(cmd, indexBuffer.handle(), 0, VK_INDEX_TYPE_UINT32);
+                gpu::ShadowPushConstants pc{glm::mat4(maps.layers[l].viewProjection)};
+                vkCmdPushConstants(cmd, layout, VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof pc, &pc);
+                for (const PackedDraw& draw : packed.draws)
+                    vkCmdDrawIndexed(cmd, draw.indexCount, 1, draw.firstIndex, draw.vertexOffset, 0);
+            }
+            vkCmdEndRenderPass(cmd);
+        }
+    });
+    shadowMs = msSince(t0);
+}
+
+}  // namespace metamer
