@@ -109,13 +109,16 @@ float hemisphereLobe(vec3 n, vec3 v, vec3 u, float gloss) {
                     float lo = p0, hi = p1;
                     bool use = g0 > 0.0 || g1 > 0.0;
                     if ((g0 > 0.0) != (g1 > 0.0)) {
-                        float a = p0, z = p1;
-                        for (int it = 0; it < HEMISPHERE_BISECTIONS; ++it) {
-                            float mid = 0.5 * (a + z), cm = cos(mid), sm = sin(mid);
-                            bool positive = 2.0 * (A + B * cm) * (C + D * cm + E * sm) - uv > 0.0;
-                            if (positive == (g0 > 0.0)) a = mid; else z = mid;
+                        // False position, Illinois variant (as the C++ rule).
+                        float a = p0, fa = g0, z = p1, fz = g1;
+                        for (int it = 0; it < HEMISPHERE_ROOT_STEPS && fz != fa; ++it) {
+                            float x = z - fz * (z - a) / (fz - fa), cx = cos(x), sx = sin(x);
+                            float fx = 2.0 * (A + B * cx) * (C + D * cx + E * sx) - uv;
+                            if ((fx > 0.0) != (fz > 0.0)) { a = z; fa = fz; } else { fa *= 0.5; }
+                            z = x;
+                            fz = fx;
                         }
-                        float root = 0.5 * (a + z);
+                        float root = z;
                         if (g0 > 0.0) hi = root; else lo = root;
                     }
                     lo = max(lo, -phiN);

@@ -13,10 +13,10 @@
 
 // Rings of half vectors per radial panel: 8 Gauss nodes in s = (n·h)^(N+1); each ring sampled at
 // HEMISPHERE_RING_SAMPLES angles to find where the hemisphere's horizon cuts it, each cut refined
-// by HEMISPHERE_BISECTIONS bisections.
+// by HEMISPHERE_ROOT_STEPS steps of false position (Illinois).
 #define HEMISPHERE_RADIAL_PANELS 1
 #define HEMISPHERE_RING_SAMPLES 32
-#define HEMISPHERE_BISECTIONS 16
+#define HEMISPHERE_ROOT_STEPS 6
 // Cuts of the radial integral: its ends, the two rings that touch the surface's horizon, and the
 // extrema of n·h along the hemisphere's horizon (HEMISPHERE_HORIZON_SAMPLES samples, each extremum
 // refined by HEMISPHERE_GOLDEN_STEPS golden-section steps).

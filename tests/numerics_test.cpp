@@ -136,7 +136,7 @@ TEST(Numerics, GridsFromHalfNanometreToSingleBandMatchReference) {
         EXPECT_EQ(nonFinite(r.gpu), 0u);
         InteriorComparison m = compareInterior(r.gpu, r.ref);
         report("grid " + c.grid.str(), r, m);
-        EXPECT_GE(m.pixels, c.px * c.px / 4);
+        EXPECT_GE(m.pixels, c.px * c.px / 5);  // a sphere and its shadow: edges and shadow boundaries are left out
         EXPECT_LE(m.maxRelative, 1e-4);
     }
 }

@@ -125,7 +125,7 @@ double hemisphereLobe(const glm::dvec3& n, const glm::dvec3& v, const glm::dvec3
                 hi = std::min(hi, phiN);
                 return hi > lo ? antiderivative(hi) - antiderivative(lo) : 0.0;
             };
-            // u·ω > 0: where g > 0, found by sampling the ring and bisecting each change of sign
+            // u·ω > 0: where g > 0, found by sampling the ring and refining each change of sign
             // (g is a trigonometric polynomial of degree 2: at most 4 roots).
             double ring = 0.0;
             const double step = 2.0 * kPi / ringSamples;
@@ -135,12 +135,20 @@ double hemisphereLobe(const glm::dvec3& n, const glm::dvec3& v, const glm::dvec3
                 if (g0 > 0.0 && g1 > 0.0) {
                     ring += add(p0, p1);
                 } else if ((g0 > 0.0) != (g1 > 0.0)) {
-                    double lo = p0, hi = p1;
-                    for (int it = 0; it < HEMISPHERE_BISECTIONS; ++it) {
-                        const double mid = 0.5 * (lo + hi);
-                        if ((g(mid) > 0.0) == (g0 > 0.0)) lo = mid; else hi = mid;
+                    // The Illinois variant of false position: superlinear, and never leaves [p0, p1].
+                    double a = p0, fa = g0, b = p1, fb = g1;
+                    for (int it = 0; it < HEMISPHERE_ROOT_STEPS && fb != fa; ++it) {
+                        const double x = b - fb * (b - a) / (fb - fa), fx = g(x);
+                        if ((fx > 0.0) != (fb > 0.0)) {
+                            a = b;
+                            fa = fb;
+                        } else {
+                            fa *= 0.5;
+                        }
+                        b = x;
+                        fb = fx;
                     }
-                    const double root = 0.5 * (lo + hi);
+                    const double root = b;
                     ring += g0 > 0.0 ? add(p0, root) : add(root, p1);
                 }
                 p0 = p1;

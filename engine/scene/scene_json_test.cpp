@@ -154,6 +154,20 @@ TEST(SceneJson, SpectrumForms) {
     EXPECT_EQ(s.materials[3].diffuse.kind, SpectrumKind::Reflectance);
 }
 
+TEST(SceneJson, HemisphereLightsAndShadowFlags) {
+    Json d = baseScene();
+    d["lights"].push_back(Json::parse(R"({"type": "hemisphere", "up": [0, -2, 0], "spectrum": 0.5, "scale": 2})"));
+    d["lights"][1]["shadows"] = false;
+    Scene s = load(d);
+    const Light& sky = s.lights.back();
+    EXPECT_EQ(sky.type, Light::Type::Hemisphere);
+    EXPECT_EQ(sky.up, glm::dvec3(0, -1, 0));
+    EXPECT_FALSE(sky.castsShadows());
+    EXPECT_FALSE(s.lights[1].castsShadows());
+    EXPECT_TRUE(s.lights[2].castsShadows());  // on by default
+    EXPECT_FALSE(s.lights[0].castsShadows());  // ambient never
+}
+
 TEST(SceneJson, OrthographicCameraAndDefaults) {
     Json d = baseScene();
     d.erase("grid");
@@ -293,6 +307,18 @@ const BadCase kBadCases[] = {
     {"LightTypeUnknown", [](Json& d) { d["lights"][1]["type"] = "spot"; }, "lights.1.type",
      "'spot' is not one of ambient, directional, point"},
     {"LightTypeMissing", [](Json& d) { d["lights"][1].erase("type"); }, "lights.1.type", "missing required key"},
+    {"ShadowsNotABoolean", [](Json& d) { d["lights"][1]["shadows"] = "yes"; }, "lights.1.shadows",
+     "expected true or false, got a string"},
+    {"ShadowsOnAmbient", [](Json& d) { d["lights"][0]["shadows"] = true; }, "lights.0.shadows",
+     "key not allowed for an ambient light"},
+    {"HemisphereWithoutUp", [](Json& d) { d["lights"][0] = parse(R"({"type": "hemisphere", "spectrum": 1})"); },
+     "lights.0.up", "missing required key"},
+    {"HemisphereUpZero",
+     [](Json& d) { d["lights"][0] = parse(R"({"type": "hemisphere", "up": [0, 0, 0], "spectrum": 1})"); },
+     "lights.0.up", "zero vector"},
+    {"HemisphereWithShadows",
+     [](Json& d) { d["lights"][0] = parse(R"({"type": "hemisphere", "up": [0, 1, 0], "spectrum": 1, "shadows": true})"); },
+     "lights.0.shadows", "key not allowed for a hemisphere light"},
     {"LightScaleNegative", [](Json& d) { d["lights"][0]["scale"] = -1; }, "lights.0.scale", "must be ≥ 0, got -1"},
     {"LightDirectionZero", [](Json& d) { d["lights"][1]["direction"] = parse("[0, 0, 0]"); }, "lights.1.direction",
      "zero vector"},

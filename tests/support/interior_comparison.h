@@ -1,5 +1,6 @@
 // The GPU cube against the CPU reference on interior pixels: the pixel and its 8 neighbours see
-// the same mesh in the reference, so the rasterizer and the ray caster agree on which surface is
+// the same mesh and the same blocked lights in the reference (no surface edge, no shadow boundary
+// within a pixel), so the rasterizer and the ray caster agree on which surface is
 // seen and the GPU differs only by float rounding (docs/physics.md, "GPU path specifics"). Shared
 // by the GPU-vs-reference, numerics, texture and Donaldson tests.
 #pragma once
@@ -43,9 +44,14 @@ inline InteriorComparison compareInterior(const SpectralCube& gpuCube, const Ref
         for (int x = 1; x + 1 < W; ++x) {
             const int32_t id = ref.objectId[size_t(y) * W + x];
             if (id < 0) continue;
-            bool interior = true;
+            const bool shadows = ref.shadows.size() == ref.objectId.size();
+            const uint64_t blocked = shadows ? ref.shadows[size_t(y) * W + x] : 0;
+            bool interior = blocked != kMixedShadows;
             for (int dy = -1; dy <= 1; ++dy)
-                for (int dx = -1; dx <= 1; ++dx) interior = interior && ref.objectId[size_t(y + dy) * W + x + dx] == id;
+                for (int dx = -1; dx <= 1; ++dx) {
+                    const size_t at = size_t(y + dy) * W + x + dx;
+                    interior = interior && ref.objectId[at] == id && (!shadows || ref.shadows[at] == blocked);
+                }
             if (!interior) continue;
             ++m.pixels;
             for (int b = 0; b < B; ++b) {

@@ -131,6 +131,15 @@ inline Light pointLight(glm::dvec3 position, Spectrum s, double scale = 1.0,
     return l;
 }
 
+// A uniform hemisphere of radiance L = spectrum × scale (W·sr⁻¹·m⁻²·nm⁻¹) from every direction ω
+// with ω·up > 0: a sky, or with up pointing down a ground.
+inline Light hemisphereLight(glm::dvec3 up, Spectrum s, double scale = 1.0, std::string name = "hemisphere") {
+    Light l = ambientLight(std::move(s), scale, std::move(name));
+    l.type = Light::Type::Hemisphere;
+    l.up = glm::normalize(up);
+    return l;
+}
+
 // --- Cameras -----------------------------------------------------------------------------------
 
 inline Camera orthographicCamera(glm::dvec3 position, glm::dvec3 target, glm::dvec3 up,
