@@ -48,6 +48,7 @@ void printTimings(const RenderJobResult& r) {
     std::printf("timings (ms): load %.1f  upload %.1f  shading %.1f  readback %.1f  tonemap %.1f  write %.1f  "
                 "total %.1f\n",
                 t.load_ms, t.upload_ms, t.shading_ms, t.readback_ms, t.tonemap_ms, t.write_ms, t.total_ms);
+    if (t.shadow_ms > 0) std::printf("shadow maps: %.1f ms of the upload (drawn once per scene)\n", t.shadow_ms);
     double bandPixels = double(r.width) * r.height * r.grid.bands();
     if (r.responsePass) {
         // The display path without the bands: a frame is the response pass and the tonemap pass.

@@ -19,6 +19,7 @@ DisplayFrame::DisplayFrame(vk::Context& ctx, const Scene& scene, const SceneOnGr
                            SpectralPassOptions options, TonemapOutputs outputs)
     : pass_(ctx, scene, rendered, responseOptions(std::move(options), plan)), tonemap_(ctx, pass_, plan, outputs) {
     timings_.upload_ms = pass_.timings().upload_ms;
+    timings_.shadow_ms = pass_.timings().shadow_ms;
 }
 
 DisplayImage DisplayFrame::render() {

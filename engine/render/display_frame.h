@@ -20,6 +20,7 @@ namespace metamer {
 
 struct DisplayFrameTimings {
     double upload_ms = 0;   // packing the responses (double precision) and the GPU objects
+    double shadow_ms = 0;   // of which the shadow maps' depth passes
     double shading_ms = 0;  // the response pass, submit to fence
     double tonemap_ms = 0;  // the tonemap pass and the read-back of its display image
 };

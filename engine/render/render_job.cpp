@@ -253,6 +253,7 @@ void renderDisplayFrames(const RenderJob& job, LoadedScene& loaded, const Tonema
         }
         r.responsePass = true;
         r.timings.upload_ms = frame.timings().upload_ms;
+        r.timings.shadow_ms = frame.timings().shadow_ms;
         r.timings.shading_ms = shading[0];
         r.timings.tonemap_ms = tonemap[0];
         r.timings.frames = int(shading.size());
@@ -307,6 +308,7 @@ void renderGpuFrames(const RenderJob& job, LoadedScene& loaded, const TonemapPla
             }
         }
         r.timings.upload_ms = pass.timings().upload_ms;
+        r.timings.shadow_ms = pass.timings().shadow_ms;
         r.timings.shading_ms = shading[0];
         r.timings.readback_ms = readback[0];
         r.timings.tonemap_ms = tonemap ? tonemap->lastMs() : 0.0;

@@ -65,6 +65,7 @@ struct RenderJob {
 
 struct StageTimings {
     double load_ms = 0, upload_ms = 0, shading_ms = 0, readback_ms = 0, tonemap_ms = 0, write_ms = 0, total_ms = 0;
+    double shadow_ms = 0;  // of upload_ms: the shadow maps' depth passes (once per scene)
     // With frames > 1: the first frame's shading (includes the driver's shader compilation on
     // lavapipe) and the medians over the later frames.
     int frames = 1;

@@ -17,9 +17,10 @@ std::string SpectralPassPlan::describe() const {
                            bands, layers, targetWidth, targetHeight, targetBytes >> 20, lightCount,
                            hasSpecular ? "on" : "off", hasFluorescence ? "on" : "off", ssaa);
     return fmt::format("{} bands in {} RGBA32F layers, a depth pre-pass + {} colour pass(es) of ≤{} attachments, {}×{} target ({} MiB), "
-                       "{} light(s), specular {}, fluorescence {}, ssaa {}, readback by {}",
+                       "{} light(s){}, specular {}, fluorescence {}, ssaa {}, readback by {}",
                        bands, layers, passes, MAX_OUTPUTS, targetWidth, targetHeight, targetBytes >> 20,
-                       lightCount, hasSpecular ? "on" : "off",
+                       lightCount, shadowLayers ? fmt::format(" ({} shadow-map layer(s) of {}²)", shadowLayers, SHADOW_MAP_SIZE) : "",
+                       hasSpecular ? "on" : "off",
                        !hasFluorescence ? "off" : fluorescenceSpectra ? "on (per-light spectra)" : "on (rank one)", ssaa,
                        mappedReadback ? "mapping a linear image" : "copy");
 }
@@ -87,6 +88,7 @@ SpectralPass::SpectralPass(vk::Context& ctx, const Scene& scene, const SceneOnGr
                   scene.lights.size(), MAX_LIGHTS);
     m.packed = p.responses ? packResponses(scene, spectra, options.responseWeights) : pack(scene, spectra, p.passes);
     p.fluorescenceSpectra = m.packed.fluorescenceSpectra;
+    p.shadowLayers = int(m.packed.shadowMaps.layers.size());
     m.camera = cameraMatrices(scene.camera, scene);
     m.fullViewProjection = m.camera.viewProjection;
     m.rows = rows;
@@ -94,6 +96,7 @@ SpectralPass::SpectralPass(vk::Context& ctx, const Scene& scene, const SceneOnGr
     if (options.stripRows > 0 || options.tileColumns > 0) setTile(0, 0);
     m.resources = std::make_unique<SpectralResources>(ctx, scene, spectra, m.packed, plan_, options);
     timings_.upload_ms = msSince(t0);
+    timings_.shadow_ms = m.resources->shadowMs;
 }
 
 SpectralPass::~SpectralPass() = default;

@@ -21,7 +21,8 @@
 namespace metamer {
 
 struct SpectralPassTimings {
-    double upload_ms = 0;    // buffers, images, pipelines
+    double upload_ms = 0;    // buffers, images, pipelines, and the shadow maps
+    double shadow_ms = 0;    // of which the shadow maps' depth passes (once per scene; 0 without shadowing lights)
     double shading_ms = 0;   // submit to fence
     double readback_ms = 0;  // layered target → pixel-interleaved cube (and ssaa filter)
 };

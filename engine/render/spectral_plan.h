@@ -41,6 +41,7 @@ struct SpectralPassPlan {
     int layers = 0;          // ceil(bands / 4)
     int passes = 0;          // ceil(layers / 8)
     int lightCount = 0;
+    int shadowLayers = 0;  // shadow-map layers (render/shadow_maps.h), SHADOW_MAP_SIZE² each
     bool hasSpecular = false;
     bool hasFluorescence = false;
     bool fluorescenceSpectra = false;  // a Donaldson matrix: fluorescence as per-light spectra (interface.h)
