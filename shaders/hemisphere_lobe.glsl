@@ -24,8 +24,9 @@ float hlHorizonNh(vec3 n, vec3 v, vec3 p, vec3 q, float nv, float psi) {
     return len2 > 0.0 ? (dot(n, w) + nv) * inversesqrt(len2) : 0.0;
 }
 
-float hemisphereLobe(vec3 n, vec3 v, vec3 u, float gloss) {
-    if (gloss == 0.0) return HL_PI * (1.0 + dot(n, u)) / 2.0;
+// cut false: no hemisphere cut (u unused): the lobe over the whole hemisphere above the surface.
+float hlLobeIntegral(vec3 n, vec3 v, vec3 u, bool cut, float gloss) {
+    if (gloss == 0.0) return cut ? HL_PI * (1.0 + dot(n, u)) / 2.0 : HL_PI;
     float nv = clamp(dot(n, v), -1.0, 1.0);
     vec3 t = v - nv * n;
     float sv = length(t);
@@ -48,7 +49,7 @@ float hemisphereLobe(vec3 n, vec3 v, vec3 u, float gloss) {
     cuts[1] = 1.0;
     cuts[2] = hlSAt(cos(0.5 * (0.5 * HL_PI + thetaV)), e);
     cuts[3] = hlSAt(cos(0.5 * (0.5 * HL_PI - thetaV)), e);
-    {
+    if (cut) {
         vec3 p = normalize(cross(abs(u.x) < 0.9 ? vec3(1, 0, 0) : vec3(0, 1, 0), u)), q = cross(u, p);
         const float step = 2.0 * HL_PI / float(HEMISPHERE_HORIZON_SAMPLES);
         float f[HEMISPHERE_HORIZON_SAMPLES];
@@ -99,6 +100,10 @@ float hemisphereLobe(vec3 n, vec3 v, vec3 u, float gloss) {
                 float phiN = B <= 0.0 ? (A > need ? HL_PI : 0.0) : acos(clamp((need - A) / B, -1.0, 1.0));
                 if (!(phiN > 0.0)) continue;
                 float P0 = A * (2.0 * c * A - nv), P1 = B * (2.0 * c * A - nv) + 2.0 * c * A * B, P2 = 2.0 * c * B * B;
+                if (!cut) {  // the whole arc |φ| < φn in closed form
+                    total += ws * 4.0 * (P0 * 2.0 * phiN + P1 * 2.0 * sin(phiN) + P2 * (phiN + 0.5 * sin(2.0 * phiN)));
+                    continue;
+                }
                 float ring = 0.0;
                 float p0 = -HL_PI, cp0 = -1.0, sp0 = 0.0;
                 float g0 = 2.0 * (A + B * cp0) * (C + D * cp0 + E * sp0) - uv;
@@ -133,3 +138,6 @@ float hemisphereLobe(vec3 n, vec3 v, vec3 u, float gloss) {
     }
     return total / e;
 }
+
+float hemisphereLobe(vec3 n, vec3 v, vec3 u, float gloss) { return hlLobeIntegral(n, v, u, true, gloss); }
+float unoccludedLobe(vec3 n, vec3 v, float gloss) { return hlLobeIntegral(n, v, n, false, gloss); }

@@ -83,7 +83,8 @@ struct GpuLight {
     vec4 vector;  // directional: xyz = unit vector towards the light; point: xyz = position (m);
                   // hemisphere: xyz = unit vector towards the middle of the hemisphere
     vec4 shadow;  // x: the light's first shadow-map layer, −1 if it casts no shadows; y: a texel's
-                  // size, m (directional) or m per m of distance (point)
+                  // size, m (directional) or m per m of distance (point); z: hemisphere light whose
+                  // up is opposite the previous hemisphere light's (its lobe is the rest of the whole)
 };
 
 struct GpuLightBlock {

@@ -303,12 +303,19 @@ void main() {
     }
     // Hemisphere: radiance L from every ω with ω·u > 0, not occluded. Irradiance π·L·(1 + n·u)/2
     // exactly; the lobe's integral over the lune by the shared quadrature rule (hemisphere_lobe.glsl).
+    // A ground right after its sky takes the rest of the whole lobe (hemisphere_lobe.h).
+    float previousLobe = 0.0;
     [[unroll]] for (int i = 0; i < HEMISPHERE_COUNT; ++i) {
         int l = AMBIENT_COUNT + DIRECTIONAL_COUNT + POINT_COUNT + i;
         vec3 up = L.lights[l].vector.xyz;
         float g = 0.5 * (1.0 + dot(n, up));
         float gloss = M.params.x;
-        float lobe = HAS_SPECULAR && M.params.z > 0.5 ? (gloss + 8.0) * (INV_PI / 8.0) * hemisphereLobe(n, v, up, gloss) : 0.0;
+        float integral = 0.0;
+        if (HAS_SPECULAR && M.params.z > 0.5)
+            integral = L.lights[l].shadow.z > 0.5 ? max(0.0, unoccludedLobe(n, v, gloss) - previousLobe)
+                                                  : hemisphereLobe(n, v, up, gloss);
+        previousLobe = integral;
+        float lobe = (gloss + 8.0) * (INV_PI / 8.0) * integral;
         addLight(l, g, lobe);
         addFluorescence(l, 3.14159265358979 * g);
     }

@@ -248,6 +248,8 @@ void ReferenceRenderer::shade(const RayHit& hit, const Ray& ray, double* radianc
     }
 
     const double gloss = onGrid_.materials[material].gloss;
+    const Light* previousHemisphere = nullptr;  // and its lobe: a ground after its sky shares it
+    double previousLobe = 0.0;
     for (size_t l = 0; l < scene_.lights.size(); ++l) {
         const Light& light = scene_.lights[l];
         double gDiffuse = 0.0, gSpecular = 0.0;  // geometric factors; fluorescence uses gDiffuse
@@ -257,7 +259,13 @@ void ReferenceRenderer::shade(const RayHit& hit, const Ray& ray, double* radianc
             // Uniform radiance L from every ω with ω·u > 0: irradiance π·L·(1 + n·u)/2, exactly;
             // the lobe's integral over the lune n·ω > 0, u·ω > 0 by hemisphere_lobe.h's rule.
             gDiffuse = kPi * (1.0 + glm::dot(n, light.up)) / 2.0;
-            if (hasSpecular_[material]) gSpecular = hemisphereLobe(n, v, light.up, gloss);
+            if (hasSpecular_[material]) {
+                const bool opposite = previousHemisphere && light.up == -previousHemisphere->up;
+                gSpecular = opposite ? oppositeHemisphereLobe(n, v, gloss, previousLobe)
+                                     : hemisphereLobe(n, v, light.up, gloss);
+            }
+            previousHemisphere = &light;
+            previousLobe = gSpecular;
         } else {
             glm::dvec3 w;        // unit vector towards the light
             double falloff = 1.0;  // 1/d² for a point light

@@ -20,9 +20,12 @@ double oneMinusExp(double x) { return -std::expm1(x); }
 
 }  // namespace
 
-double hemisphereLobe(const glm::dvec3& n, const glm::dvec3& v, const glm::dvec3& u, double gloss, int radialPanels,
-                      int ringSamples) {
-    if (gloss == 0.0) return kPi * (1.0 + glm::dot(n, u)) / 2.0;
+namespace {
+
+// The rule; `cut` false: no hemisphere cut (u unused), the lobe over the whole upper hemisphere.
+double lobeIntegral(const glm::dvec3& n, const glm::dvec3& v, const glm::dvec3& u, bool cut, double gloss,
+                    int radialPanels, int ringSamples) {
+    if (gloss == 0.0) return cut ? kPi * (1.0 + glm::dot(n, u)) / 2.0 : kPi;
     // The frame of n with t along v's tangential part: v = nv·n + sv·t.
     const double nv = std::clamp(glm::dot(n, v), -1.0, 1.0);
     glm::dvec3 t = v - nv * n;
@@ -53,7 +56,7 @@ double hemisphereLobe(const glm::dvec3& n, const glm::dvec3& v, const glm::dvec3
     // circle ω(ψ) = cos ψ·p + sin ψ·q (p, q ⊥ u) maps to half vectors with
     // n·h(ψ) = (n·ω + n·v)/|ω + v|. Its extrema, found by sampling and golden-section search, are
     // the remaining cuts.
-    {
+    if (cut) {
         const glm::dvec3 a = std::fabs(u.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
         const glm::dvec3 p = glm::normalize(glm::cross(a, u)), q = glm::cross(u, p);
         auto nh = [&](double psi) {
@@ -128,6 +131,10 @@ double hemisphereLobe(const glm::dvec3& n, const glm::dvec3& v, const glm::dvec3
             // u·ω > 0: where g > 0, found by sampling the ring and refining each change of sign
             // (g is a trigonometric polynomial of degree 2: at most 4 roots).
             double ring = 0.0;
+            if (!cut) {
+                total += ws * add(-kPi, kPi);
+                continue;
+            }
             const double step = 2.0 * kPi / ringSamples;
             double p0 = -kPi, g0 = g(p0);
             for (int k = 1; k <= ringSamples; ++k) {
@@ -159,6 +166,21 @@ double hemisphereLobe(const glm::dvec3& n, const glm::dvec3& v, const glm::dvec3
     }
     // dω = 4(v·h)·dh and (n·h)^N·dh = ds·dφ/(N+1); the ring integral above carries the 4(v·h).
     return total / e;
+}
+
+}  // namespace
+
+double hemisphereLobe(const glm::dvec3& n, const glm::dvec3& v, const glm::dvec3& u, double gloss, int radialPanels,
+                      int ringSamples) {
+    return lobeIntegral(n, v, u, true, gloss, radialPanels, ringSamples);
+}
+
+double unoccludedLobe(const glm::dvec3& n, const glm::dvec3& v, double gloss, int radialPanels) {
+    return lobeIntegral(n, v, n, false, gloss, radialPanels, HEMISPHERE_RING_SAMPLES);
+}
+
+double oppositeHemisphereLobe(const glm::dvec3& n, const glm::dvec3& v, double gloss, double lobeOfOpposite) {
+    return std::max(0.0, unoccludedLobe(n, v, gloss) - lobeOfOpposite);
 }
 
 }  // namespace metamer

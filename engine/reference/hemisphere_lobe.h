@@ -26,4 +26,13 @@ namespace metamer {
 double hemisphereLobe(const glm::dvec3& n, const glm::dvec3& v, const glm::dvec3& u, double gloss,
                       int radialPanels = HEMISPHERE_RADIAL_PANELS, int ringSamples = HEMISPHERE_RING_SAMPLES);
 
+// The lobe over the whole hemisphere above the surface (no hemisphere cut): the same rule without
+// its hemisphere part, each ring integrated in closed form — far cheaper.
+double unoccludedLobe(const glm::dvec3& n, const glm::dvec3& v, double gloss, int radialPanels = HEMISPHERE_RADIAL_PANELS);
+
+// A hemisphere light whose up is exactly opposite the previous hemisphere light's (a ground after
+// its sky): I(−u) = I_unoccluded − I(u), never below 0. Both renderers take this shortcut for such
+// a pair, which halves the cost of a sky and a ground.
+double oppositeHemisphereLobe(const glm::dvec3& n, const glm::dvec3& v, double gloss, double lobeOfOpposite);
+
 }  // namespace metamer

@@ -113,3 +113,23 @@ TEST(HemisphereLobe, RuleErrorIsSmallAgainstTheRefinedRule) {
         EXPECT_LT(errors.back(), N < 10 ? 5e-3 : 1e-3) << "N = " << N;
     }
 }
+
+TEST(HemisphereLobe, TheUnoccludedLobeAndTheGroundAfterItsSky) {
+    // The whole lobe: at v = n the closed form; elsewhere the refined rule with u = n (the same
+    // domain). A ground after its sky: the rest of the whole lobe, as accurate as the sky's.
+    const glm::dvec3 z(0, 0, 1);
+    for (double N : {1.0, 60.0, 200.0}) EXPECT_NEAR(unoccludedLobe(z, z, N) / normalView(N), 1.0, 5e-5) << "N = " << N;
+    EXPECT_DOUBLE_EQ(unoccludedLobe(z, glm::normalize(glm::dvec3(1, 0, 1)), 0.0), M_PI);
+    double worstWhole = 0.0, worstGround = 0.0;
+    for (const Geometry& x : randomGeometry(100))
+        for (double N : {10.0, 200.0}) {
+            const double full = hemisphereLobe(x.n, x.v, x.n, N, 8, 128);
+            worstWhole = std::max(worstWhole, std::fabs(unoccludedLobe(x.n, x.v, N) - full) / full);
+            const double ground = oppositeHemisphereLobe(x.n, x.v, N, hemisphereLobe(x.n, x.v, x.u, N));
+            worstGround = std::max(worstGround, std::fabs(ground - hemisphereLobe(x.n, x.v, -x.u, N, 8, 128)) / full);
+        }
+    std::printf("unoccluded lobe: max error %.2e; a ground after its sky: max error %.2e (of the unoccluded lobe)\n",
+                worstWhole, worstGround);
+    EXPECT_LT(worstWhole, 1e-3);
+    EXPECT_LT(worstGround, 1e-3);
+}

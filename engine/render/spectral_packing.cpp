@@ -163,7 +163,12 @@ PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes) {
         else if (light.type == Light::Type::Hemisphere)
             out.vector = glm::vec4(glm::vec3(light.up), 0.0f);
         const ShadowLight& shadow = p.shadowMaps.lights[order[i]];
-        out.shadow = glm::vec4(float(shadow.firstLayer), float(shadow.texel), 0.0f, 0.0f);
+        // z: a hemisphere light whose up is exactly opposite the previous hemisphere light's,
+        // decided here in double as the reference decides it (hemisphere_lobe.h).
+        const bool opposite = light.type == Light::Type::Hemisphere && i > 0 &&
+                              scene.lights[order[i - 1]].type == Light::Type::Hemisphere &&
+                              light.up == -scene.lights[order[i - 1]].up;
+        out.shadow = glm::vec4(float(shadow.firstLayer), float(shadow.texel), opposite ? 1.0f : 0.0f, 0.0f);
     }
     // The shader holds E(λ) in float32: beyond its largest value E would become +Inf, and Inf × 0
     // (a black band, a light behind the surface) NaN. Refused rather than rendered wrong.
