@@ -37,6 +37,8 @@ using mat4 = glm::mat4;
 #define BINDING_SHADOW_MATRICES 5 // GpuShadowBlock (static): world → clip of every shadow-map layer
 #define BINDING_SHADOW_MAP 6      // sampler2DArrayShadow: the shadow maps, one layer per directional light,
                                   // six per point light (read when SPEC_SHADOWS)
+#define BINDING_LOBE_WEIGHTS 7    // sampler2D (RGBA32F, texelFetch at the fragment): the hemisphere lights'
+                                  // lobe integrals, written once per frame by the lobe pass (SPEC_LOBE_MODE)
 
 // Shadow maps (docs/physics.md, "Shadows"): D32 layers of SHADOW_MAP_SIZE², depth-compared with
 // no filtering; a fragment looks up its position pushed SHADOW_NORMAL_OFFSET texels along its face
@@ -78,6 +80,15 @@ using mat4 = glm::mat4;
                           // per-(material, light) response vectors (GpuResponseBlock; docs/color.md)
 #define SPEC_HEMISPHERE_COUNT 9  // hemisphere lights (uniform sky or ground radiance), after the point lights
 #define SPEC_SHADOWS 10          // any light casts shadows: the shadow maps are read
+#define SPEC_LOBE_MODE 11        // LOBE_*: where the hemisphere lights' lobe integrals come from
+
+// The hemisphere lights' lobe integrals are independent of wavelength but costly: with several band
+// passes and at most MAX_LOBE_LIGHTS hemisphere lights, a lobe pass (one RGBA32F attachment, after
+// the depth pre-pass) computes them once per pixel and the band passes read them.
+#define LOBE_COMPUTE 0  // computed where they are used (one band pass, the response pass)
+#define LOBE_WRITE 1    // the lobe pass: out0 = the integrals of hemisphere lights 0..3
+#define LOBE_READ 2     // a band pass after the lobe pass: texelFetch at gl_FragCoord
+#define MAX_LOBE_LIGHTS 4
 
 struct GpuLight {
     vec4 vector;  // directional: xyz = unit vector towards the light; point: xyz = position (m);
@@ -221,12 +232,13 @@ struct SpectralSpecialization {
     uint32_t hasSpecular, hasFluorescence, hasTextures, hasNormalMaps, fluorescenceSpectra, responses;  // VkBool32
     int32_t hemisphere;  // SPEC_HEMISPHERE_COUNT
     uint32_t shadows;    // SPEC_SHADOWS
+    int32_t lobeMode;    // SPEC_LOBE_MODE
 };
-static_assert(sizeof(SpectralSpecialization) == 4 * (SPEC_SHADOWS + 1), "one 4-byte field per id");
+static_assert(sizeof(SpectralSpecialization) == 4 * (SPEC_LOBE_MODE + 1), "one 4-byte field per id");
 static_assert(SPEC_AMBIENT_COUNT == 0 && SPEC_DIRECTIONAL_COUNT == 1 && SPEC_POINT_COUNT == 2 && SPEC_HAS_SPECULAR == 3 &&
                   SPEC_HAS_FLUORESCENCE == 4 && SPEC_HAS_TEXTURES == 5 && SPEC_HAS_NORMAL_MAPS == 6 &&
                   SPEC_FLUORESCENCE_SPECTRA == 7 && SPEC_RESPONSES == 8 && SPEC_HEMISPHERE_COUNT == 9 &&
-                  SPEC_SHADOWS == 10,
+                  SPEC_SHADOWS == 10 && SPEC_LOBE_MODE == 11,
               "SpectralSpecialization's fields are in id order");
 
 // tonemap.frag's specialization constants, in id order.

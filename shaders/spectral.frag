@@ -27,6 +27,7 @@ layout(constant_id = SPEC_RESPONSES) const bool RESPONSES = false;
 layout(constant_id = SPEC_HEMISPHERE_COUNT) const int HEMISPHERE_COUNT = 0;
 // Any light casts shadows: the shadow maps are read (a scene without pays nothing).
 layout(constant_id = SPEC_SHADOWS) const bool SHADOWS = false;
+layout(constant_id = SPEC_LOBE_MODE) const int LOBE_MODE = LOBE_COMPUTE;
 
 layout(set = 0, binding = BINDING_LIGHTS, std140) uniform Lights { GpuLightBlock L; };
 layout(set = 0, binding = BINDING_LIGHT_SPECTRA, std140) uniform LightSpectra { GpuLightSpectraBlock E; };
@@ -35,6 +36,7 @@ layout(set = 0, binding = BINDING_FLUORESCENCE, std140) uniform Fluorescence { G
 layout(set = 0, binding = BINDING_RESPONSES, std140) uniform Responses { GpuResponseBlock R; };
 layout(set = 0, binding = BINDING_SHADOW_MATRICES, std140) uniform Shadows { GpuShadowBlock S; };
 layout(set = 0, binding = BINDING_SHADOW_MAP) uniform sampler2DArrayShadow shadowMap;
+layout(set = 0, binding = BINDING_LOBE_WEIGHTS) uniform sampler2D lobeWeights;
 
 layout(set = 1, binding = TEXTURE_BINDING_DIFFUSE) uniform sampler2DArray diffuseTexture;
 layout(set = 1, binding = TEXTURE_BINDING_SPECULAR) uniform sampler2DArray specularTexture;
@@ -243,6 +245,22 @@ float visibility(int l, vec3 p, vec3 ng, vec3 w, bool point) {
     return textureGrad(shadowMap, vec4(st, float(layer), q.z), vec2(0.0), vec2(0.0));
 }
 
+// Hemisphere light i's lobe integral (hemisphere_lobe.glsl): a ground right after its sky takes the
+// rest of the whole lobe; `previous` carries the last one computed.
+float hemisphereIntegral(int i, vec3 n, vec3 v, inout float previous) {
+    int l = AMBIENT_COUNT + DIRECTIONAL_COUNT + POINT_COUNT + i;
+    float gloss = M.params.x, integral = 0.0;
+    if (HAS_SPECULAR && M.params.z > 0.5) {
+        if (LOBE_MODE == LOBE_READ)
+            integral = texelFetch(lobeWeights, ivec2(gl_FragCoord.xy), 0)[i];
+        else
+            integral = L.lights[l].shadow.z > 0.5 ? max(0.0, unoccludedLobe(n, v, gloss) - previous)
+                                                  : hemisphereLobe(n, v, L.lights[l].vector.xyz, gloss);
+    }
+    previous = integral;
+    return integral;
+}
+
 // Blinn–Phong, energy-normalized: g·(N+8)/(8π)·(n·h)^N.
 float specularWeight(vec3 n, vec3 w, vec3 v, float g) {
     if (!HAS_SPECULAR || g <= 0.0) return 0.0;
@@ -270,6 +288,14 @@ void main() {
         // edge-on has none, and takes v.
         n = dot(faceNormal, faceNormal) > 0.0 ? normalize(faceNormal) : v;
         if (dot(n, v) < 0.0) n = -n;
+    }
+    if (LOBE_MODE == LOBE_WRITE) {  // the lobe pass: only the hemisphere lights' integrals
+        vec4 integrals = vec4(0.0);
+        float previous = 0.0;
+        [[unroll]] for (int i = 0; i < min(HEMISPHERE_COUNT, MAX_LOBE_LIGHTS); ++i)
+            integrals[i] = hemisphereIntegral(i, n, v, previous);
+        out0 = integrals;
+        return;
     }
     [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) acc[k] = vec4(0.0);
     fluorescence = 0.0;
@@ -303,19 +329,13 @@ void main() {
     }
     // Hemisphere: radiance L from every ω with ω·u > 0, not occluded. Irradiance π·L·(1 + n·u)/2
     // exactly; the lobe's integral over the lune by the shared quadrature rule (hemisphere_lobe.glsl).
-    // A ground right after its sky takes the rest of the whole lobe (hemisphere_lobe.h).
     float previousLobe = 0.0;
     [[unroll]] for (int i = 0; i < HEMISPHERE_COUNT; ++i) {
         int l = AMBIENT_COUNT + DIRECTIONAL_COUNT + POINT_COUNT + i;
         vec3 up = L.lights[l].vector.xyz;
         float g = 0.5 * (1.0 + dot(n, up));
         float gloss = M.params.x;
-        float integral = 0.0;
-        if (HAS_SPECULAR && M.params.z > 0.5)
-            integral = L.lights[l].shadow.z > 0.5 ? max(0.0, unoccludedLobe(n, v, gloss) - previousLobe)
-                                                  : hemisphereLobe(n, v, up, gloss);
-        previousLobe = integral;
-        float lobe = (gloss + 8.0) * (INV_PI / 8.0) * integral;
+        float lobe = (gloss + 8.0) * (INV_PI / 8.0) * hemisphereIntegral(i, n, v, previousLobe);
         addLight(l, g, lobe);
         addFluorescence(l, 3.14159265358979 * g);
     }

@@ -55,6 +55,35 @@ void recordSpectralFrame(VkCommandBuffer cmd, const SpectralResources& r, const 
         }
         vkCmdEndRenderPass(cmd);
     }
+    if (r.hasLobePass) {
+        // The hemisphere lights' lobe integrals, once per pixel, for every band pass to read.
+        VkClearValue clears[2] = {};
+        VkRenderPassBeginInfo rb{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
+        rb.renderPass = r.lobePass.renderPass;
+        rb.framebuffer = r.lobePass.framebuffer.get();
+        rb.renderArea = {{0, 0}, {plan.targetWidth, plan.targetHeight}};
+        rb.clearValueCount = 2;
+        rb.pClearValues = clears;
+        vkCmdBeginRenderPass(cmd, &rb, VK_SUBPASS_CONTENTS_INLINE);
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, r.lobePass.pipeline);
+        vkCmdBindVertexBuffers(cmd, 0, 1, &vb, &zero);
+        vkCmdBindIndexBuffer(cmd, indexBuffer.handle(), 0, VK_INDEX_TYPE_UINT32);
+        vkCmdPushConstants(cmd, pipelineLayout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(pc), &pc);
+        for (const PackedDraw& d : packed.draws) {
+            // Pass 0's blocks: the lobe needs only the material's gloss and flags and the lights.
+            uint32_t offsets[4] = {0u, uint32_t(d.material * r.materialStride),
+                                   packed.fluorescenceSpectra
+                                       ? uint32_t(packed.fluorescenceRecord[d.material] * r.fluorescenceStride)
+                                       : 0u,
+                                   0u};
+            vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelineLayout, 0, 1, &r.lobeDescriptorSet, 4,
+                                    offsets);
+            vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelineLayout, 1, 1,
+                                    &r.materialSets[d.material], 0, nullptr);
+            vkCmdDrawIndexed(cmd, d.indexCount, 1, d.firstIndex, d.vertexOffset, 0);
+        }
+        vkCmdEndRenderPass(cmd);
+    }
     for (size_t p = 0; p < r.passes.size(); ++p) {
         const SpectralResources::PassObjects& po = r.passes[p];
         std::vector<VkClearValue> clears(po.attachments + 1);

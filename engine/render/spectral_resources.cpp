@@ -53,6 +53,17 @@ SpectralResources::SpectralResources(vk::Context& c, const Scene& s, const Scene
     createTextures(list);
     // Nobody reads the response pass's target but the tonemap pass: an OPTIMAL image, no copy.
     createTargets(packed.responses ? Readback::Copy : options.readback, options.sampled, pl);
+    // The lobe pass pays off with several band passes; the response pass has one.
+    hasLobePass = !packed.responses && plan.passes > 1 && plan.hasSpecular && packed.hemisphere >= 1 &&
+                  packed.hemisphere <= MAX_LOBE_LIGHTS;
+    if (hasLobePass) {
+        vk::ImageDesc ld;
+        ld.width = plan.targetWidth;
+        ld.height = plan.targetHeight;
+        ld.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
+        ld.name = "lobe weights";
+        lobeWeights = vk::Image(ctx, ld);
+    }
     createLayouts();
     createPasses();
 }
@@ -205,7 +216,7 @@ void SpectralResources::createTargets(Readback mode, bool sampled, SpectralPassP
 
 void SpectralResources::createLayouts() {
     VkDevice d = ctx.device();
-    constexpr int kBindings = 7;
+    constexpr int kBindings = 8;
     constexpr int kDynamic = 4;  // bindings 1..4
     VkDescriptorSetLayoutBinding bindings[kBindings] = {
         {BINDING_LIGHTS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
@@ -215,6 +226,7 @@ void SpectralResources::createLayouts() {
         {BINDING_RESPONSES, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
         {BINDING_SHADOW_MATRICES, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
         {BINDING_SHADOW_MAP, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
+        {BINDING_LOBE_WEIGHTS, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
     };
     VkDescriptorSetLayoutCreateInfo sl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
     sl.bindingCount = kBindings;
@@ -239,11 +251,12 @@ void SpectralResources::createLayouts() {
     pipelineLayout = objects.pipelineLayout("spectral.layout", pl, {setLayout, textureSetLayout});
 
     const uint32_t materialCount = uint32_t(std::max<size_t>(1, scene.materials.size()));
-    VkDescriptorPoolSize sizes[3] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 2},
-                                     {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC, kDynamic},
-                                     {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, TEXTURE_BINDINGS * materialCount + 1}};
+    // Two sets 0 (the band passes' and the lobe pass's), one set 1 per material.
+    VkDescriptorPoolSize sizes[3] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 2 * 2},
+                                     {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC, 2 * kDynamic},
+                                     {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, TEXTURE_BINDINGS * materialCount + 2 * 2}};
     VkDescriptorPoolCreateInfo pci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-    pci.maxSets = 1 + materialCount;
+    pci.maxSets = 2 + materialCount;
     pci.poolSizeCount = 3;
     pci.pPoolSizes = sizes;
     VkDescriptorPool pool = VK_NULL_HANDLE;
@@ -255,6 +268,7 @@ void SpectralResources::createLayouts() {
     ai.descriptorSetCount = 1;
     ai.pSetLayouts = &set0;
     VK_CHECK(vkAllocateDescriptorSets(d, &ai, &descriptorSet));
+    VK_CHECK(vkAllocateDescriptorSets(d, &ai, &lobeDescriptorSet));
     VkDescriptorBufferInfo infos[kBindings - 1] = {
         {lightBuffer.handle(), 0, sizeof(gpu::GpuLightBlock)},
         {lightSpectraBuffer.handle(), 0, sizeof(gpu::GpuLightSpectraBlock)},
@@ -264,22 +278,8 @@ void SpectralResources::createLayouts() {
         {shadowBuffer.handle(), 0, sizeof(gpu::GpuShadowBlock)}};
     const VkDescriptorImageInfo shadowInfo{shadowSampler.get(), shadowMap.layerView(~0u),
                                            VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL};
-    VkWriteDescriptorSet writes[kBindings];
-    for (int i = 0; i < kBindings; ++i) {
-        writes[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
-        writes[i].dstSet = descriptorSet;
-        writes[i].dstBinding = bindings[i].binding;
-        writes[i].descriptorCount = 1;
-        writes[i].descriptorType = bindings[i].descriptorType;
-        if (bindings[i].binding == BINDING_SHADOW_MAP)
-            writes[i].pImageInfo = &shadowInfo;
-        else
-            writes[i].pBufferInfo = &infos[i];
-    }
-    vkUpdateDescriptorSets(d, kBindings, writes, 0, nullptr);
-
-    // Set 1 per material: its textures, or the placeholder (texelFetch ignores the sampler's
-    // filter; it must still be a valid sampler).
+    // The lobe weights, where a lobe pass writes them; else (and in the lobe pass's own set) the
+    // placeholder texture, never read. The texture sampler is made below: make it here.
     VkSamplerCreateInfo sci{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
     sci.magFilter = sci.minFilter = VK_FILTER_NEAREST;
     sci.mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
@@ -287,6 +287,30 @@ void SpectralResources::createLayouts() {
     VkSampler sampler = VK_NULL_HANDLE;
     VK_CHECK(vkCreateSampler(d, &sci, nullptr, &sampler));
     textureSampler = vk::OwnedSampler(d, sampler);
+    const VkDescriptorImageInfo placeholderInfo{sampler, textures.back().layerView(0), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+    const VkDescriptorImageInfo lobeInfo =
+        hasLobePass ? VkDescriptorImageInfo{sampler, lobeWeights.layerView(0), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL}
+                    : placeholderInfo;
+    for (VkDescriptorSet set : {descriptorSet, lobeDescriptorSet}) {
+        VkWriteDescriptorSet writes[kBindings];
+        for (int i = 0; i < kBindings; ++i) {
+            writes[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+            writes[i].dstSet = set;
+            writes[i].dstBinding = bindings[i].binding;
+            writes[i].descriptorCount = 1;
+            writes[i].descriptorType = bindings[i].descriptorType;
+            if (bindings[i].binding == BINDING_SHADOW_MAP)
+                writes[i].pImageInfo = &shadowInfo;
+            else if (bindings[i].binding == BINDING_LOBE_WEIGHTS)
+                writes[i].pImageInfo = set == descriptorSet ? &lobeInfo : &placeholderInfo;
+            else
+                writes[i].pBufferInfo = &infos[i];
+        }
+        vkUpdateDescriptorSets(d, kBindings, writes, 0, nullptr);
+    }
+
+    // Set 1 per material: its textures, or the placeholder (texelFetch ignores the sampler's
+    // filter; it must still be a valid sampler).
     std::vector<VkDescriptorSetLayout> setLayouts(materialCount, textureSetLayout.get());
     materialSets.resize(materialCount);
     VkDescriptorSetAllocateInfo mai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
@@ -386,13 +410,14 @@ VkRenderPass SpectralResources::makeRenderPass(uint32_t attachments, bool clears
 // attachments == 0: the depth pre-pass pipeline (vertex stage only); writesDepth with attachments:
 // a colour pass without a pre-pass.
 VkPipeline SpectralResources::makePipeline(const vk::SharedHandle<VkRenderPass>& renderPass, uint32_t attachments,
-                                           bool writesDepth) {
+                                           bool writesDepth, int lobeMode) {
     const gpu::SpectralSpecialization spec{packed.ambient,        packed.directional,   packed.point,
                                            plan.hasSpecular,      plan.hasFluorescence, scene.hasTextures(),
                                            scene.hasNormalMaps(), plan.fluorescenceSpectra, plan.responses,
-                                           packed.hemisphere,     packed.shadowMaps.any()};
+                                           packed.hemisphere,     packed.shadowMaps.any(),
+                                           lobeMode};
     // interface.h orders the struct's 4-byte fields by id.
-    constexpr uint32_t kIds = SPEC_SHADOWS + 1;
+    constexpr uint32_t kIds = SPEC_LOBE_MODE + 1;
     VkSpecializationMapEntry entries[kIds];
     for (uint32_t id = 0; id < kIds; ++id) entries[id] = {id, id * 4, 4};
     VkSpecializationInfo si{kIds, entries, sizeof(spec), &spec};
@@ -443,7 +468,7 @@ void SpectralResources::createPasses() {
     if (hasDepthPrePass) {
         PassObjects& pre = depthPrePass;
         pre.renderPass = makeRenderPass(0, true);
-        pre.pipeline = makePipeline(renderPasses.back(), 0, true);
+        pre.pipeline = makePipeline(renderPasses.back(), 0, true, LOBE_COMPUTE);
         VkImageView view = depth.layerView(0);
         VkFramebufferCreateInfo fb{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
         fb.renderPass = pre.renderPass;
@@ -468,7 +493,7 @@ void SpectralResources::createPasses() {
         VkPipeline& pl = full ? plFull : plLast;
         if (rp == VK_NULL_HANDLE) {
             rp = makeRenderPass(po.attachments, !hasDepthPrePass);
-            pl = makePipeline(renderPasses.back(), po.attachments, !hasDepthPrePass);
+            pl = makePipeline(renderPasses.back(), po.attachments, !hasDepthPrePass, hasLobePass ? LOBE_READ : LOBE_COMPUTE);
         }
         po.renderPass = rp;
         po.pipeline = pl;
@@ -487,6 +512,70 @@ void SpectralResources::createPasses() {
         po.framebuffer = vk::OwnedFramebuffer(ctx.device(), framebuffer);
         passes.push_back(std::move(po));
     }
+    if (hasLobePass) createLobePass();
+}
+
+// The lobe pass: one RGBA32F attachment, the pre-pass's depth loaded and tested EQUAL (each
+// visible surface shaded once, as in the band passes), left SHADER_READ_ONLY for them.
+void SpectralResources::createLobePass() {
+    VkAttachmentDescription descs[2] = {};
+    descs[0].format = VK_FORMAT_R32G32B32A32_SFLOAT;
+    descs[0].samples = VK_SAMPLE_COUNT_1_BIT;
+    descs[0].loadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;  // read only where a surface is drawn
+    descs[0].storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+    descs[0].stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
+    descs[0].stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+    descs[0].initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+    descs[0].finalLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
+    descs[1] = descs[0];
+    descs[1].format = VK_FORMAT_D32_SFLOAT;
+    descs[1].loadOp = VK_ATTACHMENT_LOAD_OP_LOAD;
+    descs[1].initialLayout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
+    descs[1].finalLayout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
+    VkAttachmentReference colorRef{0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
+    VkAttachmentReference depthRef{1, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
+    VkSubpassDescription sub{};
+    sub.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
+    sub.colorAttachmentCount = 1;
+    sub.pColorAttachments = &colorRef;
+    sub.pDepthStencilAttachment = &depthRef;
+    VkSubpassDependency deps[2] = {};
+    deps[0].srcSubpass = VK_SUBPASS_EXTERNAL;  // the pre-pass's depth writes
+    deps[0].dstSubpass = 0;
+    deps[0].srcStageMask = VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT;
+    deps[0].dstStageMask = VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT |
+                           VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
+    deps[0].srcAccessMask = VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
+    deps[0].dstAccessMask = VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
+    deps[1].srcSubpass = 0;  // the weights, for the band passes' fragment shaders
+    deps[1].dstSubpass = VK_SUBPASS_EXTERNAL;
+    deps[1].srcStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
+    deps[1].dstStageMask = VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT;
+    deps[1].srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
+    deps[1].dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
+    VkRenderPassCreateInfo rp{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO};
+    rp.attachmentCount = 2;
+    rp.pAttachments = descs;
+    rp.subpassCount = 1;
+    rp.pSubpasses = &sub;
+    rp.dependencyCount = 2;
+    rp.pDependencies = deps;
+    renderPasses.push_back(ctx.objects().renderPass(
+        fmt::format("spectral.lobe pass {}x{}", plan.targetWidth, plan.targetHeight), rp));
+    lobePass.renderPass = renderPasses.back().get();
+    lobePass.attachments = 1;
+    lobePass.pipeline = makePipeline(renderPasses.back(), 1, false, LOBE_WRITE);
+    VkImageView views[2] = {lobeWeights.layerView(0), depth.layerView(0)};
+    VkFramebufferCreateInfo fb{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
+    fb.renderPass = lobePass.renderPass;
+    fb.attachmentCount = 2;
+    fb.pAttachments = views;
+    fb.width = plan.targetWidth;
+    fb.height = plan.targetHeight;
+    fb.layers = 1;
+    VkFramebuffer framebuffer = VK_NULL_HANDLE;
+    VK_CHECK(vkCreateFramebuffer(ctx.device(), &fb, nullptr, &framebuffer));
+    lobePass.framebuffer = vk::OwnedFramebuffer(ctx.device(), framebuffer);
 }
 LayeredView SpectralResources::mapTarget() {
     LayeredView a;

@@ -67,6 +67,12 @@ struct SpectralResources {
     vk::SharedHandle<VkPipelineLayout> pipelineLayout;
     vk::OwnedDescriptorPool descriptorPool;  // frees the sets with it
     VkDescriptorSet descriptorSet = VK_NULL_HANDLE;
+    // The lobe pass (interface.h, LOBE_*): after the depth pre-pass, one RGBA32F attachment of the
+    // hemisphere lights' lobe integrals that the band passes read; it draws with its own set 0,
+    // whose BINDING_LOBE_WEIGHTS is the placeholder (an image is never read while drawn into).
+    bool hasLobePass = false;
+    vk::Image lobeWeights;
+    VkDescriptorSet lobeDescriptorSet = VK_NULL_HANDLE;
     std::vector<VkDescriptorSet> materialSets;
     vk::OwnedShaderModule vert;
     std::vector<vk::SharedHandle<VkRenderPass>> renderPasses;  // the depth pre-pass's, then one per attachment count
@@ -76,7 +82,7 @@ struct SpectralResources {
     // itself in its one pass (LESS_OR_EQUAL keeps the last of equal depths, as EQUAL after the
     // pre-pass does, so it shades the same surface).
     bool hasDepthPrePass = true;
-    PassObjects depthPrePass;
+    PassObjects depthPrePass, lobePass;
     std::vector<PassObjects> passes;
 
 private:
@@ -88,7 +94,9 @@ private:
     void createTargets(Readback mode, bool sampled, SpectralPassPlan& plan);
     void createLayouts();
     VkRenderPass makeRenderPass(uint32_t attachments, bool clearsDepth);
-    VkPipeline makePipeline(const vk::SharedHandle<VkRenderPass>& renderPass, uint32_t attachments, bool writesDepth);
+    VkPipeline makePipeline(const vk::SharedHandle<VkRenderPass>& renderPass, uint32_t attachments, bool writesDepth,
+                            int lobeMode);
+    void createLobePass();
     void createPasses();
 };
 
