@@ -5,12 +5,13 @@
 //
 // h = normalize(ω + v), so that the reflected radiance is ρs·L·(N+8)/(8π)·I. N = 0 has the closed
 // form π(1 + n·u)/2 (the irradiance factor of the hemisphere). Otherwise a deterministic rule:
-// rings of directions around the mirror direction r of v, on each of which both horizons cut
-// exact arcs; Gauss–Legendre along the arcs, and along the ring radius in s = cos(α/2)^(N+2)
-// (where the lobe's weight is nearly uniform), piece by piece between the radii at which a ring
-// touches a horizon, each piece mapped by a smoothstep so the square-root behaviour at those
-// radii does not slow convergence. The GPU (shaders/hemisphere_lobe.glsl) runs the same rule in
-// float. docs/physics.md, "Hemisphere lights", gives the derivation and the measured error.
+// half vectors on rings of constant n·h, with s = (n·h)^(N+1) as the radial variable (the lobe's
+// weight is uniform in s); on a ring the surface's horizon is one arc and the integrand
+// 4(v·h)(n·ω) a quadratic in cos φ, both in closed form, while the hemisphere's horizon is found
+// by sampling the ring and refining each change of sign; along s, Gauss–Legendre piece by piece
+// between the rings that touch either horizon, each piece mapped by a smoothstep so the
+// square-root behaviour there does not slow convergence. The GPU (shaders/hemisphere_lobe.glsl)
+// runs the same rule in float. docs/physics.md, "Hemisphere lights", gives the derivation and the measured error.
 // Tests: engine/reference/hemisphere_lobe_test.cpp.
 #pragma once
 
