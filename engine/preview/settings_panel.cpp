@@ -97,6 +97,13 @@ bool SettingsPanel::draw(const View& view, RenderJob& job) {
                 setOverride(job.overrides, light.name + ".scale", fmt::format("{:.9g}", light.scale * 2.0));
                 changed = true;
             }
+            if (light.type == Light::Type::Directional || light.type == Light::Type::Point) {
+                bool shadows = light.shadows;
+                if (ImGui::Checkbox("shadows", &shadows)) {
+                    setOverride(job.overrides, light.name + ".shadows", shadows ? "true" : "false");
+                    changed = true;
+                }
+            }
             ImGui::PopID();
         }
         if (scene.lights.empty()) ImGui::TextDisabled("the scene has no lights");
