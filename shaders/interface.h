@@ -81,6 +81,13 @@ using mat4 = glm::mat4;
 #define SPEC_HEMISPHERE_COUNT 9  // hemisphere lights (uniform sky or ground radiance), after the point lights
 #define SPEC_SHADOWS 10          // any light casts shadows: the shadow maps are read
 #define SPEC_LOBE_MODE 11        // LOBE_*: where the hemisphere lights' lobe integrals come from
+// Which lights cast shadows and which hemisphere lights pair with the previous one are
+// compile-time facts, not values read from a uniform block: lavapipe recompiles a shader whose
+// control flow depends on its non-dynamic uniforms every frame (measured: ~35 ms per band pass).
+// Shadowing lights come first among the directional and among the point lights.
+#define SPEC_SHADOWED_DIRECTIONAL 12  // the first N directional lights cast shadows
+#define SPEC_SHADOWED_POINT 13        // the first N point lights cast shadows
+#define SPEC_HEMISPHERE_PAIRED 14     // bit i: hemisphere light i's up is opposite hemisphere light i−1's
 
 // The hemisphere lights' lobe integrals are independent of wavelength but costly: with several band
 // passes and at most MAX_LOBE_LIGHTS hemisphere lights, a lobe pass (one RGBA32F attachment, after
@@ -94,8 +101,8 @@ struct GpuLight {
     vec4 vector;  // directional: xyz = unit vector towards the light; point: xyz = position (m);
                   // hemisphere: xyz = unit vector towards the middle of the hemisphere
     vec4 shadow;  // x: the light's first shadow-map layer, −1 if it casts no shadows; y: a texel's
-                  // size, m (directional) or m per m of distance (point); z: hemisphere light whose
-                  // up is opposite the previous hemisphere light's (its lobe is the rest of the whole)
+                  // size, m (directional) or m per m of distance (point). Whether it casts them is
+                  // SPEC_SHADOWED_*, not this value (see there)
 };
 
 struct GpuLightBlock {
@@ -233,12 +240,15 @@ struct SpectralSpecialization {
     int32_t hemisphere;  // SPEC_HEMISPHERE_COUNT
     uint32_t shadows;    // SPEC_SHADOWS
     int32_t lobeMode;    // SPEC_LOBE_MODE
+    int32_t shadowedDirectional, shadowedPoint;  // SPEC_SHADOWED_DIRECTIONAL, SPEC_SHADOWED_POINT
+    uint32_t hemispherePaired;                   // SPEC_HEMISPHERE_PAIRED
 };
-static_assert(sizeof(SpectralSpecialization) == 4 * (SPEC_LOBE_MODE + 1), "one 4-byte field per id");
+static_assert(sizeof(SpectralSpecialization) == 4 * (SPEC_HEMISPHERE_PAIRED + 1), "one 4-byte field per id");
 static_assert(SPEC_AMBIENT_COUNT == 0 && SPEC_DIRECTIONAL_COUNT == 1 && SPEC_POINT_COUNT == 2 && SPEC_HAS_SPECULAR == 3 &&
                   SPEC_HAS_FLUORESCENCE == 4 && SPEC_HAS_TEXTURES == 5 && SPEC_HAS_NORMAL_MAPS == 6 &&
                   SPEC_FLUORESCENCE_SPECTRA == 7 && SPEC_RESPONSES == 8 && SPEC_HEMISPHERE_COUNT == 9 &&
-                  SPEC_SHADOWS == 10 && SPEC_LOBE_MODE == 11,
+                  SPEC_SHADOWS == 10 && SPEC_LOBE_MODE == 11 && SPEC_SHADOWED_DIRECTIONAL == 12 &&
+                  SPEC_SHADOWED_POINT == 13 && SPEC_HEMISPHERE_PAIRED == 14,
               "SpectralSpecialization's fields are in id order");
 
 // tonemap.frag's specialization constants, in id order.

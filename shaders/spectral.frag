@@ -28,6 +28,9 @@ layout(constant_id = SPEC_HEMISPHERE_COUNT) const int HEMISPHERE_COUNT = 0;
 // Any light casts shadows: the shadow maps are read (a scene without pays nothing).
 layout(constant_id = SPEC_SHADOWS) const bool SHADOWS = false;
 layout(constant_id = SPEC_LOBE_MODE) const int LOBE_MODE = LOBE_COMPUTE;
+layout(constant_id = SPEC_SHADOWED_DIRECTIONAL) const int SHADOWED_DIRECTIONAL = 0;
+layout(constant_id = SPEC_SHADOWED_POINT) const int SHADOWED_POINT = 0;
+layout(constant_id = SPEC_HEMISPHERE_PAIRED) const uint HEMISPHERE_PAIRED = 0u;
 
 layout(set = 0, binding = BINDING_LIGHTS, std140) uniform Lights { GpuLightBlock L; };
 layout(set = 0, binding = BINDING_LIGHT_SPECTRA, std140) uniform LightSpectra { GpuLightSpectraBlock E; };
@@ -221,7 +224,6 @@ float blinnPhongLobe(vec3 n, vec3 wPlusV, float gloss) {
 float visibility(int l, vec3 p, vec3 ng, vec3 w, bool point) {
     if (!SHADOWS) return 1.0;
     vec4 info = L.lights[l].shadow;
-    if (info.x < 0.0) return 1.0;
     int layer = int(info.x);
     float texel = info.y;
     if (point) {
@@ -254,7 +256,7 @@ float hemisphereIntegral(int i, vec3 n, vec3 v, inout float previous) {
         if (LOBE_MODE == LOBE_READ)
             integral = texelFetch(lobeWeights, ivec2(gl_FragCoord.xy), 0)[i];
         else
-            integral = L.lights[l].shadow.z > 0.5 ? max(0.0, unoccludedLobe(n, v, gloss) - previous)
+            integral = ((HEMISPHERE_PAIRED >> uint(i)) & 1u) != 0u ? max(0.0, unoccludedLobe(n, v, gloss) - previous)
                                                   : hemisphereLobe(n, v, L.lights[l].vector.xyz, gloss);
     }
     previous = integral;
@@ -312,7 +314,7 @@ void main() {
         int l = AMBIENT_COUNT + i;
         vec3 w = L.lights[l].vector.xyz;
         float g = max(dot(n, w), 0.0);
-        if (g > 0.0) g *= visibility(l, worldPosition, ng, w, false);
+        if (i < SHADOWED_DIRECTIONAL && g > 0.0) g *= visibility(l, worldPosition, ng, w, false);
         addLight(l, g * INV_PI, specularWeight(n, w, v, g));
         addFluorescence(l, g);
     }
@@ -323,7 +325,7 @@ void main() {
         float d2 = dot(d, d);
         vec3 w = d * inversesqrt(d2);
         float g = max(dot(n, w), 0.0) / d2;
-        if (g > 0.0) g *= visibility(l, worldPosition, ng, w, true);
+        if (i < SHADOWED_POINT && g > 0.0) g *= visibility(l, worldPosition, ng, w, true);
         addLight(l, g * INV_PI, specularWeight(n, w, v, g));
         addFluorescence(l, g);
     }

@@ -88,18 +88,27 @@ void packFluorescence(PackedScene& p, const Scene& scene, const SceneOnGrid& g, 
 }
 
 // Lights sorted ambient, directional, point, hemisphere (the shader loops over each kind without
-// branching); counts them into p.
+// branching), the shadowing ones first within directional and point; counts them into p.
 std::vector<size_t> lightOrder(const Scene& scene, PackedScene& p) {
     std::vector<size_t> order;
     for (Light::Type type : {Light::Type::Ambient, Light::Type::Directional, Light::Type::Point, Light::Type::Hemisphere})
-        for (size_t l = 0; l < scene.lights.size(); ++l)
-            if (scene.lights[l].type == type) {
+        for (bool shadows : {true, false})
+            for (size_t l = 0; l < scene.lights.size(); ++l) {
+                const Light& light = scene.lights[l];
+                if (light.type != type || light.castsShadows() != shadows) continue;
                 order.push_back(l);
                 (type == Light::Type::Ambient       ? p.ambient
                  : type == Light::Type::Directional ? p.directional
                  : type == Light::Type::Point       ? p.point
                                                     : p.hemisphere)++;
+                if (shadows) (type == Light::Type::Directional ? p.shadowedDirectional : p.shadowedPoint)++;
             }
+    // A hemisphere light whose up is exactly opposite the previous hemisphere light's, decided in
+    // double as the reference decides it (hemisphere_lobe.h).
+    for (int i = 1; i < p.hemisphere && i < 32; ++i) {
+        const size_t at = order.size() - size_t(p.hemisphere) + size_t(i);
+        if (scene.lights[order[at]].up == -scene.lights[order[at - 1]].up) p.hemispherePaired |= 1u << i;
+    }
     return order;
 }
 
@@ -163,12 +172,7 @@ PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes) {
         else if (light.type == Light::Type::Hemisphere)
             out.vector = glm::vec4(glm::vec3(light.up), 0.0f);
         const ShadowLight& shadow = p.shadowMaps.lights[order[i]];
-        // z: a hemisphere light whose up is exactly opposite the previous hemisphere light's,
-        // decided here in double as the reference decides it (hemisphere_lobe.h).
-        const bool opposite = light.type == Light::Type::Hemisphere && i > 0 &&
-                              scene.lights[order[i - 1]].type == Light::Type::Hemisphere &&
-                              light.up == -scene.lights[order[i - 1]].up;
-        out.shadow = glm::vec4(float(shadow.firstLayer), float(shadow.texel), opposite ? 1.0f : 0.0f, 0.0f);
+        out.shadow = glm::vec4(float(shadow.firstLayer), float(shadow.texel), 0.0f, 0.0f);
     }
     // The shader holds E(λ) in float32: beyond its largest value E would become +Inf, and Inf × 0
     // (a black band, a light behind the surface) NaN. Refused rather than rendered wrong.

@@ -28,6 +28,10 @@ struct PackedScene {
     std::vector<uint32_t> indices;
     std::vector<PackedDraw> draws;
     int ambient = 0, directional = 0, point = 0, hemisphere = 0;  // light counts, in this order in every block
+    // The first shadowedDirectional directional and shadowedPoint point lights cast shadows; bit i
+    // of hemispherePaired: hemisphere light i's up is exactly opposite light i − 1's (interface.h).
+    int shadowedDirectional = 0, shadowedPoint = 0;
+    uint32_t hemispherePaired = 0;
     gpu::GpuLightBlock lights{};
     // The shadow maps' layers (render/shadow_maps.h) and their matrices for the shader.
     ShadowMaps shadowMaps;

@@ -415,9 +415,10 @@ VkPipeline SpectralResources::makePipeline(const vk::SharedHandle<VkRenderPass>&
                                            plan.hasSpecular,      plan.hasFluorescence, scene.hasTextures(),
                                            scene.hasNormalMaps(), plan.fluorescenceSpectra, plan.responses,
                                            packed.hemisphere,     packed.shadowMaps.any(),
-                                           lobeMode};
+                                           lobeMode,              packed.shadowedDirectional,
+                                           packed.shadowedPoint,  packed.hemispherePaired};
     // interface.h orders the struct's 4-byte fields by id.
-    constexpr uint32_t kIds = SPEC_LOBE_MODE + 1;
+    constexpr uint32_t kIds = SPEC_HEMISPHERE_PAIRED + 1;
     VkSpecializationMapEntry entries[kIds];
     for (uint32_t id = 0; id < kIds; ++id) entries[id] = {id, id * 4, 4};
     VkSpecializationInfo si{kIds, entries, sizeof(spec), &spec};
