@@ -101,6 +101,7 @@ ReferenceRenderer::ReferenceRenderer(const Scene& scene, const SceneOnGrid& onGr
     shadowBit_.assign(scene.lights.size(), -1);
     for (size_t l = 0, k = 0; l < scene.lights.size(); ++l)
         if (scene.lights[l].castsShadows()) shadowBit_[l] = int(k++ % 64);
+    pairedHemisphere_ = pairedWithPreviousHemisphere(scene.lights);
     for (const BvhTriangle& t : bvh_.triangles())
         for (const glm::dvec3& p : {t.p0, t.p1, t.p2})
             sceneScale_ = std::max({sceneScale_, std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)});
@@ -248,8 +249,7 @@ void ReferenceRenderer::shade(const RayHit& hit, const Ray& ray, double* radianc
     }
 
     const double gloss = onGrid_.materials[material].gloss;
-    const Light* previousHemisphere = nullptr;  // and its lobe: a ground after its sky shares it
-    double previousLobe = 0.0;
+    double previousLobe = 0.0;  // the last hemisphere light's: a ground after its sky shares it
     for (size_t l = 0; l < scene_.lights.size(); ++l) {
         const Light& light = scene_.lights[l];
         double gDiffuse = 0.0, gSpecular = 0.0;  // geometric factors; fluorescence uses gDiffuse
@@ -259,12 +259,9 @@ void ReferenceRenderer::shade(const RayHit& hit, const Ray& ray, double* radianc
             // Uniform radiance L from every ω with ω·u > 0: irradiance π·L·(1 + n·u)/2, exactly;
             // the lobe's integral over the lune n·ω > 0, u·ω > 0 by hemisphere_lobe.h's rule.
             gDiffuse = kPi * (1.0 + glm::dot(n, light.up)) / 2.0;
-            if (hasSpecular_[material]) {
-                const bool opposite = previousHemisphere && light.up == -previousHemisphere->up;
-                gSpecular = opposite ? oppositeHemisphereLobe(n, v, gloss, previousLobe)
-                                     : hemisphereLobe(n, v, light.up, gloss);
-            }
-            previousHemisphere = &light;
+            if (hasSpecular_[material])
+                gSpecular = pairedHemisphere_[l] ? oppositeHemisphereLobe(n, v, gloss, previousLobe)
+                                                 : hemisphereLobe(n, v, light.up, gloss);
             previousLobe = gSpecular;
         } else {
             glm::dvec3 w;        // unit vector towards the light

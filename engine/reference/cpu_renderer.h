@@ -85,6 +85,7 @@ private:
     std::vector<double> diffuseTerm_, specularTerm_, fluorescenceTerm_;
     std::vector<bool> hasSpecular_, hasFluorescence_;  // per material
     std::vector<int> shadowBit_;                       // per light: its bit in `blocked`, or -1
+    std::vector<bool> pairedHemisphere_;               // per light: pairedWithPreviousHemisphere
     double sceneScale_ = 1.0;                          // the largest coordinate's magnitude, m
     size_t termOffset(uint32_t material, size_t light) const {
         return (static_cast<size_t>(material) * onGrid_.lights.size() + light) * bands_;

@@ -183,4 +183,15 @@ double oppositeHemisphereLobe(const glm::dvec3& n, const glm::dvec3& v, double g
     return std::max(0.0, unoccludedLobe(n, v, gloss) - lobeOfOpposite);
 }
 
+std::vector<bool> pairedWithPreviousHemisphere(const std::vector<Light>& lights) {
+    std::vector<bool> paired(lights.size(), false);
+    const Light* previous = nullptr;
+    for (size_t l = 0; l < lights.size(); ++l) {
+        if (lights[l].type != Light::Type::Hemisphere) continue;
+        paired[l] = previous && lights[l].up == -previous->up;
+        previous = &lights[l];
+    }
+    return paired;
+}
+
 }  // namespace metamer

@@ -17,7 +17,11 @@
 
 #include "hemisphere_quadrature.h"
 
+#include "scene/scene.h"
+
 #include <glm/glm.hpp>
+
+#include <vector>
 
 namespace metamer {
 
@@ -35,5 +39,10 @@ double unoccludedLobe(const glm::dvec3& n, const glm::dvec3& v, double gloss, in
 // its sky): I(−u) = I_unoccluded − I(u), never below 0. Both renderers take this shortcut for such
 // a pair, which halves the cost of a sky and a ground.
 double oppositeHemisphereLobe(const glm::dvec3& n, const glm::dvec3& v, double gloss, double lobeOfOpposite);
+
+// Per light of `lights`: whether it is a hemisphere light whose up is exactly opposite that of the
+// hemisphere light before it (in this order, which both renderers keep for hemisphere lights) —
+// the lights that take oppositeHemisphereLobe.
+std::vector<bool> pairedWithPreviousHemisphere(const std::vector<Light>& lights);
 
 }  // namespace metamer

@@ -1,5 +1,7 @@
 #include "render/spectral_packing.h"
 
+#include "reference/hemisphere_lobe.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -103,12 +105,10 @@ std::vector<size_t> lightOrder(const Scene& scene, PackedScene& p) {
                                                     : p.hemisphere)++;
                 if (shadows) (type == Light::Type::Directional ? p.shadowedDirectional : p.shadowedPoint)++;
             }
-    // A hemisphere light whose up is exactly opposite the previous hemisphere light's, decided in
-    // double as the reference decides it (hemisphere_lobe.h).
-    for (int i = 1; i < p.hemisphere && i < 32; ++i) {
-        const size_t at = order.size() - size_t(p.hemisphere) + size_t(i);
-        if (scene.lights[order[at]].up == -scene.lights[order[at - 1]].up) p.hemispherePaired |= 1u << i;
-    }
+    // Hemisphere lights keep their order, so the reference's pairing holds for them as they are here.
+    const std::vector<bool> paired = pairedWithPreviousHemisphere(scene.lights);
+    for (int i = 1; i < p.hemisphere && i < 32; ++i)
+        if (paired[order[order.size() - size_t(p.hemisphere) + size_t(i)]]) p.hemispherePaired |= 1u << i;
     return order;
 }
 
