@@ -91,18 +91,8 @@ void SpectralResources::createShadowMaps() {
     const vk::OwnedPipelineLayout ownedLayout(d, layout);
 
     std::vector<vk::OwnedFramebuffer> framebuffers;
-    for (uint32_t l = 0; l < layers; ++l) {
-        VkImageView view = shadowMap.layerView(l);
-        VkFramebufferCreateInfo fb{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
-        fb.renderPass = renderPass;
-        fb.attachmentCount = 1;
-        fb.pAttachments = &view;
-        fb.width = fb.height = size;
-        fb.layers = 1;
-        VkFramebuffer framebuffer = VK_NULL_HANDLE;
-        VK_CHECK(vkCreateFramebuffer(d, &fb, nullptr, &framebuffer));
-        framebuffers.emplace_back(d, framebuffer);
-    }
+    for (uint32_t l = 0; l < layers; ++l)
+        framebuffers.push_back(vk::createFramebuffer(d, renderPass, {shadowMap.layerView(l)}, size, size));
 
     vk::OwnedPipeline pipeline;
     const bool draws = maps.any() && !packed.draws.empty();
@@ -141,7 +131,7 @@ void SpectralResources::createShadowMaps() {
                 VkBuffer vb = vertexBuffer.handle();
                 vkCmdBindVertexBuffers(cmd, 0, 1, &vb, &zero);
                 vkCmdBindIndexBuffer(cmd, indexBuffer.handle(), 0, VK_INDEX_TYPE_UINT32);
-                gpu::ShadowPushConstants pc{glm::mat4(maps.layers[l].viewProjection)};
+                gpu::ShadowPushConstants pc{packed.shadowBlock.layers[l]};
                 vkCmdPushConstants(cmd, layout, VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof pc, &pc);
                 for (const PackedDraw& draw : packed.draws)
                     vkCmdDrawIndexed(cmd, draw.indexCount, 1, draw.firstIndex, draw.vertexOffset, 0);

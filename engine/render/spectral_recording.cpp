@@ -55,6 +55,29 @@ void recordSpectralFrame(VkCommandBuffer cmd, const SpectralResources& r, const 
         }
         vkCmdEndRenderPass(cmd);
     }
+    // Every draw of band pass p (the lobe pass draws as pass 0, with its own set 0): this pass's
+    // bands of the light spectra, of the draw's material and of its fluorescence; the material's
+    // responses (the response pass).
+    auto drawScene = [&](VkPipeline pipeline, size_t p, VkDescriptorSet set0) {
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
+        vkCmdBindVertexBuffers(cmd, 0, 1, &vb, &zero);
+        vkCmdBindIndexBuffer(cmd, indexBuffer.handle(), 0, VK_INDEX_TYPE_UINT32);
+        vkCmdPushConstants(cmd, pipelineLayout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(pc),
+                           &pc);
+        const size_t materials = packed.materials.size() / r.passes.size();
+        for (const PackedDraw& d : packed.draws) {
+            uint32_t offsets[4] = {
+                uint32_t(p * r.lightSpectraStride), uint32_t((p * materials + d.material) * r.materialStride),
+                packed.fluorescenceSpectra
+                    ? uint32_t((p * packed.fluorescenceRecords + packed.fluorescenceRecord[d.material]) * r.fluorescenceStride)
+                    : 0u,
+                packed.responses ? uint32_t(d.material * r.responseStride) : 0u};
+            vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelineLayout, 0, 1, &set0, 4, offsets);
+            vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelineLayout, 1, 1,
+                                    &r.materialSets[d.material], 0, nullptr);
+            vkCmdDrawIndexed(cmd, d.indexCount, 1, d.firstIndex, d.vertexOffset, 0);
+        }
+    };
     if (r.hasLobePass) {
         // The hemisphere lights' lobe integrals, once per pixel, for every band pass to read.
         VkClearValue clears[2] = {};
@@ -65,23 +88,7 @@ void recordSpectralFrame(VkCommandBuffer cmd, const SpectralResources& r, const 
         rb.clearValueCount = 2;
         rb.pClearValues = clears;
         vkCmdBeginRenderPass(cmd, &rb, VK_SUBPASS_CONTENTS_INLINE);
-        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, r.lobePass.pipeline);
-        vkCmdBindVertexBuffers(cmd, 0, 1, &vb, &zero);
-        vkCmdBindIndexBuffer(cmd, indexBuffer.handle(), 0, VK_INDEX_TYPE_UINT32);
-        vkCmdPushConstants(cmd, pipelineLayout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(pc), &pc);
-        for (const PackedDraw& d : packed.draws) {
-            // Pass 0's blocks: the lobe needs only the material's gloss and flags and the lights.
-            uint32_t offsets[4] = {0u, uint32_t(d.material * r.materialStride),
-                                   packed.fluorescenceSpectra
-                                       ? uint32_t(packed.fluorescenceRecord[d.material] * r.fluorescenceStride)
-                                       : 0u,
-                                   0u};
-            vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelineLayout, 0, 1, &r.lobeDescriptorSet, 4,
-                                    offsets);
-            vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelineLayout, 1, 1,
-                                    &r.materialSets[d.material], 0, nullptr);
-            vkCmdDrawIndexed(cmd, d.indexCount, 1, d.firstIndex, d.vertexOffset, 0);
-        }
+        if (!packed.draws.empty()) drawScene(r.lobePass.pipeline, 0, r.lobeDescriptorSet);
         vkCmdEndRenderPass(cmd);
     }
     for (size_t p = 0; p < r.passes.size(); ++p) {
@@ -96,30 +103,7 @@ void recordSpectralFrame(VkCommandBuffer cmd, const SpectralResources& r, const 
         rb.clearValueCount = uint32_t(clears.size());
         rb.pClearValues = clears.data();
         vkCmdBeginRenderPass(cmd, &rb, VK_SUBPASS_CONTENTS_INLINE);
-        if (!packed.draws.empty()) {
-            vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, po.pipeline);
-            vkCmdBindVertexBuffers(cmd, 0, 1, &vb, &zero);
-            vkCmdBindIndexBuffer(cmd, indexBuffer.handle(), 0, VK_INDEX_TYPE_UINT32);
-            vkCmdPushConstants(cmd, pipelineLayout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
-                               sizeof(pc), &pc);
-            size_t materials = packed.materials.size() / r.passes.size();
-            for (const PackedDraw& d : packed.draws) {
-                // This pass's bands of the light spectra, of the draw's material and of its
-                // fluorescence; the material's responses (the response pass).
-                uint32_t offsets[4] = {
-                    uint32_t(p * r.lightSpectraStride), uint32_t((p * materials + d.material) * r.materialStride),
-                    packed.fluorescenceSpectra
-                        ? uint32_t((p * packed.fluorescenceRecords + packed.fluorescenceRecord[d.material]) *
-                                   r.fluorescenceStride)
-                        : 0u,
-                    packed.responses ? uint32_t(d.material * r.responseStride) : 0u};
-                vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelineLayout, 0, 1,
-                                        &r.descriptorSet, 4, offsets);
-                vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelineLayout, 1, 1,
-                                        &r.materialSets[d.material], 0, nullptr);
-                vkCmdDrawIndexed(cmd, d.indexCount, 1, d.firstIndex, d.vertexOffset, 0);
-            }
-        }
+        if (!packed.draws.empty()) drawScene(po.pipeline, p, r.descriptorSet);
         vkCmdEndRenderPass(cmd);
     }
     if (plan.mappedReadback) {

@@ -268,7 +268,7 @@ void SpectralResources::createLayouts() {
     ai.descriptorSetCount = 1;
     ai.pSetLayouts = &set0;
     VK_CHECK(vkAllocateDescriptorSets(d, &ai, &descriptorSet));
-    VK_CHECK(vkAllocateDescriptorSets(d, &ai, &lobeDescriptorSet));
+    if (hasLobePass) VK_CHECK(vkAllocateDescriptorSets(d, &ai, &lobeDescriptorSet));
     VkDescriptorBufferInfo infos[kBindings - 1] = {
         {lightBuffer.handle(), 0, sizeof(gpu::GpuLightBlock)},
         {lightSpectraBuffer.handle(), 0, sizeof(gpu::GpuLightSpectraBlock)},
@@ -279,7 +279,7 @@ void SpectralResources::createLayouts() {
     const VkDescriptorImageInfo shadowInfo{shadowSampler.get(), shadowMap.layerView(~0u),
                                            VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL};
     // The lobe weights, where a lobe pass writes them; else (and in the lobe pass's own set) the
-    // placeholder texture, never read. The texture sampler is made below: make it here.
+    // placeholder texture, never read. Sampled with the textures' sampler (texelFetch only).
     VkSamplerCreateInfo sci{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
     sci.magFilter = sci.minFilter = VK_FILTER_NEAREST;
     sci.mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
@@ -292,6 +292,7 @@ void SpectralResources::createLayouts() {
         hasLobePass ? VkDescriptorImageInfo{sampler, lobeWeights.layerView(0), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL}
                     : placeholderInfo;
     for (VkDescriptorSet set : {descriptorSet, lobeDescriptorSet}) {
+        if (set == VK_NULL_HANDLE) continue;
         VkWriteDescriptorSet writes[kBindings];
         for (int i = 0; i < kBindings; ++i) {
             writes[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
@@ -470,17 +471,8 @@ void SpectralResources::createPasses() {
         PassObjects& pre = depthPrePass;
         pre.renderPass = makeRenderPass(0, true);
         pre.pipeline = makePipeline(renderPasses.back(), 0, true, LOBE_COMPUTE);
-        VkImageView view = depth.layerView(0);
-        VkFramebufferCreateInfo fb{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
-        fb.renderPass = pre.renderPass;
-        fb.attachmentCount = 1;
-        fb.pAttachments = &view;
-        fb.width = plan.targetWidth;
-        fb.height = plan.targetHeight;
-        fb.layers = 1;
-        VkFramebuffer framebuffer = VK_NULL_HANDLE;
-        VK_CHECK(vkCreateFramebuffer(ctx.device(), &fb, nullptr, &framebuffer));
-        pre.framebuffer = vk::OwnedFramebuffer(ctx.device(), framebuffer);
+        pre.framebuffer =
+            vk::createFramebuffer(ctx.device(), pre.renderPass, {depth.layerView(0)}, plan.targetWidth, plan.targetHeight);
     }
     // One render pass + pipeline per distinct attachment count (at most two: 8 and the rest).
     VkRenderPass rpFull = VK_NULL_HANDLE, rpLast = VK_NULL_HANDLE;
@@ -501,16 +493,7 @@ void SpectralResources::createPasses() {
         std::vector<VkImageView> views;
         for (uint32_t i = 0; i < po.attachments; ++i) views.push_back(color.layerView(po.firstLayer + i));
         views.push_back(depth.layerView(0));
-        VkFramebufferCreateInfo fb{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
-        fb.renderPass = rp;
-        fb.attachmentCount = uint32_t(views.size());
-        fb.pAttachments = views.data();
-        fb.width = plan.targetWidth;
-        fb.height = plan.targetHeight;
-        fb.layers = 1;
-        VkFramebuffer framebuffer = VK_NULL_HANDLE;
-        VK_CHECK(vkCreateFramebuffer(ctx.device(), &fb, nullptr, &framebuffer));
-        po.framebuffer = vk::OwnedFramebuffer(ctx.device(), framebuffer);
+        po.framebuffer = vk::createFramebuffer(ctx.device(), rp, views, plan.targetWidth, plan.targetHeight);
         passes.push_back(std::move(po));
     }
     if (hasLobePass) createLobePass();
@@ -566,17 +549,9 @@ void SpectralResources::createLobePass() {
     lobePass.renderPass = renderPasses.back().get();
     lobePass.attachments = 1;
     lobePass.pipeline = makePipeline(renderPasses.back(), 1, false, LOBE_WRITE);
-    VkImageView views[2] = {lobeWeights.layerView(0), depth.layerView(0)};
-    VkFramebufferCreateInfo fb{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
-    fb.renderPass = lobePass.renderPass;
-    fb.attachmentCount = 2;
-    fb.pAttachments = views;
-    fb.width = plan.targetWidth;
-    fb.height = plan.targetHeight;
-    fb.layers = 1;
-    VkFramebuffer framebuffer = VK_NULL_HANDLE;
-    VK_CHECK(vkCreateFramebuffer(ctx.device(), &fb, nullptr, &framebuffer));
-    lobePass.framebuffer = vk::OwnedFramebuffer(ctx.device(), framebuffer);
+    lobePass.framebuffer = vk::createFramebuffer(ctx.device(), lobePass.renderPass,
+                                                 {lobeWeights.layerView(0), depth.layerView(0)}, plan.targetWidth,
+                                                 plan.targetHeight);
 }
 LayeredView SpectralResources::mapTarget() {
     LayeredView a;

@@ -196,16 +196,9 @@ struct TonemapPass::Impl {
         rp.subpassCount = 1;
         rp.pSubpasses = &sub;
         renderPass = objects.renderPass("tonemap.pass", rp);
-        VkImageView views[kAttachments];
-        for (uint32_t i = 0; i < kAttachments; ++i) views[i] = targets[i].layerView(0);
-        VkFramebufferCreateInfo fb{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
-        fb.renderPass = renderPass.get();
-        fb.attachmentCount = kAttachments;
-        fb.pAttachments = views;
-        fb.width = width;
-        fb.height = height;
-        fb.layers = 1;
-        VK_CHECK(vkCreateFramebuffer(d, &fb, nullptr, framebuffer.put(d)));
+        std::vector<VkImageView> views;
+        for (uint32_t i = 0; i < kAttachments; ++i) views.push_back(targets[i].layerView(0));
+        framebuffer = vk::createFramebuffer(d, renderPass.get(), views, width, height);
 
         const gpu::TonemapSpecialization spec{
             int32_t(std::max<size_t>(1, plan.detector.weights.size())), layers, source.plan().ssaa,

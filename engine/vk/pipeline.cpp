@@ -11,6 +11,20 @@ VkShaderModule createShaderModule(VkDevice device, const uint32_t* code, size_t 
     return m;
 }
 
+OwnedFramebuffer createFramebuffer(VkDevice device, VkRenderPass renderPass, const std::vector<VkImageView>& views,
+                                   uint32_t width, uint32_t height) {
+    VkFramebufferCreateInfo fb{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
+    fb.renderPass = renderPass;
+    fb.attachmentCount = uint32_t(views.size());
+    fb.pAttachments = views.data();
+    fb.width = width;
+    fb.height = height;
+    fb.layers = 1;
+    VkFramebuffer framebuffer = VK_NULL_HANDLE;
+    VK_CHECK(vkCreateFramebuffer(device, &fb, nullptr, &framebuffer));
+    return OwnedFramebuffer(device, framebuffer);
+}
+
 VkPipeline createGraphicsPipeline(VkDevice device, const GraphicsPipelineDesc& d) {
     VkPipelineShaderStageCreateInfo stages[2] = {{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO},
                                                  {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO}};

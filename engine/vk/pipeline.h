@@ -4,12 +4,17 @@
 #pragma once
 
 #include "vk/check.h"
+#include "vk/handle.h"
 
 #include <vector>
 
 namespace metamer::vk {
 
 VkShaderModule createShaderModule(VkDevice device, const uint32_t* code, size_t bytes);
+
+// A one-layer framebuffer of `views` (in the render pass's attachment order), width × height.
+OwnedFramebuffer createFramebuffer(VkDevice device, VkRenderPass renderPass, const std::vector<VkImageView>& views,
+                                   uint32_t width, uint32_t height);
 
 struct GraphicsPipelineDesc {
     VkRenderPass renderPass = VK_NULL_HANDLE;
