@@ -1,5 +1,7 @@
 #include "vk/pipeline_cache.h"
 
+#include "core/cache_folder.h"
+
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
@@ -35,13 +37,7 @@ size_t hashOf(const std::vector<char>& data) { return std::hash<std::string_view
 
 }  // namespace
 
-fs::path pipelineCacheFolder() {
-    if (const char* v = std::getenv("METAMER_PIPELINE_CACHE"); v && *v)
-        return std::string_view(v) == "off" ? fs::path() : fs::path(v);
-    if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x) return fs::path(x) / "metamer";
-    if (const char* h = std::getenv("HOME"); h && *h) return fs::path(h) / ".cache" / "metamer";
-    return {};
-}
+fs::path pipelineCacheFolder() { return cacheFolder("METAMER_PIPELINE_CACHE"); }
 
 PipelineCache::PipelineCache(VkDevice device, const VkPhysicalDeviceProperties& p, const fs::path& folder)
     : device_(device) {

@@ -1,0 +1,124 @@
+// The hemisphere lights' specular lobe from a precomputed table, one lookup shared by C++ and GLSL
+// (the CPU reference evaluates it in double on the same float data; the GPU in float), so that both
+// renderers compute the same quantity. The table is built once per gloss by
+// engine/reference/lobe_table.cpp, which derives what follows; docs/physics.md, "Hemisphere lights",
+// gives the definitions and the certified error.
+//
+//     I(n, v, u, N)  = ∫ (n·h)^N (n·ω) dω  over n·ω > 0 and u·ω > 0,   h = normalize(ω + v)
+//     I_unoccluded   = the same over n·ω > 0 alone
+//
+// Coordinates that make the table small and smooth (lobe-centred, "whitened"): the view's
+// elevation θe above the tangent plane (warped by x1 = ln(1 + kθe)/ln(1 + kπ/2), k = 0.5·√(N+1),
+// so grazing views get nodes on the lobe's own scale); the lobe's centroid c, in the plane of
+// incidence at the angle γ from the mirror direction r towards the surface normal, and its spreads
+// σ1 (in that plane) and σ2 (across it), from the 1-D moment table; then u's hemisphere boundary
+// seen from c in coordinates where the lobe is round: its direction β_w = atan2(σ2·q, σ1·p) ∈ [0, π]
+// and its signed distance d = (u·c)/√(σ1²p² + σ2²q²), mapped to x2 = (2/π)·atan(d/2.5) ∈ [−1, 1].
+// The table holds f = I/I_unoccluded at (x1, β_w, x2) nodes; the lookup is tricubic (Lagrange,
+// 4 nodes an axis; one-sided at the ends of x1 and x2, mirrored at β_w = 0 and π, where f is even).
+// Along x2 each entry holds the four values its cubic needs, so one vec4 fetch does that axis:
+// 16 fetches for f, 4 for the moments, 1 for the early-out.
+//
+// The early-out is exact to LOBE_CONE_TAIL of I_unoccluded: a half vector at angle θh from n
+// reflects v to within 2θh of r (two reflections make a rotation by 2θh), and the lobe's mass
+// beyond θh > θ0 is at most LOBE_CONE_TAIL·I_unoccluded (measured per x1 interval when the table is
+// built), so a hemisphere whose boundary is more than 2θ0 from r holds all the lobe or none of it.
+#ifndef METAMER_SHADERS_LOBE_TABLE_H
+#define METAMER_SHADERS_LOBE_TABLE_H
+
+#define LOBE_MOMENT_NODES 129  // x1 nodes of (γ, σ1, σ2, ln I_unoccluded)
+#define LOBE_X1_NODES 32
+#define LOBE_BETA_NODES 49
+#define LOBE_X2_NODES 128
+#define LOBE_X1_WARP 0.5
+#define LOBE_X2_SCALE 2.5
+#define LOBE_NO_CONE 2.0  // the cone entry of an interval whose lobe reaches past the horizon
+// One table, in vec4s: the moments, the early-out cones (x: sin of the cone's half-angle), the values.
+#define LOBE_CONES_OFFSET LOBE_MOMENT_NODES
+#define LOBE_VALUES_OFFSET (LOBE_CONES_OFFSET + LOBE_MOMENT_NODES - 1)
+#define LOBE_TABLE_VEC4 (LOBE_VALUES_OFFSET + LOBE_X1_NODES * LOBE_BETA_NODES * (LOBE_X2_NODES - 1))
+#define LOBE_PI 3.14159265358979323846
+
+#endif  // METAMER_SHADERS_LOBE_TABLE_H
+
+// The lookup, in the subset of C++ (with glm) and GLSL both compile. The includer defines
+// LT_FLOAT, LT_VEC2, LT_VEC3, LT_VEC4 (float or double types), LOBE_FETCH(i) (vec4 i of the tables'
+// data, as LT_VEC4), and LOBE_DATA_PARAM / LOBE_DATA_ARG (an extra first parameter in C++, where
+// the data is not global; empty in GLSL).
+#if defined(LOBE_FETCH) && !defined(METAMER_SHADERS_LOBE_LOOKUP)
+#define METAMER_SHADERS_LOBE_LOOKUP
+
+// Lagrange weights of nodes 0, 1, 2, 3 at position t (in node units from node 0).
+LT_VEC4 lobeCubicWeights(LT_FLOAT t) {
+    LT_FLOAT a = t, b = t - 1.0, c = t - 2.0, d = t - 3.0;
+    return LT_VEC4(-b * c * d / 6.0, a * c * d / 2.0, -a * b * d / 2.0, a * b * c / 6.0);
+}
+
+// The first of the four nodes around x on an axis of n nodes, one-sided at its ends.
+int lobeStencil(LT_FLOAT x, int n) { return clamp(int(floor(x)) - 1, 0, n - 4); }
+
+// β_w's node i mirrored into [0, LOBE_BETA_NODES − 1].
+int lobeMirror(int i) { return i < 0 ? -i : (i > LOBE_BETA_NODES - 1 ? 2 * (LOBE_BETA_NODES - 1) - i : i); }
+
+// x1 ∈ [0, 1] of a view at elevation θe ∈ [0, π/2] above the tangent plane.
+LT_FLOAT lobeX1(LT_FLOAT thetaE, LT_FLOAT gloss) {
+    LT_FLOAT k = LOBE_X1_WARP * sqrt(gloss + 1.0);
+    return log(1.0 + k * thetaE) / log(1.0 + k * (0.5 * LOBE_PI));
+}
+
+// (I(n, v, u, N), I_unoccluded) from the table at `base` (in vec4s). n, v, u unit; a view below the
+// tangent plane (an interpolated normal turned away at a silhouette) is taken at the horizon.
+LT_VEC2 lobeIntegrals(LOBE_DATA_PARAM int base, LT_FLOAT gloss, LT_VEC3 n, LT_VEC3 v, LT_VEC3 u) {
+    LT_FLOAT nv0 = dot(n, v);
+    LT_VEC3 tangential = v - nv0 * n;
+    LT_FLOAT sv = length(tangential);
+    LT_VEC3 t = tangential / max(sv, 1e-30);
+    if (!(sv > 1e-6)) t = normalize(cross(abs(n.x) < 0.9 ? LT_VEC3(1.0, 0.0, 0.0) : LT_VEC3(0.0, 1.0, 0.0), n));
+    LT_FLOAT thetaE = sv > 1e-6 ? atan(max(nv0, 0.0), sv) : (nv0 > 0.0 ? 0.5 * LOBE_PI : 0.0);
+    LT_FLOAT nv = sin(thetaE), cv = cos(thetaE);
+    LT_VEC3 r = nv * n - cv * t;   // the mirror direction
+    LT_VEC3 e1 = cv * n + nv * t;  // ⊥ r, in the plane of incidence, towards n
+    LT_VEC3 e2 = cross(n, t);      // ⊥ the plane of incidence
+
+    LT_FLOAT x1 = lobeX1(thetaE, gloss);
+    LT_FLOAT xm = x1 * LT_FLOAT(LOBE_MOMENT_NODES - 1);
+    int m0 = lobeStencil(xm, LOBE_MOMENT_NODES);
+    LT_VEC4 wm = lobeCubicWeights(xm - LT_FLOAT(m0));
+    LT_VEC4 moments = wm.x * LOBE_FETCH(base + m0) + wm.y * LOBE_FETCH(base + m0 + 1) +
+                      wm.z * LOBE_FETCH(base + m0 + 2) + wm.w * LOBE_FETCH(base + m0 + 3);
+    LT_FLOAT unoccluded = exp(moments.w);
+
+    LT_FLOAT ur = dot(u, r);
+    LT_FLOAT cone = LOBE_FETCH(base + LOBE_CONES_OFFSET + clamp(int(floor(xm)), 0, LOBE_MOMENT_NODES - 2)).x;
+    if (abs(ur) > cone) return LT_VEC2(ur > 0.0 ? unoccluded : 0.0, unoccluded);
+
+    LT_FLOAT gamma = moments.x, sigma1 = moments.y, sigma2 = moments.z;
+    LT_VEC3 c = cos(gamma) * r + sin(gamma) * e1;
+    LT_VEC3 e1c = cos(gamma) * e1 - sin(gamma) * r;
+    LT_FLOAT a = sigma1 * dot(u, e1c), b = sigma2 * abs(dot(u, e2));
+    LT_FLOAT across = sqrt(a * a + b * b);
+    LT_FLOAT betaW = across > 0.0 ? atan(b, a) : 0.0;
+    LT_FLOAT x2 = atan(dot(u, c), LOBE_X2_SCALE * across) * (2.0 / LOBE_PI);
+
+    LT_FLOAT xx1 = x1 * LT_FLOAT(LOBE_X1_NODES - 1);
+    LT_FLOAT xb = betaW * (LT_FLOAT(LOBE_BETA_NODES - 1) / LOBE_PI);
+    LT_FLOAT xx2 = (x2 + 1.0) * (0.5 * LT_FLOAT(LOBE_X2_NODES - 1));
+    int i1 = lobeStencil(xx1, LOBE_X1_NODES);
+    int ib = int(floor(xb)) - 1;
+    int j = clamp(int(floor(xx2)), 0, LOBE_X2_NODES - 2);
+    LT_VEC4 w1 = lobeCubicWeights(xx1 - LT_FLOAT(i1));
+    LT_VEC4 wb = lobeCubicWeights(xb - LT_FLOAT(ib));
+    LT_VEC4 w2 = lobeCubicWeights(xx2 - LT_FLOAT(lobeStencil(xx2, LOBE_X2_NODES)));
+    LT_FLOAT f = 0.0;
+    for (int p = 0; p < 4; ++p) {
+        LT_VEC4 alongBeta = LT_VEC4(0.0);
+        for (int q = 0; q < 4; ++q) {
+            int row = (i1 + p) * LOBE_BETA_NODES + lobeMirror(ib + q);
+            alongBeta[q] = dot(w2, LOBE_FETCH(base + LOBE_VALUES_OFFSET + row * (LOBE_X2_NODES - 1) + j));
+        }
+        f += w1[p] * dot(wb, alongBeta);
+    }
+    return LT_VEC2(clamp(f, 0.0, 1.0) * unoccluded, unoccluded);
+}
+
+#endif  // LOBE_FETCH
