@@ -155,10 +155,12 @@ HemisphereFractions hemisphereFractions(double thetaE, double gloss, double gamm
     const double psiHorizon = std::atan2(-nc, nm);
     for (double p : {psiHorizon, psiHorizon + kPi, psiHorizon - kPi, psiHorizon + 2.0 * kPi})
         addGraded(breaks, p, 0.5 * alongM, 8.0 * alongM, psiLo, psiHi);
-    // The point −v, where a grazing lobe ends in a wedge.
+    // The point −v, where a grazing lobe ends in a wedge (only near the lobe: −v is 2θe from r).
     const double psiV = std::atan2(-glm::dot(f.v, m), -glm::dot(f.v, c));
     const double zetaV = std::asin(std::clamp(-glm::dot(f.v, axis), -1.0, 1.0));
-    for (double p : {psiV, psiV + 2.0 * kPi, psiV - 2.0 * kPi}) addGraded(breaks, p, 1e-4 * alongM, 4.0 * alongM, psiLo, psiHi);
+    const bool wedge = 2.0 * thetaE < std::fabs(gamma) + 8.0 * sigma1;
+    if (wedge)
+        for (double p : {psiV, psiV + 2.0 * kPi, psiV - 2.0 * kPi}) addGraded(breaks, p, 1e-4 * alongM, 4.0 * alongM, psiLo, psiHi);
     sortUnique(breaks);
 
     auto profile = [&](double psi) {
@@ -167,7 +169,7 @@ HemisphereFractions hemisphereFractions(double thetaE, double gloss, double gamm
         std::vector<double> zb = gradedBreaks(-zetaMax - centre, zetaMax - centre, across, ratio);
         for (double& z : zb) z += centre;
         const double fromV = std::fabs(std::remainder(psi - psiV, 2.0 * kPi));
-        if (fromV < 4.0 * alongM)
+        if (wedge && fromV < 4.0 * alongM)
             addGraded(zb, zetaV + (psi - psiV) * slope, std::max(1e-9, 0.05 * fromV * across / alongM), across, -zetaMax, zetaMax);
         if (std::fabs(naxis) > 1e-15) {
             const double zh = std::atan(-(std::cos(psi) * nc + std::sin(psi) * nm) / naxis);
