@@ -40,6 +40,7 @@ layout(set = 0, binding = BINDING_RESPONSES, std140) uniform Responses { GpuResp
 layout(set = 0, binding = BINDING_SHADOW_MATRICES, std140) uniform Shadows { GpuShadowBlock S; };
 layout(set = 0, binding = BINDING_SHADOW_MAP) uniform sampler2DArrayShadow shadowMap;
 layout(set = 0, binding = BINDING_LOBE_WEIGHTS) uniform sampler2D lobeWeights;
+layout(std430, set = 0, binding = BINDING_LOBE_TABLES) readonly buffer LobeTables { vec4 lobeData[]; };
 
 layout(set = 1, binding = TEXTURE_BINDING_DIFFUSE) uniform sampler2DArray diffuseTexture;
 layout(set = 1, binding = TEXTURE_BINDING_SPECULAR) uniform sampler2DArray specularTexture;
@@ -215,7 +216,14 @@ float blinnPhongLobe(vec3 n, vec3 wPlusV, float gloss) {
     return gloss == 0.0 ? 1.0 : lobe;
 }
 
-#include "hemisphere_lobe.glsl"
+// The hemisphere lights' lobe tables (shaders/lobe_lookup.h), the same lookup the CPU reference runs.
+#define LT_FLOAT float
+#define LT_VEC2 vec2
+#define LT_VEC3 vec3
+#define LT_VEC4 vec4
+#define LOBE_DATA_PARAM
+#define LOBE_FETCH(i) lobeData[(i)]
+#include "lobe_lookup.h"
 
 // Whether light l reaches p (1) or is blocked (0), from its shadow map: the layer (a point light's
 // cube face by the major axis of p − light), p pushed SHADOW_NORMAL_OFFSET texels along the face
@@ -247,20 +255,26 @@ float visibility(int l, vec3 p, vec3 ng, vec3 w, bool point) {
     return textureGrad(shadowMap, vec4(st, float(layer), q.z), vec2(0.0), vec2(0.0));
 }
 
-// Hemisphere light i's lobe integral (hemisphere_lobe.glsl): a ground right after its sky takes the
-// rest of the whole lobe; `previous` carries the last one computed.
-float hemisphereIntegral(int i, vec3 n, vec3 v, inout float previous) {
+// Hemisphere light i's lobe integral I and the unoccluded lobe's, (I, I_unoccluded): from the
+// material's lobe table, in closed form at gloss 0 (π(1 + n·u)/2 and π); a ground right after its
+// sky takes the rest of the whole lobe. `previous` carries the last light's.
+float hemisphereIntegral(int i, vec3 n, vec3 v, inout vec2 previous) {
     int l = AMBIENT_COUNT + DIRECTIONAL_COUNT + POINT_COUNT + i;
-    float gloss = M.params.x, integral = 0.0;
+    float gloss = M.params.x;
+    vec3 up = L.lights[l].vector.xyz;
+    vec2 integrals = vec2(0.0);
     if (HAS_SPECULAR && M.params.z > 0.5) {
         if (LOBE_MODE == LOBE_READ)
-            integral = texelFetch(lobeWeights, ivec2(gl_FragCoord.xy), 0)[i];
+            integrals.x = texelFetch(lobeWeights, ivec2(gl_FragCoord.xy), 0)[i];
+        else if (((HEMISPHERE_PAIRED >> uint(i)) & 1u) != 0u)
+            integrals = vec2(max(0.0, previous.y - previous.x), previous.y);
+        else if (gloss == 0.0)
+            integrals = vec2(0.5 * LOBE_PI * (1.0 + dot(n, up)), LOBE_PI);
         else
-            integral = ((HEMISPHERE_PAIRED >> uint(i)) & 1u) != 0u ? max(0.0, unoccludedLobe(n, v, gloss) - previous)
-                                                  : hemisphereLobe(n, v, L.lights[l].vector.xyz, gloss);
+            integrals = lobeIntegrals(int(M.params.w), gloss, n, v, up);
     }
-    previous = integral;
-    return integral;
+    previous = integrals;
+    return integrals.x;
 }
 
 // Blinn–Phong, energy-normalized: g·(N+8)/(8π)·(n·h)^N.
@@ -293,7 +307,7 @@ void main() {
     }
     if (LOBE_MODE == LOBE_WRITE) {  // the lobe pass: only the hemisphere lights' integrals
         vec4 integrals = vec4(0.0);
-        float previous = 0.0;
+        vec2 previous = vec2(0.0);
         [[unroll]] for (int i = 0; i < min(HEMISPHERE_COUNT, MAX_LOBE_LIGHTS); ++i)
             integrals[i] = hemisphereIntegral(i, n, v, previous);
         out0 = integrals;
@@ -330,8 +344,8 @@ void main() {
         addFluorescence(l, g);
     }
     // Hemisphere: radiance L from every ω with ω·u > 0, not occluded. Irradiance π·L·(1 + n·u)/2
-    // exactly; the lobe's integral over the lune by the shared quadrature rule (hemisphere_lobe.glsl).
-    float previousLobe = 0.0;
+    // exactly; the lobe's integral over the lune from the material's lobe table (lobe_lookup.h).
+    vec2 previousLobe = vec2(0.0);
     [[unroll]] for (int i = 0; i < HEMISPHERE_COUNT; ++i) {
         int l = AMBIENT_COUNT + DIRECTIONAL_COUNT + POINT_COUNT + i;
         vec3 up = L.lights[l].vector.xyz;

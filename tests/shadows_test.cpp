@@ -202,7 +202,7 @@ TEST(HemisphereLight, DiffuseIsRhoLTimesOnePlusCosOverTwoInBothRenderers) {
 TEST(HemisphereLight, SpecularMatchesTheClosedFormsInBothRenderers) {
     // A mirror-like metal (ρd = 0, ρs = 1) facing the sky, seen along its normal: for N = 0 the
     // lobe's integral is π(1 + n·u)/2; for N > 0 with v = n = u, 8π·[2c^(N+4)/(N+4) − c^(N+2)/(N+2)]
-    // from 1/√2 to 1 (hemisphere_lobe_test.cpp); the radiance is L·(N+8)/(8π) times it.
+    // from 1/√2 to 1 (lobe_table_test.cpp); the radiance is L·(N+8)/(8π) times it.
     for (double N : {0.0, 10.0, 60.0, 200.0}) {
         Scene s = emptyScene(Grid{400, 700, 50}, orthographicCamera({0, 0, 5}, {0, 0, 0}, {0, 1, 0}, 1.0, 4, 4));
         s.materials.push_back(glossy(constantSpectrum(0.0), constantSpectrum(1.0), N, "metal"));
@@ -215,15 +215,15 @@ TEST(HemisphereLight, SpecularMatchesTheClosedFormsInBothRenderers) {
         const double expected = 0.4 * (N + 8) / (8 * kPi) * integral;
         const SpectralCube gpuCube = renderGpu(s, g);
         const ReferenceImage ref = renderReference(s, g);
-        // The rule's error at v = n = u is below 4e-5 (hemisphere_lobe_test.cpp); float adds ~1e-6.
-        EXPECT_NEAR(ref.cube.at(2, 2, 0), expected, 4e-5 * expected) << "N = " << N;
+        // The table's error at v = n = u is below 10⁻⁶ (lobe_table_test.cpp); float adds ~10⁻⁶.
+        EXPECT_NEAR(ref.cube.at(2, 2, 0), expected, 1e-6 * expected) << "N = " << N;
         EXPECT_NEAR(gpuCube.at(2, 2, 0), ref.cube.at(2, 2, 0), 1e-5 * expected) << "N = " << N;
     }
 }
 
 TEST(HemisphereLight, GpuAgreesWithTheReferenceOnSpheres) {
     // Metals and plastic under a sky and a ground of different spectra, viewed so that every
-    // angle of incidence up to grazing appears: the shared rule in float against it in double.
+    // angle of incidence up to grazing appears: the shared table lookup in float against it in double.
     Scene s = emptyScene(Grid{400, 700, 10}, perspectiveCamera({0, -4, 1.2}, {0, 0, 0.5}, {0, 0, 1}, 30, 96, 64));
     s.materials.push_back(glossy(constantSpectrum(0.0), gaussianSpectrum(600, 80, 0.9), 200, "gold"));
     s.materials.push_back(glossy(constantSpectrum(0.3), constantSpectrum(0.04), 10, "plastic"));

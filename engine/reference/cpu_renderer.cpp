@@ -102,6 +102,8 @@ ReferenceRenderer::ReferenceRenderer(const Scene& scene, const SceneOnGrid& onGr
     for (size_t l = 0, k = 0; l < scene.lights.size(); ++l)
         if (scene.lights[l].castsShadows()) shadowBit_[l] = int(k++ % 64);
     pairedHemisphere_ = pairedWithPreviousHemisphere(scene.lights);
+    const bool hemisphereLights = std::any_of(scene.lights.begin(), scene.lights.end(),
+                                              [](const Light& l) { return l.type == Light::Type::Hemisphere; });
     for (const BvhTriangle& t : bvh_.triangles())
         for (const glm::dvec3& p : {t.p0, t.p1, t.p2})
             sceneScale_ = std::max({sceneScale_, std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)});
@@ -120,6 +122,8 @@ ReferenceRenderer::ReferenceRenderer(const Scene& scene, const SceneOnGrid& onGr
         hasSpecular_[m] = std::any_of(mat.specular.begin(), mat.specular.end(),
                                       [](double v) { return v != 0.0; });
         hasFluorescence_[m] = mat.fluorescent;
+        // The hemisphere lights' lobe table of this gloss (shared with the GPU path, built once).
+        lobeTables_.push_back(hemisphereLights && hasSpecular_[m] && mat.gloss > 0.0 ? lobeTableFor(mat.gloss) : nullptr);
         const double lobeNorm = (mat.gloss + 8.0) / (8.0 * kPi);
         for (size_t l = 0; l < nl; ++l) {
             const std::vector<double>& e = onGrid.lights[l];
@@ -249,7 +253,7 @@ void ReferenceRenderer::shade(const RayHit& hit, const Ray& ray, double* radianc
     }
 
     const double gloss = onGrid_.materials[material].gloss;
-    double previousLobe = 0.0;  // the last hemisphere light's: a ground after its sky shares it
+    glm::dvec2 previousLobe(0.0);  // the last hemisphere light's (I, I_unoccluded): a ground after its sky shares it
     for (size_t l = 0; l < scene_.lights.size(); ++l) {
         const Light& light = scene_.lights[l];
         double gDiffuse = 0.0, gSpecular = 0.0;  // geometric factors; fluorescence uses gDiffuse
@@ -257,12 +261,15 @@ void ReferenceRenderer::shade(const RayHit& hit, const Ray& ray, double* radianc
             gDiffuse = 1.0;  // irradiance E on every surface, whatever its orientation
         } else if (light.type == Light::Type::Hemisphere) {
             // Uniform radiance L from every ω with ω·u > 0: irradiance π·L·(1 + n·u)/2, exactly;
-            // the lobe's integral over the lune n·ω > 0, u·ω > 0 by hemisphere_lobe.h's rule.
+            // the lobe's integral over the lune n·ω > 0, u·ω > 0 from the lobe table (hemisphere_lobe.h).
             gDiffuse = kPi * (1.0 + glm::dot(n, light.up)) / 2.0;
-            if (hasSpecular_[material])
-                gSpecular = pairedHemisphere_[l] ? oppositeHemisphereLobe(n, v, gloss, previousLobe)
-                                                 : hemisphereLobe(n, v, light.up, gloss);
-            previousLobe = gSpecular;
+            if (hasSpecular_[material]) {
+                const glm::dvec2 lobe = pairedHemisphere_[l]
+                                            ? glm::dvec2(std::max(0.0, previousLobe.y - previousLobe.x), previousLobe.y)
+                                            : hemisphereLobe(lobeTables_[material].get(), n, v, light.up);
+                gSpecular = lobe.x;
+                previousLobe = lobe;
+            }
         } else {
             glm::dvec3 w;        // unit vector towards the light
             double falloff = 1.0;  // 1/d² for a point light

@@ -5,6 +5,8 @@
 // Every convention (camera, pixels, shading) is spelled out in docs/physics.md.
 #pragma once
 
+#include "reference/lobe_table.h"
+
 #include "reference/bvh.h"
 #include "scene/scene.h"
 #include "scene/scene_on_grid.h"
@@ -86,6 +88,7 @@ private:
     std::vector<bool> hasSpecular_, hasFluorescence_;  // per material
     std::vector<int> shadowBit_;                       // per light: its bit in `blocked`, or -1
     std::vector<bool> pairedHemisphere_;               // per light: pairedWithPreviousHemisphere
+    std::vector<std::shared_ptr<const LobeTable>> lobeTables_;  // per material: its lobe table, or null
     double sceneScale_ = 1.0;                          // the largest coordinate's magnitude, m
     size_t termOffset(uint32_t material, size_t light) const {
         return (static_cast<size_t>(material) * onGrid_.lights.size() + light) * bands_;

@@ -1,8 +1,10 @@
 #include "render/spectral_packing.h"
 
 #include "reference/hemisphere_lobe.h"
+#include "reference/lobe_table.h"
 
 #include <algorithm>
+#include <map>
 #include <cmath>
 #include <limits>
 
@@ -194,10 +196,22 @@ PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes) {
     p.fluorescenceSpectra = std::any_of(g.materials.begin(), g.materials.end(),
                                         [](const MaterialOnGrid& m) { return m.fluorescent && m.isMatrix(); });
     p.materials.resize(size_t(passes) * g.materials.size());
+    // The hemisphere lights' lobe tables, built (or read from the cache) once per gloss value.
+    std::map<double, float> lobeTableAt;
+    auto lobeTable = [&](const MaterialOnGrid& m, bool specular) {
+        if (p.hemisphere == 0 || !specular || !(m.gloss > 0.0)) return -1.0f;
+        auto [it, added] = lobeTableAt.try_emplace(m.gloss, float(p.lobeTables.size()));
+        if (added) {
+            const auto table = lobeTableFor(m.gloss);
+            p.lobeTables.insert(p.lobeTables.end(), table->data.begin(), table->data.end());
+        }
+        return it->second;
+    };
     std::vector<double> emissionOverLambda;
     for (size_t mi = 0; mi < g.materials.size(); ++mi) {
         const MaterialOnGrid& m = g.materials[mi];
         bool specular = std::any_of(m.specular.begin(), m.specular.end(), [](double v) { return v != 0.0; });
+        const float lobeTableBase = lobeTable(m, specular);
         // View-independent fluorescence coupling per light, (Φ/π)·Σ a·E_l·λ·Δλ, summed in double
         // so the shader only multiplies by the light's geometric factor.
         std::vector<float> coupling(MAX_LIGHTS, 0.0f);
@@ -226,7 +240,7 @@ PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes) {
             scatterBands(m.diffuse, pass, b.diffuse);
             scatterBands(m.specular, pass, b.specular);
             scatterBands(emissionOverLambda, pass, b.emissionOverLambda);
-            b.params = glm::vec4(float(m.gloss), m.fluorescent ? 1.0f : 0.0f, specular ? 1.0f : 0.0f, 0.0f);
+            b.params = glm::vec4(float(m.gloss), m.fluorescent ? 1.0f : 0.0f, specular ? 1.0f : 0.0f, lobeTableBase);
             b.textures = glm::vec4(m.diffuseTexture >= 0 ? 1.0f : 0.0f, m.specularTexture >= 0 ? 1.0f : 0.0f,
                                    m.normalTexture >= 0 ? 1.0f : 0.0f, float(pass * MAX_OUTPUTS));
             for (int l = 0; l < MAX_LIGHTS; ++l) b.coupling[l / 4][l % 4] = coupling[l];

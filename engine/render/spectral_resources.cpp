@@ -1,6 +1,7 @@
 #include "render/spectral_resources.h"
 
 #include "interface.h"
+#include "lobe_lookup.h"
 #include "vk/barrier.h"
 #include "vk/pipeline.h"
 
@@ -116,6 +117,18 @@ void SpectralResources::createBuffers() {
     responseBuffer = packed.responses ? uniforms(packed.responseBlocks.data(), sizeof(gpu::GpuResponseBlock),
                                                  packed.responseBlocks.size(), responseStride, "responses")
                                       : uniforms(&none, sizeof none, 1, responseStride, "responses (unused)");
+    // The lobe tables (one vec4 when the scene has none: a binding must have a buffer).
+    const VkDeviceSize lobeBytes = std::max<size_t>(1, packed.lobeTables.size()) * sizeof(glm::vec4);
+    if (lobeBytes > ctx.properties().limits.maxStorageBufferRange)
+        failInput(Where{scene.file.string(), "materials", 0},
+                  "the specular materials' {} gloss values under hemisphere lights need {:.0f} MiB of lobe tables "
+                  "(one per gloss value, docs/physics.md \"Hemisphere lights\"); this device reads at most {:.0f} MiB: "
+                  "use fewer distinct gloss values",
+                  packed.lobeTables.size() / LOBE_TABLE_VEC4, lobeBytes / 1048576.0,
+                  ctx.properties().limits.maxStorageBufferRange / 1048576.0);
+    lobeTableBuffer = vk::Buffer(ctx, lobeBytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "lobe tables");
+    const glm::vec4 zero(0.0f);
+    lobeTableBuffer.upload(packed.lobeTables.empty() ? &zero : packed.lobeTables.data(), lobeBytes);
 }
 
 // Each texture as an RGBA32F 2D-array image, 4 channels per layer (zero-padded), copied from a
@@ -216,7 +229,7 @@ void SpectralResources::createTargets(Readback mode, bool sampled, SpectralPassP
 
 void SpectralResources::createLayouts() {
     VkDevice d = ctx.device();
-    constexpr int kBindings = 8;
+    constexpr int kBindings = 9;
     constexpr int kDynamic = 4;  // bindings 1..4
     VkDescriptorSetLayoutBinding bindings[kBindings] = {
         {BINDING_LIGHTS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
@@ -227,6 +240,7 @@ void SpectralResources::createLayouts() {
         {BINDING_SHADOW_MATRICES, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
         {BINDING_SHADOW_MAP, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
         {BINDING_LOBE_WEIGHTS, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
+        {BINDING_LOBE_TABLES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
     };
     VkDescriptorSetLayoutCreateInfo sl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
     sl.bindingCount = kBindings;
@@ -252,12 +266,13 @@ void SpectralResources::createLayouts() {
 
     const uint32_t materialCount = uint32_t(std::max<size_t>(1, scene.materials.size()));
     // Two sets 0 (the band passes' and the lobe pass's), one set 1 per material.
-    VkDescriptorPoolSize sizes[3] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 2 * 2},
+    VkDescriptorPoolSize sizes[4] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 2 * 2},
                                      {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC, 2 * kDynamic},
-                                     {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, TEXTURE_BINDINGS * materialCount + 2 * 2}};
+                                     {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, TEXTURE_BINDINGS * materialCount + 2 * 2},
+                                     {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 2}};
     VkDescriptorPoolCreateInfo pci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     pci.maxSets = 2 + materialCount;
-    pci.poolSizeCount = 3;
+    pci.poolSizeCount = 4;
     pci.pPoolSizes = sizes;
     VkDescriptorPool pool = VK_NULL_HANDLE;
     VK_CHECK(vkCreateDescriptorPool(d, &pci, nullptr, &pool));
@@ -269,13 +284,17 @@ void SpectralResources::createLayouts() {
     ai.pSetLayouts = &set0;
     VK_CHECK(vkAllocateDescriptorSets(d, &ai, &descriptorSet));
     if (hasLobePass) VK_CHECK(vkAllocateDescriptorSets(d, &ai, &lobeDescriptorSet));
-    VkDescriptorBufferInfo infos[kBindings - 1] = {
+    // Per binding, in the order of `bindings` (the two images' entries unused).
+    VkDescriptorBufferInfo infos[kBindings] = {
         {lightBuffer.handle(), 0, sizeof(gpu::GpuLightBlock)},
         {lightSpectraBuffer.handle(), 0, sizeof(gpu::GpuLightSpectraBlock)},
         {materialBuffer.handle(), 0, sizeof(gpu::GpuMaterialBlock)},
         {fluorescenceBuffer.handle(), 0, sizeof(gpu::GpuFluorescenceBlock)},
         {responseBuffer.handle(), 0, sizeof(gpu::GpuResponseBlock)},
-        {shadowBuffer.handle(), 0, sizeof(gpu::GpuShadowBlock)}};
+        {shadowBuffer.handle(), 0, sizeof(gpu::GpuShadowBlock)},
+        {},
+        {},
+        {lobeTableBuffer.handle(), 0, VK_WHOLE_SIZE}};
     const VkDescriptorImageInfo shadowInfo{shadowSampler.get(), shadowMap.layerView(~0u),
                                            VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL};
     // The lobe weights, where a lobe pass writes them; else (and in the lobe pass's own set) the

@@ -46,7 +46,7 @@ struct SpectralResources {
     const SpectralPassPlan& plan;
 
     vk::Buffer vertexBuffer, indexBuffer, lightBuffer, lightSpectraBuffer, materialBuffer, fluorescenceBuffer,
-        responseBuffer, readbackBuffer;
+        responseBuffer, readbackBuffer, lobeTableBuffer;
     // Dynamic-offset strides.
     VkDeviceSize lightSpectraStride = 0, materialStride = 0, fluorescenceStride = 0, responseStride = 0;
     vk::Image color, depth;
