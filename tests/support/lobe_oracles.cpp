@@ -2,15 +2,13 @@
 
 #include "core/quadrature.h"
 
-#include <Eigen/Eigenvalues>
-
 #include <algorithm>
 #include <cmath>
 #include <complex>
 #include <numbers>
 #include <vector>
 
-namespace metamer::testing {
+namespace metamer::test {
 
 namespace {
 
@@ -21,42 +19,88 @@ dvec3 anyPerpendicular(const dvec3& a) {
     return glm::normalize(glm::cross(std::fabs(a.x) < 0.9 ? dvec3(1, 0, 0) : dvec3(0, 1, 0), a));
 }
 
-// The real roots in (−π, π] of a0 + a1 cos φ + b1 sin φ + a2 cos 2φ + b2 sin 2φ: with z = e^{iφ},
-// z²·g is a polynomial of degree 4 in z whose roots on the unit circle are the real roots.
+// The real roots of the monic cubic m³ + a m² + b m + c: the largest one (there is at least one).
+double largestCubicRoot(double a, double b, double c) {
+    const double q = (a * a - 3.0 * b) / 9.0, r = (2.0 * a * a * a - 9.0 * a * b + 27.0 * c) / 54.0;
+    double m;
+    if (r * r < q * q * q) {  // three real roots
+        const double theta = std::acos(std::clamp(r / std::sqrt(q * q * q), -1.0, 1.0));
+        m = -2.0 * std::sqrt(q) * std::cos(theta / 3.0) - a / 3.0;  // the largest of the three
+    } else {
+        const double big = -std::copysign(std::cbrt(std::fabs(r) + std::sqrt(r * r - q * q * q)), r);
+        m = big + (big != 0.0 ? q / big : 0.0) - a / 3.0;
+    }
+    for (int i = 0; i < 3; ++i) {  // Newton polish
+        const double f = ((m + a) * m + b) * m + c, df = (3.0 * m + 2.0 * a) * m + b;
+        if (df == 0.0) break;
+        m -= f / df;
+    }
+    return m;
+}
+
+// The real roots of a t⁴ + b t³ + c t² + d t + e (a ≠ 0) by Ferrari's method, into roots; a
+// discriminant within rounding of 0 counts as a double root (the caller polishes and tests signs).
+int quarticRoots(double a, double b, double c, double d, double e, double* roots) {
+    const double B = b / a, C = c / a, D = d / a, E = e / a;
+    const double p = C - 3.0 * B * B / 8.0, q = D - B * C / 2.0 + B * B * B / 8.0,
+                 r = E - B * D / 4.0 + B * B * C / 16.0 - 3.0 * B * B * B * B / 256.0;
+    const double scale = 1.0 + std::fabs(p) + std::sqrt(std::fabs(r));
+    int count = 0;
+    auto quadratic = [&](double qb, double qc) {  // y² + qb y + qc
+        const double disc = qb * qb - 4.0 * qc;
+        if (disc < -1e-12 * scale * scale) return;
+        const double root = std::sqrt(std::max(0.0, disc));
+        roots[count++] = 0.5 * (-qb - root) - B / 4.0;
+        roots[count++] = 0.5 * (-qb + root) - B / 4.0;
+    };
+    if (std::fabs(q) < 1e-14 * scale * scale * scale) {  // biquadratic: y² = z
+        const double disc = p * p - 4.0 * r;
+        if (disc < -1e-12 * scale * scale) return 0;
+        for (double z : {0.5 * (-p - std::sqrt(std::max(0.0, disc))), 0.5 * (-p + std::sqrt(std::max(0.0, disc)))}) {
+            if (z < -1e-12 * scale) continue;
+            roots[count++] = std::sqrt(std::max(0.0, z)) - B / 4.0;
+            roots[count++] = -std::sqrt(std::max(0.0, z)) - B / 4.0;
+        }
+        return count;
+    }
+    const double m = std::max(largestCubicRoot(p, p * p / 4.0 - r, -q * q / 8.0), 1e-300);
+    const double s = std::sqrt(2.0 * m);
+    quadratic(s, p / 2.0 + m - q / (2.0 * s));
+    quadratic(-s, p / 2.0 + m + q / (2.0 * s));
+    return count;
+}
+
+// The real roots of g(φ) = a0 + a1 cos φ + b1 sin φ + a2 cos 2φ + b2 sin 2φ (a trigonometric
+// polynomial of degree 2: at most 4). With φ = s + θ and t = tan(θ/2), (1 + t²)²·g is a quartic
+// in t whose leading coefficient is g(s + π); s is taken among 8 angles where |g(s + π)| is largest,
+// so that no root sits at t = ∞. Each root is polished by Newton's method on g.
 int trigonometricRoots(double a0, double a1, double b1, double a2, double b2, double* roots) {
-    using C = std::complex<double>;
-    const C coefficients[5] = {C(a2, b2) * 0.5, C(a1, b1) * 0.5, C(a0, 0.0), C(a1, -b1) * 0.5, C(a2, -b2) * 0.5};
-    double scale = 0.0;
-    for (const C& c : coefficients) scale = std::max(scale, std::abs(c));
-    if (!(scale > 0.0)) return 0;
-    int high = 4, low = 0;
-    while (high > 0 && std::abs(coefficients[high]) < 1e-14 * scale) --high;
-    while (low < high && std::abs(coefficients[low]) < 1e-14 * scale) ++low;  // roots at z = 0
-    const int degree = high - low;
-    if (degree <= 0) return 0;
-    Eigen::MatrixXcd companion = Eigen::MatrixXcd::Zero(degree, degree);
-    for (int i = 0; i < degree; ++i) companion(0, i) = -coefficients[high - 1 - i] / coefficients[high];
-    for (int i = 1; i < degree; ++i) companion(i, i - 1) = 1.0;
-    const Eigen::ComplexEigenSolver<Eigen::MatrixXcd> solver(companion, false);
     auto g = [&](double p) { return a0 + a1 * std::cos(p) + b1 * std::sin(p) + a2 * std::cos(2 * p) + b2 * std::sin(2 * p); };
     auto dg = [&](double p) {
         return -a1 * std::sin(p) + b1 * std::cos(p) - 2 * a2 * std::sin(2 * p) + 2 * b2 * std::cos(2 * p);
     };
-    int count = 0;
-    for (int i = 0; i < degree; ++i) {
-        const C z = solver.eigenvalues()[i];
-        if (std::fabs(std::abs(z) - 1.0) > 1e-3) continue;
-        double p = std::arg(z);
-        for (int iteration = 0; iteration < 4; ++iteration) {
+    double shift = 0.0, largest = -1.0;
+    for (int k = 0; k < 8; ++k) {
+        const double s = k * kPi / 4.0, value = std::fabs(g(s + kPi));
+        if (value > largest) largest = value, shift = s;
+    }
+    if (!(largest > 0.0)) return 0;
+    const double cs = std::cos(shift), ss = std::sin(shift), c2 = std::cos(2 * shift), s2 = std::sin(2 * shift);
+    const double A1 = a1 * cs + b1 * ss, B1 = b1 * cs - a1 * ss, A2 = a2 * c2 + b2 * s2, B2 = b2 * c2 - a2 * s2;
+    double t[4];
+    const int n = quarticRoots(a0 - A1 + A2, 2 * B1 - 4 * B2, 2 * a0 - 6 * A2, 2 * B1 + 4 * B2, a0 + A1 + A2, t);
+    for (int i = 0; i < n; ++i) {
+        double p = shift + 2.0 * std::atan(t[i]);
+        for (int iteration = 0; iteration < 3; ++iteration) {
             const double slope = dg(p);
             if (slope == 0.0) break;
-            const double next = p - g(p) / slope;
-            if (std::fabs(next - p) > 1e-3) break;
-            p = next;
+            const double step = g(p) / slope;
+            if (!(std::fabs(step) < 1e-3)) break;
+            p -= step;
         }
-        roots[count++] = p;
+        roots[i] = p;
     }
-    return count;
+    return n;
 }
 
 }  // namespace
@@ -206,4 +250,4 @@ double luneOracle(const dvec3& n, const dvec3& v, const dvec3& u, double gloss, 
     return integrateAdaptively(inner, chiBreaks, relTol);
 }
 
-}  // namespace metamer::testing
+}  // namespace metamer::test

@@ -6,7 +6,7 @@
 // - ringOracle: over half vectors, on rings n·h = c with s = c^(N+1) as the radial variable (the
 //   lobe's weight is uniform in s, so the lobe has no peak to miss). On each ring the arc n·ω > 0 is
 //   closed form, u·ω > 0 is bounded by the real roots of a trigonometric polynomial of degree 2
-//   (the eigenvalues of its 4 × 4 companion matrix, polished by Newton's method), and the integrand
+//   (a quartic in tan(φ/2), Ferrari's method, polished by Newton's method), and the integrand
 //   4(v·h)(n·ω) has a closed-form antiderivative: each ring is exact. Along s, adaptive
 //   Gauss–Kronrod, with breaks at every ring where the arcs change (rings tangent to either
 //   horizon, rings through the horizons' crossings).
@@ -20,11 +20,11 @@
 
 #include <glm/glm.hpp>
 
-namespace metamer::testing {
+namespace metamer::test {
 
 // `hemisphere` false: the unoccluded lobe (u unused).
 double ringOracle(const glm::dvec3& n, const glm::dvec3& v, const glm::dvec3& u, double gloss, bool hemisphere = true,
                   double relTol = 1e-11);
 double luneOracle(const glm::dvec3& n, const glm::dvec3& v, const glm::dvec3& u, double gloss, double relTol = 1e-10);
 
-}  // namespace metamer::testing
+}  // namespace metamer::test
