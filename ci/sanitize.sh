@@ -42,10 +42,11 @@ export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1:suppressions=$here/ci/u
 cd "$build"
 # The scene-level comparisons of whole GPU renders (GPU against the CPU reference, the response
 # pass against the bands, every representation and texture kind) and the harnesses around the
-# binary (the Slurm daemons, the Xvfb window, the colour-science oracle) run in the plain suite;
+# binary (the Slurm daemons, the Xvfb window, the colour-science oracle) and the lobe tables'
+# certification (1.5 · 10⁵ oracle integrals) run in the plain suite;
 # under the sanitizers they would cost several of CI's 30 minutes on 2 cores for code the unit
 # tests, the bad-input corpus and the CLI tests already drive. Arguments replace this default.
 if (($# == 0)); then
-  set -- -E '^(GpuVsReference|ResponsePass|Representation|Textures)\.|^(slurm_batch|preview_window|colorimetry_standards)$'
+  set -- -E '^(GpuVsReference|ResponsePass|Representation|Textures|LobeCertification)\.|^(slurm_batch|preview_window|colorimetry_standards)$'
 fi
 ctest --output-on-failure -j "$(nproc)" --timeout 900 "$@"

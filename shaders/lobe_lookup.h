@@ -28,7 +28,7 @@
 
 #define LOBE_MOMENT_NODES 129  // x1 nodes of (γ, σ1, σ2, ln I_unoccluded)
 #define LOBE_X1_NODES 32
-#define LOBE_BETA_NODES 49
+#define LOBE_BETA_NODES 65
 #define LOBE_X2_NODES 128
 #define LOBE_X1_WARP 0.5
 #define LOBE_X2_SCALE 2.5

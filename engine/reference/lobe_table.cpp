@@ -40,7 +40,7 @@ constexpr double kConeTail = 1e-7;
 constexpr double kRowTolerance = 1e-8;
 // Bumped whenever what a table holds changes (its layout, the builder's method): old files are
 // then ignored.
-constexpr uint32_t kTableVersion = 1;
+constexpr uint32_t kTableVersion = 2;
 constexpr char kMagic[8] = {'M', 'T', 'M', 'R', 'L', 'O', 'B', 'E'};
 
 // The view elevation θe at x1 (the inverse of lobeX1).
