@@ -224,16 +224,19 @@ TEST_F(LobeTableCache, RoundTripAndDamagedFilesAreIgnored) {
     EXPECT_TRUE(damaged([](std::string&) {}));
 }
 
-TEST_F(LobeTableCache, TablesAreWrittenToTheFolderTheVariableNames) {
+TEST_F(LobeTableCache, TablesAreReadFromTheFolderTheVariableNames) {
+    // A file placed in the folder METAMER_LOBE_CACHE names is what lobeTableFor returns (made-up
+    // values, so it cannot have been built), and it is kept for the process.
     const char* old = std::getenv("METAMER_LOBE_CACHE");
     const std::string saved = old ? old : "";
     setenv("METAMER_LOBE_CACHE", dir.c_str(), 1);
     EXPECT_EQ(lobeCacheFolder(), dir);
-    const double gloss = 3.0;  // not used by other tests of this process, so built here
-    const auto built = lobeTableFor(gloss);
-    const auto onDisk = readLobeTable(dir / lobeCacheFileName(gloss), gloss);
-    ASSERT_TRUE(onDisk);
-    EXPECT_EQ(onDisk->data, built->data);
-    EXPECT_EQ(lobeTableFor(gloss), built) << "kept for the process";
+    LobeTable t;
+    t.gloss = 3.25;
+    t.data.assign(LOBE_TABLE_VEC4, glm::vec4(0.25f));
+    writeLobeTable(dir / lobeCacheFileName(t.gloss), t);
+    const auto read = lobeTableFor(t.gloss);
+    EXPECT_EQ(read->data, t.data);
+    EXPECT_EQ(lobeTableFor(t.gloss), read) << "kept for the process";
     old ? setenv("METAMER_LOBE_CACHE", saved.c_str(), 1) : unsetenv("METAMER_LOBE_CACHE");
 }
