@@ -39,9 +39,10 @@ using mat4 = glm::mat4;
                                   // six per point light (read when SPEC_SHADOWS)
 #define BINDING_LOBE_WEIGHTS 7    // sampler2D (RGBA32F, texelFetch at the fragment): the hemisphere lights'
                                   // lobe integrals, written once per frame by the lobe pass (SPEC_LOBE_MODE)
-#define BINDING_LOBE_TABLES 8     // storage buffer of vec4: the hemisphere lights' lobe tables, one per gloss
+#define BINDING_LOBE_TABLES 8     // usamplerBuffer (RGBA32UI texel buffer, texelFetch): the hemisphere lights'
+                                  // lobe tables, one per gloss
                                   // value of the scene's specular materials (shaders/lobe_lookup.h;
-                                  // GpuMaterialBlock.params.w is a material's table's first vec4)
+                                  // GpuMaterialBlock.params.w is a material's table's first entry)
 
 // Shadow maps (docs/physics.md, "Shadows"): D32 layers of SHADOW_MAP_SIZE², depth-compared with
 // no filtering; a fragment looks up its position pushed SHADOW_NORMAL_OFFSET texels along its face
@@ -137,7 +138,7 @@ struct GpuMaterialBlock {
                                            // s, per material, keeps the coupling near the
                                            // radiance's magnitude in float (docs/numerics.md)
     vec4 params;                           // x: gloss N; y: 1 if fluorescent; z: 1 if specular; w: the
-                                           // first vec4 of its lobe table in BINDING_LOBE_TABLES, −1 if none
+                                           // first entry of its lobe table in BINDING_LOBE_TABLES, −1 if none
     vec4 textures;                         // x, y, z: 1 if the diffuse, specular, normal texture is
                                            // used; w: the texture layer of this pass's first vec4
     vec4 coupling[MAX_LIGHTS / 4];         // per light: (Φ/π)·Σ a·E·λ·Δλ·2ˢ (fluorescence)

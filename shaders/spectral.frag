@@ -40,7 +40,7 @@ layout(set = 0, binding = BINDING_RESPONSES, std140) uniform Responses { GpuResp
 layout(set = 0, binding = BINDING_SHADOW_MATRICES, std140) uniform Shadows { GpuShadowBlock S; };
 layout(set = 0, binding = BINDING_SHADOW_MAP) uniform sampler2DArrayShadow shadowMap;
 layout(set = 0, binding = BINDING_LOBE_WEIGHTS) uniform sampler2D lobeWeights;
-layout(std430, set = 0, binding = BINDING_LOBE_TABLES) readonly buffer LobeTables { vec4 lobeData[]; };
+layout(set = 0, binding = BINDING_LOBE_TABLES) uniform usamplerBuffer lobeData;
 
 layout(set = 1, binding = TEXTURE_BINDING_DIFFUSE) uniform sampler2DArray diffuseTexture;
 layout(set = 1, binding = TEXTURE_BINDING_SPECULAR) uniform sampler2DArray specularTexture;
@@ -222,7 +222,9 @@ float blinnPhongLobe(vec3 n, vec3 wPlusV, float gloss) {
 #define LT_VEC3 vec3
 #define LT_VEC4 vec4
 #define LOBE_DATA_PARAM
-#define LOBE_FETCH(i) lobeData[(i)]
+#define LOBE_FETCH(i) texelFetch(lobeData, (i))
+#define LOBE_FLOATS(u) uintBitsToFloat(u)
+#define LOBE_UNORM(x) unpackUnorm2x16(x)
 #include "lobe_lookup.h"
 
 // Whether light l reaches p (1) or is blocked (0), from its shadow map: the layer (a point light's

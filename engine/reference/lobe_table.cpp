@@ -20,12 +20,18 @@
 // The shared lookup, compiled as C++ in double on the float data.
 namespace metamer::lobe_lookup {
 using namespace glm;
+inline dvec4 floatsOf(const uvec4& u) {
+    return dvec4(std::bit_cast<float>(u.x), std::bit_cast<float>(u.y), std::bit_cast<float>(u.z), std::bit_cast<float>(u.w));
+}
+inline dvec2 unormPair(uint32_t x) { return dvec2(double(x & 0xffffu) / 65535.0, double(x >> 16) / 65535.0); }
 #define LT_FLOAT double
 #define LT_VEC2 glm::dvec2
 #define LT_VEC3 glm::dvec3
 #define LT_VEC4 glm::dvec4
-#define LOBE_DATA_PARAM const glm::vec4 *lobeData,
-#define LOBE_FETCH(i) glm::dvec4(lobeData[(i)])
+#define LOBE_DATA_PARAM const glm::uvec4 *lobeData,
+#define LOBE_FETCH(i) lobeData[(i)]
+#define LOBE_FLOATS(u) floatsOf(u)
+#define LOBE_UNORM(x) unormPair(x)
 #include "lobe_lookup.h"
 }  // namespace metamer::lobe_lookup
 
@@ -40,7 +46,7 @@ constexpr double kConeTail = 1e-7;
 constexpr double kRowTolerance = 1e-8;
 // Bumped whenever what a table holds changes (its layout, the builder's method): old files are
 // then ignored.
-constexpr uint32_t kTableVersion = 2;
+constexpr uint32_t kTableVersion = 4;
 constexpr char kMagic[8] = {'M', 'T', 'M', 'R', 'L', 'O', 'B', 'E'};
 
 // The view elevation θe at x1 (the inverse of lobeX1).
@@ -68,41 +74,51 @@ LobeTable buildLobeTable(double gloss, int threads) {
     if (threads <= 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
     LobeTable table;
     table.gloss = gloss;
-    table.data.assign(LOBE_TABLE_VEC4, glm::vec4(0.0f));
+    table.data.assign(LOBE_TABLE_UVEC4, glm::uvec4(0u));
+    auto floatBits = [](double x) { return std::bit_cast<uint32_t>(static_cast<float>(x)); };
 
-    // The moments at the nodes, and the cone of each interval: the widest of five points across
-    // it (its ends and three inside), widened by 5 % (the cone varies slowly and smoothly with θe).
-    constexpr int kConeSamples = 4;
-    const int samples = (LOBE_MOMENT_NODES - 1) * kConeSamples + 1;
-    std::vector<LobeMoments> moments(samples);
-    parallelFor(samples, threads, [&](int i) {
-        moments[i] = lobeMoments(thetaEAt(double(i) / (samples - 1), gloss), gloss, kConeTail);
+    // The moments at the nodes; the cone of each interval: the wider of its ends', widened by 5 %
+    // (the cone varies slowly and smoothly with θe, and an interval spans 1/512 of x1).
+    std::vector<LobeMoments> moments(LOBE_MOMENT_NODES);
+    parallelFor(LOBE_MOMENT_NODES, threads, [&](int i) {
+        moments[i] = lobeMoments(thetaEAt(double(i) / (LOBE_MOMENT_NODES - 1), gloss), gloss, kConeTail);
     });
+    std::vector<glm::dvec4> stored(LOBE_MOMENT_NODES);  // the moments as the lookup reads them
     for (int i = 0; i < LOBE_MOMENT_NODES; ++i) {
-        const LobeMoments& m = moments[i * kConeSamples];
-        table.data[i] = glm::vec4(m.gamma, m.sigma1, m.sigma2, std::log(m.unoccluded));
+        const LobeMoments& m = moments[i];
+        const glm::vec4 rounded(m.gamma, m.sigma1, m.sigma2, std::log(m.unoccluded));
+        table.data[i] = glm::uvec4(floatBits(rounded.x), floatBits(rounded.y), floatBits(rounded.z), floatBits(rounded.w));
+        stored[i] = glm::dvec4(rounded);
     }
+    // The slope of ln I_unoccluded at each node, in units of an interval: fourth-order differences
+    // (one-sided at the ends), for the lookup's cubic Hermite.
+    auto lnU = [&](int i) { return std::log(moments[std::clamp(i, 0, LOBE_MOMENT_NODES - 1)].unoccluded); };
+    auto slope = [&](int i) {
+        if (i < 2 || i > LOBE_MOMENT_NODES - 3) {
+            const int d = i < 2 ? 1 : -1;  // −25/12 f0 + 4 f1 − 3 f2 + 4/3 f3 − 1/4 f4, towards the inside
+            return d * (-25.0 / 12.0 * lnU(i) + 4.0 * lnU(i + d) - 3.0 * lnU(i + 2 * d) + 4.0 / 3.0 * lnU(i + 3 * d) -
+                        0.25 * lnU(i + 4 * d));
+        }
+        return (-lnU(i + 2) + 8.0 * lnU(i + 1) - 8.0 * lnU(i - 1) + lnU(i - 2)) / 12.0;
+    };
     for (int i = 0; i + 1 < LOBE_MOMENT_NODES; ++i) {
-        double widest = 0.0;
-        for (int k = 0; k <= kConeSamples; ++k) widest = std::max(widest, moments[i * kConeSamples + k].coneHalfAngle);
-        widest *= 1.05;
-        table.data[LOBE_CONES_OFFSET + i].x = widest < 0.5 * kPi ? static_cast<float>(std::sin(widest)) : LOBE_NO_CONE;
+        const double widest = 1.05 * std::max(moments[i].coneHalfAngle, moments[i + 1].coneHalfAngle);
+        table.data[LOBE_CONES_OFFSET + i] = glm::uvec4(floatBits(widest < 0.5 * kPi ? std::sin(widest) : LOBE_NO_CONE),
+                                                       floatBits(slope(i)), floatBits(slope(i + 1)), 0u);
     }
 
-    // The rows (x1, β_w) for β_w ≤ π/2; each gives its mirror too: the hemisphere −u is (π − β_w,
-    // −x2), and I(−u) = I_unoccluded − I(u).
+    // The rows (x1, β_w) for β_w ≤ π/2, as 16-bit fixed point; each gives its mirror too: the
+    // hemisphere −u is (π − β_w, −x2), and I(−u) = I_unoccluded − I(u), kept exact in fixed point.
     constexpr int half = (LOBE_BETA_NODES - 1) / 2;
-    std::vector<double> f(size_t(LOBE_X1_NODES) * LOBE_BETA_NODES * LOBE_X2_NODES);
-    auto at = [&](int i1, int ib, int k) -> double& { return f[(size_t(i1) * LOBE_BETA_NODES + ib) * LOBE_X2_NODES + k]; };
+    std::vector<uint16_t> q(size_t(LOBE_X1_NODES) * LOBE_BETA_NODES * LOBE_X2_NODES);
+    auto at = [&](int i1, int ib, int k) -> uint16_t& { return q[(size_t(i1) * LOBE_BETA_NODES + ib) * LOBE_X2_NODES + k]; };
     parallelFor(LOBE_X1_NODES * (half + 1), threads, [&](int task) {
         const int i1 = task / (half + 1), ib = task % (half + 1);
         const double x1 = double(i1) / (LOBE_X1_NODES - 1), thetaE = thetaEAt(x1, gloss);
         // The moments as the lookup interpolates them, so that the rows' coordinates are the lookup's.
         const double xm = x1 * (LOBE_MOMENT_NODES - 1);
-        const int m0 = lobe_lookup::lobeStencil(xm, LOBE_MOMENT_NODES);
-        const glm::dvec4 w = lobe_lookup::lobeCubicWeights(xm - m0);
-        glm::dvec4 m(0.0);
-        for (int k = 0; k < 4; ++k) m += w[k] * glm::dvec4(table.data[m0 + k]);
+        const int m0 = std::clamp(int(std::floor(xm)), 0, LOBE_MOMENT_NODES - 2);
+        const glm::dvec4 m = (1.0 - (xm - m0)) * stored[m0] + (xm - m0) * stored[m0 + 1];
         const double gamma = m.x, sigma1 = m.y, sigma2 = m.z;
         const double betaW = kPi * ib / (LOBE_BETA_NODES - 1);
         const double beta = std::atan2(std::sin(betaW) / sigma2, std::cos(betaW) / sigma1);
@@ -114,17 +130,22 @@ LobeTable buildLobeTable(double gloss, int threads) {
         }
         const HemisphereFractions row = hemisphereFractions(thetaE, gloss, gamma, sigma1, sigma2, beta, epsilons, kRowTolerance);
         for (int k = 0; k < LOBE_X2_NODES; ++k) {
-            at(i1, ib, k) = row.fractions[k];
-            if (ib < half) at(i1, LOBE_BETA_NODES - 1 - ib, LOBE_X2_NODES - 1 - k) = 1.0 - row.fractions[k];
+            const auto fixed = static_cast<uint16_t>(std::lround(std::clamp(row.fractions[k], 0.0, 1.0) * 65535.0));
+            at(i1, ib, k) = fixed;
+            if (ib < half) at(i1, LOBE_BETA_NODES - 1 - ib, LOBE_X2_NODES - 1 - k) = uint16_t(65535 - fixed);
         }
     });
-    // Each x2 interval j holds the four values of its cubic.
+    // Entry (x1 node, β_w pair b, x2 interval j): nodes b − 1 and b (mirrored past the ends), the
+    // four values each of interval j's cubic.
+    auto mirrored = [](int ib) { return ib < 0 ? -ib : ib > LOBE_BETA_NODES - 1 ? 2 * (LOBE_BETA_NODES - 1) - ib : ib; };
+    auto pair = [](uint16_t low, uint16_t high) { return uint32_t(low) | uint32_t(high) << 16; };
     for (int i1 = 0; i1 < LOBE_X1_NODES; ++i1)
-        for (int ib = 0; ib < LOBE_BETA_NODES; ++ib)
+        for (int b = 0; b < LOBE_BETA_PAIRS; ++b)
             for (int j = 0; j + 1 < LOBE_X2_NODES; ++j) {
-                const int j0 = std::clamp(j - 1, 0, LOBE_X2_NODES - 4);
-                table.data[LOBE_VALUES_OFFSET + (i1 * LOBE_BETA_NODES + ib) * (LOBE_X2_NODES - 1) + j] =
-                    glm::vec4(at(i1, ib, j0), at(i1, ib, j0 + 1), at(i1, ib, j0 + 2), at(i1, ib, j0 + 3));
+                const int j0 = std::clamp(j - 1, 0, LOBE_X2_NODES - 4), n0 = mirrored(b - 1), n1 = mirrored(b);
+                table.data[LOBE_VALUES_OFFSET + (size_t(i1) * LOBE_BETA_PAIRS + b) * (LOBE_X2_NODES - 1) + j] =
+                    glm::uvec4(pair(at(i1, n0, j0), at(i1, n0, j0 + 1)), pair(at(i1, n0, j0 + 2), at(i1, n0, j0 + 3)),
+                               pair(at(i1, n1, j0), at(i1, n1, j0 + 1)), pair(at(i1, n1, j0 + 2), at(i1, n1, j0 + 3)));
             }
     return table;
 }
@@ -154,7 +175,7 @@ FileHeader headerFor(double gloss) {
     FileHeader h{};
     std::memcpy(h.magic, kMagic, sizeof kMagic);
     h.version = kTableVersion;
-    const uint32_t layout[5] = {LOBE_MOMENT_NODES, LOBE_X1_NODES, LOBE_BETA_NODES, LOBE_X2_NODES, LOBE_TABLE_VEC4};
+    const uint32_t layout[5] = {LOBE_MOMENT_NODES, LOBE_X1_NODES, LOBE_BETA_NODES, LOBE_X2_NODES, LOBE_TABLE_UVEC4};
     std::memcpy(h.layout, layout, sizeof layout);
     h.gloss = gloss;
     return h;
@@ -166,7 +187,7 @@ std::shared_ptr<LobeTable> readLobeTable(const std::filesystem::path& file, doub
     std::error_code ec;
     if (!std::filesystem::is_regular_file(file, ec)) return nullptr;
     const FileHeader expected = headerFor(gloss);
-    const size_t bytes = LOBE_TABLE_VEC4 * sizeof(glm::vec4);
+    const size_t bytes = LOBE_TABLE_UVEC4 * sizeof(glm::uvec4);
     if (std::filesystem::file_size(file, ec) != sizeof expected + bytes || ec) return nullptr;
     std::ifstream in(file, std::ios::binary);
     FileHeader header{};
@@ -174,18 +195,20 @@ std::shared_ptr<LobeTable> readLobeTable(const std::filesystem::path& file, doub
     if (!in || std::memcmp(&header, &expected, sizeof header) != 0) return nullptr;
     auto table = std::make_shared<LobeTable>();
     table->gloss = gloss;
-    table->data.resize(LOBE_TABLE_VEC4);
+    table->data.resize(LOBE_TABLE_UVEC4);
     in.read(reinterpret_cast<char*>(table->data.data()), static_cast<std::streamsize>(bytes));
     if (!in) return nullptr;
-    for (const glm::vec4& x : table->data)
-        if (!std::isfinite(x.x) || !std::isfinite(x.y) || !std::isfinite(x.z) || !std::isfinite(x.w)) return nullptr;
+    // The moments and cones are floats and must be finite (the values are fixed point: any bits).
+    for (size_t i = 0; i < LOBE_VALUES_OFFSET; ++i)
+        for (int k = 0; k < 4; ++k)
+            if (!std::isfinite(std::bit_cast<float>(table->data[i][k]))) return nullptr;
     return table;
 }
 
 void writeLobeTable(const std::filesystem::path& file, const LobeTable& table) {
     const FileHeader header = headerFor(table.gloss);
     std::string bytes(reinterpret_cast<const char*>(&header), sizeof header);
-    bytes.append(reinterpret_cast<const char*>(table.data.data()), table.data.size() * sizeof(glm::vec4));
+    bytes.append(reinterpret_cast<const char*>(table.data.data()), table.data.size() * sizeof(glm::uvec4));
     writeFileAtomically(file, bytes);
 }
 

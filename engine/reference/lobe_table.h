@@ -24,7 +24,7 @@ namespace metamer {
 
 struct LobeTable {
     double gloss = 0.0;
-    std::vector<glm::vec4> data;  // LOBE_TABLE_VEC4 vec4s, laid out as shaders/lobe_lookup.h says
+    std::vector<glm::uvec4> data;  // LOBE_TABLE_UVEC4 entries, laid out as shaders/lobe_lookup.h says
 };
 
 // The table for a gloss in (0, 10⁶]: from this process, else the disk cache, else built and cached.

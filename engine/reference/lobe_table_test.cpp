@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
 #include <cstring>
 #include <cmath>
 #include <cstdio>
@@ -151,7 +152,7 @@ TEST(LobeTable, TheEarlyOutConeHoldsTheWholeLobe) {
             const double x1 = std::log1p(k * std::asin(nv)) / std::log1p(k * 0.5 * kPi);
             const int interval = std::clamp(int(std::floor(x1 * (LOBE_MOMENT_NODES - 1))), 0, LOBE_MOMENT_NODES - 2);
             const double ur = glm::dot(c.u, 2.0 * nv * c.n - c.v);
-            if (!(std::fabs(ur) > table->data[LOBE_CONES_OFFSET + interval].x)) continue;
+            if (!(std::fabs(ur) > std::bit_cast<float>(table->data[LOBE_CONES_OFFSET + interval].x))) continue;
             ++decided;
             const glm::dvec2 lobe = lobeIntegrals(*table, c.n, c.v, c.u);
             EXPECT_EQ(lobe.x, ur > 0.0 ? lobe.y : 0.0);
@@ -193,8 +194,10 @@ TEST_F(LobeTableCache, RoundTripAndDamagedFilesAreIgnored) {
     // A table of made-up values (the file format, not the numbers, is under test).
     LobeTable t;
     t.gloss = 42.5;
-    t.data.resize(LOBE_TABLE_VEC4);
-    for (size_t i = 0; i < t.data.size(); ++i) t.data[i] = glm::vec4(float(i), 0.5f, -1.0f, 2.0f);
+    t.data.resize(LOBE_TABLE_UVEC4);
+    for (size_t i = 0; i < t.data.size(); ++i)  // finite floats in the moments and cones, any bits after
+        t.data[i] = i < LOBE_VALUES_OFFSET ? glm::uvec4(std::bit_cast<uint32_t>(float(i)), 0x3f000000u, 0xbf800000u, 0u)
+                                           : glm::uvec4(uint32_t(i), 0xffffffffu, 0x7fc00000u, 1u);
     const auto file = dir / lobeCacheFileName(t.gloss);
     writeLobeTable(file, t);
     const auto back = readLobeTable(file, t.gloss);
@@ -217,9 +220,9 @@ TEST_F(LobeTableCache, RoundTripAndDamagedFilesAreIgnored) {
     };
     EXPECT_FALSE(damaged([](std::string& b) { b.resize(b.size() - 16); }));
     EXPECT_FALSE(damaged([](std::string& b) { b[8] ^= 1; }));
-    EXPECT_FALSE(damaged([](std::string& b) {
+    EXPECT_FALSE(damaged([&](std::string& b) {  // a NaN among the moments
         const float nan = std::nanf("");
-        std::memcpy(&b[b.size() - 4], &nan, 4);
+        std::memcpy(&b[b.size() - (LOBE_TABLE_UVEC4 - 3) * sizeof(glm::uvec4)], &nan, 4);
     }));
     EXPECT_TRUE(damaged([](std::string&) {}));
 }
@@ -233,7 +236,7 @@ TEST_F(LobeTableCache, TablesAreReadFromTheFolderTheVariableNames) {
     EXPECT_EQ(lobeCacheFolder(), dir);
     LobeTable t;
     t.gloss = 3.25;
-    t.data.assign(LOBE_TABLE_VEC4, glm::vec4(0.25f));
+    t.data.assign(LOBE_TABLE_UVEC4, glm::uvec4(0x3e800000u));  // 0.25f
     writeLobeTable(dir / lobeCacheFileName(t.gloss), t);
     const auto read = lobeTableFor(t.gloss);
     EXPECT_EQ(read->data, t.data);

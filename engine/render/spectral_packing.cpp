@@ -3,6 +3,8 @@
 #include "reference/hemisphere_lobe.h"
 #include "reference/lobe_table.h"
 
+#include "lobe_lookup.h"
+
 #include <algorithm>
 #include <map>
 #include <cmath>
@@ -202,6 +204,12 @@ PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes) {
         if (p.hemisphere == 0 || !specular || !(m.gloss > 0.0)) return -1.0f;
         auto [it, added] = lobeTableAt.try_emplace(m.gloss, float(p.lobeTables.size()));
         if (added) {
+            // The shader gets a table's first entry as a float, exact below 2²⁴ (62 tables).
+            if (p.lobeTables.size() + LOBE_TABLE_UVEC4 > (size_t(1) << 24))
+                failInput(Where{scene.file.string(), "materials", 0},
+                          "more than {} distinct gloss values among the specular materials under hemisphere lights "
+                          "(one lobe table each, docs/physics.md \"Hemisphere lights\")",
+                          ((size_t(1) << 24) / LOBE_TABLE_UVEC4));
             const auto table = lobeTableFor(m.gloss);
             p.lobeTables.insert(p.lobeTables.end(), table->data.begin(), table->data.end());
         }

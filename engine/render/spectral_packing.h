@@ -39,8 +39,8 @@ struct PackedScene {
     std::vector<gpu::GpuLightSpectraBlock> lightSpectra;  // per pass
     std::vector<gpu::GpuMaterialBlock> materials;         // per pass × material: [pass][material]
     // With hemisphere lights: the lobe table of every distinct gloss value of the specular
-    // materials (reference/lobe_table.h), one after another; a material's params.w is its first vec4.
-    std::vector<glm::vec4> lobeTables;
+    // materials (reference/lobe_table.h), one after another; a material's params.w is its first entry.
+    std::vector<glm::uvec4> lobeTables;
     // Fluorescence as per-light spectra (scenes with a Donaldson matrix; interface.h,
     // GpuFluorescenceBlock): records of lightSlots × MAX_OUTPUTS vec4; per pass, record 0 is zeros
     // (non-fluorescent materials, and the only record when fluorescenceSpectra is false) and record

@@ -46,7 +46,7 @@ void recordSpectralFrame(VkCommandBuffer cmd, const SpectralResources& r, const 
         rb.pClearValues = &clear;
         vkCmdBeginRenderPass(cmd, &rb, VK_SUBPASS_CONTENTS_INLINE);
         if (!packed.draws.empty()) {
-            vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, r.depthPrePass.pipeline);
+            vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, r.depthPrePass.pipelines[0]);
             vkCmdBindVertexBuffers(cmd, 0, 1, &vb, &zero);
             vkCmdBindIndexBuffer(cmd, indexBuffer.handle(), 0, VK_INDEX_TYPE_UINT32);
             vkCmdPushConstants(cmd, pipelineLayout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
@@ -55,17 +55,24 @@ void recordSpectralFrame(VkCommandBuffer cmd, const SpectralResources& r, const 
         }
         vkCmdEndRenderPass(cmd);
     }
-    // Every draw of band pass p (the lobe pass draws as pass 0, with its own set 0): this pass's
-    // bands of the light spectra, of the draw's material and of its fluorescence; the material's
-    // responses (the response pass).
-    auto drawScene = [&](VkPipeline pipeline, size_t p, VkDescriptorSet set0) {
-        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
+    // Every draw of band pass p (the lobe pass draws as pass 0, with its own set 0), with its
+    // material's pipeline variant: this pass's bands of the light spectra, of the draw's material
+    // and of its fluorescence; the material's responses (the response pass). `specularOnly`: only
+    // the draws of materials with a specular lobe (the lobe pass: nothing else reads its weights).
+    auto drawScene = [&](const std::vector<VkPipeline>& pipelines, size_t p, VkDescriptorSet set0, bool specularOnly) {
         vkCmdBindVertexBuffers(cmd, 0, 1, &vb, &zero);
         vkCmdBindIndexBuffer(cmd, indexBuffer.handle(), 0, VK_INDEX_TYPE_UINT32);
         vkCmdPushConstants(cmd, pipelineLayout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(pc),
                            &pc);
         const size_t materials = packed.materials.size() / r.passes.size();
+        VkPipeline bound = VK_NULL_HANDLE;
         for (const PackedDraw& d : packed.draws) {
+            const uint32_t variant = r.materialVariant[d.material];
+            if (specularOnly && !r.variants[variant].specular) continue;
+            if (pipelines[variant] != bound) {
+                bound = pipelines[variant];
+                vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, bound);
+            }
             uint32_t offsets[4] = {
                 uint32_t(p * r.lightSpectraStride), uint32_t((p * materials + d.material) * r.materialStride),
                 packed.fluorescenceSpectra
@@ -88,7 +95,7 @@ void recordSpectralFrame(VkCommandBuffer cmd, const SpectralResources& r, const 
         rb.clearValueCount = 2;
         rb.pClearValues = clears;
         vkCmdBeginRenderPass(cmd, &rb, VK_SUBPASS_CONTENTS_INLINE);
-        if (!packed.draws.empty()) drawScene(r.lobePass.pipeline, 0, r.lobeDescriptorSet);
+        if (!packed.draws.empty()) drawScene(r.lobePass.pipelines, 0, r.lobeDescriptorSet, true);
         vkCmdEndRenderPass(cmd);
     }
     for (size_t p = 0; p < r.passes.size(); ++p) {
@@ -103,7 +110,7 @@ void recordSpectralFrame(VkCommandBuffer cmd, const SpectralResources& r, const 
         rb.clearValueCount = uint32_t(clears.size());
         rb.pClearValues = clears.data();
         vkCmdBeginRenderPass(cmd, &rb, VK_SUBPASS_CONTENTS_INLINE);
-        if (!packed.draws.empty()) drawScene(po.pipeline, p, r.descriptorSet);
+        if (!packed.draws.empty()) drawScene(po.pipelines, p, r.descriptorSet, false);
         vkCmdEndRenderPass(cmd);
     }
     if (plan.mappedReadback) {

@@ -25,13 +25,24 @@ namespace metamer {
 
 struct SpectralResources {
     // One render pass of up to MAX_OUTPUTS attachments (layers firstLayer …), or the depth pre-pass
-    // (attachments 0). Passes with the same attachment count share a render pass and a pipeline.
+    // (attachments 0). Passes with the same attachment count share a render pass and pipelines:
+    // one per material variant (the depth pre-pass: one).
     struct PassObjects {
         uint32_t firstLayer = 0, attachments = 0;
         VkRenderPass renderPass = VK_NULL_HANDLE;
-        VkPipeline pipeline = VK_NULL_HANDLE;
+        std::vector<VkPipeline> pipelines;  // [variant]
         vk::OwnedFramebuffer framebuffer;
     };
+    // What a material's draws compile in: lavapipe runs every branch a SIMD batch reaches, taken
+    // or not, so a fragment shader specialized to the scene would pay for a specular lobe, a
+    // hemisphere light's lobe lookup, fluorescence or textures on every pixel if any material had
+    // them. Each distinct combination is a pipeline variant; draws bind their material's.
+    struct MaterialVariant {
+        bool specular = false, fluorescent = false, textures = false, normalMap = false;
+        bool operator==(const MaterialVariant&) const = default;
+    };
+    std::vector<MaterialVariant> variants;
+    std::vector<uint32_t> materialVariant;  // per material: its variant
 
     // Makes every object; `plan` gets mappedReadback (whether the target is read by mapping).
     SpectralResources(vk::Context& ctx, const Scene& scene, const SceneOnGrid& spectra, const PackedScene& packed,
@@ -47,6 +58,7 @@ struct SpectralResources {
 
     vk::Buffer vertexBuffer, indexBuffer, lightBuffer, lightSpectraBuffer, materialBuffer, fluorescenceBuffer,
         responseBuffer, readbackBuffer, lobeTableBuffer;
+    vk::OwnedBufferView lobeTableView;  // the lobe tables as a texel buffer of RGBA32UI
     // Dynamic-offset strides.
     VkDeviceSize lightSpectraStride = 0, materialStride = 0, fluorescenceStride = 0, responseStride = 0;
     vk::Image color, depth;
@@ -95,7 +107,10 @@ private:
     void createLayouts();
     VkRenderPass makeRenderPass(uint32_t attachments, bool clearsDepth);
     VkPipeline makePipeline(const vk::SharedHandle<VkRenderPass>& renderPass, uint32_t attachments, bool writesDepth,
-                            int lobeMode);
+                            int lobeMode, const MaterialVariant& variant);
+    std::vector<VkPipeline> makePipelines(const vk::SharedHandle<VkRenderPass>& renderPass, uint32_t attachments,
+                                          bool writesDepth, int lobeMode);
+    void classifyMaterials();
     void createLobePass();
     void createPasses();
 };

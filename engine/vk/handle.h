@@ -57,5 +57,6 @@ using OwnedShaderModule = Owned<VkShaderModule, vkDestroyShaderModule>;
 using OwnedDescriptorSetLayout = Owned<VkDescriptorSetLayout, vkDestroyDescriptorSetLayout>;
 using OwnedDescriptorPool = Owned<VkDescriptorPool, vkDestroyDescriptorPool>;
 using OwnedSampler = Owned<VkSampler, vkDestroySampler>;
+using OwnedBufferView = Owned<VkBufferView, vkDestroyBufferView>;
 
 }  // namespace metamer::vk
