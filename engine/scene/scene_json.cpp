@@ -735,7 +735,7 @@ private:
                           {"normal", "size", "up", "translate", "rotate_deg", "scale"});
                 glm::dvec3 c = vector<3>(require(v, w, "center", "[x, y, z] in metres"), w.child("center"));
                 double r = numberIn(require(v, w, "radius", "metres"), w.child("radius"), 0, INFINITY, true, true, " m");
-                int segments = 128;
+                int segments = sphereSegmentsFor(scene_.camera, c, r);  // the camera is read first
                 if (const Json* x = find(v, "segments"))
                     segments = integerIn(*x, w.child("segments"), kMinSphereSegments, kMaxSphereSegments);
                 out = makeSphere(c, r, segments);

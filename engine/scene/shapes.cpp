@@ -16,6 +16,22 @@ constexpr double kParallelCos = 0.999;
 
 }  // namespace
 
+int sphereSegmentsFor(const Camera& camera, const glm::dvec3& center, double radius) {
+    constexpr int kMost = 512;
+    double pixels;  // the sphere's radius on the image, px
+    if (camera.projection == Camera::Projection::Orthographic) {
+        pixels = radius * camera.height / camera.height_m;
+    } else {
+        const double distance = glm::length(center - camera.position);
+        if (!(distance > radius * 1.0001)) return kMost;
+        const double tanHalf = std::tan(0.5 * camera.fov_y_deg * std::numbers::pi / 180.0);
+        pixels = radius / std::sqrt(distance * distance - radius * radius) * 0.5 * camera.height / tanHalf;
+    }
+    const double segments = 2.0 * std::numbers::pi * pixels / 6.0;
+    if (!(segments < kMost)) return kMost;
+    return std::max(16, 8 * int(std::ceil(segments / 8.0)));
+}
+
 Mesh makeSphere(const glm::dvec3& center, double radius, int segments) {
     const int n = segments;      // meridians
     const int m = segments / 2;  // latitude bands; m - 1 rings of n vertices between the poles

@@ -21,6 +21,13 @@ constexpr int kMaxSphereSegments = 4096;
 // Precondition: radius > 0, segments within the limits above.
 Mesh makeSphere(const glm::dvec3& center, double radius, int segments);
 
+// The segments a sphere gets when the scene does not say: edges of about 6 pixels along its
+// silhouette as `camera` sees it (a silhouette within 0.1 px of the true circle for spheres over
+// 45 px in radius), a multiple of 8 in 16 … 512. A sphere that holds the camera gets 512.
+// Rasterizing costs lavapipe about as much per triangle as shading a few pixels, so a mesh
+// finer than the pixels it covers is paid for and not seen (docs/performance.md).
+int sphereSegmentsFor(const Camera& camera, const glm::dvec3& center, double radius);
+
 // A w×h rectangle centred at `center` facing `normal`. In-plane axes: "up" is the hint (default
 // +y, or -z when the normal is within ~2.6° of ±y and no hint was given) made perpendicular to
 // the normal; "right" = up × normal. The size is (right extent, up extent). Two triangles,
