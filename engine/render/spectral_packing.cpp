@@ -124,6 +124,11 @@ PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes) {
     for (const auto& mesh : scene.meshes) {
         if (mesh.indices.empty()) continue;
         PackedDraw d{uint32_t(p.indices.size()), uint32_t(mesh.indices.size()), int32_t(p.vertices.size()), mesh.material};
+        d.closed = mesh.closed;
+        glm::dvec3 lower(INFINITY), upper(-INFINITY);
+        for (const glm::dvec3& x : mesh.positions) lower = glm::min(lower, x), upper = glm::max(upper, x);
+        d.lower = glm::vec3(lower);
+        d.upper = glm::vec3(upper);
         auto vertex = [&p, &mesh](uint32_t i, const glm::dvec3& normal) {
             glm::dvec2 uv = mesh.uvs.empty() ? glm::dvec2(0.0) : mesh.uvs[i];
             glm::dvec4 t = mesh.tangents.empty() ? glm::dvec4(0.0) : mesh.tangents[i];

@@ -15,11 +15,14 @@
 
 namespace metamer {
 
-// One draw call: a mesh's indices, with its material.
+// One draw call: a mesh's indices, with its material; whether the mesh is closed (Mesh::closed)
+// and its bounds, m (back faces may be culled when the camera is outside them).
 struct PackedDraw {
     uint32_t firstIndex, indexCount;
     int32_t vertexOffset;
     uint32_t material;
+    bool closed = false;
+    glm::vec3 lower{0.0f}, upper{0.0f};
 };
 
 // Everything the fragment shader reads, packed per pass for the uniform blocks of interface.h.

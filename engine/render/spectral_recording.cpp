@@ -19,6 +19,20 @@ void recordSpectralFrame(VkCommandBuffer cmd, const SpectralResources& r, const 
     pc.cameraForward = glm::vec4(camera.forward, 0.0f);
     VkDeviceSize zero = 0;
     VkBuffer vb = vertexBuffer.handle();
+    // A closed mesh's back faces are hidden while the camera sees it whole from outside: every
+    // corner of its bounds in front of the near plane (so that the plane cuts none of it open and
+    // the camera is not inside). A margin covers the bounds' rounding to float.
+    auto cullable = [&](const PackedDraw& d) {
+        if (!d.closed) return false;
+        for (int corner = 0; corner < 8; ++corner) {
+            const glm::vec3 p(corner & 1 ? d.upper.x : d.lower.x, corner & 2 ? d.upper.y : d.lower.y,
+                              corner & 4 ? d.upper.z : d.lower.z);
+            const glm::vec3 toCorner = p - camera.position;
+            if (!(glm::dot(toCorner, camera.forward) > 1.01f * float(camera.near_m) + 1e-5f * glm::length(toCorner)))
+                return false;
+        }
+        return true;
+    };
     {
         // Zero every layer (background radiance is 0), in GENERAL, then let the colour passes load it.
         const uint32_t layers = uint32_t(plan.layers);
@@ -51,7 +65,12 @@ void recordSpectralFrame(VkCommandBuffer cmd, const SpectralResources& r, const 
             vkCmdBindIndexBuffer(cmd, indexBuffer.handle(), 0, VK_INDEX_TYPE_UINT32);
             vkCmdPushConstants(cmd, pipelineLayout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
                                sizeof(pc), &pc);
-            for (const PackedDraw& d : packed.draws) vkCmdDrawIndexed(cmd, d.indexCount, 1, d.firstIndex, d.vertexOffset, 0);
+            VkPipeline bound = r.depthPrePass.pipelines[0];
+            for (const PackedDraw& d : packed.draws) {
+                const VkPipeline pipeline = r.depthPrePass.pipelines[cullable(d) ? 1 : 0];
+                if (pipeline != bound) vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, bound = pipeline);
+                vkCmdDrawIndexed(cmd, d.indexCount, 1, d.firstIndex, d.vertexOffset, 0);
+            }
         }
         vkCmdEndRenderPass(cmd);
     }
@@ -67,7 +86,8 @@ void recordSpectralFrame(VkCommandBuffer cmd, const SpectralResources& r, const 
         const size_t materials = packed.materials.size() / r.passes.size();
         VkPipeline bound = VK_NULL_HANDLE;
         for (const PackedDraw& d : packed.draws) {
-            const uint32_t variant = r.materialVariant[d.material];
+            const int32_t culled = r.materialCulledVariant[d.material];
+            const uint32_t variant = culled >= 0 && cullable(d) ? uint32_t(culled) : r.materialVariant[d.material];
             if (specularOnly && !r.variants[variant].specular) continue;
             if (pipelines[variant] != bound) {
                 bound = pipelines[variant];

@@ -443,7 +443,7 @@ VkRenderPass SpectralResources::makeRenderPass(uint32_t attachments, bool clears
 // attachments == 0: the depth pre-pass pipeline (vertex stage only); writesDepth with attachments:
 // a colour pass without a pre-pass.
 VkPipeline SpectralResources::makePipeline(const vk::SharedHandle<VkRenderPass>& renderPass, uint32_t attachments,
-                                           bool writesDepth, int lobeMode, const MaterialVariant& v) {
+                                           bool writesDepth, int lobeMode, const Variant& v) {
     const gpu::SpectralSpecialization spec{packed.ambient,
                                            packed.directional,
                                            packed.point,
@@ -466,6 +466,7 @@ VkPipeline SpectralResources::makePipeline(const vk::SharedHandle<VkRenderPass>&
     VkSpecializationInfo si{kIds, entries, sizeof(spec), &spec};
     bool prePass = attachments == 0;
     vk::GraphicsPipelineDesc d;
+    d.cullMode = v.cullBackFaces ? VK_CULL_MODE_BACK_BIT : VK_CULL_MODE_NONE;
     d.renderPass = renderPass.get();
     d.layout = pipelineLayout.get();
     d.vertex = vert.get();
@@ -487,8 +488,8 @@ VkPipeline SpectralResources::makePipeline(const vk::SharedHandle<VkRenderPass>&
     // Everything the pipeline depends on is in its key (the render pass and layout are shared, so
     // their handles name their descriptions).
     const std::string key =
-        fmt::format("spectral.pipeline attachments={} writesDepth={} {}x{} pass={} layout={} spec={}", attachments,
-                    writesDepth, d.width, d.height, static_cast<void*>(renderPass.get()),
+        fmt::format("spectral.pipeline attachments={} writesDepth={} cull={} {}x{} pass={} layout={} spec={}", attachments,
+                    writesDepth, int(d.cullMode), d.width, d.height, static_cast<void*>(renderPass.get()),
                     static_cast<void*>(pipelineLayout.get()), vk::keyBytes(&spec, sizeof spec));
     pipelines.push_back(ctx.objects().pipeline(
         key,
@@ -506,16 +507,28 @@ VkPipeline SpectralResources::makePipeline(const vk::SharedHandle<VkRenderPass>&
     return pipelines.back().get();
 }
 
-// Each material's variant, from what its packed block says (the same flags the shader tests).
-void SpectralResources::classifyMaterials() {
+// Each material's variant, from what its packed block says (the same flags the shader tests), and
+// its culled one when it has closed meshes.
+void SpectralResources::classifyDraws() {
+    auto index = [&](const Variant& v) {
+        const auto found = std::find(variants.begin(), variants.end(), v);
+        if (found != variants.end()) return uint32_t(found - variants.begin());
+        variants.push_back(v);
+        return uint32_t(variants.size() - 1);
+    };
     const size_t materials = packed.materials.size() / std::max<size_t>(1, size_t(plan.passes));
     for (size_t m = 0; m < materials; ++m) {
         const gpu::GpuMaterialBlock& b = packed.materials[m];  // pass 0's: the flags are the same in every pass
-        const MaterialVariant v{b.params.z > 0.5f, b.params.y > 0.5f,
-                                b.textures.x > 0.5f || b.textures.y > 0.5f || b.textures.z > 0.5f, b.textures.z > 0.5f};
-        const auto found = std::find(variants.begin(), variants.end(), v);
-        materialVariant.push_back(uint32_t(found - variants.begin()));
-        if (found == variants.end()) variants.push_back(v);
+        Variant v{b.params.z > 0.5f, b.params.y > 0.5f, b.textures.x > 0.5f || b.textures.y > 0.5f || b.textures.z > 0.5f,
+                  b.textures.z > 0.5f, false};
+        materialVariant.push_back(index(v));
+        materialCulledVariant.push_back(-1);
+        const bool closedMesh = std::any_of(packed.draws.begin(), packed.draws.end(),
+                                            [&](const PackedDraw& d) { return d.closed && d.material == m; });
+        if (closedMesh) {
+            v.cullBackFaces = true;
+            materialCulledVariant.back() = int32_t(index(v));
+        }
     }
     if (variants.empty()) variants.push_back({});
 }
@@ -523,17 +536,20 @@ void SpectralResources::classifyMaterials() {
 std::vector<VkPipeline> SpectralResources::makePipelines(const vk::SharedHandle<VkRenderPass>& renderPass,
                                                          uint32_t attachments, bool writesDepth, int lobeMode) {
     std::vector<VkPipeline> out;
-    for (const MaterialVariant& v : variants) out.push_back(makePipeline(renderPass, attachments, writesDepth, lobeMode, v));
+    for (const Variant& v : variants) out.push_back(makePipeline(renderPass, attachments, writesDepth, lobeMode, v));
     return out;
 }
 
 void SpectralResources::createPasses() {
-    classifyMaterials();
+    classifyDraws();
     hasDepthPrePass = !plan.responses;
     if (hasDepthPrePass) {
         PassObjects& pre = depthPrePass;
         pre.renderPass = makeRenderPass(0, true);
-        pre.pipelines = {makePipeline(renderPasses.back(), 0, true, LOBE_COMPUTE, {})};
+        Variant culled;
+        culled.cullBackFaces = true;
+        pre.pipelines = {makePipeline(renderPasses.back(), 0, true, LOBE_COMPUTE, {}),
+                         makePipeline(renderPasses.back(), 0, true, LOBE_COMPUTE, culled)};
         pre.framebuffer =
             vk::createFramebuffer(ctx.device(), pre.renderPass, {depth.layerView(0)}, plan.targetWidth, plan.targetHeight);
     }

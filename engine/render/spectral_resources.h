@@ -30,19 +30,25 @@ struct SpectralResources {
     struct PassObjects {
         uint32_t firstLayer = 0, attachments = 0;
         VkRenderPass renderPass = VK_NULL_HANDLE;
-        std::vector<VkPipeline> pipelines;  // [variant]
+        std::vector<VkPipeline> pipelines;  // [variant] (the depth pre-pass: back faces kept, culled)
         vk::OwnedFramebuffer framebuffer;
     };
-    // What a material's draws compile in: lavapipe runs every branch a SIMD batch reaches, taken
-    // or not, so a fragment shader specialized to the scene would pay for a specular lobe, a
-    // hemisphere light's lobe lookup, fluorescence or textures on every pixel if any material had
-    // them. Each distinct combination is a pipeline variant; draws bind their material's.
-    struct MaterialVariant {
+    // What a draw compiles in: lavapipe runs every branch a SIMD batch reaches, taken or not, so a
+    // fragment shader specialized to the scene would pay for a specular lobe, a hemisphere light's
+    // lobe lookup, fluorescence or textures on every pixel if any material had them. Each distinct
+    // kind of material is a pipeline variant, and again with back faces culled for the closed
+    // meshes that have it (drawn so while the camera is outside their bounds: their back faces are
+    // hidden then, and culling them saves their rasterization and any shading before the front
+    // face covers them). Draws bind their variant's pipeline.
+    struct Variant {
         bool specular = false, fluorescent = false, textures = false, normalMap = false;
-        bool operator==(const MaterialVariant&) const = default;
+        bool cullBackFaces = false;
+        bool operator==(const Variant&) const = default;
     };
-    std::vector<MaterialVariant> variants;
-    std::vector<uint32_t> materialVariant;  // per material: its variant
+    std::vector<Variant> variants;
+    // Per material: its variant, and the same with back faces culled (its closed meshes), or −1.
+    std::vector<uint32_t> materialVariant;
+    std::vector<int32_t> materialCulledVariant;
 
     // Makes every object; `plan` gets mappedReadback (whether the target is read by mapping).
     SpectralResources(vk::Context& ctx, const Scene& scene, const SceneOnGrid& spectra, const PackedScene& packed,
@@ -107,10 +113,10 @@ private:
     void createLayouts();
     VkRenderPass makeRenderPass(uint32_t attachments, bool clearsDepth);
     VkPipeline makePipeline(const vk::SharedHandle<VkRenderPass>& renderPass, uint32_t attachments, bool writesDepth,
-                            int lobeMode, const MaterialVariant& variant);
+                            int lobeMode, const Variant& variant);
     std::vector<VkPipeline> makePipelines(const vk::SharedHandle<VkRenderPass>& renderPass, uint32_t attachments,
                                           bool writesDepth, int lobeMode);
-    void classifyMaterials();
+    void classifyDraws();
     void createLobePass();
     void createPasses();
 };

@@ -130,6 +130,10 @@ struct Mesh {
     std::vector<uint32_t> indices;  // 3 per triangle, counter-clockwise seen from the normal side
     uint32_t material = 0;          // index into Scene::materials
     std::string name;               // "objects.2" (+ " (assets/teapot.gltf)")
+    // Closed and wound outwards: every edge (vertices welded by position) shared by exactly two
+    // triangles, in opposite directions, and a positive signed volume. Its back faces are seen
+    // only from inside, so the GPU path may cull them when the camera is outside (scene/shapes.h).
+    bool closed = false;
 };
 
 // The scene's "output" block: how the display path should see the scene. Every field is optional

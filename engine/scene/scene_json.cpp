@@ -722,11 +722,13 @@ private:
                         failInput(w.child("mesh"),
                                   "mesh file '{}': a primitive with material '{}' has textures but no TEXCOORD_0",
                                   given, scene_.materials[part.material].name);
+                    part.closed = isClosedOutward(part);
                     scene_.meshes.push_back(std::move(part));
                 }
                 return;
             }
             transformMesh(out, objectTransform(t, r, s));
+            out.closed = isClosedOutward(out);
             out.name = w.key + " (" + given + ")";
         } else {
             std::string kind = choice(*shape, w.child("shape"), {"sphere", "quad"});

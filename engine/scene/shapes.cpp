@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <numeric>
 #include <utility>
 
 namespace metamer {
@@ -30,6 +31,38 @@ int sphereSegmentsFor(const Camera& camera, const glm::dvec3& center, double rad
     const double segments = 2.0 * std::numbers::pi * pixels / 6.0;
     if (!(segments < kMost)) return kMost;
     return std::max(16, 8 * int(std::ceil(segments / 8.0)));
+}
+
+bool isClosedOutward(const Mesh& mesh) {
+    const size_t triangles = mesh.indices.size() / 3;
+    if (triangles < 4 || mesh.positions.empty()) return false;
+    // Weld: the same position, the same vertex.
+    std::vector<uint32_t> order(mesh.positions.size()), weld(mesh.positions.size());
+    std::iota(order.begin(), order.end(), 0u);
+    auto less = [&](uint32_t a, uint32_t b) {
+        const glm::dvec3 &p = mesh.positions[a], &q = mesh.positions[b];
+        return p.x != q.x ? p.x < q.x : p.y != q.y ? p.y < q.y : p.z < q.z;
+    };
+    std::sort(order.begin(), order.end(), less);
+    for (size_t i = 0; i < order.size(); ++i)
+        weld[order[i]] = i > 0 && !less(order[i - 1], order[i]) ? weld[order[i - 1]] : order[i];
+    // Every directed edge once, and its reverse once.
+    std::vector<std::pair<uint32_t, uint32_t>> edges;
+    edges.reserve(3 * triangles);
+    double volume = 0.0;
+    const glm::dvec3 origin = mesh.positions[mesh.indices[0]];
+    for (size_t t = 0; t < triangles; ++t) {
+        const uint32_t a = weld[mesh.indices[3 * t]], b = weld[mesh.indices[3 * t + 1]], c = weld[mesh.indices[3 * t + 2]];
+        if (a == b || b == c || c == a) return false;  // a degenerate triangle: not a clean surface
+        edges.insert(edges.end(), {{a, b}, {b, c}, {c, a}});
+        volume += glm::dot(mesh.positions[a] - origin, glm::cross(mesh.positions[b] - origin, mesh.positions[c] - origin));
+    }
+    std::sort(edges.begin(), edges.end());
+    for (size_t i = 0; i < edges.size(); ++i) {
+        if (i > 0 && edges[i] == edges[i - 1]) return false;  // an edge used twice the same way
+        if (!std::binary_search(edges.begin(), edges.end(), std::make_pair(edges[i].second, edges[i].first))) return false;
+    }
+    return volume > 0.0;
 }
 
 Mesh makeSphere(const glm::dvec3& center, double radius, int segments) {
@@ -66,6 +99,7 @@ Mesh makeSphere(const glm::dvec3& center, double radius, int segments) {
             tri(a, d, b);
         }
     for (int j = 0; j < n; ++j) tri(ring(m - 1, j), south, ring(m - 1, j + 1));
+    mesh.closed = true;  // no seam duplicates, counter-clockwise from outside
     return mesh;
 }
 

@@ -28,6 +28,10 @@ Mesh makeSphere(const glm::dvec3& center, double radius, int segments);
 // finer than the pixels it covers is paid for and not seen (docs/performance.md).
 int sphereSegmentsFor(const Camera& camera, const glm::dvec3& center, double radius);
 
+// Whether `mesh` is closed and wound outwards (Mesh::closed), its vertices welded by exact
+// position (a seam's duplicates join); spheres are by construction.
+bool isClosedOutward(const Mesh& mesh);
+
 // A w×h rectangle centred at `center` facing `normal`. In-plane axes: "up" is the hint (default
 // +y, or -z when the normal is within ~2.6° of ±y and no hint was given) made perpendicular to
 // the normal; "right" = up × normal. The size is (right extent, up extent). Two triangles,

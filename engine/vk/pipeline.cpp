@@ -52,7 +52,7 @@ VkPipeline createGraphicsPipeline(VkDevice device, const GraphicsPipelineDesc& d
     vp.pScissors = &scissor;
     VkPipelineRasterizationStateCreateInfo rs{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
     rs.polygonMode = VK_POLYGON_MODE_FILL;
-    rs.cullMode = VK_CULL_MODE_NONE;  // two-sided shading: back faces are visible
+    rs.cullMode = d.cullMode;
     rs.frontFace = d.frontFace;
     rs.lineWidth = 1.0f;
     rs.depthBiasEnable = d.depthBiasConstant != 0.0f || d.depthBiasSlope != 0.0f;

@@ -33,6 +33,7 @@ struct GraphicsPipelineDesc {
     // Front faces are counter-clockwise seen from their normal side (scene/scene.h). Vulkan
     // judges winding in y-down framebuffer space; the projections' y flip cancels that.
     VkFrontFace frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
+    VkCullModeFlags cullMode = VK_CULL_MODE_NONE;  // two-sided shading: back faces are visible
     VkPipelineCache cache = VK_NULL_HANDLE;  // Context::pipelineCache()
 };
 
