@@ -137,10 +137,11 @@ struct GpuMaterialBlock {
     vec4 emissionOverLambda[MAX_OUTPUTS];  // ê(λ)/λ·2⁻ˢ, nm⁻² (0 for non-fluorescent materials);
                                            // s, per material, keeps the coupling near the
                                            // radiance's magnitude in float (docs/numerics.md)
-    vec4 params;                           // x: gloss N; y: 1 if fluorescent; z: 1 if specular; w: the
-                                           // first entry of its lobe table in BINDING_LOBE_TABLES, −1 if none
+    vec4 params;                           // x: gloss N; y: 1 if fluorescent; z: 1 if specular
     vec4 textures;                         // x, y, z: 1 if the diffuse, specular, normal texture is
                                            // used; w: the texture layer of this pass's first vec4
+    vec4 lobe;                             // x: the first entry of its lobe table in BINDING_LOBE_TABLES,
+                                           // −1 if none; y, z: the table's x1 warp (lobeWarp, lobe_lookup.h)
     vec4 coupling[MAX_LIGHTS / 4];         // per light: (Φ/π)·Σ a·E·λ·Δλ·2ˢ (fluorescence)
 };
 
@@ -270,7 +271,7 @@ static_assert(sizeof(GpuLightBlock) == 32 * MAX_LIGHTS, "std140 layout");
 static_assert(sizeof(GpuShadowBlock) == 64 * MAX_SHADOW_LAYERS, "std140 layout");
 static_assert(sizeof(ShadowPushConstants) == 64, "push constants must match GLSL");
 static_assert(sizeof(GpuLightSpectraBlock) == 16384, "must fit the minimum maxUniformBufferRange");
-static_assert(sizeof(GpuMaterialBlock) == 16 * (3 * MAX_OUTPUTS + 2 + MAX_LIGHTS / 4), "std140 layout");
+static_assert(sizeof(GpuMaterialBlock) == 16 * (3 * MAX_OUTPUTS + 3 + MAX_LIGHTS / 4), "std140 layout");
 static_assert(sizeof(GpuFluorescenceBlock) == 16384, "must fit the minimum maxUniformBufferRange");
 static_assert(sizeof(GpuResponseBlock) <= 16384, "must fit the minimum maxUniformBufferRange");
 static_assert(4 * RESPONSE_VEC4 == TONEMAP_MAX_CHANNELS, "the response pass carries every detector channel");

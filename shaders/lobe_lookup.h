@@ -65,15 +65,18 @@ LT_VEC4 lobeCubicWeights(LT_FLOAT t) {
 // The first of the four nodes around x on an axis of n nodes, one-sided at its ends.
 int lobeStencil(LT_FLOAT x, int n) { return clamp(int(floor(x)) - 1, 0, n - 4); }
 
-// x1 ∈ [0, 1] of a view at elevation θe ∈ [0, π/2] above the tangent plane.
-LT_FLOAT lobeX1(LT_FLOAT thetaE, LT_FLOAT gloss) {
+// The warp of a gloss's x1 axis, (k, 1/ln(1 + kπ/2)) with k = LOBE_X1_WARP·√(N + 1): x1 of a view
+// at elevation θe ∈ [0, π/2] above the tangent plane is ln(1 + kθe)/ln(1 + kπ/2). Per material,
+// not per fragment (the GPU gets it in the material block).
+LT_VEC2 lobeWarp(LT_FLOAT gloss) {
     LT_FLOAT k = LOBE_X1_WARP * sqrt(gloss + 1.0);
-    return log(1.0 + k * thetaE) / log(1.0 + k * (0.5 * LOBE_PI));
+    return LT_VEC2(k, 1.0 / log(1.0 + k * (0.5 * LOBE_PI)));
 }
 
-// (I(n, v, u, N), I_unoccluded) from the table at `base` (in uvec4s). n, v, u unit; a view below the
-// tangent plane (an interpolated normal turned away at a silhouette) is taken at the horizon.
-LT_VEC2 lobeIntegrals(LOBE_DATA_PARAM int base, LT_FLOAT gloss, LT_VEC3 n, LT_VEC3 v, LT_VEC3 u) {
+// (I(n, v, u, N), I_unoccluded) from the table at `base` (in uvec4s) with its gloss's warp. n, v, u
+// unit; a view below the tangent plane (an interpolated normal turned away at a silhouette) is taken
+// at the horizon.
+LT_VEC2 lobeIntegrals(LOBE_DATA_PARAM int base, LT_VEC2 warp, LT_VEC3 n, LT_VEC3 v, LT_VEC3 u) {
     LT_FLOAT nv0 = dot(n, v);
     LT_VEC3 tangential = v - nv0 * n;
     LT_FLOAT sv = length(tangential);
@@ -85,7 +88,7 @@ LT_VEC2 lobeIntegrals(LOBE_DATA_PARAM int base, LT_FLOAT gloss, LT_VEC3 n, LT_VE
     LT_VEC3 e1 = cv * n + nv * t;  // ⊥ r, in the plane of incidence, towards n
     LT_VEC3 e2 = cross(n, t);      // ⊥ the plane of incidence
 
-    LT_FLOAT x1 = lobeX1(thetaE, gloss);
+    LT_FLOAT x1 = log(1.0 + warp.x * thetaE) * warp.y;
     LT_FLOAT xm = x1 * LT_FLOAT(LOBE_MOMENT_NODES - 1);
     int m0 = clamp(int(floor(xm)), 0, LOBE_MOMENT_NODES - 2);
     LT_FLOAT fm = xm - LT_FLOAT(m0);

@@ -273,7 +273,7 @@ float hemisphereIntegral(int i, vec3 n, vec3 v, inout vec2 previous) {
         else if (gloss == 0.0)
             integrals = vec2(0.5 * LOBE_PI * (1.0 + dot(n, up)), LOBE_PI);
         else
-            integrals = lobeIntegrals(int(M.params.w), gloss, n, v, up);
+            integrals = lobeIntegrals(int(M.lobe.x), M.lobe.yz, n, v, up);
     }
     previous = integrals;
     return integrals.x;

@@ -150,8 +150,10 @@ LobeTable buildLobeTable(double gloss, int threads) {
     return table;
 }
 
+glm::dvec2 lobeWarp(double gloss) { return lobe_lookup::lobeWarp(gloss); }
+
 glm::dvec2 lobeIntegrals(const LobeTable& table, const glm::dvec3& n, const glm::dvec3& v, const glm::dvec3& u) {
-    return lobe_lookup::lobeIntegrals(table.data.data(), 0, table.gloss, n, v, u);
+    return lobe_lookup::lobeIntegrals(table.data.data(), 0, lobe_lookup::lobeWarp(table.gloss), n, v, u);
 }
 
 std::filesystem::path lobeCacheFolder() { return cacheFolder("METAMER_LOBE_CACHE"); }

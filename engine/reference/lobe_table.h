@@ -33,6 +33,9 @@ std::shared_ptr<const LobeTable> lobeTableFor(double gloss);
 // Builds it (no cache), on `threads` threads (0: every core).
 LobeTable buildLobeTable(double gloss, int threads = 0);
 
+// The gloss's x1 warp, (k, 1/ln(1 + kπ/2)), as the lookup takes it (the GPU from the material block).
+glm::dvec2 lobeWarp(double gloss);
+
 // (I(n, v, u, N), I_unoccluded) by the shared lookup, in double.
 glm::dvec2 lobeIntegrals(const LobeTable& table, const glm::dvec3& n, const glm::dvec3& v, const glm::dvec3& u);
 

@@ -253,7 +253,8 @@ PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes) {
             scatterBands(m.diffuse, pass, b.diffuse);
             scatterBands(m.specular, pass, b.specular);
             scatterBands(emissionOverLambda, pass, b.emissionOverLambda);
-            b.params = glm::vec4(float(m.gloss), m.fluorescent ? 1.0f : 0.0f, specular ? 1.0f : 0.0f, lobeTableBase);
+            b.params = glm::vec4(float(m.gloss), m.fluorescent ? 1.0f : 0.0f, specular ? 1.0f : 0.0f, 0.0f);
+            b.lobe = glm::vec4(lobeTableBase, glm::vec2(lobeWarp(m.gloss)), 0.0f);
             b.textures = glm::vec4(m.diffuseTexture >= 0 ? 1.0f : 0.0f, m.specularTexture >= 0 ? 1.0f : 0.0f,
                                    m.normalTexture >= 0 ? 1.0f : 0.0f, float(pass * MAX_OUTPUTS));
             for (int l = 0; l < MAX_LIGHTS; ++l) b.coupling[l / 4][l % 4] = coupling[l];
