@@ -36,6 +36,9 @@ double lobe(const dvec3& v, const dvec3& w, double gloss) {
     const dvec3 h = sum / std::sqrt(length2);
     if (!(h.z > 0.0)) return 0.0;
     const double oneMinus = 0.5 * (h.x * h.x + h.y * h.y + (1.0 - h.z) * (1.0 - h.z));
+    // (1 − δ)^N ≤ e^(−Nδ): below e^−80 the value is nothing to any integral here (and costs a log
+    // and an exp, most of the build's time, in the far tails).
+    if (gloss * oneMinus > 80.0) return 0.0;
     return std::exp(gloss * std::log1p(-oneMinus)) * nw;
 }
 
@@ -149,7 +152,7 @@ HemisphereFractions hemisphereFractions(double thetaE, double gloss, double gamm
     double psiLo = -0.5 * kPi, psiHi = 1.5 * kPi, zetaMax = 0.5 * kPi;
     if (reach < 0.5 * kPi) psiLo = -reach, psiHi = reach, zetaMax = reach;
     const double ratio = 2.0;
-    std::vector<double> breaks = gradedBreaks(psiLo, psiHi, alongM, 1.5);
+    std::vector<double> breaks = gradedBreaks(psiLo, psiHi, alongM, 2.0);
     const double nc = c.z, nm = m.z, naxis = axis.z;
     // Where the surface's horizon runs along ζ, the profile has a kink.
     const double psiHorizon = std::atan2(-nc, nm);
@@ -176,7 +179,13 @@ HemisphereFractions hemisphereFractions(double thetaE, double gloss, double gamm
             if (zh > -zetaMax && zh < zetaMax) zb.push_back(zh);
         }
         sortUnique(zb);
-        auto along = [&](double z) { return lobe(f.v, std::cos(z) * toward + std::sin(z) * axis, gloss) * std::cos(z); };
+        // In t = tan(ζ/2) the semicircle is rational (cos ζ = (1 − t²)/(1 + t²), sin ζ = 2t/(1 + t²),
+        // dζ = 2dt/(1 + t²)): no sine or cosine per node, which were half the build's time.
+        for (double& z : zb) z = std::tan(0.5 * z);
+        auto along = [&](double t) {
+            const double q = 1.0 / (1.0 + t * t), cz = (1.0 - t * t) * q;
+            return lobe(f.v, cz * toward + 2.0 * t * q * axis, gloss) * cz * 2.0 * q;
+        };
         return integrateAdaptively(along, zb, 0.1 * relTol);
     };
     const CumulativeIntegral cumulative(profile, breaks, relTol);
