@@ -96,9 +96,9 @@ struct SpectralResources {
     std::vector<vk::SharedHandle<VkRenderPass>> renderPasses;  // the depth pre-pass's, then one per attachment count
     std::vector<vk::SharedHandle<VkPipeline>> pipelines;
     // The band passes share a depth pre-pass, so that each shades a pixel once whatever the
-    // overdraw. The response pass's shading is cheap and its geometry is not: it writes depth
-    // itself in its one pass (LESS_OR_EQUAL keeps the last of equal depths, as EQUAL after the
-    // pre-pass does, so it shades the same surface).
+    // overdraw. The response pass has one, too, only with textured materials (createPasses says
+    // why); otherwise it writes depth itself in its one pass (LESS_OR_EQUAL keeps the last of
+    // equal depths, as EQUAL after the pre-pass does, so it shades the same surface).
     bool hasDepthPrePass = true;
     PassObjects depthPrePass, lobePass;
     std::vector<PassObjects> passes;
