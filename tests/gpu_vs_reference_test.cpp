@@ -2,6 +2,7 @@
 // scenes covering every feature: per band, max relative error ≤ 1e-4 on pixels away from edges.
 #include "reference/cpu_renderer.h"
 #include "render/spectral_pass.h"
+#include "scene/shapes.h"
 #include "support/gpu.h"
 #include "support/interior_comparison.h"
 #include "support/scene_builders.h"
@@ -146,4 +147,24 @@ TEST(GpuVsReference, CopyReadbackEqualsMappedReadback) {
     EXPECT_FALSE(a.plan().mappedReadback);
     SpectralCube ca = a.render(), cb = b.render();
     EXPECT_EQ(ca.data, cb.data);
+}
+
+TEST(GpuVsReference, ClosedMeshesSeenFromOutsideAndFromInside) {
+    // A closed sphere (scene/shapes.h: Mesh::closed) is drawn with its back faces culled while the
+    // camera sees it whole from outside; from inside, its inner side is what shows, so culling
+    // must be off. Both against the reference, which has no such notion.
+    Scene s = emptyScene(Grid{400, 700, 10}, perspectiveCamera({0, 0.5, 6}, {0, 0, 0}, {0, 1, 0}, 40, 64, 64));
+    s.materials.push_back(glossy(gaussianSpectrum(550, 60, 0.6), constantSpectrum(0.04), 40, "plastic"));
+    s.materials.push_back(lambertian(0.5, "floor"));
+    Mesh ball = makeSphere({0, 0, 0}, 1.0, 48);
+    ASSERT_TRUE(ball.closed);
+    s.meshes.push_back(ball);
+    s.meshes.push_back(quad({0, -1, 0}, {0, 1, 0}, 8, 8, 1));
+    s.lights.push_back(ambientLight(daylightLike(), 0.002));
+    s.lights.push_back(directionalLight({-0.3, -1, -0.6}, daylightLike(), 0.01));
+    // Culling is under test, not the shadow maps' texels; inside, the walls the light meets are lit.
+    for (Light& l : s.lights) l.shadows = false;
+    expectGpuMatchesReference(s, 500);
+    s.camera = perspectiveCamera({0, 0, 0.2}, {0, 0, -1}, {0, 1, 0}, 60, 64, 64);  // inside
+    expectGpuMatchesReference(s, 2500);
 }

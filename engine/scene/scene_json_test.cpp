@@ -686,3 +686,25 @@ TEST(SceneJson, TwoHundredThousandObjectsAreReadAndTheBadOneNamed) {
     EXPECT_NE(what.find("objects.200000.material: no material 'whyte'; did you mean 'white'?"), std::string::npos)
         << what.substr(0, 300);
 }
+
+TEST(BundledScenes, SpheresAreTessellatedForTheCameraAndClosedMeshesAreKnown) {
+    // spheres.json says no segments: its 0.5 m spheres, about 6.6 m from a 40° camera on 512 rows,
+    // are 53 px in radius, so 56 segments (3 024 triangles); a --set of the size changes them. The
+    // torus of mesh.json (glTF, its seam duplicated for UVs) is closed; quads are not.
+    fs::path root = METAMER_SOURCE_DIR;
+    SpectrumLibrary lib(root / "spectra");
+    Scene s = loadScene(root / "scenes" / "spheres.json", lib);
+    ASSERT_EQ(s.meshes.size(), 5u);
+    EXPECT_FALSE(s.meshes[0].closed);
+    for (size_t i = 1; i < 5; ++i) {
+        EXPECT_EQ(s.meshes[i].indices.size() / 3, 3024u) << i;
+        EXPECT_TRUE(s.meshes[i].closed);
+    }
+    Scene small = loadScene(root / "scenes" / "spheres.json", lib, {"camera.width=64", "camera.height=64"});
+    EXPECT_EQ(small.meshes[1].indices.size() / 3, size_t(2 * 16 * 7));  // 16 segments
+    Scene mesh = loadScene(root / "scenes" / "mesh.json", lib);
+    bool torus = false;
+    for (const Mesh& m : mesh.meshes)
+        if (m.name.find("torus") != std::string::npos) torus = m.closed;
+    EXPECT_TRUE(torus);
+}

@@ -161,3 +161,50 @@ TEST(SmoothNormals, AreaWeighted) {
     EXPECT_NEAR(glm::distance(n[2], a), 0.0, 1e-12);
     EXPECT_NEAR(glm::distance(n[3], b), 0.0, 1e-12);
 }
+
+TEST(ClosedMeshes, SpheresAreQuadsAreNotAndFlawsAreFound) {
+    Mesh sphere = makeSphere({1, 2, 3}, 0.5, 24);
+    EXPECT_TRUE(sphere.closed);
+    EXPECT_TRUE(isClosedOutward(sphere));
+    EXPECT_FALSE(isClosedOutward(makeQuad({0, 0, 0}, {0, 0, 1}, {1, 1})));
+    // Inside out (every triangle reversed): closed, but its back faces are what is seen from outside.
+    Mesh inverted = sphere;
+    for (size_t t = 0; t + 2 < inverted.indices.size(); t += 3) std::swap(inverted.indices[t + 1], inverted.indices[t + 2]);
+    EXPECT_FALSE(isClosedOutward(inverted));
+    // One triangle flipped: its edges run the same way as their neighbours'.
+    Mesh flipped = sphere;
+    std::swap(flipped.indices[31], flipped.indices[32]);
+    EXPECT_FALSE(isClosedOutward(flipped));
+    // A hole.
+    Mesh holed = sphere;
+    holed.indices.resize(holed.indices.size() - 3);
+    EXPECT_FALSE(isClosedOutward(holed));
+    // A seam of duplicated vertices (as glTF files have, for their UVs) is welded by position.
+    Mesh seamed = sphere;
+    for (uint32_t& i : seamed.indices)
+        if (i % 5 == 0) {
+            seamed.positions.push_back(seamed.positions[i]);
+            seamed.normals.push_back(seamed.normals[i]);
+            i = uint32_t(seamed.positions.size() - 1);
+        }
+    EXPECT_TRUE(isClosedOutward(seamed));
+}
+
+TEST(SphereSegments, EdgesOfAboutSixPixelsAlongTheSilhouette) {
+    // A sphere of radius 0.05 m, 10 m away, under a 40° field of view on a 1000-pixel-high image:
+    // its image radius is 0.05/√(100 − 0.0025) · 500/tan 20° ≈ 6.87 px; 2π·6.87/6 = 7.2 → at least 16.
+    Camera camera;
+    camera.position = {0, 0, 10};
+    camera.fov_y_deg = 40;
+    camera.height = 1000;
+    EXPECT_EQ(sphereSegmentsFor(camera, {0, 0, 0}, 0.05), 16);
+    // Ten times bigger: 68.8 px, 72.02 segments → the next multiple of 8, 80.
+    EXPECT_EQ(sphereSegmentsFor(camera, {0, 0, 0}, 0.5), 80);
+    // Around the camera, or filling the view: the most.
+    EXPECT_EQ(sphereSegmentsFor(camera, {0, 0, 10}, 1.0), 512);
+    EXPECT_EQ(sphereSegmentsFor(camera, {0, 0, 0}, 9.99), 512);
+    // Orthographic: the radius in pixels is r·height/height_m (0.5·1000/4 = 125 px → 131 → 136).
+    camera.projection = Camera::Projection::Orthographic;
+    camera.height_m = 4.0;
+    EXPECT_EQ(sphereSegmentsFor(camera, {0, 0, 0}, 0.5), 136);
+}
