@@ -135,7 +135,7 @@ Figures compareCase(const Case& c) {
         const Worst x = worstRelative(viaResponses.xyz, integral.xyz, 3);
         f.xyz = x.relative;
         // 2e-5: a camera's characterization matrix amplifies the float rounding of its responses,
-        // which on spheres.json includes the hemisphere lights' quadrature (measured 1.2e-5).
+        // which on spheres.json includes the hemisphere lights' lobe lookup (measured 1.2e-5).
         EXPECT_LE(x.relative, 2e-5) << "XYZ: pixel " << x.pixel << " channel " << x.channel;
         f.countsVsPass = worstCount(viaResponses.counts, viaPass.counts);
         f.countsVsReference = worstCount(viaResponses.counts, integral.counts);
