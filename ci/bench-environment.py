@@ -7,9 +7,10 @@ outside as a user sees it (issue 26; docs/performance.md, "The environment"). Pr
   2. scenes/spheres.json as shipped against the same scene without its two hemisphere lights:
      shading of the response pass (--write png) and of the cube path (--write cube), 512² and 1024²,
      and their ratio;
-  3. `metamer preview` at 512² on every bundled scene: ms per frame, fps, and the frame over row (b)
+  3. every bundled scene at 512²: the response pass's and the cube path's shading;
+  4. `metamer preview` at 512² on every bundled scene: ms per frame, fps, and the frame over row (b)
      (25 fps on a machine whose row (b) takes 86 ms is a frame <= 0.47 x row (b));
-  4. time to first image for spheres.json as shipped at 512²: process start to exit for the PNG
+  5. time to first image for spheres.json as shipped at 512²: process start to exit for the PNG
      (--write png) and the 89-band EXR (--write cube --grid 300:740:5), the lobe tables already on
      disk; and once with an empty lobe cache (the tables built).
 Medians; runs of the variants alternate so that the machine's drift falls on both. A benchmark that
@@ -104,8 +105,25 @@ def main():
                 figures["environment"].append({"build": label, "path": path, "size": size, **m, "ratio": ratio})
     print()
 
-    # 3. The preview at 512² on every bundled scene.
+    # 3. Every bundled scene at 512²: the response pass's and the cube path's shading.
     scenes = sorted(p for p in glob.glob(os.path.join(ROOT, "scenes", "*.json")))
+    print("every bundled scene at 512²: shading ms (median), response pass (--write png) and cube path (--write cube)")
+    figures["scenes"] = []
+    for path in scenes:
+        name = os.path.splitext(os.path.basename(path))[0]
+        out = os.path.join(work, "out")
+        measures = []
+        for label, metamer in builds:
+            for write in ["png", "cube"]:
+                measures.append((f"{label} {write}",
+                                 lambda metamer=metamer, write=write: shading(metamer, path, out, write, 512, a.frames)))
+        m = alternate(measures, a.repeats)
+        line = "  ".join(f"{k} {v:7.1f}" for k, v in m.items())
+        print(f"  {name:20} {line}")
+        figures["scenes"].append({"scene": name, **m})
+    print()
+
+    # 4. The preview at 512² on every bundled scene.
     print("preview, 512², ms per frame (median of frames 2..30): frame, fps, frame / row (b)")
     figures["preview"] = []
     for path in scenes:
@@ -128,7 +146,7 @@ def main():
                                        "over_row_b": frame / row_b})
     print()
 
-    # 4. Time to first image (spheres.json as shipped, 512²).
+    # 5. Time to first image (spheres.json as shipped, 512²).
     print("time to first image, spheres.json at 512², s (median), and / row (b)")
     figures["first_image"] = []
     out = os.path.join(work, "first")

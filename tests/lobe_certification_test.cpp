@@ -41,31 +41,18 @@ std::set<double> bundledGlosses() {
     return glosses;
 }
 
-struct Configuration {
-    dvec3 n, v, u;
+struct Configuration : test::LobeConfiguration {
     bool grazing;
 };
 
+// 10⁴ random views (n·v uniform in [0, 1]) and 10³ grazing ones (n·v < 0.02); every second
+// hemisphere's boundary near the lobe.
 std::vector<Configuration> configurations(double gloss) {
-    std::mt19937 rng(2026);
-    std::normal_distribution<double> g;
-    std::uniform_real_distribution<double> unit(0.0, 1.0);
-    auto direction = [&] { return glm::normalize(dvec3(g(rng), g(rng), g(rng))); };
+    test::LobeConfigurations random(2026);
     std::vector<Configuration> out;
     for (int i = 0; i < 11000; ++i) {
         const bool grazing = i >= 10000;
-        Configuration c{direction(), {}, direction(), grazing};
-        dvec3 p = direction();
-        p = glm::normalize(p - glm::dot(p, c.n) * c.n);
-        // Views uniform in solid angle over the hemisphere (n·v uniform), grazing ones below 0.02.
-        const double nv = grazing ? 0.02 * unit(rng) : unit(rng);
-        c.v = nv * c.n + std::sqrt(1.0 - nv * nv) * p;
-        if (i % 2 == 0) {
-            const dvec3 r = 2.0 * nv * c.n - c.v, w = glm::normalize(c.u - glm::dot(c.u, r) * r);
-            const double e = (2.0 * unit(rng) - 1.0) * 4.0 / std::sqrt(gloss + 1.0);
-            c.u = std::sin(e) * r + std::cos(e) * w;
-        }
-        out.push_back(c);
+        out.push_back({random.next(gloss, grazing ? 0.02 : 1.0, i % 2 == 0), grazing});
     }
     return out;
 }

@@ -8,6 +8,7 @@
 #include <atomic>
 #include <bit>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
@@ -46,7 +47,7 @@ constexpr double kConeTail = 1e-7;
 constexpr double kRowTolerance = 1e-8;
 // Bumped whenever what a table holds changes (its layout, the builder's method): old files are
 // then ignored.
-constexpr uint32_t kTableVersion = 4;
+constexpr uint32_t kTableVersion = 5;
 constexpr char kMagic[8] = {'M', 'T', 'M', 'R', 'L', 'O', 'B', 'E'};
 
 // The view elevation θe at x1 (the inverse of lobeX1).
@@ -171,7 +172,15 @@ struct FileHeader {
     char magic[8];
     uint32_t version, layout[5];
     double gloss;
+    uint64_t checksum;  // FNV-1a of the data: a file damaged in place is rebuilt, not read
 };
+
+uint64_t checksumOf(const std::vector<glm::uvec4>& data) {
+    uint64_t h = 0xcbf29ce484222325ull;
+    const auto* bytes = reinterpret_cast<const unsigned char*>(data.data());
+    for (size_t i = 0; i < data.size() * sizeof(glm::uvec4); ++i) h = (h ^ bytes[i]) * 0x100000001b3ull;
+    return h;
+}
 
 FileHeader headerFor(double gloss) {
     FileHeader h{};
@@ -194,12 +203,12 @@ std::shared_ptr<LobeTable> readLobeTable(const std::filesystem::path& file, doub
     std::ifstream in(file, std::ios::binary);
     FileHeader header{};
     in.read(reinterpret_cast<char*>(&header), sizeof header);
-    if (!in || std::memcmp(&header, &expected, sizeof header) != 0) return nullptr;
+    if (!in || std::memcmp(&header, &expected, offsetof(FileHeader, checksum)) != 0) return nullptr;
     auto table = std::make_shared<LobeTable>();
     table->gloss = gloss;
     table->data.resize(LOBE_TABLE_UVEC4);
     in.read(reinterpret_cast<char*>(table->data.data()), static_cast<std::streamsize>(bytes));
-    if (!in) return nullptr;
+    if (!in || checksumOf(table->data) != header.checksum) return nullptr;
     // The moments and cones are floats and must be finite (the values are fixed point: any bits).
     for (size_t i = 0; i < LOBE_VALUES_OFFSET; ++i)
         for (int k = 0; k < 4; ++k)
@@ -208,7 +217,8 @@ std::shared_ptr<LobeTable> readLobeTable(const std::filesystem::path& file, doub
 }
 
 void writeLobeTable(const std::filesystem::path& file, const LobeTable& table) {
-    const FileHeader header = headerFor(table.gloss);
+    FileHeader header = headerFor(table.gloss);
+    header.checksum = checksumOf(table.data);
     std::string bytes(reinterpret_cast<const char*>(&header), sizeof header);
     bytes.append(reinterpret_cast<const char*>(table.data.data()), table.data.size() * sizeof(glm::uvec4));
     writeFileAtomically(file, bytes);

@@ -8,7 +8,8 @@
 // the process, and on disk in the folder METAMER_LOBE_CACHE names ("off": none), else
 // $XDG_CACHE_HOME/metamer, else ~/.cache/metamer, one file per gloss value and table version
 // (lobe-<version>-<gloss as hex bits>.bin), written under a temporary name and renamed. A file that
-// is not exactly what this version writes (damaged, truncated, foreign) is ignored and rebuilt.
+// is not exactly what this version writes (damaged — its checksum —, truncated, foreign) is ignored
+// and rebuilt.
 // Tests: reference/lobe_table_test.cpp; the certification against independent quadratures:
 // tests/lobe_certification_test.cpp.
 #pragma once

@@ -38,31 +38,13 @@ double normalView(double N) {
     return 8.0 * kPi * (2.0 / (N + 4.0) * (1.0 - std::pow(c, N + 4.0)) - 1.0 / (N + 2.0) * (1.0 - std::pow(c, N + 2.0)));
 }
 
-struct Configuration {
-    dvec3 n, v, u;
-};
+using Configuration = test::LobeConfiguration;
 
-// Random normals, views and hemispheres: every third view grazing (n·v < 0.03), every second
-// hemisphere's boundary within a few lobe widths of the mirror direction (where the lobe is cut).
+// Every third view grazing (n·v < 0.03), every second hemisphere's boundary near the lobe.
 std::vector<Configuration> configurations(int count, double gloss, unsigned seed) {
-    std::mt19937 rng(seed);
-    std::normal_distribution<double> g;
-    std::uniform_real_distribution<double> unit(0.0, 1.0);
-    auto direction = [&] { return glm::normalize(dvec3(g(rng), g(rng), g(rng))); };
+    test::LobeConfigurations random(seed);
     std::vector<Configuration> out;
-    for (int i = 0; i < count; ++i) {
-        Configuration c{direction(), {}, direction()};
-        dvec3 p = direction();
-        p = glm::normalize(p - glm::dot(p, c.n) * c.n);
-        const double nv = i % 3 == 0 ? 0.03 * unit(rng) : unit(rng);
-        c.v = nv * c.n + std::sqrt(1.0 - nv * nv) * p;
-        if (i % 2 == 0) {
-            const dvec3 r = 2.0 * nv * c.n - c.v, w = glm::normalize(c.u - glm::dot(c.u, r) * r);
-            const double e = (2.0 * unit(rng) - 1.0) * 4.0 / std::sqrt(gloss + 1.0);
-            c.u = std::sin(e) * r + std::cos(e) * w;
-        }
-        out.push_back(c);
-    }
+    for (int i = 0; i < count; ++i) out.push_back(random.next(gloss, i % 3 == 0 ? 0.03 : 1.0, i % 2 == 0));
     return out;
 }
 
@@ -220,6 +202,7 @@ TEST_F(LobeTableCache, RoundTripAndDamagedFilesAreIgnored) {
     };
     EXPECT_FALSE(damaged([](std::string& b) { b.resize(b.size() - 16); }));
     EXPECT_FALSE(damaged([](std::string& b) { b[8] ^= 1; }));
+    EXPECT_FALSE(damaged([](std::string& b) { b[b.size() / 2] ^= 0x10; })) << "a bit flipped among the values";
     EXPECT_FALSE(damaged([&](std::string& b) {  // a NaN among the moments
         const float nan = std::nanf("");
         std::memcpy(&b[b.size() - (LOBE_TABLE_UVEC4 - 3) * sizeof(glm::uvec4)], &nan, 4);

@@ -105,6 +105,21 @@ int trigonometricRoots(double a0, double a1, double b1, double a2, double b2, do
 
 }  // namespace
 
+LobeConfiguration LobeConfigurations::next(double gloss, double maxNv, bool nearBoundary) {
+    auto direction = [&] { return glm::normalize(dvec3(gaussian_(rng_), gaussian_(rng_), gaussian_(rng_))); };
+    LobeConfiguration c{direction(), {}, direction()};
+    dvec3 p = direction();
+    p = glm::normalize(p - glm::dot(p, c.n) * c.n);
+    const double nv = maxNv * unit_(rng_);
+    c.v = nv * c.n + std::sqrt(1.0 - nv * nv) * p;
+    if (nearBoundary) {
+        const dvec3 r = 2.0 * nv * c.n - c.v, w = glm::normalize(c.u - glm::dot(c.u, r) * r);
+        const double e = (2.0 * unit_(rng_) - 1.0) * 4.0 / std::sqrt(gloss + 1.0);
+        c.u = std::sin(e) * r + std::cos(e) * w;
+    }
+    return c;
+}
+
 double ringOracle(const dvec3& n, const dvec3& v, const dvec3& u, double gloss, bool hemisphere, double relTol) {
     if (gloss == 0.0) return hemisphere ? kPi * (1.0 + glm::dot(n, u)) / 2.0 : kPi;
     const double nv = std::clamp(glm::dot(n, v), -1.0, 1.0);

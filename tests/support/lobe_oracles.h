@@ -20,7 +20,26 @@
 
 #include <glm/glm.hpp>
 
+#include <random>
+
 namespace metamer::test {
+
+// A configuration (n, v, u) for the lobe's tests: n and u uniform on the sphere, v with n·v
+// uniform in [0, maxNv); `nearBoundary`: u turned so that its hemisphere's boundary passes within
+// four lobe widths (4/√(N + 1)) of the mirror direction, where the lobe is cut.
+struct LobeConfiguration {
+    glm::dvec3 n, v, u;
+};
+class LobeConfigurations {
+public:
+    explicit LobeConfigurations(unsigned seed) : rng_(seed) {}
+    LobeConfiguration next(double gloss, double maxNv, bool nearBoundary);
+
+private:
+    std::mt19937 rng_;
+    std::normal_distribution<double> gaussian_;
+    std::uniform_real_distribution<double> unit_{0.0, 1.0};
+};
 
 // `hemisphere` false: the unoccluded lobe (u unused).
 double ringOracle(const glm::dvec3& n, const glm::dvec3& v, const glm::dvec3& u, double gloss, bool hemisphere = true,
