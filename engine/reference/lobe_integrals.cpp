@@ -151,8 +151,8 @@ HemisphereFractions hemisphereFractions(double thetaE, double gloss, double gamm
     double reach = 2.0 * std::acos(std::exp(-60.0 / gloss)) + std::fabs(gamma);
     double psiLo = -0.5 * kPi, psiHi = 1.5 * kPi, zetaMax = 0.5 * kPi;
     if (reach < 0.5 * kPi) psiLo = -reach, psiHi = reach, zetaMax = reach;
-    const double ratio = 2.0;
-    std::vector<double> breaks = gradedBreaks(psiLo, psiHi, alongM, 2.0);
+    const double ratio = 2.0;  // of the first pieces' widths, in ψ and in ζ
+    std::vector<double> breaks = gradedBreaks(psiLo, psiHi, alongM, ratio);
     const double nc = c.z, nm = m.z, naxis = axis.z;
     // Where the surface's horizon runs along ζ, the profile has a kink.
     const double psiHorizon = std::atan2(-nc, nm);
