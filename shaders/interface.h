@@ -102,10 +102,12 @@ using mat4 = glm::mat4;
 #define MAX_LOBE_LIGHTS 4
 
 struct GpuLight {
-    vec4 vector;  // directional: xyz = unit vector towards the light; point: xyz = position (m);
-                  // hemisphere: xyz = unit vector towards the middle of the hemisphere
+    vec4 vector;  // directional: xyz = unit vector towards the light; point: xyz = position in the
+                  // scene's local frame (scene/local_frame.h), w = the frame's 1/unit² in m⁻² (1/d²
+                  // in units times w is 1/d² in m⁻²); hemisphere: xyz = unit vector towards the
+                  // middle of the hemisphere
     vec4 shadow;  // x: the light's first shadow-map layer, −1 if it casts no shadows; y: a texel's
-                  // size, m (directional) or m per m of distance (point). Whether it casts them is
+                  // size, frame units (directional) or units per unit of distance (point). Whether it casts them is
                   // SPEC_SHADOWED_*, not this value (see there)
 };
 
@@ -173,8 +175,8 @@ struct GpuFluorescenceBlock {
 };
 
 struct SpectralPushConstants {
-    mat4 viewProjection;  // world → clip (Vulkan clip space, y down, depth 0..1)
-    vec4 cameraPosition;  // xyz; w = 1 perspective, 0 orthographic
+    mat4 viewProjection;  // local frame → clip (Vulkan clip space, y down, depth 0..1)
+    vec4 cameraPosition;  // xyz in the local frame; w = 1 perspective, 0 orthographic
     vec4 cameraForward;   // xyz: unit view direction (orthographic view vector is -forward)
 };
 

@@ -77,6 +77,8 @@ layout(location = 7) out vec4 out7;
 #endif
 
 const float INV_PI = 0.31830988618379067;
+const float FLT_MIN_NORMAL = 1.17549435e-38;
+const float FLT_MAX_FINITE = 3.40282347e38;
 
 vec4 acc[OUTPUT_COUNT];  // this pass's bands, 4 per attachment
 float fluorescence;      // rank-one form: Σ_l g_l·coupling_l, scales ê(λ)/λ
@@ -334,13 +336,17 @@ void main() {
         addLight(l, g * INV_PI, specularWeight(n, w, v, g));
         addFluorescence(l, g);
     }
-    // Point: E = I·cosθ/d².
+    // Point: E = I·cosθ/d², d in the frame's units (vector.w turns 1/d² into m⁻²). A light on the
+    // surface (d = 0, or d² below float32's normal range) has no direction and contributes nothing,
+    // as in the reference (docs/physics.md); the clamp keeps g finite beside it, so that a lobe of
+    // 0 never meets an infinite g (Inf × 0 = NaN).
     [[unroll]] for (int i = 0; i < POINT_COUNT; ++i) {
         int l = AMBIENT_COUNT + DIRECTIONAL_COUNT + i;
         vec3 d = L.lights[l].vector.xyz - worldPosition;
         float d2 = dot(d, d);
-        vec3 w = d * inversesqrt(d2);
-        float g = max(dot(n, w), 0.0) / d2;
+        bool apart = d2 >= FLT_MIN_NORMAL;
+        vec3 w = apart ? d * inversesqrt(d2) : n;
+        float g = apart ? min(max(dot(n, w), 0.0) / d2 * L.lights[l].vector.w, FLT_MAX_FINITE) : 0.0;
         if (i < SHADOWED_POINT && g > 0.0) g *= visibility(l, worldPosition, ng, w, true);
         addLight(l, g * INV_PI, specularWeight(n, w, v, g));
         addFluorescence(l, g);

@@ -579,7 +579,8 @@ TEST(Numerics, CameraInsideASphereSeesItsInside) {
     s.meshes.push_back(sphere({0, 0, 0}, 1.0, 64, 32, 0));
     s.lights.push_back(pointLight({0.2, 0.3, 0.1}, daylightLike(), 1.0));
     s.lights.push_back(ambientLight(daylightLike(), 0.001));
-    const CameraMatrices cm = cameraMatrices(s.camera, s);
+    const LocalFrame frame = localFrameFor(s, s.camera);
+    const double near_m = cameraMatrices(s.camera, s, frame).nearPlane * frame.unit_m();
     Rendered r = renderBoth(s, onGrid(s));
     EXPECT_EQ(nonFinite(r.gpu), 0u);
     EXPECT_EQ(negative(r.gpu), 0u);
@@ -588,8 +589,8 @@ TEST(Numerics, CameraInsideASphereSeesItsInside) {
         for (int x = 0; x < 32; ++x) dark += r.gpu.at(x, y, 15) == 0.0f;
     EXPECT_EQ(dark, 0u) << "every pixel sees the lit inside";
     InteriorComparison m = compareInterior(r.gpu, r.ref);
-    report(fmt::format("inside a sphere (near {:.3g} m)", cm.near_m), r, m);
-    EXPECT_LE(cm.near_m, 1e-4);
+    report(fmt::format("inside a sphere (near {:.3g} m)", near_m), r, m);
+    EXPECT_LE(near_m, 1e-4);
     EXPECT_GE(m.pixels, 500);
     EXPECT_LE(m.maxRelative, 1e-4);
 }
@@ -605,12 +606,14 @@ TEST(Numerics, NearPlaneClipsWhatIsNearerThanItOnTheGpuOnly) {
     s.meshes.push_back(quad({0, 0, -100}, {0, 0, 1}, 500, 500, 1));
     s.lights.push_back(ambientLight(daylightLike(), 1.0));
     SceneOnGrid g = onGrid(s);
-    const CameraMatrices cm = cameraMatrices(s.camera, s);
+    const LocalFrame frame = localFrameFor(s, s.camera);
+    const CameraMatrices cm = cameraMatrices(s.camera, s, frame);
+    const double near_m = cm.nearPlane * frame.unit_m(), far_m = cm.farPlane * frame.unit_m();
     Rendered r = renderBoth(s, g);
     const double nearRadiance = 0.8 * g.lights[0][3] / kPi, farRadiance = 0.2 * g.lights[0][3] / kPi;
     std::printf("  [numerics] near plane %.3g m, far %.3g m: wall at 1e-4 m — reference %.4g (the wall), GPU %.4g\n",
-                cm.near_m, cm.far_m, r.ref.cube.at(8, 8, 3), r.gpu.at(8, 8, 3));
-    EXPECT_GT(cm.near_m, 1e-4);
+                near_m, far_m, r.ref.cube.at(8, 8, 3), r.gpu.at(8, 8, 3));
+    EXPECT_GT(near_m, 1e-4);
     EXPECT_NEAR(r.ref.cube.at(8, 8, 3), nearRadiance, 1e-6 * nearRadiance);
     EXPECT_NEAR(r.gpu.at(8, 8, 3), farRadiance, 1e-5 * farRadiance);
 }

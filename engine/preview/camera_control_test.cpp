@@ -26,8 +26,10 @@ Scene sceneWith(const Camera& c) {
 
 // Where a world point lands in the image, in pixels (x right, y down).
 glm::dvec2 project(const Camera& c, const glm::dvec3& p) {
-    CameraMatrices m = cameraMatrices(c, sceneWith(c));
-    glm::vec4 clip = m.viewProjection * glm::vec4(glm::vec3(p), 1.0f);
+    const Scene s = sceneWith(c);
+    const LocalFrame frame = localFrameFor(s, c);
+    CameraMatrices m = cameraMatrices(c, s, frame);
+    glm::vec4 clip = m.viewProjection * glm::vec4(glm::vec3(frame.position(p)), 1.0f);
     glm::dvec2 ndc(clip.x / clip.w, clip.y / clip.w);
     return {(ndc.x + 1.0) * 0.5 * c.width, (ndc.y + 1.0) * 0.5 * c.height};
 }

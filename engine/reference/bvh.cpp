@@ -53,16 +53,16 @@ std::optional<RayHit> intersectTriangle(const BvhTriangle& tri, const Ray& ray, 
     return RayHit{t, u, v, 0};
 }
 
-std::vector<BvhTriangle> Bvh::collectTriangles(const Scene& scene) {
+std::vector<BvhTriangle> Bvh::collectTriangles(const Scene& scene, const LocalFrame& frame) {
     std::vector<BvhTriangle> out;
     out.reserve(scene.triangleCount());
     for (size_t m = 0; m < scene.meshes.size(); ++m) {
         const Mesh& mesh = scene.meshes[m];
         for (size_t i = 0; i + 2 < mesh.indices.size(); i += 3) {
             BvhTriangle t;
-            t.p0 = mesh.positions.at(mesh.indices[i]);
-            t.p1 = mesh.positions.at(mesh.indices[i + 1]);
-            t.p2 = mesh.positions.at(mesh.indices[i + 2]);
+            t.p0 = frame.position(mesh.positions.at(mesh.indices[i]));
+            t.p1 = frame.position(mesh.positions.at(mesh.indices[i + 1]));
+            t.p2 = frame.position(mesh.positions.at(mesh.indices[i + 2]));
             t.mesh = static_cast<uint32_t>(m);
             t.triangle = static_cast<uint32_t>(i / 3);
             out.push_back(t);

@@ -3,6 +3,7 @@
 // nearest hit. Simplicity over speed: it is the golden the GPU is checked against.
 #pragma once
 
+#include "scene/local_frame.h"
 #include "scene/scene.h"
 
 #include <glm/glm.hpp>
@@ -41,8 +42,9 @@ std::optional<RayHit> intersectTriangle(const BvhTriangle& tri, const Ray& ray, 
 
 class Bvh {
 public:
-    // Every triangle of every mesh; meshes keep their index so hits can name them.
-    static std::vector<BvhTriangle> collectTriangles(const Scene& scene);
+    // Every triangle of every mesh, its corners in `frame` (scene/local_frame.h); meshes keep their
+    // index so hits can name them.
+    static std::vector<BvhTriangle> collectTriangles(const Scene& scene, const LocalFrame& frame = {});
 
     explicit Bvh(std::vector<BvhTriangle> triangles);
 

@@ -16,7 +16,7 @@ namespace metamer {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-constexpr double kRayTMin = 1e-9;  // metres along a unit direction
+constexpr double kRayTMin = 1e-9;  // frame units (about the scene's size) along a unit direction
 
 // The SceneOnGrid must come from this scene: a mismatch is a programming error, not input.
 void checkOnGrid(const Scene& scene, const SceneOnGrid& g) {
@@ -67,14 +67,16 @@ ReferenceRenderer::ReferenceRenderer(const Scene& scene, const SceneOnGrid& onGr
       onGrid_(onGrid),
       options_(options),
       bands_(onGrid.grid.bands()),
-      bvh_((checkMeshes(scene), Bvh::collectTriangles(scene))) {
+      frame_((checkMeshes(scene), localFrameFor(scene, scene.camera))),
+      camera_(frame_.camera(scene.camera)),
+      bvh_(Bvh::collectTriangles(scene, frame_)) {
     if (options_.ssaa < 1 || options_.ssaa > 64)
         failInput(Where{"", "ssaa", 0}, "supersampling {} is outside 1..64", options_.ssaa);
     if (options_.threads < 0)
         failInput(Where{"", "threads", 0}, "thread count {} is negative", options_.threads);
     checkOnGrid(scene, onGrid);
 
-    const Camera& cam = scene.camera;
+    const Camera& cam = camera_;
     Where camWhere{scene.file.string(), "camera", 0};
     if (cam.width < 1 || cam.height < 1)
         failInput(camWhere, "image size {}×{} must be at least 1×1", cam.width, cam.height);
@@ -102,6 +104,7 @@ ReferenceRenderer::ReferenceRenderer(const Scene& scene, const SceneOnGrid& onGr
     for (size_t l = 0, k = 0; l < scene.lights.size(); ++l)
         if (scene.lights[l].castsShadows()) shadowBit_[l] = int(k++ % 64);
     pairedHemisphere_ = pairedWithPreviousHemisphere(scene.lights);
+    for (const Light& light : scene.lights) lightPositions_.push_back(frame_.position(light.position));
     const bool hemisphereLights = std::any_of(scene.lights.begin(), scene.lights.end(),
                                               [](const Light& l) { return l.type == Light::Type::Hemisphere; });
     for (const BvhTriangle& t : bvh_.triangles())
@@ -156,7 +159,7 @@ ReferenceRenderer::ReferenceRenderer(const Scene& scene, const SceneOnGrid& onGr
 }
 
 Ray ReferenceRenderer::cameraRay(double px, double py) const {
-    const Camera& cam = scene_.camera;
+    const Camera& cam = camera_;
     const double ndcX = 2.0 * px / cam.width - 1.0;
     const double ndcY = 1.0 - 2.0 * py / cam.height;
     Ray ray;
@@ -189,7 +192,7 @@ bool ReferenceRenderer::inShadow(size_t l, const glm::dvec3& p, const glm::dvec3
     const Light& light = scene_.lights[l];
     const double eps = 1e-9 * sceneScale_;
     double tMax = std::numeric_limits<double>::infinity();
-    if (light.type == Light::Type::Point) tMax = glm::length(light.position - p) - eps;
+    if (light.type == Light::Type::Point) tMax = glm::length(lightPositions_[l] - p) - eps;
     return tMax > eps && bvh_.occluded(Ray{p, w}, eps, tMax, triangle);
 }
 
@@ -272,15 +275,15 @@ void ReferenceRenderer::shade(const RayHit& hit, const Ray& ray, double* radianc
             }
         } else {
             glm::dvec3 w;        // unit vector towards the light
-            double falloff = 1.0;  // 1/d² for a point light
+            double falloff = 1.0;  // 1/d² for a point light, m⁻²
             if (light.type == Light::Type::Directional) {
                 w = -glm::normalize(light.direction);
             } else {
-                const glm::dvec3 toLight = light.position - p;
+                const glm::dvec3 toLight = lightPositions_[l] - p;  // in the frame's units
                 const double d2 = glm::dot(toLight, toLight);
                 if (!(d2 > 0.0)) continue;  // a point light on the surface: no defined direction
                 w = toLight / std::sqrt(d2);
-                falloff = 1.0 / d2;
+                falloff = frame_.inverseSquareUnit() / d2;
             }
             const double cosI = glm::dot(n, w);
             if (cosI <= 0.0) continue;  // lit from behind the shading normal: nothing

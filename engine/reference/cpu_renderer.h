@@ -47,9 +47,11 @@ public:
                       const ReferenceOptions& options = {});
 
     int bands() const { return bands_; }
+    // Where rays and hit points live: positions in this frame's units (scene/local_frame.h).
+    const LocalFrame& frame() const { return frame_; }
 
     // The primary ray through image position (px, py) in pixels (x right, y down, (0,0) the
-    // image's top-left corner).
+    // image's top-left corner), in frame().
     Ray cameraRay(double px, double py) const;
 
     // Radiance along one ray into `radiance` (bands() values, overwritten); returns the mesh
@@ -72,13 +74,16 @@ private:
     const SceneOnGrid& onGrid_;
     ReferenceOptions options_;
     int bands_ = 0;
+    LocalFrame frame_;  // positions below are in its units: the camera's, the lights', the BVH's
+    Camera camera_;
     Bvh bvh_;
+    std::vector<glm::dvec3> lightPositions_;  // per light, in the frame (point lights')
 
     // Camera basis and projection scale (docs/physics.md, "Camera").
     glm::dvec3 f_, r_, u_;
     double aspect_ = 1.0;
     double tanHalf_ = 0.0;     // perspective
-    double halfHeight_ = 0.0;  // orthographic, metres
+    double halfHeight_ = 0.0;  // orthographic, frame units
 
     // View-independent spectra per (material, light), flattened [material][light][band]:
     // diffuse ρd·E/π; specular ρs·E·(N+8)/(8π); fluorescence (Φ/π)·ê(λ)/λ·S with
@@ -89,7 +94,7 @@ private:
     std::vector<int> shadowBit_;                       // per light: its bit in `blocked`, or -1
     std::vector<bool> pairedHemisphere_;               // per light: pairedWithPreviousHemisphere
     std::vector<std::shared_ptr<const LobeTable>> lobeTables_;  // per material: its lobe table, or null
-    double sceneScale_ = 1.0;                          // the largest coordinate's magnitude, m
+    double sceneScale_ = 1.0;                          // the largest coordinate's magnitude, frame units
     size_t termOffset(uint32_t material, size_t light) const {
         return (static_cast<size_t>(material) * onGrid_.lights.size() + light) * bands_;
     }

@@ -141,10 +141,11 @@ TEST(ReferenceRenderer, ShadingNormalIsTheInterpolatedVertexNormal) {
     m.indices = {0, 1, 2};
     s.meshes.push_back(m);
     SceneOnGrid g = onGrid(s);
-    const Ray ray{{0.5, 0.25, 5.0}, {0, 0, -1}};
     std::vector<double> L(g.grid.bands());
     const double cosine = glm::normalize(0.25 * n0 + 0.5 * n1 + 0.25 * n2).z;
-    ASSERT_EQ(ReferenceRenderer(s, g).trace(ray, L.data()), 0);
+    const ReferenceRenderer smooth(s, g);
+    const Ray ray{smooth.frame().position({0.5, 0.25, 5.0}), {0, 0, -1}};  // rays live in the renderer's frame
+    ASSERT_EQ(smooth.trace(ray, L.data()), 0);
     for (int b = 0; b < g.grid.bands(); ++b) expectRel(L[b], g.lights[0][b] * cosine / kPi, 1e-12, "smooth");
 
     // Without vertex normals the face normal shades: E/π.

@@ -33,11 +33,12 @@ glm::dmat4 view(const glm::dvec3& origin, const glm::dvec3& x, const glm::dvec3&
 
 }  // namespace
 
-ShadowMaps planShadowMaps(const Scene& scene, int size) {
+ShadowMaps planShadowMaps(const Scene& scene, int size, const LocalFrame& frame) {
     ShadowMaps maps;
     maps.lights.resize(scene.lights.size());
     std::vector<glm::dvec3> points;
-    for (const Mesh& mesh : scene.meshes) points.insert(points.end(), mesh.positions.begin(), mesh.positions.end());
+    for (const Mesh& mesh : scene.meshes)
+        for (const glm::dvec3& p : mesh.positions) points.push_back(frame.position(p));
     if (points.empty()) return maps;
     glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-lo);
     for (const glm::dvec3& p : points) {
@@ -85,10 +86,11 @@ ShadowMaps planShadowMaps(const Scene& scene, int size) {
         } else {
             // Six 90° views; depth (Z − n)·f/((f − n)·Z) from the near plane n to the farthest
             // corner of the bounds f.
+            const glm::dvec3 lightPosition = frame.position(light.position);
             double far = 0.0;
             for (int k = 0; k < 8; ++k) {
                 const glm::dvec3 corner(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z);
-                far = std::max(far, glm::length(corner - light.position));
+                far = std::max(far, glm::length(corner - lightPosition));
             }
             const double near = 1e-3 * extent;
             far = std::max(far * 1.01, 2.0 * near);
@@ -102,7 +104,7 @@ ShadowMaps planShadowMaps(const Scene& scene, int size) {
                 proj[2][2] = far / (far - near);
                 proj[2][3] = 1.0;
                 proj[3][2] = -far * near / (far - near);
-                maps.layers.push_back({proj * view(light.position, x, y, z)});
+                maps.layers.push_back({proj * view(lightPosition, x, y, z)});
             }
             maps.lights[l].texel = 2.0 / size;
         }

@@ -5,6 +5,7 @@
 // Tests: engine/render/shadow_maps_test.cpp.
 #pragma once
 
+#include "scene/local_frame.h"
 #include "scene/scene.h"
 
 #include <glm/glm.hpp>
@@ -14,13 +15,13 @@
 namespace metamer {
 
 struct ShadowLayer {
-    glm::dmat4 viewProjection{1.0};  // world → clip (x, y in [−1, 1] over the map, depth 0..1)
+    glm::dmat4 viewProjection{1.0};  // frame → clip (x, y in [−1, 1] over the map, depth 0..1)
 };
 
 struct ShadowLight {
     int firstLayer = -1;  // −1: casts no shadows
-    // A texel's size: metres (directional), or metres per metre of distance along the face's axis
-    // (point).
+    // A texel's size: frame units (directional), or units per unit of distance along the face's
+    // axis (point).
     double texel = 0.0;
 };
 
@@ -32,7 +33,7 @@ struct ShadowMaps {
 
 // `size`: texels per side of every layer. A point light's near plane lies at 1e-3 of the scene's
 // size (closer triangles cast no shadow). More layers than MAX_SHADOW_LAYERS is an input error
-// naming the light that does not fit.
-ShadowMaps planShadowMaps(const Scene& scene, int size);
+// naming the light that does not fit. Positions and matrices are in `frame` (scene/local_frame.h).
+ShadowMaps planShadowMaps(const Scene& scene, int size, const LocalFrame& frame = {});
 
 }  // namespace metamer

@@ -118,7 +118,7 @@ std::vector<size_t> lightOrder(const Scene& scene, PackedScene& p) {
 
 }  // namespace
 
-PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes) {
+PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes, const LocalFrame& frame) {
     checkMeshes(scene);  // the vertex and index arrays below are read as they promise
     PackedScene p;
     for (const auto& mesh : scene.meshes) {
@@ -126,14 +126,15 @@ PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes) {
         PackedDraw d{uint32_t(p.indices.size()), uint32_t(mesh.indices.size()), int32_t(p.vertices.size()), mesh.material};
         d.closed = mesh.closed;
         glm::dvec3 lower(INFINITY), upper(-INFINITY);
-        for (const glm::dvec3& x : mesh.positions) lower = glm::min(lower, x), upper = glm::max(upper, x);
+        for (const glm::dvec3& x : mesh.positions) lower = glm::min(lower, frame.position(x)), upper = glm::max(upper, frame.position(x));
         d.lower = glm::vec3(lower);
         d.upper = glm::vec3(upper);
-        auto vertex = [&p, &mesh](uint32_t i, const glm::dvec3& normal) {
+        auto vertex = [&p, &mesh, &frame](uint32_t i, const glm::dvec3& normal) {
             glm::dvec2 uv = mesh.uvs.empty() ? glm::dvec2(0.0) : mesh.uvs[i];
             glm::dvec4 t = mesh.tangents.empty() ? glm::dvec4(0.0) : mesh.tangents[i];
             gpu::SpectralVertex v;
-            for (int k = 0; k < 3; ++k) v.position[k] = float(mesh.positions[i][k]);
+            const glm::dvec3 x = frame.position(mesh.positions[i]);  // in double, then rounded once
+            for (int k = 0; k < 3; ++k) v.position[k] = float(x[k]);
             for (int k = 0; k < 3; ++k) v.normal[k] = float(normal[k]);
             for (int k = 0; k < 2; ++k) v.uv[k] = float(uv[k]);
             for (int k = 0; k < 4; ++k) v.tangent[k] = float(t[k]);
@@ -169,7 +170,7 @@ PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes) {
     }
     // Lights sorted by kind (the shader loops over each kind without branching).
     const std::vector<size_t> order = lightOrder(scene, p);
-    p.shadowMaps = planShadowMaps(scene, SHADOW_MAP_SIZE);
+    p.shadowMaps = planShadowMaps(scene, SHADOW_MAP_SIZE, frame);
     for (size_t k = 0; k < p.shadowMaps.layers.size(); ++k) p.shadowBlock.layers[k] = glm::mat4(p.shadowMaps.layers[k].viewProjection);
     for (size_t i = 0; i < order.size(); ++i) {
         const Light& light = scene.lights[order[i]];
@@ -177,7 +178,7 @@ PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes) {
         if (light.type == Light::Type::Directional)
             out.vector = glm::vec4(glm::vec3(-glm::normalize(light.direction)), 0.0f);
         else if (light.type == Light::Type::Point)
-            out.vector = glm::vec4(glm::vec3(light.position), 1.0f);
+            out.vector = glm::vec4(glm::vec3(frame.position(light.position)), float(frame.inverseSquareUnit()));
         else if (light.type == Light::Type::Hemisphere)
             out.vector = glm::vec4(glm::vec3(light.up), 0.0f);
         const ShadowLight& shadow = p.shadowMaps.lights[order[i]];
@@ -264,7 +265,8 @@ PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes) {
     return p;
 }
 
-PackedScene packResponses(const Scene& scene, const SceneOnGrid& g, const std::vector<std::vector<double>>& weights) {
+PackedScene packResponses(const Scene& scene, const SceneOnGrid& g, const std::vector<std::vector<double>>& weights,
+                          const LocalFrame& frame) {
     const size_t channels = weights.size(), n = g.wavelengths_nm.size();
     if (channels == 0 || channels > 4 * RESPONSE_VEC4)
         failRuntime("the response pass carries 1 to {} detector channels, not {}", 4 * RESPONSE_VEC4, channels);
@@ -272,7 +274,7 @@ PackedScene packResponses(const Scene& scene, const SceneOnGrid& g, const std::v
         if (w.size() != n) failRuntime("detector weights on {} bands for a scene on {}", w.size(), n);
     // Geometry, light vectors and the materials' parameters as for the band passes (one pass); the
     // spectra those blocks hold are not read.
-    PackedScene p = pack(scene, g, 1);
+    PackedScene p = pack(scene, g, 1, frame);
     p.responses = true;
     p.fluorescenceSpectra = false;
     p.responseChannels = int(channels);

@@ -6,6 +6,7 @@
 
 #include "interface.h"
 #include "render/shadow_maps.h"
+#include "scene/local_frame.h"
 #include "scene/scene.h"
 #include "scene/scene_on_grid.h"
 
@@ -16,7 +17,7 @@
 namespace metamer {
 
 // One draw call: a mesh's indices, with its material; whether the mesh is closed (Mesh::closed)
-// and its bounds, m (back faces may be culled when the camera is outside them).
+// and its bounds in the frame's units (back faces may be culled when the camera is outside them).
 struct PackedDraw {
     uint32_t firstIndex, indexCount;
     int32_t vertexOffset;
@@ -68,13 +69,15 @@ struct PackedScene {
 // Band b of pass p lives at vec4 k = (b - 32p) / 4, component (b - 32p) % 4; bands past the grid are 0.
 void scatterBands(const std::vector<double>& values, int pass, glm::vec4* dst);
 
-// The scene packed for `passes` passes of BANDS_PER_PASS bands. Input errors (lights or
-// fluorescence beyond float32's range) name the scene's key.
-PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes);
+// The scene packed for `passes` passes of BANDS_PER_PASS bands, its positions in `frame`
+// (scene/local_frame.h). Input errors (lights or fluorescence beyond float32's range) name the
+// scene's key.
+PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes, const LocalFrame& frame);
 
 // The scene packed for the response pass: one pass whose outputs are the channels of a detector
 // with `weights` [channel][band of g.grid] (at most 4·RESPONSE_VEC4 channels): every material's
 // responses under every light, in double, rounded once to float.
-PackedScene packResponses(const Scene& scene, const SceneOnGrid& g, const std::vector<std::vector<double>>& weights);
+PackedScene packResponses(const Scene& scene, const SceneOnGrid& g, const std::vector<std::vector<double>>& weights,
+                          const LocalFrame& frame);
 
 }  // namespace metamer

@@ -43,7 +43,7 @@ TEST(SpectralPacking, ScattersBandsFourToAVec4ThirtyTwoToAPass) {
 TEST(SpectralPacking, LightsAreSortedByKindWithTheirVectors) {
     const Scene s = threeLights(Grid{300, 740, 5});
     const SceneOnGrid g = onGrid(s);
-    const PackedScene p = pack(s, g, 3);
+    const PackedScene p = pack(s, g, 3, LocalFrame{});
     EXPECT_EQ(p.ambient, 1);
     EXPECT_EQ(p.directional, 1);
     EXPECT_EQ(p.point, 1);
@@ -63,7 +63,7 @@ TEST(SpectralPacking, LightsAreSortedByKindWithTheirVectors) {
 TEST(SpectralPacking, MaterialsArePerPassAndMaterial) {
     const Scene s = threeLights(Grid{300, 740, 5});
     const SceneOnGrid g = onGrid(s);
-    const PackedScene p = pack(s, g, 3);
+    const PackedScene p = pack(s, g, 3, LocalFrame{});
     ASSERT_EQ(p.materials.size(), 3u * 2u);
     for (int pass = 0; pass < 3; ++pass)
         for (size_t m = 0; m < 2; ++m) {
@@ -83,7 +83,7 @@ TEST(SpectralPacking, VerticesCarryTheMeshAndFaceNormalsWhereItHasNone) {
     Mesh bare = quad({0, 0, 1}, {0, 0, 1}, 1, 1);
     bare.normals.clear();  // no normals: every triangle gets its own three face-normal vertices
     s.meshes.push_back(bare);
-    const PackedScene p = pack(s, onGrid(s), 1);
+    const PackedScene p = pack(s, onGrid(s), 1, LocalFrame{});
     ASSERT_EQ(p.draws.size(), 2u);
     EXPECT_EQ(p.draws[0].indexCount, 6u);
     EXPECT_EQ(p.draws[1].indexCount, 6u);
@@ -100,7 +100,7 @@ TEST(SpectralPacking, RefusesALightBeyondFloat32) {
     Scene s = threeLights(Grid{400, 700, 10});
     s.lights[0].scale = 1e39;
     try {
-        pack(s, onGrid(s), 1);
+        pack(s, onGrid(s), 1, LocalFrame{});
         ADD_FAILURE() << "accepted";
     } catch (const Error& e) {
         EXPECT_EQ(e.code(), ExitCode::BadInput);

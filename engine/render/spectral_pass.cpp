@@ -30,6 +30,7 @@ struct SpectralPass::Impl {
     const Scene& scene;
     Grid grid;
     PackedScene packed;
+    LocalFrame frame;  // where positions are computed: fixed for the pass, the camera may move in it
     CameraMatrices camera;
     glm::mat4 fullViewProjection{1.0f};
     int rows = 0, columns = 0;
@@ -86,10 +87,12 @@ SpectralPass::SpectralPass(vk::Context& ctx, const Scene& scene, const SceneOnGr
     if (scene.lights.size() > MAX_LIGHTS)
         failInput(Where{scene.file.string(), "lights"}, "{} lights; the GPU path supports at most {}",
                   scene.lights.size(), MAX_LIGHTS);
-    m.packed = p.responses ? packResponses(scene, spectra, options.responseWeights) : pack(scene, spectra, p.passes);
+    m.frame = localFrameFor(scene, scene.camera);
+    m.packed = p.responses ? packResponses(scene, spectra, options.responseWeights, m.frame)
+                           : pack(scene, spectra, p.passes, m.frame);
     p.fluorescenceSpectra = m.packed.fluorescenceSpectra;
     p.shadowLayers = int(m.packed.shadowMaps.layers.size());
-    m.camera = cameraMatrices(scene.camera, scene);
+    m.camera = cameraMatrices(scene.camera, scene, m.frame);
     m.fullViewProjection = m.camera.viewProjection;
     m.rows = rows;
     m.columns = columns;
@@ -127,7 +130,7 @@ void SpectralPass::setCamera(const Camera& camera) {
     if (camera.width != m.scene.camera.width || camera.height != m.scene.camera.height)
         failRuntime("SpectralPass::setCamera: the image is {}×{}, the camera asks for {}×{}", m.scene.camera.width,
                     m.scene.camera.height, camera.width, camera.height);
-    m.camera = cameraMatrices(camera, m.scene);
+    m.camera = cameraMatrices(camera, m.scene, m.frame);
     m.fullViewProjection = m.camera.viewProjection;
     if (m.rows != m.scene.camera.height || m.columns != m.scene.camera.width) m.placeTile();
 }

@@ -28,7 +28,7 @@ void recordSpectralFrame(VkCommandBuffer cmd, const SpectralResources& r, const 
             const glm::vec3 p(corner & 1 ? d.upper.x : d.lower.x, corner & 2 ? d.upper.y : d.lower.y,
                               corner & 4 ? d.upper.z : d.lower.z);
             const glm::vec3 toCorner = p - camera.position;
-            if (!(glm::dot(toCorner, camera.forward) > 1.01f * float(camera.near_m) + 1e-5f * glm::length(toCorner)))
+            if (!(glm::dot(toCorner, camera.forward) > 1.01f * float(camera.nearPlane) + 1e-5f * glm::length(toCorner)))
                 return false;
         }
         return true;
