@@ -7,9 +7,11 @@
 #include "reference/cpu_renderer.h"
 #include "render/camera_matrices.h"
 #include "render/spectral_pass.h"
+#include "scene/local_frame.h"
 #include "scene/shapes.h"
 #include "spectral/library.h"
 #include "support/capture_warnings.h"
+#include "support/cubes.h"
 #include "support/gpu.h"
 #include "support/interior_comparison.h"
 #include "support/scene_builders.h"
@@ -409,6 +411,15 @@ TEST(Numerics, QuadSeenAndLitAtGrazingAngles) {
         report(perspective ? "grazing 89.9°, perspective" : "grazing 89.9°, orthographic", r, m);
         EXPECT_GE(m.pixels, 22 * 22);
         EXPECT_LE(m.maxRelative, 1e-4);
+        // The point light on its own: in the pixel the two directional lights dominate it
+        // (its irradiance is ~10⁻² of theirs), which hides its error in the sum.
+        s.lights.erase(s.lights.begin(), s.lights.begin() + 2);
+        r = renderBoth(s, onGrid(s));
+        EXPECT_EQ(nonFinite(r.gpu), 0u);
+        m = compareInterior(r.gpu, r.ref);
+        report(perspective ? "grazing, the point light alone, perspective" : "grazing, the point light alone, ortho", r, m);
+        EXPECT_GE(m.pixels, 22 * 22);
+        EXPECT_LE(m.maxRelative, 1e-4);
     }
 }
 
@@ -676,4 +687,332 @@ TEST(Numerics, FluorescenceFromASingleOverlappingBandAndFromNone) {
         EXPECT_GT(r.gpu.at(4, 4, (600 - 400) / 5), 0.0f);
         EXPECT_LE(worst, 1e-5);
     }
+}
+
+// --- Scale and position -------------------------------------------------------------------------
+// docs/numerics.md, "Scale and position": both renderers compute in the scene's local frame
+// (scene/local_frame.h), so a scene renders the same wherever it is and at whatever scale.
+
+namespace {
+
+// The scene moved by t (m): every vertex, the camera, the point lights.
+Scene translated(Scene s, glm::dvec3 t) {
+    for (Mesh& m : s.meshes)
+        for (glm::dvec3& p : m.positions) p += t;
+    s.camera.position += t;
+    s.camera.target += t;
+    for (Light& l : s.lights) l.position += t;
+    return s;
+}
+
+// The scene scaled by k about the world origin, its point lights k² brighter so that every
+// radiance stays what it was (E = I·cos θ/d²).
+Scene scaled(Scene s, double k) {
+    for (Mesh& m : s.meshes)
+        for (glm::dvec3& p : m.positions) p *= k;
+    s.camera.position *= k;
+    s.camera.target *= k;
+    s.camera.height_m *= k;
+    for (Light& l : s.lights)
+        if (l.type == Light::Type::Point) {
+            l.position *= k;
+            l.scale *= k * k;
+        }
+    return s;
+}
+
+// The point-lit quad's known answer: a Lambertian plane z = 0 (normal +z) of reflectance ρ under a
+// point light of intensity I, seen through the centre of pixel (x, y) of `cam`:
+// L = ρ·I·cos θ/(π d²) where the pixel's ray meets the plane. Computed here in double from
+// docs/physics.md ("Camera", "Point lights"), not by either renderer.
+double pointLitPlane(const Camera& cam, glm::dvec3 light, double rho, double intensity, int x, int y) {
+    const glm::dvec3 f = glm::normalize(cam.target - cam.position), r = glm::normalize(glm::cross(f, cam.up)),
+                     u = glm::cross(r, f);
+    const double aspect = double(cam.width) / cam.height;
+    const double nx = 2.0 * (x + 0.5) / cam.width - 1.0, ny = 1.0 - 2.0 * (y + 0.5) / cam.height;
+    glm::dvec3 origin = cam.position, dir = f;
+    if (cam.projection == Camera::Projection::Perspective) {
+        const double t = std::tan(0.5 * cam.fov_y_deg * kDeg);
+        dir = glm::normalize(f + nx * t * aspect * r + ny * t * u);
+    } else {
+        origin += 0.5 * cam.height_m * (nx * aspect * r + ny * u);
+    }
+    const glm::dvec3 p = origin - (origin.z / dir.z) * dir;
+    const glm::dvec3 toLight = light - p;
+    const double d2 = glm::dot(toLight, toLight);
+    return rho * intensity * (toLight.z / std::sqrt(d2)) / (kPi * d2);
+}
+
+// A white Lambertian quad (ρ = 0.5, 2 m × 2 m in z = 0) under a point light of 1 W·sr⁻¹·nm⁻¹,
+// every coordinate a dyadic fraction so that moving it by whole metres is exact. Perspective:
+// seen head-on (a flat scene with no depth span, the case that went black at micrometres);
+// orthographic: seen obliquely.
+const glm::dvec3 kQuadLight{0.375, 0.25, 0.625};
+Scene pointLitQuad(bool perspective) {
+    Camera cam = perspective ? perspectiveCamera({0, 0, 2.5}, {0, 0, 0}, {0, 1, 0}, 40, 24, 24)
+                             : orthographicCamera({0.5, -1.0, 2.0}, {0, 0, 0}, {0, 1, 0}, 1.25, 24, 24);
+    Scene s = emptyScene(Grid{400, 700, 100}, cam);
+    s.materials.push_back(lambertian(0.5, "white"));
+    s.meshes.push_back(quad({0, 0, 0}, {0, 0, 1}, 2, 2));
+    s.lights.push_back(pointLight(kQuadLight, constantSpectrum(1.0), 1.0, "lights.0"));
+    return s;
+}
+
+struct AgainstKnownAnswer {
+    double gpu = 0.0, cpu = 0.0;  // worst relative error over interior pixels and bands
+    int pixels = 0;
+};
+
+// Both cubes against pointLitPlane on the base scene's camera (the answer does not move with the
+// scene), on the reference's interior pixels.
+AgainstKnownAnswer againstPointLitPlane(const Rendered& r, const Camera& base) {
+    AgainstKnownAnswer a;
+    const ReferenceImage& ref = r.ref;
+    const int W = ref.cube.width, H = ref.cube.height;
+    for (int y = 1; y + 1 < H; ++y)
+        for (int x = 1; x + 1 < W; ++x) {
+            bool interior = true;
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) interior = interior && ref.objectId[size_t(y + dy) * W + x + dx] == 0;
+            if (!interior) continue;
+            ++a.pixels;
+            const double expected = pointLitPlane(base, kQuadLight, 0.5, 1.0, x, y);
+            for (int b = 0; b < ref.cube.bands(); ++b) {
+                a.gpu = std::max(a.gpu, std::fabs(r.gpu.at(x, y, b) / expected - 1.0));
+                a.cpu = std::max(a.cpu, std::fabs(ref.cube.at(x, y, b) / expected - 1.0));
+                if (!std::isfinite(r.gpu.at(x, y, b))) a.gpu = INFINITY;
+            }
+        }
+    return a;
+}
+
+// Cube `c` against cube `base` on the interior pixels of `mask` (the reference of either):
+// relative error as compareInterior counts it.
+InteriorComparison compareCubes(const SpectralCube& c, const SpectralCube& base, const ReferenceImage& mask) {
+    ReferenceImage asReference = mask;
+    asReference.cube = base;
+    return compareInterior(c, asReference);
+}
+
+// The double-precision reference cube before rounding to float: the pixels' radiance in double,
+// for comparisons finer than float32's 6e-8.
+std::vector<double> referenceInDouble(const Scene& s, const SceneOnGrid& g) {
+    const ReferenceRenderer renderer(s, g);
+    const int W = s.camera.width, H = s.camera.height, B = renderer.bands();
+    std::vector<double> out(size_t(W) * H * B);
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) renderer.pixel(x, y, &out[(size_t(y) * W + x) * B]);
+    return out;
+}
+
+double worstRelative(const std::vector<double>& a, const std::vector<double>& base) {
+    double peak = 0.0, worst = 0.0;
+    for (double v : base) peak = std::max(peak, std::fabs(v));
+    for (size_t i = 0; i < a.size(); ++i)
+        worst = std::max(worst, std::fabs(a[i] - base[i]) / std::max(std::fabs(base[i]), 1e-4 * peak));
+    return worst;
+}
+
+// A glossy sphere on a floor under every kind of light, with shadows: geometry, point and
+// directional lights, the shadow maps and the environment (a sky and a ground).
+Scene litSphereOnFloor() {
+    Scene s = sphereOnFloor(Grid{400, 700, 50}, 24);
+    s.lights.push_back(hemisphereLight({0, 1, 0}, daylightLike(), 0.001, "sky"));
+    s.lights.push_back(hemisphereLight({0, -1, 0}, daylightLike(), 0.0003, "ground"));
+    for (Light& l : s.lights) l.shadows = true;
+    return s;
+}
+
+}  // namespace
+
+TEST(Numerics, PointLitLambertianQuadIsRhoICosThetaOverPiDSquared) {
+    for (bool perspective : {true, false}) {
+        SCOPED_TRACE(perspective ? "perspective" : "orthographic");
+        const Scene s = pointLitQuad(perspective);
+        const Rendered r = renderBoth(s, onGrid(s));
+        const AgainstKnownAnswer a = againstPointLitPlane(r, s.camera);
+        std::printf("  [numerics] point-lit quad, %s: %d px; against rho*I*cos/(pi d^2): GPU %.3g, reference %.3g\n",
+                    perspective ? "perspective, head-on" : "orthographic, oblique", a.pixels, a.gpu, a.cpu);
+        EXPECT_GE(a.pixels, 20 * 20 / (perspective ? 1 : 3));
+        EXPECT_LE(a.gpu, 1e-5);
+        EXPECT_LE(a.cpu, 1e-6);  // float32 rounding of the cube
+    }
+}
+
+TEST(Numerics, ScenesFarFromTheWorldOriginRenderAsAtIt) {
+    // The same scene, camera with it, moved 10³, 10⁵ and 10⁷ m (and a non-dyadic 1.2 × 10⁴ m):
+    // every position is made relative to the frame's origin in double before it is rounded to
+    // float, so the GPU's error depends on distances within the scene, not from the world origin.
+    const glm::dvec3 direction(1.0, -0.75, 0.5);
+    struct Case {
+        double distance;
+        glm::dvec3 t;
+    };
+    const Case cases[] = {{1e3, 1e3 * direction}, {1e5, 1e5 * direction}, {1e7, 1e7 * direction},
+                          {1.2e4, {12345.678, -9876.54321, 4321.0987}}};
+    for (bool perspective : {true, false}) {
+        const Scene base = pointLitQuad(perspective);
+        const Rendered r0 = renderBoth(base, onGrid(base));
+        const std::vector<double> ref0 = referenceInDouble(base, onGrid(base));
+        for (const Case& c : cases) {
+            SCOPED_TRACE(c.distance);
+            const Scene s = translated(base, c.t);
+            const Rendered r = renderBoth(s, onGrid(s));
+            const InteriorComparison gpu = compareCubes(r.gpu, r0.gpu, r0.ref);
+            const double cpu = worstRelative(referenceInDouble(s, onGrid(s)), ref0);
+            const AgainstKnownAnswer a = againstPointLitPlane(r, base.camera);
+            std::printf("  [numerics] point-lit quad (%s) moved %.3g m: GPU vs unmoved %.3g, reference vs unmoved %.3g "
+                        "(in double); against the known answer GPU %.3g\n",
+                        perspective ? "perspective" : "orthographic", glm::length(c.t), gpu.maxRelative, cpu, a.gpu);
+            EXPECT_EQ(nonFinite(r.gpu), 0u);
+            EXPECT_GE(gpu.pixels, 100);
+            EXPECT_LE(gpu.maxRelative, 1e-5);
+            EXPECT_LE(cpu, 1e-9);
+            EXPECT_LE(a.gpu, 1e-5);
+        }
+    }
+    // Every kind of light, shadows and the environment. At 10⁷ m the sphere's vertices (not dyadic)
+    // are themselves rounded to 0.93 nm when moved (the spacing of doubles there is 1.9 nm), which
+    // bounds what the reference can agree to.
+    const Scene base = litSphereOnFloor();
+    const Rendered r0 = renderBoth(base, onGrid(base));
+    const std::vector<double> ref0 = referenceInDouble(base, onGrid(base));
+    for (double distance : {1e3, 1e5, 1e7}) {
+        SCOPED_TRACE(distance);
+        const Scene s = translated(base, distance * direction);
+        const Rendered r = renderBoth(s, onGrid(s));
+        const InteriorComparison gpu = compareCubes(r.gpu, r0.gpu, r0.ref);
+        const double cpu = worstRelative(referenceInDouble(s, onGrid(s)), ref0);
+        std::printf("  [numerics] lit sphere on a floor (shadows, sky and ground) moved %.3g m: GPU vs unmoved %.3g "
+                    "(%d px), reference vs unmoved %.3g\n",
+                    distance * glm::length(direction), gpu.maxRelative, gpu.pixels, cpu);
+        EXPECT_EQ(nonFinite(r.gpu), 0u);
+        EXPECT_GE(gpu.pixels, 150);
+        EXPECT_LE(gpu.maxRelative, 1e-5);
+        EXPECT_LE(cpu, distance < 1e6 ? 1e-9 : 1e-7);
+    }
+}
+
+TEST(Numerics, ScenesFromMicrometresToMegametresRenderAsAtOneMetre) {
+    // The same scenes scaled by 10⁻⁶ … 10⁶ (point lights k² brighter, so the radiance is unchanged).
+    // The frame's unit is a power of two near the scene's size, so the GPU computes with numbers
+    // of the same magnitude at every scale.
+    for (bool perspective : {true, false}) {
+        const Scene base = pointLitQuad(perspective);
+        const Rendered r0 = renderBoth(base, onGrid(base));
+        for (double k : {1e-6, 1e-3, 1e3, 1e6}) {
+            SCOPED_TRACE(k);
+            const Scene s = scaled(base, k);
+            const Rendered r = renderBoth(s, onGrid(s));
+            const InteriorComparison gpu = compareCubes(r.gpu, r0.gpu, r0.ref);
+            const AgainstKnownAnswer a = againstPointLitPlane(r, base.camera);
+            std::printf("  [numerics] point-lit quad (%s) at scale %g: GPU vs 1 m %.3g (%d px); against the known "
+                        "answer GPU %.3g, reference %.3g\n",
+                        perspective ? "perspective, head-on" : "orthographic", k, gpu.maxRelative, gpu.pixels, a.gpu,
+                        a.cpu);
+            EXPECT_EQ(nonFinite(r.gpu), 0u);
+            EXPECT_GE(gpu.pixels, 100);
+            EXPECT_LE(gpu.maxRelative, 1e-5);
+            EXPECT_LE(a.gpu, 1e-5);
+            EXPECT_LE(a.cpu, 1e-6);
+        }
+    }
+    const Scene base = litSphereOnFloor();
+    const Rendered r0 = renderBoth(base, onGrid(base));
+    for (double k : {1e-6, 1e6}) {
+        SCOPED_TRACE(k);
+        const Scene s = scaled(base, k);
+        const Rendered r = renderBoth(s, onGrid(s));
+        const InteriorComparison gpu = compareCubes(r.gpu, r0.gpu, r0.ref);
+        const InteriorComparison cpu = compareCubes(r.ref.cube, r0.ref.cube, r0.ref);
+        std::printf("  [numerics] lit sphere on a floor at scale %g: GPU vs 1 m %.3g (%d px), reference vs 1 m %.3g\n", k,
+                    gpu.maxRelative, gpu.pixels, cpu.maxRelative);
+        EXPECT_EQ(nonFinite(r.gpu), 0u);
+        EXPECT_GE(gpu.pixels, 150);
+        EXPECT_LE(gpu.maxRelative, 1e-5);
+        EXPECT_LE(cpu.maxRelative, 1e-6);
+    }
+}
+
+TEST(Numerics, ScenesBeyondTheSupportedLengthsAreRefusedByName) {
+    // Objects spanning less than 10⁻¹⁵ m or more than 10¹⁵ m, and a camera or a light farther
+    // than 2⁶⁰ of the scene's span: an input error naming the key, from either renderer, never a
+    // black image.
+    const Scene base = pointLitQuad(true);
+    for (double k : {1e-17, 1e17}) {
+        Scene s = scaled(base, k);
+        s.file = "far.json";
+        const SceneOnGrid g = onGrid(s);
+        expectInputError([&] { SpectralPass pass(gpu(), s, g); }, "far.json", "objects", "Metamer renders scenes from");
+        expectInputError([&] { renderReference(s, g); }, "far.json", "objects", "Metamer renders scenes from");
+    }
+    Scene s = base;
+    s.file = "far.json";
+    s.camera.position = {0, 0, 1e19};
+    expectInputError([&] { renderReference(s, onGrid(s)); }, "far.json", "camera.position", "the camera is 1e+19 m");
+    s = base;
+    s.file = "far.json";
+    s.lights[0].position = {0, 0, -1e19};
+    expectInputError([&] { SpectralPass pass(gpu(), s, onGrid(s)); }, "far.json", "lights.0.position", "the light is 1e+19 m");
+    // The edges themselves render (2 × 2 m quad → 2.8 m span: scaled to 1.1e-15 and 0.9e15 m).
+    for (double k : {4e-16, 3.2e14}) {
+        const Scene edge = scaled(base, k);
+        const Rendered r = renderBoth(edge, onGrid(edge));
+        const AgainstKnownAnswer a = againstPointLitPlane(r, base.camera);
+        std::printf("  [numerics] point-lit quad spanning %.3g m: against the known answer GPU %.3g, reference %.3g\n",
+                    2.0 * std::sqrt(2.0) * k, a.gpu, a.cpu);
+        EXPECT_LE(a.gpu, 1e-5);
+    }
+}
+
+TEST(Numerics, PointLightsOnASurfaceContributeNothingAndNeverNaN) {
+    // An orthographic view of a quad in z = 0, 17 × 17 pixels of exactly 1/16 m, so that pixel
+    // centres lie at multiples of 1/16 m: the centre (on the diagonal shared by the quad's two
+    // triangles), a corner (a vertex), the middle of a side (an edge) and interior points. Point
+    // lights placed exactly there are in the surface's plane: cos θ = 0 for every other point of
+    // the quad, and at their own pixel d = 0, which has no direction and contributes nothing
+    // (docs/physics.md). So the image equals that of the directional light alone, exactly.
+    Scene lit = emptyScene(Grid{400, 700, 50}, orthographicCamera({0, 0, 2}, {0, 0, 0}, {0, 1, 0}, 17.0 / 16.0, 17, 17));
+    lit.materials.push_back(glossy(constantSpectrum(0.5), constantSpectrum(0.25), 20, "paint"));
+    lit.meshes.push_back(quad({0, 0, 0}, {0, 0, 1}, 1, 1));
+    lit.lights.push_back(directionalLight({0.25, -0.5, -1}, daylightLike(), 1.0));
+    Scene onSurface = lit;
+    const glm::dvec3 atPixelCentres[] = {{0, 0, 0},          {0.5, 0.5, 0},       {-0.5, -0.5, 0}, {0.5, 0, 0},
+                                         {0, -0.5, 0},       {0.0625, 0.0625, 0}, {-0.25, 0.3125, 0},
+                                         {0.4375, -0.125, 0}, {-0.1875, -0.375, 0}};
+    for (const glm::dvec3& p : atPixelCentres) {
+        onSurface.lights.push_back(pointLight(p, daylightLike(), 1.0));
+        onSurface.lights.back().shadows = false;
+    }
+    const Rendered alone = renderBoth(lit, onGrid(lit)), with = renderBoth(onSurface, onGrid(onSurface));
+    EXPECT_EQ(nonFinite(with.gpu), 0u);
+    EXPECT_EQ(negative(with.gpu), 0u);
+    EXPECT_EQ(nonFinite(with.ref.cube), 0u);
+    double worstGpu = 0.0, worstCpu = 0.0;
+    auto worse = [](double& worst, float a, float b) {  // a NaN counts as the worst
+        const double d = std::fabs(double(a) - double(b));
+        if (!(d <= worst)) worst = std::isnan(d) ? INFINITY : d;
+    };
+    for (size_t i = 0; i < alone.gpu.data.size(); ++i) {
+        worse(worstGpu, with.gpu.data[i], alone.gpu.data[i]);
+        worse(worstCpu, with.ref.cube.data[i], alone.ref.cube.data[i]);
+    }
+    std::printf("  [numerics] %zu point lights on pixel centres of a lit quad: largest |difference| from the "
+                "directional light alone GPU %.3g, reference %.3g\n",
+                std::size(atPixelCentres), worstGpu, worstCpu);
+    EXPECT_EQ(worstGpu, 0.0);
+    EXPECT_EQ(worstCpu, 0.0);
+
+    // A light on a vertex of a smooth sphere, and one inside it: no NaN, no Inf, nothing negative.
+    Scene sphereScene = emptyScene(Grid{400, 700, 50}, perspectiveCamera({0, 0.5, 3}, {0, 0, 0}, {0, 1, 0}, 40, 24, 24));
+    sphereScene.materials.push_back(glossy(constantSpectrum(0.5), constantSpectrum(0.25), 20, "paint"));
+    sphereScene.meshes.push_back(sphere({0, 0, 0}, 1.0, 32, 16, 0));
+    const glm::dvec3 vertex = sphereScene.meshes[0].positions[sphereScene.meshes[0].positions.size() / 2];
+    sphereScene.lights.push_back(pointLight(vertex, daylightLike(), 1.0));
+    sphereScene.lights.push_back(pointLight({0, 0, 0}, daylightLike(), 1.0));
+    sphereScene.lights.push_back(directionalLight({0, -1, -1}, daylightLike(), 1.0));
+    const Rendered r = renderBoth(sphereScene, onGrid(sphereScene));
+    EXPECT_EQ(nonFinite(r.gpu), 0u);
+    EXPECT_EQ(negative(r.gpu), 0u);
+    EXPECT_EQ(nonFinite(r.ref.cube), 0u);
 }
