@@ -1,8 +1,10 @@
 // Numerical behaviour at the extremes (docs/numerics.md): grids from one band to 881 bands and from
 // 200 to 2500 nm, light scales over 24 decades, float16 output, needle lobes, grazing angles,
-// degenerate geometry, empty scenes, a camera inside an object and fluorescence at the edge of
-// its overlap with the light. Each test prints what it measured (the numbers docs/numerics.md
-// quotes) and checks the GPU path against the double-precision CPU reference.
+// degenerate geometry, empty scenes, a camera inside an object, fluorescence at the edge of
+// its overlap with the light, and scenes moved far from the world origin, scaled from micrometres
+// to megametres or lit by point lights lying on a surface. Each test prints what it measured (the
+// numbers docs/numerics.md quotes) and checks the GPU path against the double-precision CPU
+// reference, or both against an analytic answer where there is one.
 #include "io/spectral_exr.h"
 #include "reference/cpu_renderer.h"
 #include "render/camera_matrices.h"
