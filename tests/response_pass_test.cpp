@@ -5,7 +5,7 @@
 // 1e-5 relative, and its display counts are within 1 of the cube path's tonemap pass. Both paths
 // rasterize the same triangles with the same depth, so every pixel is compared, edges included.
 #include "color/tonemap.h"
-#include "io/raster_image.h"
+#include "io/image_reader.h"
 #include "render/display_frame.h"
 #include "render/render_job.h"
 #include "render/render_setup.h"

@@ -3,6 +3,7 @@
 #include "color/astm_e308.h"
 
 #include "color/cie_xyz.h"
+#include "color/detector_registry.h"
 #include "color/tonemap.h"
 #include "spectral/resampling.h"
 #include "support/capture_warnings.h"

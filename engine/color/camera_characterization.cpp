@@ -1,4 +1,5 @@
 #include "color/camera_characterization.h"
+#include "color/cie_xyz.h"
 #include "spectral/resampling.h"
 
 #include "color/delta_e.h"
@@ -39,7 +40,7 @@ CameraCharacterization characterizeCamera(const Detector& camera, const std::vec
     if (!(camera.grid == grid) || camera.weights[0].size() != n || illuminantOnGrid.size() != n)
         failRuntime("camera '{}' (grid {}) and illuminant ({} bands) are not on the grid {}", camera.name,
                     camera.grid.str(), illuminantOnGrid.size(), grid.str());
-    Detector cmf = makeDetector("cie1931", library, grid, integration, Where{});
+    Detector cmf = observerDetector("cie1931", kCie1931Observer, library, grid, integration);
 
     CameraCharacterization c;
     c.fit = fit;

@@ -1,4 +1,5 @@
 #include "color/camera_characterization.h"
+#include "color/detector_registry.h"
 #include "spectral/resampling.h"
 
 #include "color/delta_e.h"

@@ -6,7 +6,8 @@
 // A detector is linear in the radiance: response_c = Σ_b weights[c][b] · L_b, where the weights
 // already hold the sensitivity resampled onto the grid times the quadrature weight of each band.
 // Everything after that (white balance, characterization, film tone scale) lives elsewhere
-// (camera_characterization.h, film.h). docs/color.md, "Detectors".
+// (camera_characterization.h, film.h); which detector a name means, color/detector_registry.h.
+// docs/color.md, "Detectors".
 #pragma once
 
 #include "core/error.h"
@@ -53,23 +54,12 @@ struct Detector {
     Integration integration = Integration::Riemann;
 };
 
-// Makes a detector on `grid`. Specs:
-//   "cie1931", "cie1964"  the CIE 1931 2° and 1964 10° observers (spectra/observers), X Y Z;
-//                         zero outside 360–830 nm
-//   "camera:<name>"       spectra/cameras/<name>.csv (wavelength_nm,r,g,b), R G B
-//   "film:<name>"         the three layers' sensitivities of spectra/film/<name>.json, blue green red
-//   "csv:<path>"          a user table wavelength_nm,ch1[,ch2...] with 1–8 channels; header names
-//                         become channel names ("ch1"... without a header); the path is absolute or
-//                         relative to the current directory. Zero outside its data (with a warning
-//                         when the data do not reach every band centre of the grid).
-// Library data are resampled onto the grid like every other spectrum (docs/physics.md,
-// "Resampling"). An unknown spec is an input error at `where` with a suggestion and the list of
-// known detectors.
-Detector makeDetector(const std::string& spec, const SpectrumLibrary& library, const Grid& grid,
-                      Integration integration, const Where& where);
-
-// Every built-in detector spec, for help text and suggestions: observers, then cameras, then films.
-std::vector<std::string> detectorNames(const SpectrumLibrary& library);
+// A CIE observer as a detector (X, Y, Z; zero outside its data): `libraryName` is its table in
+// the library ("observers/cie1931_2deg"), `spec` the name it goes by ("cie1931"). The detectors
+// a user names are made by color/detector_registry.h; this is the one the display path itself
+// needs (film projection, camera characterization, quick looks).
+Detector observerDetector(const std::string& spec, const std::string& libraryName, const SpectrumLibrary& library,
+                          const Grid& grid, Integration integration);
 
 // response_c = Σ_b weights[c][b] · bands[b], for `bands` on detector.grid (grid.bands() values).
 std::vector<double> detectorResponse(const Detector& detector, const double* bands);

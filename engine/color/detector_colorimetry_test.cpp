@@ -3,6 +3,7 @@
 // tests/reference/make_colorchecker_table.py (which resamples our library files the way
 // spectral/spectrum.cpp does, so only the colorimetry is compared).
 #include "color/adaptation.h"
+#include "color/detector_registry.h"
 #include "spectral/resampling.h"
 #include "color/camera_characterization.h"
 #include "color/delta_e.h"

@@ -1,4 +1,5 @@
 #include "color/detector.h"
+#include "color/detector_registry.h"
 
 #include "color/cie_xyz.h"
 

@@ -1,4 +1,5 @@
 #include "color/film.h"
+#include "color/cie_xyz.h"
 #include "core/file_reads.h"
 #include "spectral/resampling.h"
 
@@ -213,7 +214,7 @@ FilmModel makeFilm(const std::string& name, const SpectrumLibrary& library, cons
     // Projection: the lamp through the slide, seen by the CIE 1931 observer with the same
     // quadrature as the layers.
     std::vector<double> lamp = resample(library.get(d.lamp, file.child("lamp")), grid);
-    Detector cmf = makeDetector("cie1931", library, grid, integration, where);
+    Detector cmf = observerDetector("cie1931", kCie1931Observer, library, grid, integration);
     m.projection.assign(3, std::vector<double>(n, 0.0));
     for (int c = 0; c < 3; ++c)
         for (size_t b = 0; b < n; ++b) m.projection[c][b] = lamp[b] * cmf.weights[c][b];

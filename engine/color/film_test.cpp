@@ -1,4 +1,5 @@
 #include "color/film.h"
+#include "color/detector_registry.h"
 #include "spectral/resampling.h"
 
 #include "color/camera_characterization.h"

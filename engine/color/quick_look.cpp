@@ -1,5 +1,6 @@
 #include "color/quick_look.h"
 
+#include "color/cie_xyz.h"
 #include "color/detector.h"
 #include "color/display_model.h"
 #include "color/srgb.h"
@@ -27,7 +28,7 @@ QuickLook quickLook(const SpectralCube& cube, const SpectrumLibrary& library) {
     if (cube.width <= 0 || cube.height <= 0 || cube.data.size() != pixels * cube.bands())
         failRuntime("quick look: the cube is {}×{} with {} bands but holds {} values", cube.width, cube.height,
                     cube.bands(), cube.data.size());
-    const Detector observer = makeDetector("cie1931", library, cube.grid, Integration::Riemann, Where{});
+    const Detector observer = observerDetector("cie1931", kCie1931Observer, library, cube.grid, Integration::Riemann);
     std::vector<glm::dvec3> xyz(pixels);
     for (size_t p = 0; p < pixels; ++p) xyz[p] = detectorResponse3(observer, cube.data.data() + p * cube.bands());
     return quickLookFromXyz(cube.width, cube.height, xyz, cube.grid);

@@ -2,7 +2,7 @@
 // stage's own parts — the CIE 1931 detector, the sRGB display model's encoder — with the one thing
 // a quick look adds: an exposure chosen from the image itself, since a cube on its own has no
 // reference white (a csv: detector's render, `metamer compare`-style inspection). docs/io.md,
-// "Quick-look PNG". Tests: io/quicklook_png_test.cpp.
+// "Quick-look PNG". Tests: render/quicklook_png_test.cpp.
 #pragma once
 
 #include "spectral/cube.h"

@@ -1,4 +1,5 @@
 #include "color/tonemap.h"
+#include "color/detector_registry.h"
 
 #include "color/astm_e308.h"
 #include "color/cie_xyz.h"

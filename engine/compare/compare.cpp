@@ -1,7 +1,7 @@
 #include "compare/compare.h"
 
 #include "io/exr_file.h"
-#include "io/raster_image.h"
+#include "io/image_reader.h"
 #include "io/spectral_image.h"
 #include "core/json.h"
 #include "core/statistics.h"

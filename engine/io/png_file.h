@@ -1,6 +1,6 @@
 // PNG files through libpng: 8- or 16-bit grey, RGB or RGBA images with text metadata, written
 // row by row and read whole. Display images, quick looks, masks, heat maps and plots are written
-// with it (io/image_file); `metamer compare` and scene textures read with it (io/raster_image).
+// with it (io/image_file); `metamer compare` and scene textures read with it (io/image_reader).
 // Tests: engine/io/png_file_test.cpp.
 #pragma once
 

@@ -1,8 +1,6 @@
-// An image as read from a file, whatever its format, and the one reader that picks the library by
-// the file's signature: OpenEXR for EXR (io/exr_file), libpng for PNG (io/png_file), and
-// OpenImageIO for every other format — loaded only then (io/oiio_module), since loading it costs a
-// process about 0.3 s (docs/performance.md, "Start-up"). Scene textures and `metamer compare`
-// read through it. Tests: engine/io/raster_image_test.cpp.
+// An image as read from a file, whatever its format: the type every image reader returns
+// (io/exr_file, io/png_file, io/oiio_module). Which reader reads a file is io/image_reader.h.
+// Tests: engine/io/raster_image_test.cpp.
 #pragma once
 
 #include "core/error.h"
@@ -38,16 +36,5 @@ struct RasterImage {
 // the header, an image whose decoding would take more than a quarter of the machine's memory
 // (core/memory_limits.h requireDecodableSize).
 using ImageHeaderCheck = std::function<void(const RasterImage& header)>;
-
-// The file's format told by its first bytes: "openexr", "png", "jpeg", or "" (anything else).
-std::string imageSignature(const std::filesystem::path& path);
-std::string imageSignature(const std::vector<uint8_t>& bytes);
-
-// Reads an image; input errors (missing, unreadable, damaged, deep, volume or too large to decode)
-// name `where`.
-RasterImage readRasterImage(const std::filesystem::path& path, const Where& where, const ImageHeaderCheck& check = {});
-// The same from bytes in memory (a glTF's embedded PNG or JPEG); `name` is for messages.
-RasterImage readRasterImage(const std::vector<uint8_t>& bytes, const std::string& name, const Where& where,
-                            const ImageHeaderCheck& check = {});
 
 }  // namespace metamer

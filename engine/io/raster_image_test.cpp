@@ -1,7 +1,7 @@
 // The one image reader (io/raster_image): EXR and PNG by their own libraries, anything else
 // through the OpenImageIO module, opened only then; a process that renders PNG and EXR never
 // loads OpenImageIO (checked from outside, by the dynamic loader's own log).
-#include "io/raster_image.h"
+#include "io/image_reader.h"
 
 #include "io/oiio_module.h"
 #include "io/png_file.h"

@@ -1,4 +1,5 @@
 #include "preview/settings_panel.h"
+#include "color/detector_registry.h"
 
 #include "color/detector.h"
 

@@ -6,7 +6,7 @@
 #pragma once
 
 #include "color/tonemap.h"
-#include "render/render_job.h"
+#include "render/render_job_spec.h"
 #include "represent/representation.h"
 #include "scene/scene.h"
 #include "scene/scene_on_grid.h"

@@ -4,7 +4,7 @@
 #include "core/file_reads.h"
 #include "core/memory_limits.h"
 #include "io/exr_file.h"
-#include "io/raster_image.h"
+#include "io/image_reader.h"
 #include "io/spectral_exr.h"
 #include "io/spectral_image.h"
 

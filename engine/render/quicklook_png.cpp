@@ -1,4 +1,4 @@
-#include "io/quicklook_png.h"
+#include "render/quicklook_png.h"
 
 #include "color/quick_look.h"
 #include "io/image_file.h"

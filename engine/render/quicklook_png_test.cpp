@@ -1,4 +1,4 @@
-#include "io/quicklook_png.h"
+#include "render/quicklook_png.h"
 #include "spectral/resampling.h"
 
 #include "color/cie_xyz.h"
