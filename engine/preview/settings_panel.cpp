@@ -140,7 +140,7 @@ bool SettingsPanel::draw(const View& view, RenderJob& job) {
             job.mode = pick;
             changed = true;
         }
-        const Grid& grid = scene.grid;
+        const Grid& grid = view.grid();
         static const std::vector<double> steps = {0.5, 1, 2, 5, 10, 20, 50};
         std::vector<std::string> stepNames;
         for (double s : steps) stepNames.push_back(fmt::format("{:g} nm", s));

@@ -145,14 +145,14 @@ std::vector<std::pair<std::filesystem::path, std::string>> View::save(const std:
     SpectralCube c = cube();
     const Representation& rep = loaded_->representation;
     projectCube(rep, c.data, c.bands());  // linear:K: as `metamer render` writes it
-    Attributes provenance = renderProvenance(job_.scene.string(), "gpu", loaded_->scene.grid, rep);
+    Attributes provenance = renderProvenance(job_.scene.string(), "gpu", loaded_->grid, rep);
     provenance.push_back({"metamer:preview", "saved from metamer preview"});
     OutputTargets targets;
     targets.cube = stem;
     targets.cube += ".exr";
     targets.png = stem;
     targets.png += ".png";
-    RenderOutputs out(targets, c.width, c.height, loaded_->scene.grid, rep, plan_.get(), provenance);
+    RenderOutputs out(targets, c.width, c.height, loaded_->grid, rep, plan_.get(), provenance);
     out.writeRows(0, c.height, c.data.data(), &image_);
     out.writeQuickLook(c, loaded_->library);  // only for a detector without a display path
     std::vector<std::pair<std::filesystem::path, std::string>> written;

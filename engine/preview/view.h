@@ -61,6 +61,7 @@ public:
 
     const RenderJob& job() const { return job_; }
     const Scene& scene() const { return loaded_->scene; }
+    const Grid& grid() const { return loaded_->grid; }  // the render grid
     const LoadedScene& loaded() const { return *loaded_; }
     const TonemapPlan& plan() const { return *plan_; }
     const SpectralPassPlan& passPlan() const { return frame_->passPlan(); }

@@ -136,13 +136,13 @@ std::vector<uint16_t> edgeMask(const ReferenceImage& img) {
 // What the render needs at once, checked against the hard limits before anything that grows with
 // the image is allocated. The GPU path renders in strips when memory is short, so for it only the
 // files' size is a limit; the CPU reference holds the whole image.
-void refuseAbsurdSizes(const RenderJob& job, const Scene& scene, const RenderMemory& memory) {
+void refuseAbsurdSizes(const RenderJob& job, const Scene& scene, const Grid& grid, const RenderMemory& memory) {
     const bool cpu = job.backend == Backend::Cpu;
     if (cpu ? memory.total() <= kMaxRenderMemory : memory.cube <= kMaxStreamedCube) return;
     failInput(Where{scene.file.string(), "camera"},
               "a {}×{} render on {} bands{} would need about {}, more than the {} a render may {}; "
               "reduce camera.width and camera.height or use a coarser grid",
-              scene.camera.width, scene.camera.height, scene.grid.bands(),
+              scene.camera.width, scene.camera.height, grid.bands(),
               !cpu && job.ssaa > 1 ? fmt::format(" with ssaa {}", job.ssaa) : "", memory.describe(),
               gib(cpu ? kMaxRenderMemory : kMaxStreamedCube), cpu ? "use" : "write as a cube");
 }
@@ -394,10 +394,10 @@ RenderJobResult runRenderJob(const RenderJob& job) {
     const bool quickLook = files.png && planPtr && planPtr->mode == TonemapMode::ResponsesOnly;
     const bool needsBands = files.cube || files.edges || !display || job.backend == Backend::Cpu;
     const RenderMemory memory =
-        estimateRenderMemory(W, H, scene.grid.bands(), job.ssaa, job.backend, display, needsBands);
-    refuseAbsurdSizes(job, scene, memory);
+        estimateRenderMemory(W, H, loaded->grid.bands(), job.ssaa, job.backend, display, needsBands);
+    refuseAbsurdSizes(job, scene, loaded->grid, memory);
     r.timings.load_ms = msSince(t);
-    r.grid = scene.grid;
+    r.grid = loaded->grid;
     r.width = W;
     r.height = H;
 
@@ -410,7 +410,7 @@ RenderJobResult runRenderJob(const RenderJob& job) {
     oo.half = job.half;
     oo.compression = job.compression;
     Attributes provenance = renderProvenance(job.scene.string(), job.backend == Backend::Gpu ? "gpu" : "cpu",
-                                             scene.grid, loaded->representation);
+                                             loaded->grid, loaded->representation);
     // What else a file needs to be remade: the overrides, the display path, the software.
     if (!job.overrides.empty()) provenance.push_back({"metamer:overrides", fmt::format("{}", fmt::join(job.overrides, " "))});
     if (planPtr) provenance.push_back({"metamer:display", planPtr->description});
@@ -441,7 +441,7 @@ RenderJobResult runRenderJob(const RenderJob& job) {
     const std::string stem = job.scene.stem().string();
     RenderOutputs out(job.capture ? OutputTargets{}
                                   : renderTargets(job.outDir, stem, files, loaded->representation, planPtr, oo.formats),
-                      W, H, scene.grid, loaded->representation, planPtr, provenance, oo);
+                      W, H, loaded->grid, loaded->representation, planPtr, provenance, oo);
     if (job.capture) {
         job.capture->outputs.keep = files;
         out.captureInto(&job.capture->outputs);
@@ -470,7 +470,7 @@ RenderJobResult runRenderJob(const RenderJob& job) {
     r.timings.write_ms += msSince(t);
     if (job.capture) {
         CapturedRender& c = *job.capture;
-        c.grid = scene.grid;
+        c.grid = loaded->grid;
         c.stem = stem;
         c.plan = plan;  // a copy: `out` still points at this one
         c.provenance = provenance;

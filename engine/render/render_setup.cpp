@@ -12,15 +12,17 @@ std::unique_ptr<LoadedScene> loadJobScene(const RenderJob& job) {
     loadOptions.grid = job.grid;
     l->scene = job.sceneText ? loadSceneFromString(*job.sceneText, job.scene, l->library, job.overrides, loadOptions)
                              : loadScene(job.scene, l->library, job.overrides, loadOptions);
+    // The render grid: the job's, else the scene's, with the scene's resampling rule unless the
+    // job names one. The scene itself stays as read.
+    l->grid = l->scene.grid;
     if (job.grid) {
-        const Resampling sceneRule = l->scene.grid.resampling;
-        l->scene.grid = *job.grid;
-        l->scene.grid.resampling = sceneRule;
+        l->grid = *job.grid;
+        l->grid.resampling = l->scene.grid.resampling;
     }
-    if (job.resampling) l->scene.grid.resampling = *job.resampling;
-    l->spectra = resampleScene(l->scene, l->scene.grid, job.coverage);
+    if (job.resampling) l->grid.resampling = *job.resampling;
+    l->spectra = resampleScene(l->scene, l->grid, job.coverage);
     l->representation =
-        makeRepresentation(parseMode(job.mode, Where{"", "--mode"}), l->scene.grid, l->library, &l->spectra);
+        makeRepresentation(parseMode(job.mode, Where{"", "--mode"}), l->grid, l->library, &l->spectra);
     l->rendered = represent(l->spectra, l->representation, l->scene);
     return l;
 }

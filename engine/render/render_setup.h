@@ -19,8 +19,9 @@ namespace metamer {
 
 struct LoadedScene {
     SpectrumLibrary library;
-    Scene scene;                    // as read, with the job's overrides and grid
-    SceneOnGrid spectra;            // every spectrum on scene.grid by its resampling rule (full)
+    Scene scene;                    // as read, with the job's overrides
+    Grid grid;                      // the render grid: job.grid, else scene.grid; job.resampling, else the scene's rule
+    SceneOnGrid spectra;            // every spectrum on `grid` by its resampling rule (full)
     Representation representation;  // job.mode
     SceneOnGrid rendered;           // what the renderers see: the spectra in the mode's channels
 };
