@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Bit-identity check for refactors that must not change behaviour: renders every bundled scene on
-# both backends (the cube as raw ENVI floats, the display PNG) and either records them or compares
+# both backends (the cube as raw ENVI floats, the display PNG), and two of them in the RGB, AC1C2
+# and linear modes, and either records them or compares
 # them byte for byte with a recording.
 #
 #   ci/bit-identity.sh record DIR     render into DIR
@@ -18,6 +19,15 @@ for scene in "$here"/scenes/*.json; do
   name="$(basename "$scene" .json)"
   for backend in gpu cpu; do
     "$metamer" render "$scene" --backend "$backend" --out "$out/$name-$backend" --write cube,png --format envi >/dev/null
+  done
+done
+# The representation modes (represent/representation.cpp) on two scenes with every material kind.
+for scene in metamers fluorescent; do
+  for mode in rgb ac1c2 linear:3; do
+    for backend in gpu cpu; do
+      "$metamer" render "$here/scenes/$scene.json" --backend "$backend" --mode "$mode" \
+        --out "$out/$scene-$backend-${mode/:/}" --write cube,png --format envi >/dev/null 2>&1
+    done
   done
 done
 [ "$mode" = record ] && { echo "recorded $(find "$out" -type f | wc -l) files in $out"; exit 0; }

@@ -15,6 +15,7 @@
 namespace metamer::gpu {
 using uint = uint32_t;
 using vec4 = glm::vec4;
+using uvec4 = glm::uvec4;
 using mat4 = glm::mat4;
 #endif
 
@@ -133,15 +134,23 @@ struct GpuLightSpectraBlock {
     vec4 lightBands[MAX_LIGHTS * MAX_OUTPUTS];
 };
 
+// A material's switches: named bits of GpuMaterialBlock::switches.x, set by the packing
+// (render/spectral_packing.cpp) and tested by the shader as (M.switches.x & BIT) != 0u.
+#define MATERIAL_FLUORESCENT 1u       // re-emits (rank-one coupling or Donaldson spectra)
+#define MATERIAL_SPECULAR 2u          // has a specular lobe (ρs not 0)
+#define MATERIAL_DIFFUSE_TEXTURE 4u   // ρd (or its response) is multiplied by a texture
+#define MATERIAL_SPECULAR_TEXTURE 8u  // ρs (or its response) likewise
+#define MATERIAL_NORMAL_TEXTURE 16u   // a normal map perturbs the shading normal
+
 struct GpuMaterialBlock {
     vec4 diffuse[MAX_OUTPUTS];             // ρd
     vec4 specular[MAX_OUTPUTS];            // ρs
     vec4 emissionOverLambda[MAX_OUTPUTS];  // ê(λ)/λ·2⁻ˢ, nm⁻² (0 for non-fluorescent materials);
                                            // s, per material, keeps the coupling near the
                                            // radiance's magnitude in float (docs/numerics.md)
-    vec4 params;                           // x: gloss N; y: 1 if fluorescent; z: 1 if specular
-    vec4 textures;                         // x, y, z: 1 if the diffuse, specular, normal texture is
-                                           // used; w: the texture layer of this pass's first vec4
+    vec4 params;                           // x: gloss N; y: the texture layer of this pass's first
+                                           // vec4; z, w: 0
+    uvec4 switches;                        // x: MATERIAL_* bits (below); y, z, w: 0
     vec4 lobe;                             // x: the first entry of its lobe table in BINDING_LOBE_TABLES,
                                            // −1 if none; y, z: the table's x1 warp (lobeWarp, lobe_lookup.h)
     vec4 coupling[MAX_LIGHTS / 4];         // per light: (Φ/π)·Σ a·E·λ·Δλ·2ˢ (fluorescence)

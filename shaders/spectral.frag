@@ -122,21 +122,21 @@ Bilinear diffuseTexel, specularTexel;
 
 void sampleTextures() {
     if (RESPONSES) {
-        diffuseResponseTexture = M.textures.x > 0.5;
-        specularResponseTexture = HAS_SPECULAR && M.textures.y > 0.5;
+        diffuseResponseTexture = (M.switches.x & MATERIAL_DIFFUSE_TEXTURE) != 0u;
+        specularResponseTexture = HAS_SPECULAR && (M.switches.x & MATERIAL_SPECULAR_TEXTURE) != 0u;
         if (diffuseResponseTexture) diffuseTexel = bilinearAt(vec2(textureSize(diffuseTexture, 0).xy));
         if (specularResponseTexture) specularTexel = bilinearAt(vec2(textureSize(specularTexture, 0).xy));
         return;
     }
-    int layer0 = int(M.textures.w);
-    if (M.textures.x > 0.5) {
+    int layer0 = int(M.params.y);
+    if ((M.switches.x & MATERIAL_DIFFUSE_TEXTURE) != 0u) {
         Bilinear b = bilinearAt(vec2(textureSize(diffuseTexture, 0).xy));
         [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k)
             texturedDiffuse[k] = M.diffuse[k] * fetchBilinear(diffuseTexture, b, layer0 + k);
     } else {
         [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) texturedDiffuse[k] = M.diffuse[k];
     }
-    if (HAS_SPECULAR && M.textures.y > 0.5) {
+    if (HAS_SPECULAR && (M.switches.x & MATERIAL_SPECULAR_TEXTURE) != 0u) {
         Bilinear b = bilinearAt(vec2(textureSize(specularTexture, 0).xy));
         [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k)
             texturedSpecular[k] = M.specular[k] * fetchBilinear(specularTexture, b, layer0 + k);
@@ -267,7 +267,7 @@ float hemisphereIntegral(int i, vec3 n, vec3 v, inout vec2 previous) {
     float gloss = M.params.x;
     vec3 up = L.lights[l].vector.xyz;
     vec2 integrals = vec2(0.0);
-    if (HAS_SPECULAR && M.params.z > 0.5) {
+    if (HAS_SPECULAR && (M.switches.x & MATERIAL_SPECULAR) != 0u) {
         if (LOBE_MODE == LOBE_READ)
             integrals.x = texelFetch(lobeWeights, ivec2(gl_FragCoord.xy), 0)[i];
         else if (((HEMISPHERE_PAIRED >> uint(i)) & 1u) != 0u)
@@ -285,7 +285,8 @@ float hemisphereIntegral(int i, vec3 n, vec3 v, inout vec2 previous) {
 float specularWeight(vec3 n, vec3 w, vec3 v, float g) {
     if (!HAS_SPECULAR || g <= 0.0) return 0.0;
     float gloss = M.params.x;
-    return g * (gloss + 8.0) * (INV_PI / 8.0) * blinnPhongLobe(n, w + v, gloss) * M.params.z;
+    float lobe = g * (gloss + 8.0) * (INV_PI / 8.0) * blinnPhongLobe(n, w + v, gloss);
+    return (M.switches.x & MATERIAL_SPECULAR) != 0u ? lobe : 0.0;
 }
 
 void main() {
@@ -298,7 +299,7 @@ void main() {
     if (dot(worldNormal, worldNormal) > 1e-24) {
         n = normalize(worldNormal);
         // The map perturbs the front side's normal; a back face then sees it mirrored, whole.
-        if (HAS_NORMAL_MAPS && M.textures.z > 0.5) n = normalMapped(n);
+        if (HAS_NORMAL_MAPS && (M.switches.x & MATERIAL_NORMAL_TEXTURE) != 0u) n = normalMapped(n);
         if (!gl_FrontFacing) n = -n;  // two-sided: a back face is shaded as seen from its front
     } else {
         // The vertex normals cancel here (opposite ones, or a zero-length one at its corner;

@@ -118,6 +118,12 @@ std::vector<size_t> lightOrder(const Scene& scene, PackedScene& p) {
 
 }  // namespace
 
+uint32_t materialSwitches(const MaterialOnGrid& m, bool specular) {
+    return (m.fluorescent ? MATERIAL_FLUORESCENT : 0u) | (specular ? MATERIAL_SPECULAR : 0u) |
+           (m.diffuseTexture >= 0 ? MATERIAL_DIFFUSE_TEXTURE : 0u) |
+           (m.specularTexture >= 0 ? MATERIAL_SPECULAR_TEXTURE : 0u) | (m.normalTexture >= 0 ? MATERIAL_NORMAL_TEXTURE : 0u);
+}
+
 PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes, const LocalFrame& frame) {
     checkMeshes(scene);  // the vertex and index arrays below are read as they promise
     PackedScene p;
@@ -254,10 +260,9 @@ PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes, const Loc
             scatterBands(m.diffuse, pass, b.diffuse);
             scatterBands(m.specular, pass, b.specular);
             scatterBands(emissionOverLambda, pass, b.emissionOverLambda);
-            b.params = glm::vec4(float(m.gloss), m.fluorescent ? 1.0f : 0.0f, specular ? 1.0f : 0.0f, 0.0f);
+            b.params = glm::vec4(float(m.gloss), float(pass * MAX_OUTPUTS), 0.0f, 0.0f);
             b.lobe = glm::vec4(lobeTableBase, glm::vec2(lobeWarp(m.gloss)), 0.0f);
-            b.textures = glm::vec4(m.diffuseTexture >= 0 ? 1.0f : 0.0f, m.specularTexture >= 0 ? 1.0f : 0.0f,
-                                   m.normalTexture >= 0 ? 1.0f : 0.0f, float(pass * MAX_OUTPUTS));
+            b.switches = glm::uvec4(materialSwitches(m, specular), 0u, 0u, 0u);
             for (int l = 0; l < MAX_LIGHTS; ++l) b.coupling[l / 4][l % 4] = coupling[l];
         }
     }

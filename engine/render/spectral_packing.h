@@ -66,6 +66,9 @@ struct PackedScene {
     std::vector<std::array<int, 3>> responseTextureSlots;
 };
 
+// The material's MATERIAL_* bits (interface.h); `specular`: whether its lobe is drawn.
+uint32_t materialSwitches(const MaterialOnGrid& m, bool specular);
+
 // Band b of pass p lives at vec4 k = (b - 32p) / 4, component (b - 32p) % 4; bands past the grid are 0.
 void scatterBands(const std::vector<double>& values, int pass, glm::vec4* dst);
 

@@ -73,8 +73,8 @@ TEST(SpectralPacking, MaterialsArePerPassAndMaterial) {
                     const size_t band = size_t(pass) * BANDS_PER_PASS + size_t(k) * 4 + size_t(c);
                     EXPECT_EQ(b.diffuse[k][c], band < 89 ? float(g.materials[m].diffuse[band]) : 0.0f);
                 }
-            EXPECT_EQ(b.params.y, 0.0f);                           // not fluorescent
-            EXPECT_EQ(b.textures.w, float(pass * MAX_OUTPUTS));  // first texture layer of the pass
+            EXPECT_EQ(b.switches.x & MATERIAL_FLUORESCENT, 0u);    // not fluorescent
+            EXPECT_EQ(b.params.y, float(pass * MAX_OUTPUTS));    // first texture layer of the pass
         }
 }
 

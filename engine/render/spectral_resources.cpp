@@ -520,8 +520,10 @@ void SpectralResources::classifyDraws() {
     const size_t materials = packed.materials.size() / std::max<size_t>(1, size_t(plan.passes));
     for (size_t m = 0; m < materials; ++m) {
         const gpu::GpuMaterialBlock& b = packed.materials[m];  // pass 0's: the flags are the same in every pass
-        Variant v{b.params.z > 0.5f, b.params.y > 0.5f, b.textures.x > 0.5f || b.textures.y > 0.5f || b.textures.z > 0.5f,
-                  b.textures.z > 0.5f, false};
+        const uint32_t on = b.switches.x;
+        Variant v{(on & MATERIAL_SPECULAR) != 0, (on & MATERIAL_FLUORESCENT) != 0,
+                  (on & (MATERIAL_DIFFUSE_TEXTURE | MATERIAL_SPECULAR_TEXTURE | MATERIAL_NORMAL_TEXTURE)) != 0,
+                  (on & MATERIAL_NORMAL_TEXTURE) != 0, false};
         materialVariant.push_back(index(v));
         materialCulledVariant.push_back(-1);
         const bool closedMesh = std::any_of(packed.draws.begin(), packed.draws.end(),

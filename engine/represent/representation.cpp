@@ -334,17 +334,22 @@ SceneOnGrid represent(const SceneOnGrid& spectra, const Representation& r, const
     out.wavelengths_nm = out.grid.wavelengths();
     for (const auto& e : spectra.lights) out.lights.push_back(apply(r.lightAnalysis, e));
     for (size_t m = 0; m < spectra.materials.size(); ++m) {
-        const MaterialOnGrid& src = spectra.materials[m];
-        MaterialOnGrid g;
-        g.diffuse = apply(r.reflectanceAnalysis, src.diffuse);
-        g.specular = apply(r.reflectanceAnalysis, src.specular);
-        g.gloss = src.gloss;
-        if (src.fluorescent)
+        // A copy, every spectrum transformed through the one seam (forEachSpectrum): reflectances
+        // analysed into the mode's channels; fluorescence, which needs wavelengths, left out.
+        MaterialOnGrid g = spectra.materials[m];
+        if (g.fluorescent)
             warn(Where{scene.file.string(), "materials." + scene.materials[m].name + ".fluorescence"},
                  fmt::format("the {} mode has no wavelengths: fluorescence is left out", r.mode.name()));
-        g.diffuseTexture = src.diffuseTexture;
-        g.specularTexture = src.specularTexture;
-        g.normalTexture = src.normalTexture;
+        forEachSpectrum(g, [&](std::vector<double>& values, MaterialSpectrum kind, const char*) {
+            switch (kind) {
+                case MaterialSpectrum::Reflectance: values = metamer::apply(r.reflectanceAnalysis, values); return;
+                case MaterialSpectrum::Absorptance:
+                case MaterialSpectrum::Emission:
+                case MaterialSpectrum::Matrix: values.clear(); return;
+            }
+        });
+        g.fluorescent = false;
+        g.quantum_yield = 0.0;
         out.materials.push_back(std::move(g));
     }
     // Reflectance textures are analysed texel by texel, as the materials' spectra are; normal maps

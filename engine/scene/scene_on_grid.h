@@ -1,7 +1,7 @@
 // The scene's spectra resampled onto the render grid, with the coverage policy applied.
 // Shared by the GPU path and the CPU reference (both take their spectra from here; neither
 // shares any shading code).
-// Tests: engine/scene/scene_json_test.cpp, engine/scene/scene_donaldson_test.cpp,
+// Tests: engine/scene/scene_on_grid_test.cpp, engine/scene/scene_json_test.cpp, engine/scene/scene_donaldson_test.cpp,
 // tests/sampling_test.cpp.
 #pragma once
 
@@ -47,6 +47,28 @@ struct MaterialOnGrid {
     std::vector<double> donaldson;
     bool isMatrix() const { return !donaldson.empty(); }
 };
+
+// What a per-band array of a material holds, for code that transforms every one of them (the
+// representation modes, represent/representation.cpp).
+enum class MaterialSpectrum {
+    Reflectance,  // ρd, ρs: 0..1 per band, multiplies a light
+    Absorptance,  // a(λ) of the rank-one fluorescence
+    Emission,     // ê(λ) of the rank-one fluorescence, nm⁻¹
+    Matrix,       // the Donaldson matrix, N × N bands, nm⁻¹
+};
+
+// The one seam for a material's spectra: calls f(array, kind, name) for every per-band array of
+// `m` (MaterialOnGrid or const MaterialOnGrid). A spectral field added to MaterialOnGrid must be
+// visited here; scene/scene_on_grid_test.cpp counts MaterialOnGrid's fields and fails until the
+// count there (and this visitor) are updated, so that no mode can drop a field silently.
+template <typename Material, typename F>
+void forEachSpectrum(Material& m, F&& f) {
+    f(m.diffuse, MaterialSpectrum::Reflectance, "diffuse");
+    f(m.specular, MaterialSpectrum::Reflectance, "specular");
+    f(m.excitation, MaterialSpectrum::Absorptance, "excitation");
+    f(m.emission, MaterialSpectrum::Emission, "emission");
+    f(m.donaldson, MaterialSpectrum::Matrix, "donaldson");
+}
 
 struct SceneOnGrid {
     Grid grid;
