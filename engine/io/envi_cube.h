@@ -5,6 +5,7 @@
 // fuzz target (fuzz/envi_header_fuzzer.cpp). See docs/io.md. Tests: engine/io/envi_cube_test.cpp.
 #pragma once
 
+#include "io/cube_writer.h"
 #include "core/error.h"
 #include "io/exr_file.h"
 #include "io/spectral_exr.h"
@@ -43,18 +44,18 @@ struct EnviWriteOptions {
 // wavelength, fwhm, band names, default bands (nearest 610, 550, 465 nm), description, metamer
 // quantity, metamer units, metamer grid, metamer resampling, and options.attributes. Runtime errors
 // name the path; a header name not ending in .hdr is an input error.
-class EnviCubeWriter {
+class EnviCubeWriter : public CubeWriter {
 public:
     EnviCubeWriter(const std::filesystem::path& headerPath, int width, int height, const Grid& grid,
                    const EnviWriteOptions& options = {});
-    ~EnviCubeWriter();
+    ~EnviCubeWriter() override;
     EnviCubeWriter(const EnviCubeWriter&) = delete;
     EnviCubeWriter& operator=(const EnviCubeWriter&) = delete;
     // `rows` rows starting at `firstRow`, pixel-interleaved (width × rows × bands floats).
-    void writeRows(int firstRow, int rows, const float* data);
+    void writeRows(int firstRow, int rows, const float* data) override;
     // Completes the temporary files (data and header) and returns them, the data first for commitTogether (io/atomic_file.h),
     // which renames a run's files into place together; commit() is finish() and that.
-    std::vector<AtomicOutput*> finish();
+    std::vector<AtomicOutput*> finish() override;
     void commit();
 
 private:

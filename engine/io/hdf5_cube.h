@@ -4,6 +4,7 @@
 // attributes saying what the numbers are. See docs/io.md. Tests: engine/io/hdf5_cube_test.cpp.
 #pragma once
 
+#include "io/cube_writer.h"
 #include "io/exr_file.h"
 #include "io/spectral_exr.h"
 
@@ -29,18 +30,18 @@ struct Hdf5WriteOptions {
 //   /wavelength_nm  float64 [bands], the band centres
 //   /fwhm_nm        float64 [bands], the band widths (the grid step)
 // HDF5 failures are runtime errors naming the path.
-class Hdf5CubeWriter {
+class Hdf5CubeWriter : public CubeWriter {
 public:
     Hdf5CubeWriter(const std::filesystem::path& path, int width, int height, const Grid& grid,
                    const Hdf5WriteOptions& options = {});
-    ~Hdf5CubeWriter();
+    ~Hdf5CubeWriter() override;
     Hdf5CubeWriter(const Hdf5CubeWriter&) = delete;
     Hdf5CubeWriter& operator=(const Hdf5CubeWriter&) = delete;
     // `rows` rows starting at `firstRow`, pixel-interleaved (width × rows × bands floats).
-    void writeRows(int firstRow, int rows, const float* data);
+    void writeRows(int firstRow, int rows, const float* data) override;
     // Completes the temporary file and returns it for commitTogether (io/atomic_file.h),
     // which renames a run's files into place together; commit() is finish() and that.
-    std::vector<AtomicOutput*> finish();
+    std::vector<AtomicOutput*> finish() override;
     void commit();
 
 private:

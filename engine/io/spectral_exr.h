@@ -3,6 +3,7 @@
 // T.<λ>nm (reflective), with a comma as the decimal separator. See docs/io.md.
 #pragma once
 
+#include "io/cube_writer.h"
 #include "spectral/bispectral.h"
 #include "spectral/cube.h"
 
@@ -39,19 +40,20 @@ ExrWriteReport writeSpectralExr(const std::filesystem::path& path, const Spectra
 
 // Writes a cube strip by strip (rows in order), for images larger than memory. The file appears
 // only at commit(); a writer destroyed before that leaves nothing behind (AtomicOutput).
-class SpectralExrWriter {
+class SpectralExrWriter : public CubeWriter {
 public:
     SpectralExrWriter(const std::filesystem::path& path, int width, int height, const Grid& grid,
                       const ExrWriteOptions& options = {});
-    ~SpectralExrWriter();
+    ~SpectralExrWriter() override;
     SpectralExrWriter(const SpectralExrWriter&) = delete;
     SpectralExrWriter& operator=(const SpectralExrWriter&) = delete;
     // `rows` rows starting at `firstRow`, pixel-interleaved (width × rows × bands floats).
-    void writeRows(int firstRow, int rows, const float* data);
+    void writeRows(int firstRow, int rows, const float* data) override;
     // Completes the temporary file and returns it for commitTogether (io/atomic_file.h),
     // which renames a run's files into place together; commit() is finish() and that.
-    std::vector<AtomicOutput*> finish();
+    std::vector<AtomicOutput*> finish() override;
     const ExrWriteReport& report() const;
+    size_t clampedValues() const override { return report().clampedToHalfMax; }
     ExrWriteReport commit();
 
 private:

@@ -27,45 +27,16 @@ std::string detectorFileName(const std::string& name) {
     return s;
 }
 
-CubeFormats parseCubeFormats(const std::vector<std::string>& names, const Where& where) {
-    CubeFormats f;
-    f.exr = false;
-    if (names.empty()) failInput(where, "no format named; expected exr, hdf5 or envi (comma-separated)");
-    for (size_t i = 0; i < names.size(); ++i) {
-        const std::string& n = names[i];
-        const Where at = where.key.rfind("--", 0) == 0 ? where : where.index(i);
-        if (n == "exr") f.exr = true;
-        else if (n == "hdf5" || n == "h5") f.hdf5 = true;
-        else if (n == "hdf5:gzip" || n == "h5:gzip") f.hdf5 = true, f.hdf5Gzip = 4;
-        else if (n.rfind("hdf5:gzip:", 0) == 0 || n.rfind("h5:gzip:", 0) == 0) {
-            const std::string level = n.substr(n.rfind(':') + 1);
-            if (level.size() != 1 || level[0] < '1' || level[0] > '9')
-                failInput(at, "'{}': the gzip level is '{}'; expected one digit 1 to 9", n, level);
-            f.hdf5 = true;
-            f.hdf5Gzip = level[0] - '0';
-        } else if (n == "envi" || n == "envi:bsq") f.envi = true, f.enviInterleave = EnviInterleave::Bsq;
-        else if (n == "envi:bil") f.envi = true, f.enviInterleave = EnviInterleave::Bil;
-        else if (n == "envi:bip") f.envi = true, f.enviInterleave = EnviInterleave::Bip;
-        else {
-            std::string near = closestMatch(n, {"exr", "hdf5", "hdf5:gzip", "envi", "envi:bsq", "envi:bil", "envi:bip"});
-            failInput(at, "'{}' is not a cube format; expected exr, hdf5, hdf5:gzip[:1-9] or envi[:bsq|bil|bip]{}", n,
-                      near.empty() ? "" : fmt::format(" (did you mean '{}'?)", near));
-        }
-    }
-    return f;
-}
-
 OutputTargets renderTargets(const std::filesystem::path& dir, const std::string& stem, const OutputFiles& files,
                             const Representation& representation, const TonemapPlan* plan,
-                            const CubeFormats& formats) {
+                            const std::vector<ChosenCubeFormat>& formats) {
     OutputTargets t;
     std::string tag = representation.mode.name();
     std::replace(tag.begin(), tag.end(), ':', '-');
     const bool spectral = representation.mode.spectral();
-    if (files.cube && (formats.exr || !spectral))
-        t.cube = dir / (stem + (spectral ? "" : "." + tag) + ".exr");
-    if (files.cube && spectral && formats.hdf5) t.hdf5 = dir / (stem + ".h5");
-    if (files.cube && spectral && formats.envi) t.envi = dir / (stem + ".hdr");
+    if (files.cube && !spectral) t.cube = dir / (stem + "." + tag + ".exr");
+    if (files.cube && spectral)
+        for (const ChosenCubeFormat& f : formats) t.cubes.push_back({f, dir / (stem + f.format->extension)});
     if (files.png && plan) t.png = dir / (stem + ".png");
     if (files.xyz && plan && !responsesOnly(plan)) t.xyz = dir / (stem + ".xyz.exr");
     if (files.responses && plan) t.responses = dir / (stem + "." + detectorFileName(plan->detector.name) + ".exr");
@@ -94,32 +65,18 @@ RenderOutputs::RenderOutputs(const OutputTargets& targets, int width, int height
       provenance_(provenance),
       options_(options) {
     // The table of what each file says about itself, beyond the provenance every file carries.
-    if (!targets_.cube.empty()) {
-        if (representation_.mode.spectral()) {
-            ExrWriteOptions wo;
-            wo.half = options_.half;
-            wo.compression = options_.compression;
-            wo.extraAttributes = provenance_;
-            cube_ = std::make_unique<SpectralExrWriter>(targets_.cube, width_, height_, grid_, wo);
-        } else {
-            ImageFile f{width_, height_, representation_.channelNames, provenance_};
-            f.attributes.push_back({"metamer:representation", representation_.description});
-            channels_ = std::make_unique<ImageFileWriter>(targets_.cube, f, 32);
-        }
+    // A spectral EXR named directly (the preview's Save) is one more container.
+    if (!targets_.cube.empty() && representation_.mode.spectral())
+        targets_.cubes.insert(targets_.cubes.begin(), CubeTarget{defaultCubeFormats().front(), targets_.cube});
+    else if (!targets_.cube.empty()) {
+        ImageFile f{width_, height_, representation_.channelNames, provenance_};
+        f.attributes.push_back({"metamer:representation", representation_.description});
+        channels_ = std::make_unique<ImageFileWriter>(targets_.cube, f, 32);
     }
-    if (!targets_.hdf5.empty()) {
-        Hdf5WriteOptions ho;
-        ho.gzipLevel = options_.formats.hdf5Gzip;
-        ho.attributes = provenance_;
-        hdf5_ = std::make_unique<Hdf5CubeWriter>(targets_.hdf5, width_, height_, grid_, ho);
-    }
-    if (!targets_.envi.empty()) {
-        EnviWriteOptions eo;
-        eo.interleave = options_.formats.enviInterleave;
-        // The writer says the grid and its rule itself (`metamer grid`, `metamer resampling`).
-        for (const auto& a : provenance_)
-            if (a.first != "metamer:grid" && a.first != "metamer:resampling") eo.attributes.push_back(a);
-        envi_ = std::make_unique<EnviCubeWriter>(targets_.envi, width_, height_, grid_, eo);
+    for (const CubeTarget& t : targets_.cubes) {
+        CubeWriteSettings settings{t.format.options, provenance_, options_.half, options_.compression};
+        std::unique_ptr<CubeWriter> writer = t.format.format->open(t.path, width_, height_, grid_, settings);
+        cubes_.push_back({t, std::move(settings), std::move(writer)});
     }
     if (!targets_.png.empty() && plan_) {
         if (responsesOnly(plan_)) {
@@ -179,7 +136,7 @@ void RenderOutputs::captureInto(CapturedOutputs* capture) {
 }
 
 bool RenderOutputs::needsCube() const {
-    return cube_ || channels_ || hdf5_ || envi_ || (capture_ && capture_->keep.cube);
+    return !cubes_.empty() || channels_ || (capture_ && capture_->keep.cube);
 }
 bool RenderOutputs::needsDisplay() const {
     return png_ || xyz_ || responses_ || (capture_ && (capture_->keep.png || capture_->keep.xyz || capture_->keep.responses));
@@ -207,9 +164,7 @@ void RenderOutputs::writeRows(int firstRow, int rows, const float* cube, const D
         }
     }
     if (cube) {
-        if (cube_) cube_->writeRows(firstRow, rows, cube);
-        if (hdf5_) hdf5_->writeRows(firstRow, rows, cube);
-        if (envi_) envi_->writeRows(firstRow, rows, cube);
+        for (OpenCube& c : cubes_) c.writer->writeRows(firstRow, rows, cube);
         if (channels_) {
             const size_t channels = size_t(representation_.channels());
             channels_->writeRows(firstRow, rows, std::vector<float>(cube, cube + pixels * channels));
@@ -261,29 +216,18 @@ std::vector<WrittenFile> RenderOutputs::commit(int strips, int stripRows) {
     auto add = [&](std::vector<AtomicOutput*> f) { files.insert(files.end(), f.begin(), f.end()); };
     const std::string inStrips = strips > 1 ? fmt::format("written in {} strips of {} rows", strips, stripRows) : "";
     auto line = [&](const std::string& what) { return inStrips.empty() ? what : inStrips; };
-    if (cube_) {
-        add(cube_->finish());
-        clampedToHalf_ = cube_->report().clampedToHalfMax;
-        written.push_back({targets_.cube, line(fmt::format("{}×{} px, {} bands {} nm, W·sr⁻¹·m⁻²·nm⁻¹, {}", width_,
-                                                           height_, grid_.bands(), grid_.str(),
-                                                           options_.half ? "float16" : "float32"))});
-    }
     const std::string cubeWhat = fmt::format("{}×{} px, {} bands {} nm, W·sr⁻¹·m⁻²·nm⁻¹, float32", width_, height_,
                                              grid_.bands(), grid_.str());
-    if (hdf5_) {
-        add(hdf5_->finish());
-        written.push_back({targets_.hdf5, line(fmt::format("HDF5 /cube [rows, columns, bands], {}{}", cubeWhat,
-                                                           options_.formats.hdf5Gzip
-                                                               ? fmt::format(", gzip {}", options_.formats.hdf5Gzip)
-                                                               : ""))});
-    }
-    if (envi_) {
-        add(envi_->finish());
-        const char* il = options_.formats.enviInterleave == EnviInterleave::Bsq   ? "bsq"
-                         : options_.formats.enviInterleave == EnviInterleave::Bil ? "bil"
-                                                                                  : "bip";
-        written.push_back({targets_.envi, line(fmt::format("ENVI header + {} ({}), {}",
-                                                           targets_.envi.stem().string() + ".img", il, cubeWhat))});
+    for (OpenCube& c : cubes_) {
+        add(c.writer->finish());
+        if (c.target.format.format->describe) {
+            written.push_back({c.target.path, line(c.target.format.format->describe(c.target.path, c.settings, cubeWhat))});
+            continue;
+        }
+        clampedToHalf_ = c.writer->clampedValues();  // the spectral EXR: float16 or float32
+        written.push_back({c.target.path, line(fmt::format("{}×{} px, {} bands {} nm, W·sr⁻¹·m⁻²·nm⁻¹, {}", width_,
+                                                           height_, grid_.bands(), grid_.str(),
+                                                           options_.half ? "float16" : "float32"))});
     }
     if (channels_) {
         add(channels_->finish());

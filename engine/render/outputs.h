@@ -9,8 +9,7 @@
 #include "color/quick_look.h"
 #include "color/tonemap.h"
 #include "render/tonemap_pass.h"
-#include "io/envi_cube.h"
-#include "io/hdf5_cube.h"
+#include "render/cube_formats.h"
 #include "io/image_file.h"
 #include "io/spectral_exr.h"
 #include "represent/representation.h"
@@ -41,25 +40,15 @@ struct WrittenFile {
     std::string what;  // one line: the quantity and its units
 };
 
-using Attributes = std::vector<std::pair<std::string, std::string>>;
-
-// The containers the spectral cube is written in (--format, the scene's output.format), any of:
-// OpenEXR (<stem>.exr, the default), HDF5 (<stem>.h5) and ENVI (<stem>.hdr + <stem>.img); see
-// docs/io.md. A reduced mode's channel image is OpenEXR only.
-struct CubeFormats {
-    bool exr = true, hdf5 = false, envi = false;
-    int hdf5Gzip = 0;  // 0: none; 1-9: deflate level
-    EnviInterleave enviInterleave = EnviInterleave::Bsq;
-};
-
-// "exr", "hdf5", "hdf5:gzip" (level 4), "hdf5:gzip:N" (1-9), "envi" (BSQ), "envi:bsq|bil|bip";
-// at least one. Input errors name `where` and the entry.
-CubeFormats parseCubeFormats(const std::vector<std::string>& names, const Where& where);
 
 // Where each output goes; an empty path is not written.
+struct CubeTarget {
+    ChosenCubeFormat format;
+    std::filesystem::path path;
+};
 struct OutputTargets {
-    std::filesystem::path cube;       // the spectral EXR (spectral modes) or the mode's channel image
-    std::filesystem::path hdf5, envi; // the spectral cube as HDF5 (<stem>.h5) and ENVI (<stem>.hdr)
+    std::filesystem::path cube;       // the mode's channel image (reduced modes), or a spectral EXR
+    std::vector<CubeTarget> cubes;    // spectral modes: the cube in each chosen container (render/cube_formats.h)
     std::filesystem::path png;        // the display image, or a custom detector's quick look
     std::filesystem::path xyz, responses, edges;
 };
@@ -69,7 +58,7 @@ struct OutputTargets {
 // (no display outputs); a custom detector (no colorimetric path) gets no XYZ file.
 OutputTargets renderTargets(const std::filesystem::path& dir, const std::string& stem, const OutputFiles& files,
                             const Representation& representation, const TonemapPlan* plan,
-                            const CubeFormats& formats = {});
+                            const std::vector<ChosenCubeFormat>& formats = defaultCubeFormats());
 
 // What every file of a render carries: the scene, the backend, the grid and its resampling rule,
 // the mode.
@@ -98,7 +87,7 @@ struct CapturedOutputs {
 struct OutputOptions {
     bool half = false;                  // the cube in float16 (OpenEXR only)
     std::string compression = "piz";    // the cube's OpenEXR compression
-    CubeFormats formats;                // the containers (with renderTargets)
+    std::vector<ChosenCubeFormat> formats = defaultCubeFormats();  // the containers (with renderTargets)
 };
 
 class RenderOutputs {
@@ -149,9 +138,12 @@ private:
     const TonemapPlan* plan_;
     Attributes provenance_;
     OutputOptions options_;
-    std::unique_ptr<SpectralExrWriter> cube_;
-    std::unique_ptr<Hdf5CubeWriter> hdf5_;
-    std::unique_ptr<EnviCubeWriter> envi_;
+    struct OpenCube {
+        CubeTarget target;
+        CubeWriteSettings settings;
+        std::unique_ptr<CubeWriter> writer;
+    };
+    std::vector<OpenCube> cubes_;  // the spectral cube, one writer per container
     std::unique_ptr<ImageFileWriter> channels_, png_, xyz_, responses_, edges_;
     CapturedOutputs* capture_ = nullptr;
     bool quickLook_ = false;

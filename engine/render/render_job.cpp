@@ -419,7 +419,8 @@ RenderJobResult runRenderJob(const RenderJob& job) {
         const Where sceneOut = scene.output.where.file.empty() ? Where{scene.file.string(), "output"} : scene.output.where;
         if (job.format) oo.formats = parseCubeFormats(*job.format, Where{"", "--format"});
         else if (scene.output.format) oo.formats = parseCubeFormats(*scene.output.format, sceneOut.child("format"));
-        if ((oo.formats.hdf5 || oo.formats.envi) && !loaded->representation.mode.spectral())
+        const bool onlyExr = oo.formats.size() == 1 && oo.formats.front().format->name == "exr";
+        if (!onlyExr && !loaded->representation.mode.spectral())
             failInput(job.format ? Where{"", "--format"} : sceneOut.child("format"),
                       "HDF5 and ENVI hold spectral cubes; the {} mode's channel image is written as OpenEXR only",
                       loaded->representation.mode.name());
@@ -427,7 +428,9 @@ RenderJobResult runRenderJob(const RenderJob& job) {
     // Options that change only a file this run does not write: said, since the user expected them
     // to matter (the run goes on: a sweep may set them for jobs that write other things).
     {
-        const bool exrCube = files.cube && (oo.formats.exr || !loaded->representation.mode.spectral());
+        const bool exrNamed = std::any_of(oo.formats.begin(), oo.formats.end(),
+                                          [](const ChosenCubeFormat& f) { return f.format->name == "exr"; });
+        const bool exrCube = files.cube && (exrNamed || !loaded->representation.mode.spectral());
         if (job.half && !(exrCube && loaded->representation.mode.spectral()))
             warn(Where{"", "--half"}, "has no effect: float16 applies to the OpenEXR spectral cube, which this run "
                  "does not write");

@@ -109,7 +109,7 @@ private:
             for (size_t i = 0; i < list.size(); ++i)
                 o.write->push_back(choice(list[i], w.child("write").index(i), {"cube", "png", "xyz", "responses"}));
         }
-        // The container names are checked with the render's (render/outputs.h, parseCubeFormats).
+        // The container names are checked with the render's (render/cube_formats.h, parseCubeFormats).
         if (const Json* f = find(v, "format")) {
             const Json& list = asArray(*f, w.child("format"));
             o.format.emplace();
