@@ -1,6 +1,7 @@
 #include "app/batch_command.h"
 
 #include "app/cli_checks.h"
+#include "app/render_flags.h"
 
 #include "batch/batch.h"
 #include "batch/slurm_script.h"
@@ -52,8 +53,8 @@ CLI::App* addBatchCommand(CLI::App& app, BatchArgs& a) {
                   "render shard I of N (0 ≤ I < N; default: SLURM_ARRAY_TASK_ID of SLURM_ARRAY_TASK_COUNT, else all)");
     c->add_flag("--retry-failed", a.retryFailed, "render again the jobs whose record says they failed");
     c->add_option("--index", a.index, "gather every job record under DIR into DIR/index.csv and index.json");
-    c->add_flag("--validation", a.validation, "enable Vulkan validation layers; an error fails the job");
-    c->add_option("--device", a.device, "Vulkan device index or name substring (default: best; env METAMER_DEVICE)");
+    addRenderFlag(c, "validation", a.validation);
+    addRenderFlag(c, "device", a.device);
     c->add_flag("--quiet,-q", a.quiet, "no progress output");
     c->add_flag("--slurm", a.slurm,
                 "validate every job, then write DIR/slurm/{array.sbatch,index.sbatch,submit.sh}: a Slurm job array of "

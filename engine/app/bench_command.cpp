@@ -1,6 +1,7 @@
 #include "app/bench_command.h"
 
 #include "app/cli_checks.h"
+#include "app/render_flags.h"
 
 #include "bench/bench.h"
 #include "bench/plot.h"
@@ -83,10 +84,10 @@ CLI::App* addBenchCommand(CLI::App& app, BenchArgs& args) {
         ->capture_default_str();
     c->add_option("--size", args.size, "image size WIDTHxHEIGHT, e.g. 256x256 (default: the scene's camera)");
     c->add_option("--out,-o", args.out, "output folder (created if missing)")->check(outputFolder())->capture_default_str();
-    c->add_option("--set", args.overrides, "override a scene value: KEY=VALUE, e.g. lights.0.spectrum=illuminants/A")
+    addRenderFlag(c, "set", args.overrides)
         ->take_all();
-    c->add_option("--device", args.device, "Vulkan device index or name substring (default: best; env METAMER_DEVICE)");
-    c->add_flag("--validation", args.validation, "enable Vulkan validation layers; any error fails the run");
+    addRenderFlag(c, "device", args.device);
+    addRenderFlag(c, "validation", args.validation);
     c->add_flag("--quiet,-q", args.quiet, "no progress lines on stderr");
     return c;
 }

@@ -5,6 +5,7 @@
 #include "app/cli_checks.h"       // checks every command line gets
 #include "app/compare_command.h"  // metamer compare
 #include "app/preview_command.h"  // metamer preview
+#include "app/render_flags.h"     // the render flags, shared with preview, bench and batch
 #include "core/error.h"
 #include "io/atomic_file.h"
 #include "render/render_job.h"
@@ -45,9 +46,9 @@ void printError(const std::string& message) { std::fprintf(stderr, "metamer: %s\
 
 void printTimings(const RenderJobResult& r) {
     const StageTimings& t = r.timings;
-    std::printf("timings (ms): load %.1f  upload %.1f  shading %.1f  readback %.1f  tonemap %.1f  write %.1f  "
-                "total %.1f\n",
-                t.load_ms, t.upload_ms, t.shading_ms, t.readback_ms, t.tonemap_ms, t.write_ms, t.total_ms);
+    std::printf("timings (ms):");
+    for (const auto& [stage, ms] : t.stages()) std::printf("%s %s %.1f", stage == std::string("load") ? "" : " ", stage, ms);
+    std::printf("\n");
     if (t.shadow_ms > 0) std::printf("shadow maps: %.1f ms of the upload (drawn once per scene)\n", t.shadow_ms);
     double bandPixels = double(r.width) * r.height * r.grid.bands();
     if (r.responsePass) {
@@ -109,65 +110,14 @@ int main(int argc, char** argv) {
     CLI::App app{"metamer: full-spectral rendering for color-imaging research"};
     app.require_subcommand(1);
 
-    RenderJob job;
-    std::string gridText, resampleText, backend = "gpu", readback = "auto";
-    bool timings = false, strictCoverage = false, noPng = false;
+    RenderSettings settings;
+    bool timings = false;
+    std::filesystem::path scenePath, outDir = "out";
     auto* render = app.add_subcommand("render", "render a scene to a spectral radiance cube (EXR) and a quick-look PNG");
-    render->add_option("scene", job.scene, "scene file (JSON, docs/scene-format.md)")->required();
-    render->add_option("--out,-o", job.outDir, "output folder (created if missing)")->check(outputFolder())->capture_default_str();
-    render->add_option("--grid", gridText, "spectral grid START:END:STEP in nm, e.g. 300:740:5 (overrides the scene)");
-    render->add_option("--resample", resampleText,
-                       "how spectra go onto the grid: interpolate (default: tabulated values at data points, "
-                       "linear between, band means where the grid is coarser), sprague or band-mean");
-    render->add_option("--set", job.overrides, "override a scene value: KEY=VALUE, e.g. lights.0.spectrum=illuminants/A")
-        ->take_all();
-    render->add_option("--backend", backend, "gpu (Vulkan) or cpu (double-precision reference)")
-        ->check(CLI::IsMember({"gpu", "cpu"}))
-        ->capture_default_str();
-    render->add_option("--ssaa", job.ssaa, "supersampling: N×N samples per pixel (1-4)")
-        ->check(CLI::Range(1, 4))
-        ->capture_default_str();
-    render->add_flag("--half", job.half, "write float16 instead of float32");
-    render->add_option("--compression", job.compression, "the cube's OpenEXR compression: piz (default), zip[:1-9], zips, rle, none, ... (docs/io.md)")
-        ->capture_default_str();
-    render->add_flag("--strict-coverage", strictCoverage, "error when a spectrum's data do not cover the grid");
-    render->add_option("--readback", readback, "auto, map (linear host-visible image) or copy")
-        ->check(CLI::IsMember({"auto", "map", "copy"}))
-        ->capture_default_str();
-    std::string detector, adapt, display, integration, xyz;
-    int bits = 0;
-    std::vector<std::string> write;
-    render->add_option("--detector", detector,
-                       "cie1931, cie1964, camera:<name>, film:<name> or csv:<path> (default: the scene's output "
-                       "block, else cie1931)");
-    render->add_option("--adapt", adapt, "chromatic adaptation: none, vonkries-xyz, vonkries, bradford, cat02, cat16");
-    render->add_option("--display", display, "display model: srgb or crt");
-    render->add_option("--bits", bits, "display counts: 8 or 16 bits")->check(CLI::IsMember({8, 16}));
-    render->add_option("--integration", integration, "riemann (default), trapezoid or astm-e308 (ASTM E308 weighting factors)");
-    double budgetMiB = 0;
-    render->add_option("--memory-budget", budgetMiB,
-                       "MiB the render may hold at once (default: a quarter of the machine's memory); a larger "
-                       "image is rendered in strips and streamed to the files")
-        ->check(positiveNumber("MiB"));
-    render->add_option("--mode", job.mode, "representation: full (default), rgb, ac1c2[:N], linear:K (docs/representations.md)")
-        ->capture_default_str();
-    render->add_option("--xyz", xyz, "XYZ output scale: relative (white Y = 100) or absolute (cd/m²)");
-    render->add_option("--write", write, "outputs, comma-separated: cube, png, xyz, responses, edges (default cube,png)")
-        ->delimiter(',');
-    std::vector<std::string> format;
-    render->add_option("--format", format, "the cube's containers, comma-separated: exr (default), hdf5, hdf5:gzip[:1-9], "
-                       "envi[:bsq|bil|bip] (docs/io.md)")
-        ->delimiter(',');
-    render->add_flag("--no-png", noPng, "skip the display PNG");
+    render->add_option("scene", scenePath, "scene file (JSON, docs/scene-format.md)")->required();
+    render->add_option("--out,-o", outDir, "output folder (created if missing)")->check(outputFolder())->capture_default_str();
+    addRenderFlags(render, settings, kAllRenderFlags);
     render->add_flag("--timings", timings, "print per-stage timings");
-    render->add_option("--frames", job.frames, "render N frames (timing: first frame and median of the rest)")
-        ->check(CLI::Range(1, 1000));
-    render->add_flag("--validation", job.validation, "enable Vulkan validation layers; any error fails the run");
-    render->add_option("--device", job.device, "Vulkan device index or name substring (default: best; env METAMER_DEVICE)");
-    render->add_flag("--verbose,-v", job.verbose, "print the chosen device and the render plan");
-    render->add_flag("--allow-outside-paths", job.allowOutsidePaths,
-                     "let the scene read files outside its own folder tree and the spectra library "
-                     "(docs/scene-format.md)");
 
     auto* devices = app.add_subcommand("devices", "list Vulkan devices and their scores");
 
@@ -216,26 +166,10 @@ int main(int argc, char** argv) {
         if (batch->parsed()) return runBatchCommand(batchArgs);  // metamer batch
         if (preview->parsed()) return runPreviewCommand(previewArgs);  // metamer preview
 
-        job.backend = backend == "cpu" ? Backend::Cpu : Backend::Gpu;
-        job.readback = readback == "map" ? Readback::Map : readback == "copy" ? Readback::Copy : Readback::Auto;
-        job.coverage = strictCoverage ? CoveragePolicy::Error : CoveragePolicy::ZeroWithWarning;
-        if (budgetMiB > 0) job.memoryBudget = size_t(budgetMiB * (1 << 20));
-        if (!detector.empty()) job.detector = detector;
-        if (!adapt.empty()) job.adaptation = adapt;
-        if (!display.empty()) job.display = display;
-        if (bits) job.bits = bits;
-        if (!integration.empty()) job.integration = integration;
-        if (!xyz.empty()) job.xyz = xyz;
-        if (!write.empty()) job.write = write;
-        if (!format.empty()) job.format = format;
-        if (noPng) {
-            // --no-png: whatever would be written, but not the PNG.
-            std::vector<std::string> w = job.write ? *job.write : std::vector<std::string>{"cube"};
-            w.erase(std::remove(w.begin(), w.end(), "png"), w.end());
-            job.write = w;
-        }
-        if (!gridText.empty()) job.grid = Grid::parse(gridText, Where{"", "--grid"});
-        if (!resampleText.empty()) job.resampling = parseResampling(resampleText, Where{"", "--resample"});
+        RenderJob job;
+        job.scene = scenePath;
+        job.outDir = outDir;
+        applyRenderSettings(settings, job, [](const std::string& name) { return "--" + name; });
 
         RenderJobResult r = runRenderJob(job);
         if (job.verbose) std::printf("%s\n", r.backendDescription.c_str());

@@ -1,6 +1,7 @@
 #include "app/preview_command.h"
 
 #include "app/cli_checks.h"
+#include "app/render_flags.h"
 
 #include "core/error.h"
 #include "preview/preview.h"
@@ -13,22 +14,11 @@ CLI::App* addPreviewCommand(CLI::App& app, PreviewArgs& a) {
     auto* c = app.add_subcommand("preview",
                                  "open a window with the scene's display image and live controls (docs/preview.md)");
     c->add_option("scene", a.scene, "scene file (JSON, docs/scene-format.md)")->required();
-    c->add_option("--set", a.overrides, "override a scene value: KEY=VALUE, e.g. lights.0.spectrum=illuminants/A")
-        ->take_all();
+    addRenderFlags(c, a.render, kSceneFlags | kSpectralFlags | kDisplayFlags | kSamplingFlags | kDeviceFlags);
     c->add_option("--split", a.split,
                   "show a second view to the right with this change: KEY=VALUE (a --set), or detector=, adapt=, "
                   "display=, mode=, grid=")
         ->take_all();
-    c->add_option("--grid", a.grid, "spectral grid START:END:STEP in nm (overrides the scene)");
-    c->add_option("--resample", a.resample, "how spectra go onto the grid: interpolate (default), sprague or band-mean");
-    c->add_option("--mode", a.mode, "representation: full (default), rgb, ac1c2[:N], linear:K")->capture_default_str();
-    c->add_option("--detector", a.detector, "cie1931, cie1964, camera:<name> or film:<name>");
-    c->add_option("--adapt", a.adapt, "chromatic adaptation: none, vonkries-xyz, vonkries, bradford, cat02, cat16");
-    c->add_option("--display", a.display, "display model: srgb or crt");
-    c->add_option("--bits", a.bits, "display counts of saved PNGs: 8 or 16 (the window shows 8)")
-        ->check(CLI::IsMember({8, 16}));
-    c->add_option("--integration", a.integration, "riemann (default), trapezoid or astm-e308 (ASTM E308 weighting factors)");
-    c->add_option("--ssaa", a.ssaa, "supersampling: N×N samples per pixel (1-4)")->check(CLI::Range(1, 4));
     c->add_option("--frames", a.frames,
                   "render N frames without waiting for input, print the median frame time and close")
         ->check(CLI::Range(1, 100000));
@@ -40,11 +30,6 @@ CLI::App* addPreviewCommand(CLI::App& app, PreviewArgs& a) {
     c->add_option("--out,-o", a.out, "folder that Save (S) writes into")->check(outputFolder())->capture_default_str();
     c->add_flag("--save", a.save, "save each view's cube and PNG when the window closes");
     c->add_flag("--no-watch", a.noWatch, "do not reload the scene file when it changes on disk");
-    c->add_flag("--validation", a.validation, "enable Vulkan validation layers; any error fails the run");
-    c->add_option("--device", a.device, "Vulkan device index or name substring (default: best; env METAMER_DEVICE)");
-    c->add_flag("--verbose,-v", a.verbose, "print the chosen device");
-    c->add_flag("--allow-outside-paths", a.allowOutsidePaths,
-                "let the scene read files outside its own folder tree and the spectra library");
     return c;
 }
 
@@ -52,20 +37,7 @@ int runPreviewCommand(const PreviewArgs& a) {
     preview::PreviewOptions o;
     RenderJob& job = o.job;
     job.scene = a.scene;
-    job.overrides = a.overrides;
-    if (!a.grid.empty()) job.grid = Grid::parse(a.grid, Where{"", "--grid"});
-    if (!a.resample.empty()) job.resampling = parseResampling(a.resample, Where{"", "--resample"});
-    job.mode = a.mode;
-    if (!a.detector.empty()) job.detector = a.detector;
-    if (!a.adapt.empty()) job.adaptation = a.adapt;
-    if (!a.display.empty()) job.display = a.display;
-    if (!a.integration.empty()) job.integration = a.integration;
-    if (a.bits) job.bits = a.bits;
-    job.ssaa = a.ssaa;
-    job.validation = a.validation;
-    job.device = a.device;
-    job.verbose = a.verbose;
-    job.allowOutsidePaths = a.allowOutsidePaths;
+    applyRenderSettings(a.render, job, [](const std::string& name) { return "--" + name; });
     o.split = a.split;
     o.frames = a.frames;
     o.screenshot = a.screenshot;

@@ -4,6 +4,8 @@
 // Tests: tests/preview_test.sh (under Xvfb), engine/preview/preview_settings_test.cpp.
 #pragma once
 
+#include "render/render_settings.h"
+
 #include <CLI/CLI.hpp>
 
 #include <string>
@@ -13,12 +15,11 @@ namespace metamer {
 
 struct PreviewArgs {
     std::string scene;
-    std::vector<std::string> overrides, split;
-    std::string grid, resample, mode = "full", detector, adapt, display, integration;
-    int bits = 0, ssaa = 1, frames = 0;
+    RenderSettings render;  // the flags it shares with `metamer render` (app/render_flags.h)
+    std::vector<std::string> split;
+    int frames = 0;
     std::string screenshot, windowScreenshot, out = "out", probe, pin;
-    bool save = false, noWatch = false, validation = false, verbose = false, allowOutsidePaths = false;
-    std::string device;
+    bool save = false, noWatch = false;
 };
 
 // Adds the `preview` subcommand to `app`, filling `args` when parsed.

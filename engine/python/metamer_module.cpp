@@ -11,6 +11,7 @@
 #include "core/error.h"
 #include "io/spectral_image.h"
 #include "render/render_job.h"
+#include "render/render_settings.h"
 #include "render/render_setup.h"
 #include "spectral/resampling.h"
 #include "vk/context.h"
@@ -175,30 +176,32 @@ std::shared_ptr<Render> render(const py::object& scene, const py::object& grid, 
     } else {
         job.scene = pathOf(scene);
     }
-    if (!grid.is_none()) job.grid = Grid::parse(py::str(grid).cast<std::string>(), Where{"", "grid"});
-    if (resample && !resample->empty()) job.resampling = parseResampling(*resample, Where{"", "resample"});
-    job.overrides = overrideList(overrides);
-    if (backend != "gpu" && backend != "cpu")
-        failInput(Where{"", "backend"}, "'{}' is not a backend; expected \"gpu\" or \"cpu\"", backend);
-    job.backend = backend == "cpu" ? Backend::Cpu : Backend::Gpu;
-    if (ssaa < 1 || ssaa > 4) failInput(Where{"", "ssaa"}, "{} samples per side; expected 1 to 4", ssaa);
-    job.ssaa = ssaa;
-    job.detector = optionalString(detector);
-    job.adaptation = optionalString(adapt);
-    job.display = optionalString(display);
-    if (bits && *bits != 8 && *bits != 16) failInput(Where{"", "bits"}, "{} bits; expected 8 or 16", *bits);
-    job.bits = bits;
-    job.integration = optionalString(integration);
-    job.xyz = optionalString(xyz);
-    job.mode = mode;
-    std::vector<std::string> outputs = write.is_none() ? std::vector<std::string>{"cube"} : stringList(write, "write");
-    for (auto& o : outputs)
+    // The keyword arguments the CLI shares, through the one conversion (render/render_settings.h);
+    // errors name the keyword.
+    RenderSettings settings;
+    if (!grid.is_none()) settings.grid = py::str(grid).cast<std::string>();
+    if (resample) settings.resample = *resample;
+    settings.overrides = overrideList(overrides);
+    settings.backend = backend;
+    settings.ssaa = ssaa;
+    settings.detector = detector.value_or("");
+    settings.adapt = adapt.value_or("");
+    settings.display = display.value_or("");
+    settings.bits = bits.value_or(0);
+    settings.integration = integration.value_or("");
+    settings.xyz = xyz.value_or("");
+    settings.mode = mode;
+    settings.write = write.is_none() ? std::vector<std::string>{"cube"} : stringList(write, "write");
+    for (auto& o : settings.write)
         if (o == "display") o = "png";  // the display image is the CLI's PNG
-    job.write = outputs;
-    if (!format.is_none()) job.format = stringList(format, "format");
-    job.validation = validation;
-    job.device = device;
-    job.allowOutsidePaths = allowOutsidePaths;
+    if (!format.is_none()) settings.format = stringList(format, "format");
+    settings.validation = validation;
+    settings.device = device;
+    settings.allowOutsidePaths = allowOutsidePaths;
+    applyRenderSettings(settings, job, [](const std::string& name) { return name == "allow-outside-paths" ? "allow_outside_paths" : name; });
+    // Given lists are the job's even when empty (refused there, as an empty --write is).
+    job.write = settings.write;
+    if (!format.is_none()) job.format = settings.format;
 
     auto r = std::make_shared<Render>();
     job.capture = &r->captured;
@@ -395,14 +398,8 @@ PYBIND11_MODULE(metamer, m) {
         .def_property_readonly("validation_errors", [](const Render& r) { return r.result.validationErrors; })
         .def_property_readonly("timings_ms",
                                [](const Render& r) {
-                                   const StageTimings& t = r.result.timings;
                                    py::dict d;
-                                   d["load"] = t.load_ms;
-                                   d["upload"] = t.upload_ms;
-                                   d["shading"] = t.shading_ms;
-                                   d["readback"] = t.readback_ms;
-                                   d["tonemap"] = t.tonemap_ms;
-                                   d["total"] = t.total_ms;
+                                   for (const auto& [stage, ms] : r.result.timings.stages()) d[stage] = ms;
                                    return d;
                                })
         .def(

@@ -17,6 +17,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace metamer {
@@ -30,6 +31,14 @@ struct StageTimings {
     // lavapipe) and the medians over the later frames.
     int frames = 1;
     double first_shading_ms = 0, median_shading_ms = 0, median_readback_ms = 0, median_tonemap_ms = 0;
+
+    // The stages and their times, ms, in order — load, upload, shading, readback, tonemap, write,
+    // total: what `metamer render --timings` prints, the Python module's timings_ms and a batch
+    // job's record hold, written in this one place.
+    std::vector<std::pair<const char*, double>> stages() const {
+        return {{"load", load_ms},       {"upload", upload_ms}, {"shading", shading_ms}, {"readback", readback_ms},
+                {"tonemap", tonemap_ms}, {"write", write_ms},   {"total", total_ms}};
+    }
 };
 
 struct RenderJobResult {
