@@ -24,10 +24,10 @@ done
 # The representation modes (represent/representation.cpp) on two scenes with every material kind:
 # their channel images are OpenEXR (written without a date, so byte for byte comparable).
 for scene in metamers fluorescent; do
-  for mode in rgb ac1c2 linear:3; do
+  for representation in rgb ac1c2 linear:3; do
     for backend in gpu cpu; do
-      "$metamer" render "$here/scenes/$scene.json" --backend "$backend" --mode "$mode" \
-        --out "$out/$scene-$backend-${mode/:/}" --write cube,png >/dev/null 2>&1
+      "$metamer" render "$here/scenes/$scene.json" --backend "$backend" --mode "$representation" \
+        --out "$out/$scene-$backend-${representation/:/}" --write cube,png >/dev/null 2>&1
     done
   done
 done
