@@ -1,4 +1,5 @@
 #include "preview/swapchain.h"
+#include "vk/render_pass.h"
 
 #include <algorithm>
 
@@ -38,26 +39,10 @@ Swapchain::Swapchain(vk::Context& ctx, VkExtent2D size, bool immediate) : ctx_(c
             }
 
     // The UI pass draws over the images the frame has already copied in (load, not clear).
-    VkAttachmentDescription a{};
-    a.format = format_;
-    a.samples = VK_SAMPLE_COUNT_1_BIT;
-    a.loadOp = VK_ATTACHMENT_LOAD_OP_LOAD;
-    a.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-    a.stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
-    a.stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
-    a.initialLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
-    a.finalLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
-    VkAttachmentReference ref{0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
-    VkSubpassDescription sub{};
-    sub.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
-    sub.colorAttachmentCount = 1;
-    sub.pColorAttachments = &ref;
-    VkRenderPassCreateInfo rp{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO};
-    rp.attachmentCount = 1;
-    rp.pAttachments = &a;
-    rp.subpassCount = 1;
-    rp.pSubpasses = &sub;
-    VK_CHECK(vkCreateRenderPass(ctx.device(), &rp, nullptr, &renderPass_));
+    vk::RenderPassDesc desc;
+    desc.colors.push_back({format_, VK_ATTACHMENT_LOAD_OP_LOAD, VK_ATTACHMENT_STORE_OP_STORE,
+                           VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL});
+    renderPass_ = vk::createRenderPass(ctx.device(), desc);
     try {
         create(size, VK_NULL_HANDLE);
     } catch (...) {

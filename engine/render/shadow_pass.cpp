@@ -2,6 +2,7 @@
 // render/shadow_maps.h's plan drawn once, depth only, with a slope-scaled bias, and left in
 // DEPTH_STENCIL_READ_ONLY_OPTIMAL for the spectral passes' depth-compare sampler.
 #include "core/timing.h"
+#include "vk/render_pass.h"
 #include "interface.h"
 #include "render/spectral_resources.h"
 #include "vk/pipeline.h"
@@ -51,35 +52,13 @@ void SpectralResources::createShadowMaps() {
     shadowSampler = vk::OwnedSampler(d, sampler);
 
     // One render pass: clear, draw, leave the layer for the fragment shader.
-    VkAttachmentDescription da{};
-    da.format = VK_FORMAT_D32_SFLOAT;
-    da.samples = VK_SAMPLE_COUNT_1_BIT;
-    da.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
-    da.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-    da.stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
-    da.stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
-    da.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-    da.finalLayout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL;
-    VkAttachmentReference ref{0, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
-    VkSubpassDescription sub{};
-    sub.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
-    sub.pDepthStencilAttachment = &ref;
-    VkSubpassDependency dep{};
-    dep.srcSubpass = 0;
-    dep.dstSubpass = VK_SUBPASS_EXTERNAL;
-    dep.srcStageMask = VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT;
-    dep.dstStageMask = VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT;
-    dep.srcAccessMask = VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
-    dep.dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
-    VkRenderPassCreateInfo rp{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO};
-    rp.attachmentCount = 1;
-    rp.pAttachments = &da;
-    rp.subpassCount = 1;
-    rp.pSubpasses = &sub;
-    rp.dependencyCount = 1;
-    rp.pDependencies = &dep;
-    VkRenderPass renderPass = VK_NULL_HANDLE;
-    VK_CHECK(vkCreateRenderPass(d, &rp, nullptr, &renderPass));
+    vk::RenderPassDesc passDesc;
+    passDesc.depth = vk::AttachmentDesc{VK_FORMAT_D32_SFLOAT, VK_ATTACHMENT_LOAD_OP_CLEAR, VK_ATTACHMENT_STORE_OP_STORE,
+                                    VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL};
+    passDesc.dependencies.push_back({false, VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT,
+                                 VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT, VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
+                                 VK_ACCESS_SHADER_READ_BIT});
+    VkRenderPass renderPass = vk::createRenderPass(d, passDesc);
     const vk::OwnedRenderPass ownedPass(d, renderPass);
 
     VkPushConstantRange range{VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(gpu::ShadowPushConstants)};

@@ -1,4 +1,5 @@
 #include "render/spectral_resources.h"
+#include "vk/render_pass.h"
 
 #include "interface.h"
 #include "lobe_lookup.h"
@@ -381,63 +382,30 @@ void SpectralResources::createLayouts() {
 // loads the pre-pass's depth and shades only the visible surface (depth test EQUAL), so every
 // pixel is shaded once per pass whatever the overdraw — or, clearsDepth, one with its own depth.
 VkRenderPass SpectralResources::makeRenderPass(uint32_t attachments, bool clearsDepth) {
-    std::vector<VkAttachmentDescription> descs;
-    std::vector<VkAttachmentReference> refs;
-    VkImageLayout finalLayout =
+    vk::RenderPassDesc desc;
+    const VkImageLayout finalLayout =
         plan.mappedReadback ? VK_IMAGE_LAYOUT_GENERAL : VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
-    for (uint32_t i = 0; i < attachments; ++i) {
-        VkAttachmentDescription a{};
-        a.format = VK_FORMAT_R32G32B32A32_SFLOAT;
-        a.samples = VK_SAMPLE_COUNT_1_BIT;
-        // Cleared once per frame by vkCmdClearColorImage in record(), not by the render pass:
-        // lavapipe (Mesa 22.3) leaks about a target's size of memory per render-pass clear of
-        // array-layer views (measured: +20 MB per frame at 256² × 89 bands).
-        a.loadOp = VK_ATTACHMENT_LOAD_OP_LOAD;
-        a.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-        a.stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
-        a.stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
-        a.initialLayout = VK_IMAGE_LAYOUT_GENERAL;
-        a.finalLayout = finalLayout;
-        descs.push_back(a);
-        refs.push_back({i, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL});
-    }
-    VkAttachmentDescription da{};
-    da.format = VK_FORMAT_D32_SFLOAT;
-    da.samples = VK_SAMPLE_COUNT_1_BIT;
+    // Cleared once per frame by vkCmdClearColorImage in record(), not by the render pass: lavapipe
+    // (Mesa 22.3) leaks about a target's size of memory per render-pass clear of array-layer views
+    // (measured: +20 MB per frame at 256² × 89 bands).
+    for (uint32_t i = 0; i < attachments; ++i)
+        desc.colors.push_back({VK_FORMAT_R32G32B32A32_SFLOAT, VK_ATTACHMENT_LOAD_OP_LOAD, VK_ATTACHMENT_STORE_OP_STORE,
+                               VK_IMAGE_LAYOUT_GENERAL, finalLayout});
     const bool prePass = clearsDepth;
-    da.loadOp = prePass ? VK_ATTACHMENT_LOAD_OP_CLEAR : VK_ATTACHMENT_LOAD_OP_LOAD;
-    da.storeOp = VK_ATTACHMENT_STORE_OP_STORE;  // every later pass loads it
-    da.stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
-    da.stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
-    da.initialLayout = prePass ? VK_IMAGE_LAYOUT_UNDEFINED : VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
-    da.finalLayout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
-    descs.push_back(da);
-    VkAttachmentReference depthRef{attachments, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
-
-    VkSubpassDescription sub{};
-    sub.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
-    sub.colorAttachmentCount = attachments;
-    sub.pColorAttachments = refs.data();
-    sub.pDepthStencilAttachment = &depthRef;
+    desc.depth = vk::AttachmentDesc{VK_FORMAT_D32_SFLOAT, prePass ? VK_ATTACHMENT_LOAD_OP_CLEAR : VK_ATTACHMENT_LOAD_OP_LOAD,
+                                    VK_ATTACHMENT_STORE_OP_STORE,  // every later pass loads it
+                                    prePass ? VK_IMAGE_LAYOUT_UNDEFINED : VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
+                                    VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
     // The depth image is shared by every pass: wait for the pre-pass's depth writes.
-    VkSubpassDependency dep{};
-    dep.srcSubpass = VK_SUBPASS_EXTERNAL;
-    dep.dstSubpass = 0;
-    dep.srcStageMask = VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT;
-    dep.dstStageMask = VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT;
-    dep.srcAccessMask = VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
-    dep.dstAccessMask = VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
-    VkRenderPassCreateInfo rp{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO};
-    rp.attachmentCount = uint32_t(descs.size());
-    rp.pAttachments = descs.data();
-    rp.subpassCount = 1;
-    rp.pSubpasses = &sub;
-    rp.dependencyCount = 1;
-    rp.pDependencies = &dep;
-    renderPasses.push_back(ctx.objects().renderPass(
+    constexpr VkPipelineStageFlags depthStages =
+        VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT;
+    desc.dependencies.push_back({true, depthStages, depthStages, VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
+                                 VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT});
+    renderPasses.push_back(vk::sharedRenderPass(
+        ctx.objects(),
         fmt::format("spectral.pass attachments={} clearsDepth={} mapped={}", attachments, clearsDepth,
                     plan.mappedReadback),
-        rp));
+        desc));
     return renderPasses.back().get();
 }
 
@@ -589,50 +557,22 @@ void SpectralResources::createPasses() {
 // The lobe pass: one RGBA32F attachment, the pre-pass's depth loaded and tested EQUAL (each
 // visible surface shaded once, as in the band passes), left SHADER_READ_ONLY for them.
 void SpectralResources::createLobePass() {
-    VkAttachmentDescription descs[2] = {};
-    descs[0].format = VK_FORMAT_R32G32B32A32_SFLOAT;
-    descs[0].samples = VK_SAMPLE_COUNT_1_BIT;
-    descs[0].loadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;  // read only where a surface is drawn
-    descs[0].storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-    descs[0].stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
-    descs[0].stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
-    descs[0].initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-    descs[0].finalLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
-    descs[1] = descs[0];
-    descs[1].format = VK_FORMAT_D32_SFLOAT;
-    descs[1].loadOp = VK_ATTACHMENT_LOAD_OP_LOAD;
-    descs[1].initialLayout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
-    descs[1].finalLayout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
-    VkAttachmentReference colorRef{0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
-    VkAttachmentReference depthRef{1, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
-    VkSubpassDescription sub{};
-    sub.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
-    sub.colorAttachmentCount = 1;
-    sub.pColorAttachments = &colorRef;
-    sub.pDepthStencilAttachment = &depthRef;
-    VkSubpassDependency deps[2] = {};
-    deps[0].srcSubpass = VK_SUBPASS_EXTERNAL;  // the pre-pass's depth writes
-    deps[0].dstSubpass = 0;
-    deps[0].srcStageMask = VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT;
-    deps[0].dstStageMask = VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT |
-                           VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
-    deps[0].srcAccessMask = VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
-    deps[0].dstAccessMask = VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
-    deps[1].srcSubpass = 0;  // the weights, for the band passes' fragment shaders
-    deps[1].dstSubpass = VK_SUBPASS_EXTERNAL;
-    deps[1].srcStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
-    deps[1].dstStageMask = VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT;
-    deps[1].srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
-    deps[1].dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
-    VkRenderPassCreateInfo rp{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO};
-    rp.attachmentCount = 2;
-    rp.pAttachments = descs;
-    rp.subpassCount = 1;
-    rp.pSubpasses = &sub;
-    rp.dependencyCount = 2;
-    rp.pDependencies = deps;
-    renderPasses.push_back(ctx.objects().renderPass(
-        fmt::format("spectral.lobe pass {}x{}", plan.targetWidth, plan.targetHeight), rp));
+    vk::RenderPassDesc desc;
+    desc.colors.push_back({VK_FORMAT_R32G32B32A32_SFLOAT, VK_ATTACHMENT_LOAD_OP_DONT_CARE,  // read only where a surface is drawn
+                           VK_ATTACHMENT_STORE_OP_STORE, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL});
+    desc.depth = vk::AttachmentDesc{VK_FORMAT_D32_SFLOAT, VK_ATTACHMENT_LOAD_OP_LOAD, VK_ATTACHMENT_STORE_OP_STORE,
+                                    VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
+                                    VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
+    constexpr VkPipelineStageFlags depthStages =
+        VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT;
+    // The pre-pass's depth writes before; the weights, for the band passes' fragment shaders, after.
+    desc.dependencies.push_back({true, depthStages, depthStages | VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT,
+                                 VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
+                                 VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT});
+    desc.dependencies.push_back({false, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
+                                 VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT});
+    renderPasses.push_back(vk::sharedRenderPass(
+        ctx.objects(), fmt::format("spectral.lobe pass {}x{}", plan.targetWidth, plan.targetHeight), desc));
     lobePass.renderPass = renderPasses.back().get();
     lobePass.attachments = 1;
     lobePass.pipelines = makePipelines(renderPasses.back(), 1, false, LOBE_WRITE);

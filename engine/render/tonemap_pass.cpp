@@ -1,4 +1,5 @@
 #include "render/tonemap_pass.h"
+#include "vk/render_pass.h"
 
 #include "interface.h"
 #include "vk/device_objects.h"
@@ -172,30 +173,12 @@ struct TonemapPass::Impl {
         w[2].pBufferInfo = &ssbo;
         vkUpdateDescriptorSets(d, 3, w, 0, nullptr);
 
-        VkAttachmentDescription att[kAttachments];
-        VkAttachmentReference refs[kAttachments];
-        for (uint32_t i = 0; i < kAttachments; ++i) {
-            att[i] = {};
-            att[i].format = VK_FORMAT_R32G32B32A32_SFLOAT;
-            att[i].samples = VK_SAMPLE_COUNT_1_BIT;
-            att[i].loadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;  // every pixel is written
-            att[i].storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-            att[i].stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
-            att[i].stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
-            att[i].initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-            att[i].finalLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
-            refs[i] = {i, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
-        }
-        VkSubpassDescription sub{};
-        sub.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
-        sub.colorAttachmentCount = kAttachments;
-        sub.pColorAttachments = refs;
-        VkRenderPassCreateInfo rp{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO};
-        rp.attachmentCount = kAttachments;
-        rp.pAttachments = att;
-        rp.subpassCount = 1;
-        rp.pSubpasses = &sub;
-        renderPass = objects.renderPass("tonemap.pass", rp);
+        vk::RenderPassDesc desc;
+        for (uint32_t i = 0; i < kAttachments; ++i)
+            desc.colors.push_back({VK_FORMAT_R32G32B32A32_SFLOAT, VK_ATTACHMENT_LOAD_OP_DONT_CARE,  // every pixel is written
+                                   VK_ATTACHMENT_STORE_OP_STORE, VK_IMAGE_LAYOUT_UNDEFINED,
+                                   VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL});
+        renderPass = vk::sharedRenderPass(objects, "tonemap.pass", desc);
         std::vector<VkImageView> views;
         for (uint32_t i = 0; i < kAttachments; ++i) views.push_back(targets[i].layerView(0));
         framebuffer = vk::createFramebuffer(d, renderPass.get(), views, width, height);

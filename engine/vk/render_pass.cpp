@@ -1,0 +1,67 @@
+#include "vk/render_pass.h"
+
+#include "vk/check.h"
+
+namespace metamer::vk {
+
+namespace {
+
+VkAttachmentDescription description(const AttachmentDesc& a) {
+    VkAttachmentDescription d{};
+    d.format = a.format;
+    d.samples = VK_SAMPLE_COUNT_1_BIT;
+    d.loadOp = a.load;
+    d.storeOp = a.store;
+    d.stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
+    d.stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+    d.initialLayout = a.initial;
+    d.finalLayout = a.final;
+    return d;
+}
+
+}  // namespace
+
+RenderPassInfo::RenderPassInfo(const RenderPassDesc& desc) {
+    for (uint32_t i = 0; i < desc.colors.size(); ++i) {
+        attachments.push_back(description(desc.colors[i]));
+        colorRefs.push_back({i, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL});
+    }
+    subpass.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
+    subpass.colorAttachmentCount = uint32_t(colorRefs.size());
+    subpass.pColorAttachments = colorRefs.empty() ? nullptr : colorRefs.data();
+    if (desc.depth) {
+        depthRef = {uint32_t(attachments.size()), VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
+        attachments.push_back(description(*desc.depth));
+        subpass.pDepthStencilAttachment = &depthRef;
+    }
+    for (const PassDependency& p : desc.dependencies) {
+        VkSubpassDependency d{};
+        d.srcSubpass = p.before ? VK_SUBPASS_EXTERNAL : 0;
+        d.dstSubpass = p.before ? 0 : VK_SUBPASS_EXTERNAL;
+        d.srcStageMask = p.srcStages;
+        d.dstStageMask = p.dstStages;
+        d.srcAccessMask = p.srcAccess;
+        d.dstAccessMask = p.dstAccess;
+        dependencies.push_back(d);
+    }
+    info.attachmentCount = uint32_t(attachments.size());
+    info.pAttachments = attachments.data();
+    info.subpassCount = 1;
+    info.pSubpasses = &subpass;
+    info.dependencyCount = uint32_t(dependencies.size());
+    info.pDependencies = dependencies.empty() ? nullptr : dependencies.data();
+}
+
+VkRenderPass createRenderPass(VkDevice device, const RenderPassDesc& desc) {
+    const RenderPassInfo rp(desc);
+    VkRenderPass pass = VK_NULL_HANDLE;
+    VK_CHECK(vkCreateRenderPass(device, &rp.info, nullptr, &pass));
+    return pass;
+}
+
+SharedHandle<VkRenderPass> sharedRenderPass(DeviceObjects& objects, const std::string& key, const RenderPassDesc& desc) {
+    const RenderPassInfo rp(desc);
+    return objects.renderPass(key, rp.info);
+}
+
+}  // namespace metamer::vk
