@@ -142,8 +142,8 @@ bool RenderOutputs::needsDisplay() const {
     return png_ || xyz_ || responses_ || (capture_ && (capture_->keep.png || capture_->keep.xyz || capture_->keep.responses));
 }
 TonemapOutputs RenderOutputs::displayOutputs() const {
-    const bool counts = png_ || capture_ && capture_->keep.png, xyz = xyz_ || capture_ && capture_->keep.xyz,
-               responses = responses_ || capture_ && capture_->keep.responses;
+    const bool counts = png_ || (capture_ && capture_->keep.png), xyz = xyz_ || (capture_ && capture_->keep.xyz),
+               responses = responses_ || (capture_ && capture_->keep.responses);
     return {counts || xyz, xyz, responses};
 }
 

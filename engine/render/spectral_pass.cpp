@@ -15,14 +15,16 @@ std::string SpectralPassPlan::describe() const {
         return fmt::format("response pass: {} detector channel(s) in {} RGBA32F layer(s), one pass that writes "
                            "its own depth (no pre-pass), {}×{} target ({} MiB), {} light(s), specular {}, fluorescence {}, ssaa {}",
                            bands, layers, targetWidth, targetHeight, targetBytes >> 20, lightCount,
-                           hasSpecular ? "on" : "off", hasFluorescence ? "on" : "off", ssaa);
+                           hasSpecular ? "on" : "off", hasFluorescence ? "on" : "off", ssaa) +
+               (frame.empty() ? "" : "; the frame: " + frame);
     return fmt::format("{} bands in {} RGBA32F layers, a depth pre-pass + {} colour pass(es) of ≤{} attachments, {}×{} target ({} MiB), "
                        "{} light(s){}, specular {}, fluorescence {}, ssaa {}, readback by {}",
                        bands, layers, passes, MAX_OUTPUTS, targetWidth, targetHeight, targetBytes >> 20,
                        lightCount, shadowLayers ? fmt::format(" ({} shadow-map layer(s) of {}²)", shadowLayers, SHADOW_MAP_SIZE) : "",
                        hasSpecular ? "on" : "off",
                        !hasFluorescence ? "off" : fluorescenceSpectra ? "on (per-light spectra)" : "on (rank one)", ssaa,
-                       mappedReadback ? "mapping a linear image" : "copy");
+                       mappedReadback ? "mapping a linear image" : "copy") +
+           (frame.empty() ? "" : "; the frame: " + frame);
 }
 
 struct SpectralPass::Impl {
@@ -98,6 +100,7 @@ SpectralPass::SpectralPass(vk::Context& ctx, const Scene& scene, const SceneOnGr
     m.columns = columns;
     if (options.stripRows > 0 || options.tileColumns > 0) setTile(0, 0);
     m.resources = std::make_unique<SpectralResources>(ctx, scene, spectra, m.packed, plan_, options);
+    plan_.frame = m.resources->describeFrame();
     timings_.upload_ms = msSince(t0);
     timings_.shadow_ms = m.resources->shadowMs;
 }

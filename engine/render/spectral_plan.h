@@ -48,6 +48,7 @@ struct SpectralPassPlan {
     int ssaa = 1;
     uint32_t targetWidth = 0, targetHeight = 0;  // render-target size (× ssaa)
     bool mappedReadback = false;
+    std::string frame;  // the frame's declared passes in order (SpectralResources::describeFrame)
     size_t targetBytes = 0;  // the layered colour target
     std::string describe() const;
 };

@@ -552,6 +552,7 @@ void SpectralResources::createPasses() {
         passes.push_back(std::move(po));
     }
     if (hasLobePass) createLobePass();
+    declareFrame();
 }
 
 // The lobe pass: one RGBA32F attachment, the pre-pass's depth loaded and tested EQUAL (each

@@ -7,6 +7,7 @@
 // Tests: through render/spectral_pass.h's (every GPU test runs with validation layers).
 #pragma once
 
+#include "interface.h"
 #include "render/camera_matrices.h"
 #include "render/spectral_packing.h"
 #include "render/spectral_plan.h"
@@ -19,9 +20,19 @@
 #include "vk/resources.h"
 
 #include <array>
+#include <functional>
+#include <string>
 #include <vector>
 
 namespace metamer {
+
+// What a frame's passes record with: the camera and the push constants made from it.
+struct SpectralFrameState {
+    const CameraMatrices& camera;
+    gpu::SpectralPushConstants pc;
+    // Whether the draw's back faces may be culled from this camera (a closed mesh seen whole from outside).
+    bool cullable(const PackedDraw& d) const;
+};
 
 struct SpectralResources {
     // One render pass of up to MAX_OUTPUTS attachments (layers firstLayer …), or the depth pre-pass
@@ -103,6 +114,21 @@ struct SpectralResources {
     PassObjects depthPrePass, lobePass;
     std::vector<PassObjects> passes;
 
+    // The frame as a list of declared passes, recorded in order by recordSpectralFrame: each names
+    // what it reads and writes, its render pass, framebuffer and clear values (its pipelines are its
+    // shader's specializations, one per material variant), and records its draws. A new pass is
+    // one entry here (declareFrame) and its shader.
+    struct FramePass {
+        std::string name;          // "depth pre-pass", "lobe pass", "band pass 2", "response pass"
+        std::string reads, writes;  // in words, for people (describeFrame, docs/architecture.md)
+        const PassObjects* objects = nullptr;
+        std::vector<VkClearValue> clears;
+        std::function<void(VkCommandBuffer, const SpectralFrameState&)> record;  // inside the render pass
+    };
+    std::vector<FramePass> frame;
+    // "depth pre-pass → lobe pass → band pass 0 → band pass 1 …"
+    std::string describeFrame() const;
+
 private:
     VkDeviceSize aligned(VkDeviceSize size) const;
     vk::Buffer uniforms(const void* data, size_t size, size_t count, VkDeviceSize stride, const char* name);
@@ -119,10 +145,20 @@ private:
     void classifyDraws();
     void createLobePass();
     void createPasses();
+    void declareFrame();
+    // The draws the frame's passes record.
+    void bindGeometry(VkCommandBuffer cmd, const SpectralFrameState& f) const;
+    void drawDepth(VkCommandBuffer cmd, const SpectralFrameState& f) const;
+    // Every draw of band pass p (the lobe pass draws as pass 0, with its own set 0), with its
+    // material's pipeline variant: this pass's bands of the light spectra, of the draw's material
+    // and of its fluorescence; the material's responses (the response pass). `specularOnly`: only
+    // the draws of materials with a specular lobe (the lobe pass: nothing else reads its weights).
+    void drawScene(VkCommandBuffer cmd, const SpectralFrameState& f, const std::vector<VkPipeline>& pipelines, size_t p,
+                   VkDescriptorSet set0, bool specularOnly) const;
 };
 
-// A frame's commands: clear the target, the depth pre-pass, every colour pass, and make the
-// target readable by the host (a barrier for a mapped image, else a copy into readbackBuffer; the
+// A frame's commands: clear the target, record the declared passes in order (SpectralResources::
+// frame: the depth pre-pass, the lobe pass, every colour pass), and make the target readable by the host (a barrier for a mapped image, else a copy into readbackBuffer; the
 // response pass's target is left for the tonemap pass).
 void recordSpectralFrame(VkCommandBuffer cmd, const SpectralResources& r, const CameraMatrices& camera);
 
