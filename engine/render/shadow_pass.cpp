@@ -2,6 +2,7 @@
 // render/shadow_maps.h's plan drawn once, depth only, with a slope-scaled bias, and left in
 // DEPTH_STENCIL_READ_ONLY_OPTIMAL for the spectral passes' depth-compare sampler.
 #include "core/timing.h"
+#include "render/frame_pass.h"
 #include "vk/render_pass.h"
 #include "interface.h"
 #include "render/spectral_resources.h"
@@ -93,30 +94,27 @@ void SpectralResources::createShadowMaps() {
         pipeline = vk::OwnedPipeline(d, vk::createGraphicsPipeline(d, pd));
     }
 
+    // One declared pass per layer (render/frame_pass.h), recorded once: the maps depend on the
+    // scene, not the camera.
+    std::vector<FramePass> shadowPasses;
+    for (uint32_t l = 0; l < layers; ++l)
+        shadowPasses.push_back(
+            {fmt::format("shadow map layer {}", l), "the scene's triangles seen from the light",
+             "the layer's depth, for the spectral passes' visibility", renderPass, framebuffers[l].get(), {size, size},
+             {VkClearValue{.depthStencil = {1.0f, 0}}}, [&, l](VkCommandBuffer cmd) {
+                 if (!draws) return;
+                 vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.get());
+                 VkDeviceSize zero = 0;
+                 VkBuffer vb = vertexBuffer.handle();
+                 vkCmdBindVertexBuffers(cmd, 0, 1, &vb, &zero);
+                 vkCmdBindIndexBuffer(cmd, indexBuffer.handle(), 0, VK_INDEX_TYPE_UINT32);
+                 gpu::ShadowPushConstants pc{packed.shadowBlock.layers[l]};
+                 vkCmdPushConstants(cmd, layout, VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof pc, &pc);
+                 for (const PackedDraw& draw : packed.draws)
+                     vkCmdDrawIndexed(cmd, draw.indexCount, 1, draw.firstIndex, draw.vertexOffset, 0);
+             }});
     ctx.submitAndWait([&](VkCommandBuffer cmd) {
-        for (uint32_t l = 0; l < layers; ++l) {
-            VkClearValue clear{};
-            clear.depthStencil = {1.0f, 0};
-            VkRenderPassBeginInfo rb{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
-            rb.renderPass = renderPass;
-            rb.framebuffer = framebuffers[l].get();
-            rb.renderArea = {{0, 0}, {size, size}};
-            rb.clearValueCount = 1;
-            rb.pClearValues = &clear;
-            vkCmdBeginRenderPass(cmd, &rb, VK_SUBPASS_CONTENTS_INLINE);
-            if (draws) {
-                vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.get());
-                VkDeviceSize zero = 0;
-                VkBuffer vb = vertexBuffer.handle();
-                vkCmdBindVertexBuffers(cmd, 0, 1, &vb, &zero);
-                vkCmdBindIndexBuffer(cmd, indexBuffer.handle(), 0, VK_INDEX_TYPE_UINT32);
-                gpu::ShadowPushConstants pc{packed.shadowBlock.layers[l]};
-                vkCmdPushConstants(cmd, layout, VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof pc, &pc);
-                for (const PackedDraw& draw : packed.draws)
-                    vkCmdDrawIndexed(cmd, draw.indexCount, 1, draw.firstIndex, draw.vertexOffset, 0);
-            }
-            vkCmdEndRenderPass(cmd);
-        }
+        for (const FramePass& pass : shadowPasses) recordFramePass(cmd, pass);
     });
     shadowMs = msSince(t0);
 }

@@ -70,45 +70,43 @@ void SpectralResources::drawScene(VkCommandBuffer cmd, const SpectralFrameState&
 
 void SpectralResources::declareFrame() {
     frame.clear();
+    const VkExtent2D extent{plan.targetWidth, plan.targetHeight};
     const VkClearValue farDepth{.depthStencil = {1.0f, 0}};
+    const bool draws = !packed.draws.empty();
     if (hasDepthPrePass)
-        frame.push_back({"depth pre-pass", "the scene's triangles", "the depth of the visible surface", &depthPrePass,
-                         {farDepth},
-                         [this](VkCommandBuffer cmd, const SpectralFrameState& f) { drawDepth(cmd, f); }});
+        frame.push_back({"depth pre-pass", "the scene's triangles", "the depth of the visible surface",
+                         depthPrePass.renderPass, depthPrePass.framebuffer.get(), extent, {farDepth},
+                         [this, draws](VkCommandBuffer cmd) {
+                             if (draws) drawDepth(cmd, *frameState);
+                         }});
     if (hasLobePass)
         // The hemisphere lights' lobe integrals, once per pixel, for every band pass to read.
         frame.push_back({"lobe pass", "the depth; the lobe tables", "the hemisphere lights' lobe integrals per pixel",
-                         &lobePass, {VkClearValue{}, VkClearValue{}},
-                         [this](VkCommandBuffer cmd, const SpectralFrameState& f) {
-                             drawScene(cmd, f, lobePass.pipelines, 0, lobeDescriptorSet, true);
+                         lobePass.renderPass, lobePass.framebuffer.get(), extent, {VkClearValue{}, VkClearValue{}},
+                         [this, draws](VkCommandBuffer cmd) {
+                             if (draws) drawScene(cmd, *frameState, lobePass.pipelines, 0, lobeDescriptorSet, true);
                          }});
     for (size_t p = 0; p < passes.size(); ++p) {
         const PassObjects& po = passes[p];
         std::vector<VkClearValue> clears(po.attachments + 1);
         for (uint32_t i = 0; i < po.attachments; ++i) clears[i].color = {{0, 0, 0, 0}};
         clears[po.attachments] = farDepth;
-        const uint32_t first = po.firstLayer * 4, last = std::min<uint32_t>(uint32_t(plan.bands), (po.firstLayer + po.attachments) * 4) - 1;
+        const uint32_t first = po.firstLayer * 4,
+                       last = std::min<uint32_t>(uint32_t(plan.bands), (po.firstLayer + po.attachments) * 4) - 1;
         frame.push_back({plan.responses ? "response pass" : fmt::format("band pass {}", p),
                          std::string(hasDepthPrePass ? "the depth; " : "") + (hasLobePass ? "the lobe integrals; " : "") +
                              "lights, materials, textures, shadow maps",
                          plan.responses ? fmt::format("the detector's {} channel(s)", plan.bands)
                                         : fmt::format("bands {}–{} (layers {}–{})", first, last, po.firstLayer,
                                                       po.firstLayer + po.attachments - 1),
-                         &po, std::move(clears),
-                         [this, p](VkCommandBuffer cmd, const SpectralFrameState& f) {
-                             drawScene(cmd, f, passes[p].pipelines, p, descriptorSet, false);
+                         po.renderPass, po.framebuffer.get(), extent, std::move(clears),
+                         [this, p, draws](VkCommandBuffer cmd) {
+                             if (draws) drawScene(cmd, *frameState, passes[p].pipelines, p, descriptorSet, false);
                          }});
     }
 }
 
-std::string SpectralResources::describeFrame() const {
-    std::string s;
-    for (const FramePass& p : frame) s += (s.empty() ? "" : " → ") + p.name;
-    return s;
-}
-
 void recordSpectralFrame(VkCommandBuffer cmd, const SpectralResources& r, const CameraMatrices& camera) {
-    const PackedScene& packed = r.packed;
     const SpectralPassPlan& plan = r.plan;
     const vk::Image& color = r.color;
     SpectralFrameState state{camera, {}};
@@ -132,17 +130,9 @@ void recordSpectralFrame(VkCommandBuffer cmd, const SpectralResources& r, const 
         vk::imageBarrier(cmd, color.handle(), layers, cleared, drawn);
     }
     // The frame's declared passes, in order (SpectralResources::declareFrame).
-    for (const SpectralResources::FramePass& pass : r.frame) {
-        VkRenderPassBeginInfo rb{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
-        rb.renderPass = pass.objects->renderPass;
-        rb.framebuffer = pass.objects->framebuffer.get();
-        rb.renderArea = {{0, 0}, {plan.targetWidth, plan.targetHeight}};
-        rb.clearValueCount = uint32_t(pass.clears.size());
-        rb.pClearValues = pass.clears.data();
-        vkCmdBeginRenderPass(cmd, &rb, VK_SUBPASS_CONTENTS_INLINE);
-        if (!packed.draws.empty()) pass.record(cmd, state);
-        vkCmdEndRenderPass(cmd);
-    }
+    r.frameState = &state;
+    for (const FramePass& pass : r.frame) recordFramePass(cmd, pass);
+    r.frameState = nullptr;
     if (plan.mappedReadback) {
         // Make the colour writes visible to the host, which reads the linear image directly.
         vk::imageBarrier(cmd, color.handle(), uint32_t(plan.layers),

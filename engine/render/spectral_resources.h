@@ -9,6 +9,7 @@
 
 #include "interface.h"
 #include "render/camera_matrices.h"
+#include "render/frame_pass.h"
 #include "render/spectral_packing.h"
 #include "render/spectral_plan.h"
 #include "render/target_readback.h"
@@ -114,20 +115,15 @@ struct SpectralResources {
     PassObjects depthPrePass, lobePass;
     std::vector<PassObjects> passes;
 
-    // The frame as a list of declared passes, recorded in order by recordSpectralFrame: each names
-    // what it reads and writes, its render pass, framebuffer and clear values (its pipelines are its
-    // shader's specializations, one per material variant), and records its draws. A new pass is
-    // one entry here (declareFrame) and its shader.
-    struct FramePass {
-        std::string name;          // "depth pre-pass", "lobe pass", "band pass 2", "response pass"
-        std::string reads, writes;  // in words, for people (describeFrame, docs/architecture.md)
-        const PassObjects* objects = nullptr;
-        std::vector<VkClearValue> clears;
-        std::function<void(VkCommandBuffer, const SpectralFrameState&)> record;  // inside the render pass
-    };
+    // The frame as a list of declared passes (render/frame_pass.h), recorded in order by
+    // recordSpectralFrame: each names what it reads and writes, its render pass, framebuffer and
+    // clears (its pipelines are its shader's specializations, one per material variant), and
+    // records its draws. A new pass is one entry here (declareFrame) and its shader.
     std::vector<FramePass> frame;
+    // The camera's state while recordSpectralFrame records the frame (the passes' draws read it).
+    mutable const SpectralFrameState* frameState = nullptr;
     // "depth pre-pass → lobe pass → band pass 0 → band pass 1 …"
-    std::string describeFrame() const;
+    std::string describeFrame() const { return describeFramePasses(frame); }
 
 private:
     VkDeviceSize aligned(VkDeviceSize size) const;

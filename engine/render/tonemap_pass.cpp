@@ -1,4 +1,5 @@
 #include "render/tonemap_pass.h"
+#include "render/frame_pass.h"
 #include "vk/render_pass.h"
 
 #include "interface.h"
@@ -59,6 +60,7 @@ struct TonemapPass::Impl {
     vk::SharedHandle<VkRenderPass> renderPass;
     vk::OwnedFramebuffer framebuffer;
     vk::SharedHandle<VkPipeline> pipeline;
+    FramePass pass;
 
     Impl(vk::Context& c, SpectralPass& s, const TonemapPlan& p, TonemapOutputs o) : ctx(c), source(s), plan(p), outputs(o) {}
 
@@ -217,6 +219,15 @@ struct TonemapPass::Impl {
                 return vk::createGraphicsPipeline(d, desc);
             },
             {renderPass, pipelineLayout});
+        // The one pass, declared (render/frame_pass.h): a full-screen triangle, every pixel written.
+        pass = FramePass{"tonemap", "the spectral target (bands or detector responses)",
+                         "responses, XYZ and display counts (4 RGBA32F attachments)", renderPass.get(), framebuffer.get(),
+                         {width, height}, {}, [this](VkCommandBuffer cmd) {
+                             vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.get());
+                             vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelineLayout.get(), 0, 1,
+                                                     &set, 0, nullptr);
+                             vkCmdDraw(cmd, 3, 1, 0, 0);
+                         }};
     }
 
     // The spectral target is sampled in GENERAL when it is a mapped linear image (the host may
@@ -234,15 +245,7 @@ struct TonemapPass::Impl {
         const uint32_t targetLayers = uint32_t(source.plan().layers);
         vk::imageBarrier(cmd, source.targetImage(), targetLayers, drawn, sampled);
 
-        VkRenderPassBeginInfo rb{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
-        rb.renderPass = renderPass.get();
-        rb.framebuffer = framebuffer.get();
-        rb.renderArea = {{0, 0}, {width, height}};
-        vkCmdBeginRenderPass(cmd, &rb, VK_SUBPASS_CONTENTS_INLINE);
-        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.get());
-        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelineLayout.get(), 0, 1, &set, 0, nullptr);
-        vkCmdDraw(cmd, 3, 1, 0, 0);
-        vkCmdEndRenderPass(cmd);
+        recordFramePass(cmd, pass);
 
         for (uint32_t i = 0; i < kAttachments; ++i) {
             if (!wanted(i)) continue;
