@@ -1,5 +1,5 @@
-// One pass of a frame, declared: its name, what it reads and writes (in words, for people), its
-// render pass (described in vk/render_pass.h), framebuffer, area and clear values, and a function
+// One pass of a frame, declared: its name, what it reads and writes and how its shader is
+// specialized (in words, for people), its render pass (described in vk/render_pass.h), framebuffer, area and clear values, and a function
 // that records its draws inside the render pass. The spectral frame (render/spectral_resources.h:
 // depth pre-pass, lobe pass, band or response passes), the shadow maps (render/shadow_pass.cpp: a
 // pass per layer) and the tonemap pass (render/tonemap_pass.cpp) are lists of these, recorded by
@@ -17,6 +17,7 @@ namespace metamer {
 struct FramePass {
     std::string name;           // "depth pre-pass", "band pass 2", "shadow map layer 3", "tonemap"
     std::string reads, writes;  // in words: what it takes and what it leaves for the next pass
+    std::string specialization;  // how its shader is specialized, in words ("LOBE_WRITE; a pipeline per material kind")
     VkRenderPass renderPass = VK_NULL_HANDLE;
     VkFramebuffer framebuffer = VK_NULL_HANDLE;
     VkExtent2D extent{0, 0};

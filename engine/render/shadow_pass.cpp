@@ -100,7 +100,7 @@ void SpectralResources::createShadowMaps() {
     for (uint32_t l = 0; l < layers; ++l)
         shadowPasses.push_back(
             {fmt::format("shadow map layer {}", l), "the scene's triangles seen from the light",
-             "the layer's depth, for the spectral passes' visibility", renderPass, framebuffers[l].get(), {size, size},
+             "the layer's depth, for the spectral passes' visibility", "depth only, slope-scaled bias", renderPass, framebuffers[l].get(), {size, size},
              {VkClearValue{.depthStencil = {1.0f, 0}}}, [&, l](VkCommandBuffer cmd) {
                  if (!draws) return;
                  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.get());

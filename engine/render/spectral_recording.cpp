@@ -75,14 +75,14 @@ void SpectralResources::declareFrame() {
     const bool draws = !packed.draws.empty();
     if (hasDepthPrePass)
         frame.push_back({"depth pre-pass", "the scene's triangles", "the depth of the visible surface",
-                         depthPrePass.renderPass, depthPrePass.framebuffer.get(), extent, {farDepth},
+                         "vertex stage only; back faces culled for closed meshes seen from outside", depthPrePass.renderPass, depthPrePass.framebuffer.get(), extent, {farDepth},
                          [this, draws](VkCommandBuffer cmd) {
                              if (draws) drawDepth(cmd, *frameState);
                          }});
     if (hasLobePass)
         // The hemisphere lights' lobe integrals, once per pixel, for every band pass to read.
         frame.push_back({"lobe pass", "the depth; the lobe tables", "the hemisphere lights' lobe integrals per pixel",
-                         lobePass.renderPass, lobePass.framebuffer.get(), extent, {VkClearValue{}, VkClearValue{}},
+                         "LOBE_WRITE; specular materials' pipeline variants only", lobePass.renderPass, lobePass.framebuffer.get(), extent, {VkClearValue{}, VkClearValue{}},
                          [this, draws](VkCommandBuffer cmd) {
                              if (draws) drawScene(cmd, *frameState, lobePass.pipelines, 0, lobeDescriptorSet, true);
                          }});
@@ -99,6 +99,9 @@ void SpectralResources::declareFrame() {
                          plan.responses ? fmt::format("the detector's {} channel(s)", plan.bands)
                                         : fmt::format("bands {}–{} (layers {}–{})", first, last, po.firstLayer,
                                                       po.firstLayer + po.attachments - 1),
+                         fmt::format("OUTPUT_COUNT {}{}; a pipeline per material kind (specular, fluorescent, textured, "
+                                     "normal-mapped, culled)",
+                                     po.attachments, plan.responses ? ", SPEC_RESPONSES" : hasLobePass ? ", LOBE_READ" : ""),
                          po.renderPass, po.framebuffer.get(), extent, std::move(clears),
                          [this, p, draws](VkCommandBuffer cmd) {
                              if (draws) drawScene(cmd, *frameState, passes[p].pipelines, p, descriptorSet, false);

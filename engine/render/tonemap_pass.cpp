@@ -221,7 +221,9 @@ struct TonemapPass::Impl {
             {renderPass, pipelineLayout});
         // The one pass, declared (render/frame_pass.h): a full-screen triangle, every pixel written.
         pass = FramePass{"tonemap", "the spectral target (bands or detector responses)",
-                         "responses, XYZ and display counts (4 RGBA32F attachments)", renderPass.get(), framebuffer.get(),
+                         "responses, XYZ and display counts (4 RGBA32F attachments)",
+                         "the detector's channels, the tonemap mode, the display model, the input", renderPass.get(),
+                         framebuffer.get(),
                          {width, height}, {}, [this](VkCommandBuffer cmd) {
                              vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.get());
                              vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelineLayout.get(), 0, 1,
