@@ -53,4 +53,8 @@ fi
 if ! "$venv/bin/python" -c "import h5py, spectral" 2>/dev/null; then
   "${pip_in_venv[@]}" "h5py==3.13.0" "spectral==0.24" "numpy==2.2.6"
 fi
+# tmm (Byrnes' transfer-matrix method) is the independent oracle for the dielectric slabs.
+if ! "$venv/bin/python" -c "import tmm" 2>/dev/null; then
+  "${pip_in_venv[@]}" "tmm==0.2.0" "numpy==2.2.6"
+fi
 echo "metamer: set-up complete"
