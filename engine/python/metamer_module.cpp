@@ -158,6 +158,28 @@ std::optional<std::string> optionalString(const std::optional<std::string>& s) {
     return s && !s->empty() ? s : std::nullopt;
 }
 
+// render()'s docstring: what it does, then each keyword it shares with `metamer render`, with the
+// flag's own help (render/render_settings.h), so the two cannot drift.
+const std::string& renderDoc() {
+    static const std::string doc = [] {
+        std::string d =
+            "Renders a scene (a path, or a dict in the scene format) and keeps the outputs that `write` names "
+            "(default: the cube; also \"xyz\", \"responses\", \"display\"/\"png\", \"edges\") in memory; `format` is "
+            "the cube's containers for Render.save(); `name` and `base_dir` place a dict scene.\n\n"
+            "The keywords `metamer render` shares, with its help:\n";
+        const std::pair<const char*, const char*> shared[] = {
+            {"grid", "grid"},       {"overrides", "set"},       {"backend", "backend"},   {"detector", "detector"},
+            {"adapt", "adapt"},     {"display", "display"},     {"bits", "bits"},         {"integration", "integration"},
+            {"xyz", "xyz"},         {"mode", "mode"},           {"write", "write"},       {"resample", "resample"},
+            {"ssaa", "ssaa"},       {"validation", "validation"}, {"device", "device"},
+            {"allow_outside_paths", "allow-outside-paths"},     {"format", "format"}};
+        for (const auto& [keyword, flag] : shared)
+            d += std::string("  ") + keyword + " (--" + flag + "): " + renderSettingHelp(flag) + "\n";
+        return d;
+    }();
+    return doc;
+}
+
 std::shared_ptr<Render> render(const py::object& scene, const py::object& grid, const py::object& overrides,
                                const std::string& backend, const std::optional<std::string>& detector,
                                const std::optional<std::string>& adapt, const std::optional<std::string>& display,
@@ -429,9 +451,7 @@ PYBIND11_MODULE(metamer, m) {
           py::arg("write") = py::none(), py::arg("resample") = py::none(), py::arg("ssaa") = 1,
           py::arg("validation") = false, py::arg("device") = "", py::arg("allow_outside_paths") = false,
           py::arg("name") = "scene", py::arg("base_dir") = py::none(), py::arg("format") = py::none(),
-          "Renders a scene (a path, or a dict in the scene format) and keeps the outputs that `write` names "
-          "(default: the cube; also \"xyz\", \"responses\", \"display\"/\"png\", \"edges\") in memory. The other "
-          "arguments are `metamer render`'s flags; `format` is the cube's containers for Render.save().");
+          renderDoc().c_str());
     m.def("compare", &compare, py::arg("a"), py::arg("b"), py::kw_only(), py::arg("mask") = py::none(),
           py::arg("tolerance") = py::none(), py::arg("resample") = false, py::arg("detector") = "",
           py::arg("adapt") = "", py::arg("display") = "", py::arg("pixel_threshold") = py::none(),

@@ -317,3 +317,12 @@ def test_the_examples_in_docs_python_md_run(tmp_path, monkeypatch):
     assert (tmp_path / "out" / "spheres.h5").exists()
     assert namespace["stats"]["max_abs"] == 0
     assert namespace["sd"].name == "the matte sphere" and float(namespace["sd"].values.max()) > 0
+
+
+def test_render_keywords_carry_the_cli_help():
+    # One help text per option (render/render_settings.h): the keyword's doc is the flag's.
+    doc = metamer.render.__doc__
+    assert "detector (--detector): cie1931, cie1964, camera:<name>, film:<name> or csv:<path>" in doc
+    assert "overrides (--set): override a scene value" in doc
+    cli = subprocess.run([os.environ["METAMER_BINARY"], "render", "--help"], capture_output=True, text=True).stdout
+    assert "csv:<path> (default: the scene's output" in " ".join(cli.split())
