@@ -30,6 +30,8 @@ TEST(Dielectric, SlabAtNormalIncidenceHasTheTextbookValues) {
     EXPECT_NEAR(fresnelReflectance(1.0, 1.5, 1.0).unpolarized(), 0.04, 1e-15);
     EXPECT_NEAR(slab(1.5, 1.0, 1.0).transmittance, 0.9230769230769231, 1e-15);
     EXPECT_NEAR(slab(1.5, 1.0, 0.5).transmittance, 0.46098439375750304, 1e-15);
+    EXPECT_NEAR(slab(1.5, 1.0, 1.0).reflectance, 0.07692307692307693, 1e-15);  // 2R₁/(1 + R₁)
+    EXPECT_NEAR(slab(1.5, 1.0, 0.5).reflectance, 0.04921968787515006, 1e-15);
     const SlabReflectanceTransmittance clear = slab(1.5, 1.0, 1.0);
     EXPECT_NEAR(clear.reflectance + clear.transmittance, 1.0, 1e-15);  // nothing absorbed
 }
