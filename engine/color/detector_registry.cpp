@@ -11,7 +11,6 @@
 #include <cctype>
 #include <filesystem>
 #include <functional>
-#include <optional>
 
 namespace fs = std::filesystem;
 
@@ -135,56 +134,37 @@ Detector customCsv(const std::string& spec, const std::string& pathText, const G
     failInput(where, "unknown detector '{}' (known: {})", spec, known);
 }
 
-// One row per kind of detector spec: an exact name or a prefix ("camera:"), the specs it knows
-// (for help and suggestions; none for csv:, whose names are paths) and its maker, which returns
-// nothing when the name after the prefix is not one it knows.
+// One row per kind of detector spec: an exact name ("cie1931") or a prefix ("camera:"); for a
+// prefix, the names it knows after it (for help, suggestions and the check that a name exists;
+// none for csv:, whose names are paths), and its maker.
 struct DetectorMaker {
     std::string spec;  // the exact spec, or a prefix ending in ':'
-    std::function<std::vector<std::string>(const SpectrumLibrary&)> known;
-    std::function<std::optional<Detector>(const std::string& spec, const std::string& name, const SpectrumLibrary&,
-                                          const Grid&, Integration, const Where&)>
+    std::function<std::vector<std::string>(const SpectrumLibrary&)> names;  // a prefix's names; null: any
+    std::function<Detector(const std::string& spec, const std::string& name, const SpectrumLibrary&, const Grid&,
+                           Integration, const Where&)>
         make;
+    bool prefix() const { return !spec.empty() && spec.back() == ':'; }
 };
 
 const std::vector<DetectorMaker>& detectorMakers() {
     static const std::vector<DetectorMaker> makers = {
-        {"cie1931", [](const SpectrumLibrary&) { return std::vector<std::string>{"cie1931"}; },
+        {"cie1931", nullptr,
          [](const std::string& spec, const std::string&, const SpectrumLibrary& library, const Grid& grid,
-            Integration integration, const Where&) -> std::optional<Detector> {
+            Integration integration, const Where&) {
              return observerDetector(spec, kCie1931Observer, library, grid, integration);
          }},
-        {"cie1964", [](const SpectrumLibrary&) { return std::vector<std::string>{"cie1964"}; },
+        {"cie1964", nullptr,
          [](const std::string& spec, const std::string&, const SpectrumLibrary& library, const Grid& grid,
-            Integration integration, const Where&) -> std::optional<Detector> {
+            Integration integration, const Where&) {
              return observerDetector(spec, "observers/cie1964_10deg", library, grid, integration);
          }},
-        {kCsvPrefix, [](const SpectrumLibrary&) { return std::vector<std::string>{}; },
+        {kCsvPrefix, nullptr,
          [](const std::string& spec, const std::string& path, const SpectrumLibrary&, const Grid& grid,
-            Integration integration, const Where& where) -> std::optional<Detector> {
-             return customCsv(spec, path, grid, integration, where);
-         }},
-        {kCameraPrefix,
-         [](const SpectrumLibrary& library) {
-             std::vector<std::string> out;
-             for (const auto& c : cameraNames(library)) out.push_back(kCameraPrefix + c);
-             return out;
-         },
+            Integration integration, const Where& where) { return customCsv(spec, path, grid, integration, where); }},
+        {kCameraPrefix, cameraNames, camera},
+        {kFilmPrefix, filmNames,
          [](const std::string& spec, const std::string& name, const SpectrumLibrary& library, const Grid& grid,
-            Integration integration, const Where& where) -> std::optional<Detector> {
-             auto cams = cameraNames(library);
-             if (std::find(cams.begin(), cams.end(), name) == cams.end()) return std::nullopt;
-             return camera(spec, name, library, grid, integration, where);
-         }},
-        {kFilmPrefix,
-         [](const SpectrumLibrary& library) {
-             std::vector<std::string> out;
-             for (const auto& f : filmNames(library)) out.push_back(kFilmPrefix + f);
-             return out;
-         },
-         [](const std::string& spec, const std::string& name, const SpectrumLibrary& library, const Grid& grid,
-            Integration integration, const Where& where) -> std::optional<Detector> {
-             auto films = filmNames(library);
-             if (std::find(films.begin(), films.end(), name) == films.end()) return std::nullopt;
+            Integration integration, const Where& where) {
              Detector d = makeFilmLayers(name, library, grid, integration, where);
              d.name = spec;
              return d;
@@ -197,18 +177,24 @@ const std::vector<DetectorMaker>& detectorMakers() {
 
 std::vector<std::string> detectorNames(const SpectrumLibrary& library) {
     std::vector<std::string> names;
-    for (const DetectorMaker& m : detectorMakers())
-        for (const std::string& n : m.known(library)) names.push_back(n);
+    for (const DetectorMaker& m : detectorMakers()) {
+        if (!m.prefix()) names.push_back(m.spec);
+        else if (m.names)
+            for (const std::string& n : m.names(library)) names.push_back(m.spec + n);
+    }
     return names;
 }
 
 Detector makeDetector(const std::string& spec, const SpectrumLibrary& library, const Grid& grid,
                       Integration integration, const Where& where) {
     for (const DetectorMaker& m : detectorMakers()) {
-        const bool prefix = !m.spec.empty() && m.spec.back() == ':';
-        if (prefix ? !startsWith(spec, m.spec) : spec != m.spec) continue;
-        if (auto d = m.make(spec, prefix ? spec.substr(m.spec.size()) : spec, library, grid, integration, where))
-            return *d;
+        if (m.prefix() ? !startsWith(spec, m.spec) : spec != m.spec) continue;
+        const std::string name = m.prefix() ? spec.substr(m.spec.size()) : spec;
+        if (m.names) {
+            const std::vector<std::string> known = m.names(library);
+            if (std::find(known.begin(), known.end(), name) == known.end()) continue;
+        }
+        return m.make(spec, name, library, grid, integration, where);
     }
     unknownDetector(spec, library, where);
 }

@@ -154,10 +154,6 @@ std::vector<std::string> overrideList(const py::handle& value) {
     return stringList(value, "overrides");
 }
 
-std::optional<std::string> optionalString(const std::optional<std::string>& s) {
-    return s && !s->empty() ? s : std::nullopt;
-}
-
 // render()'s docstring: what it does, then each keyword it shares with `metamer render`, with the
 // flag's own help (render/render_settings.h), so the two cannot drift.
 const std::string& renderDoc() {

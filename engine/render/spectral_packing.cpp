@@ -132,7 +132,11 @@ PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes, const Loc
         PackedDraw d{uint32_t(p.indices.size()), uint32_t(mesh.indices.size()), int32_t(p.vertices.size()), mesh.material};
         d.closed = mesh.closed;
         glm::dvec3 lower(INFINITY), upper(-INFINITY);
-        for (const glm::dvec3& x : mesh.positions) lower = glm::min(lower, frame.position(x)), upper = glm::max(upper, frame.position(x));
+        for (const glm::dvec3& x : mesh.positions) {
+            const glm::dvec3 local = frame.position(x);
+            lower = glm::min(lower, local);
+            upper = glm::max(upper, local);
+        }
         d.lower = glm::vec3(lower);
         d.upper = glm::vec3(upper);
         auto vertex = [&p, &mesh, &frame](uint32_t i, const glm::dvec3& normal) {
