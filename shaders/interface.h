@@ -44,6 +44,8 @@ using mat4 = glm::mat4;
                                   // lobe tables, one per gloss
                                   // value of the scene's specular materials (shaders/lobe_lookup.h;
                                   // GpuMaterialBlock.params.w is a material's table's first entry)
+#define BINDING_OPAQUE_DEPTH 9    // sampler2D: the depth pre-pass's depth of the opaque surfaces, read by the
+                                  // transmission pass (transmit.frag) where a scene has transparent objects
 
 // Shadow maps (docs/physics.md, "Shadows"): D32 layers of SHADOW_MAP_SIZE², depth-compared with
 // no filtering; a fragment looks up its position pushed SHADOW_NORMAL_OFFSET texels along its face
@@ -141,6 +143,8 @@ struct GpuLightSpectraBlock {
 #define MATERIAL_DIFFUSE_TEXTURE 4u   // ρd (or its response) is multiplied by a texture
 #define MATERIAL_SPECULAR_TEXTURE 8u  // ρs (or its response) likewise
 #define MATERIAL_NORMAL_TEXTURE 16u   // a normal map perturbs the shading normal
+#define MATERIAL_FILTER 32u           // a thin sheet: multiplies what is behind it by transmittance[]
+#define MATERIAL_MEDIUM 64u           // an absorbing medium in a closed mesh: by exp2(−attenuation[]·ℓ)
 
 struct GpuMaterialBlock {
     vec4 diffuse[MAX_OUTPUTS];             // ρd
@@ -154,6 +158,12 @@ struct GpuMaterialBlock {
     vec4 lobe;                             // x: the first entry of its lobe table in BINDING_LOBE_TABLES,
                                            // −1 if none; y, z: the table's x1 warp (lobeWarp, lobe_lookup.h)
     vec4 coupling[MAX_LIGHTS / 4];         // per light: (Φ/π)·Σ a·E·λ·Δλ·2ˢ (fluorescence)
+    // Transparent materials (MATERIAL_FILTER, MATERIAL_MEDIUM; the transmission pass): a sheet's
+    // transmittance per crossing, and a medium's attenuation a·log2(10)·unit per unit of the local
+    // frame (a the decadic absorbance per metre, unit the frame's unit in metres), so that a path of
+    // ℓ units transmits exp2(−attenuation·ℓ). 0 for other materials.
+    vec4 transmittance[MAX_OUTPUTS];
+    vec4 attenuation[MAX_OUTPUTS];
 };
 
 // The response pass (SPEC_RESPONSES): every term's geometric factor is independent of wavelength,
@@ -186,7 +196,11 @@ struct GpuFluorescenceBlock {
 struct SpectralPushConstants {
     mat4 viewProjection;  // local frame → clip (Vulkan clip space, y down, depth 0..1)
     vec4 cameraPosition;  // xyz in the local frame; w = 1 perspective, 0 orthographic
-    vec4 cameraForward;   // xyz: unit view direction (orthographic view vector is -forward)
+    vec4 cameraForward;   // xyz: unit view direction (orthographic view vector is -forward); w: how a
+                          // depth z turns into a distance, far/(far − near) for a perspective camera
+                          // (view depth = w·near/(w − z)), far − near in units for an orthographic one
+    vec4 draw;            // the transmission pass, per draw: x = the distance (units) from the camera to
+                          // the nearest point of the mesh's bounds, from which a medium's path is measured
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -282,11 +296,11 @@ static_assert(sizeof(GpuLightBlock) == 32 * MAX_LIGHTS, "std140 layout");
 static_assert(sizeof(GpuShadowBlock) == 64 * MAX_SHADOW_LAYERS, "std140 layout");
 static_assert(sizeof(ShadowPushConstants) == 64, "push constants must match GLSL");
 static_assert(sizeof(GpuLightSpectraBlock) == 16384, "must fit the minimum maxUniformBufferRange");
-static_assert(sizeof(GpuMaterialBlock) == 16 * (3 * MAX_OUTPUTS + 3 + MAX_LIGHTS / 4), "std140 layout");
+static_assert(sizeof(GpuMaterialBlock) == 16 * (5 * MAX_OUTPUTS + 3 + MAX_LIGHTS / 4), "std140 layout");
 static_assert(sizeof(GpuFluorescenceBlock) == 16384, "must fit the minimum maxUniformBufferRange");
 static_assert(sizeof(GpuResponseBlock) <= 16384, "must fit the minimum maxUniformBufferRange");
 static_assert(4 * RESPONSE_VEC4 == TONEMAP_MAX_CHANNELS, "the response pass carries every detector channel");
-static_assert(sizeof(SpectralPushConstants) == 96, "push constants must match GLSL");
+static_assert(sizeof(SpectralPushConstants) == 112, "push constants must match GLSL (≤ 128, Vulkan's minimum)");
 }  // namespace metamer::gpu
 #endif
 

@@ -197,4 +197,28 @@ bool Bvh::occluded(const Ray& ray, double tMin, double tMax, uint32_t skip) cons
     return false;
 }
 
+std::vector<RayHit> Bvh::allHits(const Ray& ray, double tMin, double tMax) const {
+    std::vector<RayHit> hits;
+    if (nodes_.empty()) return hits;
+    double tEnter = 0.0;
+    if (!hitsBox(nodes_[0].lo, nodes_[0].hi, ray, tMin, tMax, tEnter)) return hits;
+    std::vector<uint32_t> stack{0};
+    while (!stack.empty()) {
+        const uint32_t self = stack.back();
+        const Node& node = nodes_[self];
+        stack.pop_back();
+        if (node.count > 0) {
+            for (uint32_t i = node.first; i < node.first + node.count; ++i)
+                if (auto h = intersectTriangle(triangles_[i], ray, tMin, tMax)) {
+                    h->index = i;
+                    hits.push_back(*h);
+                }
+            continue;
+        }
+        for (uint32_t child : {self + 1, node.first})
+            if (hitsBox(nodes_[child].lo, nodes_[child].hi, ray, tMin, tMax, tEnter)) stack.push_back(child);
+    }
+    return hits;
+}
+
 }  // namespace metamer

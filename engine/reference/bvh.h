@@ -56,6 +56,10 @@ public:
     // hit with t in (tMin, tMax): the shadow ray's question, answered at the first hit found.
     bool occluded(const Ray& ray, double tMin, double tMax, uint32_t skip) const;
 
+    // Every hit with t in (tMin, tMax), in no particular order (the transparent surfaces a ray
+    // crosses before the opaque one it ends on).
+    std::vector<RayHit> allHits(const Ray& ray, double tMin, double tMax) const;
+
     const std::vector<BvhTriangle>& triangles() const { return triangles_; }
     size_t nodeCount() const { return nodes_.size(); }
     int depth() const { return depth_; }

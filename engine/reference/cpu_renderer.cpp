@@ -59,6 +59,14 @@ void bilinear(const TextureOnGrid& t, const glm::dvec2& uv, double* out) {
         out[c] = (1 - fy) * ((1 - fx) * t00[c] + fx * t10[c]) + fy * ((1 - fx) * t01[c] + fx * t11[c]);
 }
 
+// The triangles of the opaque meshes, or of the transparent ones.
+std::vector<BvhTriangle> trianglesOf(const Scene& scene, const LocalFrame& frame, bool transparent) {
+    std::vector<BvhTriangle> all = Bvh::collectTriangles(scene, frame), kept;
+    for (const BvhTriangle& t : all)
+        if (scene.materials[scene.meshes[t.mesh].material].isTransparent() == transparent) kept.push_back(t);
+    return kept;
+}
+
 }  // namespace
 
 ReferenceRenderer::ReferenceRenderer(const Scene& scene, const SceneOnGrid& onGrid,
@@ -69,7 +77,8 @@ ReferenceRenderer::ReferenceRenderer(const Scene& scene, const SceneOnGrid& onGr
       bands_(onGrid.grid.bands()),
       frame_((checkMeshes(scene), localFrameFor(scene, scene.camera))),
       camera_(frame_.camera(scene.camera)),
-      bvh_(Bvh::collectTriangles(scene, frame_)) {
+      bvh_(trianglesOf(scene, frame_, false)),
+      clearBvh_(trianglesOf(scene, frame_, true)) {
     if (options_.ssaa < 1 || options_.ssaa > 64)
         failInput(Where{"", "ssaa", 0}, "supersampling {} is outside 1..64", options_.ssaa);
     if (options_.threads < 0)
@@ -107,9 +116,10 @@ ReferenceRenderer::ReferenceRenderer(const Scene& scene, const SceneOnGrid& onGr
     for (const Light& light : scene.lights) lightPositions_.push_back(frame_.position(light.position));
     const bool hemisphereLights = std::any_of(scene.lights.begin(), scene.lights.end(),
                                               [](const Light& l) { return l.type == Light::Type::Hemisphere; });
-    for (const BvhTriangle& t : bvh_.triangles())
-        for (const glm::dvec3& p : {t.p0, t.p1, t.p2})
-            sceneScale_ = std::max({sceneScale_, std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)});
+    for (const Bvh* b : {&bvh_, &clearBvh_})
+        for (const BvhTriangle& t : b->triangles())
+            for (const glm::dvec3& p : {t.p0, t.p1, t.p2})
+                sceneScale_ = std::max({sceneScale_, std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)});
 
     // View-independent spectral factors, per (material, light). A hemisphere light's spectrum is
     // its radiance L; its geometric factors (below) make the diffuse term ρd·L·(1 + n·u)/2.
@@ -181,8 +191,66 @@ int32_t ReferenceRenderer::trace(const Ray& ray, double* radiance, uint64_t* blo
     if (!hit) return kBackgroundId;
     uint64_t b = 0;
     shade(*hit, ray, radiance, b);
+    if (!clearBvh_.triangles().empty()) transmit(ray, hit->t, radiance);
     if (blocked) *blocked = b;
     return static_cast<int32_t>(bvh_.triangles()[hit->index].mesh);
+}
+
+// Straight through (docs/physics.md, "Transparent objects"): every crossing of a sheet multiplies
+// by T(λ); every medium multiplies by 10^(−a(λ)·ℓ), ℓ the length of the ray inside its mesh before
+// tEnd — entered where the ray meets a face from outside (against its outward normal), left where
+// it meets one from inside; a ray that leaves first started inside (the camera is in the medium).
+// Each mesh counts on its own, so overlapping media multiply. A ray through an edge meets both
+// triangles at the same t: hits of one mesh, on the same side, within 1e-9 of the scene's size
+// count once, as a rasterizer covers a pixel by one of the two.
+void ReferenceRenderer::transmit(const Ray& ray, double tEnd, double* radiance) const {
+    std::vector<RayHit> hits = clearBvh_.allHits(ray, kRayTMin, tEnd);
+    if (hits.empty()) return;
+    const auto& tris = clearBvh_.triangles();
+    auto entering = [&](const RayHit& h) {
+        const BvhTriangle& t = tris[h.index];
+        return glm::dot(glm::cross(t.p1 - t.p0, t.p2 - t.p0), ray.direction) < 0.0;
+    };
+    std::sort(hits.begin(), hits.end(), [](const RayHit& a, const RayHit& b) { return a.t < b.t; });
+    const double same = 1e-9 * std::max(sceneScale_, tEnd);
+    struct Inside {
+        uint32_t mesh;
+        int depth;
+        double since, length;
+    };
+    std::vector<Inside> media;
+    thread_local std::vector<double> factor;
+    factor.assign(size_t(bands_), 1.0);
+    for (size_t i = 0; i < hits.size(); ++i) {
+        const RayHit& h = hits[i];
+        const uint32_t mesh = tris[h.index].mesh;
+        const bool in = entering(h);
+        bool repeated = false;
+        for (size_t j = i; j-- > 0 && h.t - hits[j].t <= same;)
+            repeated = repeated || (tris[hits[j].index].mesh == mesh && entering(hits[j]) == in);
+        if (repeated) continue;
+        const MaterialOnGrid& mat = onGrid_.materials[scene_.meshes[mesh].material];
+        if (mat.isFilter()) {
+            for (int b = 0; b < bands_; ++b) factor[size_t(b)] *= mat.transmittance[size_t(b)];
+            continue;
+        }
+        auto it = std::find_if(media.begin(), media.end(), [&](const Inside& m) { return m.mesh == mesh; });
+        if (it == media.end()) it = media.insert(media.end(), Inside{mesh, 0, 0.0, 0.0});
+        if (in) {
+            if (it->depth++ == 0) it->since = h.t;
+        } else if (it->depth == 0) {
+            it->length += h.t;  // inside from the ray's start
+        } else if (--it->depth == 0) {
+            it->length += h.t - it->since;
+        }
+    }
+    for (Inside& m : media) {
+        if (m.depth > 0) m.length += tEnd - m.since;  // the opaque surface lies inside the medium
+        const MaterialOnGrid& mat = onGrid_.materials[scene_.meshes[m.mesh].material];
+        const double metres = m.length * frame_.unit_m();
+        for (int b = 0; b < bands_; ++b) factor[size_t(b)] *= std::pow(10.0, -mat.absorbance[size_t(b)] * metres);
+    }
+    for (int b = 0; b < bands_; ++b) radiance[b] *= factor[size_t(b)];
 }
 
 // A shadow ray from the hit point towards the light: any triangle but the one it leaves, past

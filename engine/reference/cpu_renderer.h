@@ -1,6 +1,7 @@
 // The CPU reference renderer: ray casting in double precision, one ray per sub-sample, local
 // illumination (one scattering event: no interreflection), with exact shadow rays through the BVH
-// for directional and point lights. It shares only the Scene model and the
+// for directional and point lights. Rays pass straight through transparent objects (filters and
+// absorbing media), which multiply what is behind them band by band. It shares only the Scene model and the
 // SceneOnGrid spectra with the GPU path and produces the goldens the GPU is checked against.
 // Every convention (camera, pixels, shading) is spelled out in docs/physics.md.
 #pragma once
@@ -69,6 +70,9 @@ private:
     void shade(const RayHit& hit, const Ray& ray, double* radiance, uint64_t& blocked) const;
     // Whether light l is blocked between p (on triangle `triangle`) and the light, along w.
     bool inShadow(size_t l, const glm::dvec3& p, const glm::dvec3& w, uint32_t triangle) const;
+    // Multiplies `radiance` by the transmittance of the transparent surfaces and media the ray
+    // crosses before t = tEnd (the opaque surface it ends on).
+    void transmit(const Ray& ray, double tEnd, double* radiance) const;
 
     const Scene& scene_;
     const SceneOnGrid& onGrid_;
@@ -76,7 +80,8 @@ private:
     int bands_ = 0;
     LocalFrame frame_;  // positions below are in its units: the camera's, the lights', the BVH's
     Camera camera_;
-    Bvh bvh_;
+    Bvh bvh_;       // the opaque triangles: primary hits and shadow rays
+    Bvh clearBvh_;  // the transparent ones (filters and media), crossed on the way to an opaque hit
     std::vector<glm::dvec3> lightPositions_;  // per light, in the frame (point lights')
 
     // Camera basis and projection scale (docs/physics.md, "Camera").

@@ -111,7 +111,8 @@ void SpectralResources::createShadowMaps() {
                  gpu::ShadowPushConstants pc{packed.shadowBlock.layers[l]};
                  vkCmdPushConstants(cmd, layout, VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof pc, &pc);
                  for (const PackedDraw& draw : packed.draws)
-                     vkCmdDrawIndexed(cmd, draw.indexCount, 1, draw.firstIndex, draw.vertexOffset, 0);
+                     if (!draw.transparent)  // light passes through filters and media (no coloured shadows yet)
+                         vkCmdDrawIndexed(cmd, draw.indexCount, 1, draw.firstIndex, draw.vertexOffset, 0);
              }});
     ctx.submitAndWait([&](VkCommandBuffer cmd) {
         for (const FramePass& pass : shadowPasses) recordFramePass(cmd, pass);

@@ -121,7 +121,8 @@ std::vector<size_t> lightOrder(const Scene& scene, PackedScene& p) {
 uint32_t materialSwitches(const MaterialOnGrid& m, bool specular) {
     return (m.fluorescent ? MATERIAL_FLUORESCENT : 0u) | (specular ? MATERIAL_SPECULAR : 0u) |
            (m.diffuseTexture >= 0 ? MATERIAL_DIFFUSE_TEXTURE : 0u) |
-           (m.specularTexture >= 0 ? MATERIAL_SPECULAR_TEXTURE : 0u) | (m.normalTexture >= 0 ? MATERIAL_NORMAL_TEXTURE : 0u);
+           (m.specularTexture >= 0 ? MATERIAL_SPECULAR_TEXTURE : 0u) | (m.normalTexture >= 0 ? MATERIAL_NORMAL_TEXTURE : 0u) |
+           (m.isFilter() ? MATERIAL_FILTER : 0u) | (m.isMedium() ? MATERIAL_MEDIUM : 0u);
 }
 
 PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes, const LocalFrame& frame) {
@@ -131,6 +132,7 @@ PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes, const Loc
         if (mesh.indices.empty()) continue;
         PackedDraw d{uint32_t(p.indices.size()), uint32_t(mesh.indices.size()), int32_t(p.vertices.size()), mesh.material};
         d.closed = mesh.closed;
+        d.transparent = scene.materials[mesh.material].isTransparent();
         glm::dvec3 lower(INFINITY), upper(-INFINITY);
         for (const glm::dvec3& x : mesh.positions) {
             const glm::dvec3 local = frame.position(x);
@@ -231,11 +233,14 @@ PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes, const Loc
         }
         return it->second;
     };
-    std::vector<double> emissionOverLambda;
+    std::vector<double> emissionOverLambda, attenuation;
     for (size_t mi = 0; mi < g.materials.size(); ++mi) {
         const MaterialOnGrid& m = g.materials[mi];
         bool specular = std::any_of(m.specular.begin(), m.specular.end(), [](double v) { return v != 0.0; });
         const float lobeTableBase = lobeTable(m, specular);
+        // A medium's attenuation per unit of the frame, for exp2: a·log2(10)·unit (m⁻¹ × m).
+        attenuation.clear();
+        for (double a : m.absorbance) attenuation.push_back(a * std::log2(10.0) * frame.unit_m());
         // View-independent fluorescence coupling per light, (Φ/π)·Σ a·E_l·λ·Δλ, summed in double
         // so the shader only multiplies by the light's geometric factor.
         std::vector<float> coupling(MAX_LIGHTS, 0.0f);
@@ -268,6 +273,8 @@ PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes, const Loc
             b.lobe = glm::vec4(lobeTableBase, glm::vec2(lobeWarp(m.gloss)), 0.0f);
             b.switches = glm::uvec4(materialSwitches(m, specular), 0u, 0u, 0u);
             for (int l = 0; l < MAX_LIGHTS; ++l) b.coupling[l / 4][l % 4] = coupling[l];
+            scatterBands(m.transmittance, pass, b.transmittance);
+            scatterBands(attenuation, pass, b.attenuation);
         }
     }
     packFluorescence(p, scene, g, order, passes);

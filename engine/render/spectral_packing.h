@@ -23,6 +23,7 @@ struct PackedDraw {
     int32_t vertexOffset;
     uint32_t material;
     bool closed = false;
+    bool transparent = false;  // a filter or medium: drawn by the transmission pass only
     glm::vec3 lower{0.0f}, upper{0.0f};
 };
 

@@ -22,6 +22,20 @@ bool SpectralFrameState::cullable(const PackedDraw& d) const {
     return true;
 }
 
+float SpectralFrameState::nearestDistance(const PackedDraw& d) const {
+    if (camera.perspective) {
+        const glm::vec3 nearest = glm::clamp(camera.position, d.lower, d.upper);
+        return glm::length(nearest - camera.position);
+    }
+    float nearest = INFINITY;  // orthographic: distances are measured from the camera plane
+    for (int corner = 0; corner < 8; ++corner) {
+        const glm::vec3 p(corner & 1 ? d.upper.x : d.lower.x, corner & 2 ? d.upper.y : d.lower.y,
+                          corner & 4 ? d.upper.z : d.lower.z);
+        nearest = std::min(nearest, glm::dot(p - camera.position, camera.forward));
+    }
+    return nearest;
+}
+
 void SpectralResources::bindGeometry(VkCommandBuffer cmd, const SpectralFrameState& f) const {
     const VkDeviceSize zero = 0;
     const VkBuffer vb = vertexBuffer.handle();
@@ -36,6 +50,7 @@ void SpectralResources::drawDepth(VkCommandBuffer cmd, const SpectralFrameState&
     bindGeometry(cmd, f);
     VkPipeline bound = depthPrePass.pipelines[0];
     for (const PackedDraw& d : packed.draws) {
+        if (d.transparent) continue;  // the opaque surfaces' depth only: transparent ones are seen through
         const VkPipeline pipeline = depthPrePass.pipelines[f.cullable(d) ? 1 : 0];
         if (pipeline != bound) vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, bound = pipeline);
         vkCmdDrawIndexed(cmd, d.indexCount, 1, d.firstIndex, d.vertexOffset, 0);
@@ -48,6 +63,7 @@ void SpectralResources::drawScene(VkCommandBuffer cmd, const SpectralFrameState&
     const size_t materials = packed.materials.size() / passes.size();
     VkPipeline bound = VK_NULL_HANDLE;
     for (const PackedDraw& d : packed.draws) {
+        if (d.transparent) continue;  // drawn by the transmission pass
         const int32_t culled = materialCulledVariant[d.material];
         const uint32_t variant = culled >= 0 && f.cullable(d) ? uint32_t(culled) : materialVariant[d.material];
         if (specularOnly && !variants[variant].specular) continue;
@@ -64,6 +80,23 @@ void SpectralResources::drawScene(VkCommandBuffer cmd, const SpectralFrameState&
         vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelineLayout.get(), 0, 1, &set0, 4, offsets);
         vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelineLayout.get(), 1, 1,
                                 &materialSets[d.material], 0, nullptr);
+        vkCmdDrawIndexed(cmd, d.indexCount, 1, d.firstIndex, d.vertexOffset, 0);
+    }
+}
+
+void SpectralResources::drawTransparent(VkCommandBuffer cmd, const SpectralFrameState& f, size_t p) const {
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, transmissionPasses[p].pipelines[0]);
+    bindGeometry(cmd, f);
+    const size_t materials = packed.materials.size() / passes.size();
+    for (const PackedDraw& d : packed.draws) {
+        if (!d.transparent) continue;
+        gpu::SpectralPushConstants pc = f.pc;
+        pc.draw = glm::vec4(f.nearestDistance(d), 0.0f, 0.0f, 0.0f);
+        vkCmdPushConstants(cmd, pipelineLayout.get(), VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
+                           sizeof pc, &pc);
+        const uint32_t offsets[4] = {uint32_t(p * lightSpectraStride), uint32_t((p * materials + d.material) * materialStride),
+                                     0u, 0u};
+        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelineLayout.get(), 0, 1, &descriptorSet, 4, offsets);
         vkCmdDrawIndexed(cmd, d.indexCount, 1, d.firstIndex, d.vertexOffset, 0);
     }
 }
@@ -106,6 +139,15 @@ void SpectralResources::declareFrame() {
                          [this, p, draws](VkCommandBuffer cmd) {
                              if (draws) drawScene(cmd, *frameState, passes[p].pipelines, p, descriptorSet, false);
                          }});
+        if (!hasTransmission) continue;
+        const PassObjects& to = transmissionPasses[p];
+        std::vector<VkClearValue> none(to.attachments + 1);
+        frame.push_back({fmt::format("transmission pass {}", p), "band pass " + std::to_string(p) + "'s radiance; the opaque depth",
+                         fmt::format("layers {}–{} × the transparent surfaces' transmittance", to.firstLayer,
+                                     to.firstLayer + to.attachments - 1),
+                         fmt::format("transmit.frag, OUTPUT_COUNT {}; blend destination × source", to.attachments),
+                         to.renderPass, to.framebuffer.get(), extent, std::move(none),
+                         [this, p](VkCommandBuffer cmd) { drawTransparent(cmd, *frameState, p); }});
     }
 }
 
@@ -115,7 +157,10 @@ void recordSpectralFrame(VkCommandBuffer cmd, const SpectralResources& r, const 
     SpectralFrameState state{camera, {}};
     state.pc.viewProjection = camera.viewProjection;
     state.pc.cameraPosition = glm::vec4(camera.position, camera.perspective ? 1.0f : 0.0f);
-    state.pc.cameraForward = glm::vec4(camera.forward, 0.0f);
+    // How transmit.frag turns a depth into a distance (interface.h, SpectralPushConstants::cameraForward).
+    const double depthToDistance = camera.perspective ? camera.farPlane / (camera.farPlane - camera.nearPlane)
+                                                      : camera.farPlane - camera.nearPlane;
+    state.pc.cameraForward = glm::vec4(camera.forward, float(depthToDistance));
     {
         // Zero every layer (background radiance is 0), in GENERAL, then let the colour passes load it.
         const uint32_t layers = uint32_t(plan.layers);

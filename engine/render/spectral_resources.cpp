@@ -14,6 +14,14 @@
 #include "spectral.frag.6.spv.h"
 #include "spectral.frag.7.spv.h"
 #include "spectral.frag.8.spv.h"
+#include "transmit.frag.1.spv.h"
+#include "transmit.frag.2.spv.h"
+#include "transmit.frag.3.spv.h"
+#include "transmit.frag.4.spv.h"
+#include "transmit.frag.5.spv.h"
+#include "transmit.frag.6.spv.h"
+#include "transmit.frag.7.spv.h"
+#include "transmit.frag.8.spv.h"
 #include "spectral.vert.spv.h"
 
 #include <algorithm>
@@ -35,12 +43,23 @@ const SpirvCode kSpectralFrag[MAX_OUTPUTS] = {
     {kSpirv_spectral_frag_5, sizeof(kSpirv_spectral_frag_5)}, {kSpirv_spectral_frag_6, sizeof(kSpirv_spectral_frag_6)},
     {kSpirv_spectral_frag_7, sizeof(kSpirv_spectral_frag_7)}, {kSpirv_spectral_frag_8, sizeof(kSpirv_spectral_frag_8)},
 };
+// transmit.frag likewise.
+const SpirvCode kTransmitFrag[MAX_OUTPUTS] = {
+    {kSpirv_transmit_frag_1, sizeof(kSpirv_transmit_frag_1)}, {kSpirv_transmit_frag_2, sizeof(kSpirv_transmit_frag_2)},
+    {kSpirv_transmit_frag_3, sizeof(kSpirv_transmit_frag_3)}, {kSpirv_transmit_frag_4, sizeof(kSpirv_transmit_frag_4)},
+    {kSpirv_transmit_frag_5, sizeof(kSpirv_transmit_frag_5)}, {kSpirv_transmit_frag_6, sizeof(kSpirv_transmit_frag_6)},
+    {kSpirv_transmit_frag_7, sizeof(kSpirv_transmit_frag_7)}, {kSpirv_transmit_frag_8, sizeof(kSpirv_transmit_frag_8)},
+};
 
 }  // namespace
 
 SpectralResources::SpectralResources(vk::Context& c, const Scene& s, const SceneOnGrid& spectra,
                                      const PackedScene& p, SpectralPassPlan& pl, const SpectralPassOptions& options)
     : ctx(c), scene(s), packed(p), plan(pl) {
+    hasTransmission = std::any_of(packed.draws.begin(), packed.draws.end(), [](const PackedDraw& d) { return d.transparent; });
+    if (hasTransmission && packed.responses)
+        failRuntime("the response pass cannot show transparent objects (radiance through a filter is not linear in "
+                    "each material's spectra): render bands (render/display_frame.cpp does)");
     createBuffers();
     createShadowMaps();
     // The response pass reads response textures (render/spectral_packing.h) instead of spectral ones.
@@ -234,14 +253,14 @@ void SpectralResources::createTargets(Readback mode, bool sampled, SpectralPassP
     dd.format = VK_FORMAT_D32_SFLOAT;
     dd.width = w;
     dd.height = h;
-    dd.usage = VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT;
+    dd.usage = VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | (hasTransmission ? VK_IMAGE_USAGE_SAMPLED_BIT : 0);
     dd.name = "depth";
     depth = vk::Image(ctx, dd);
 }
 
 void SpectralResources::createLayouts() {
     VkDevice d = ctx.device();
-    constexpr int kBindings = 9;
+    constexpr int kBindings = 10;
     constexpr int kDynamic = 4;  // bindings 1..4
     VkDescriptorSetLayoutBinding bindings[kBindings] = {
         {BINDING_LIGHTS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
@@ -253,6 +272,7 @@ void SpectralResources::createLayouts() {
         {BINDING_SHADOW_MAP, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
         {BINDING_LOBE_WEIGHTS, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
         {BINDING_LOBE_TABLES, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
+        {BINDING_OPAQUE_DEPTH, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
     };
     VkDescriptorSetLayoutCreateInfo sl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
     sl.bindingCount = kBindings;
@@ -280,7 +300,7 @@ void SpectralResources::createLayouts() {
     // Two sets 0 (the band passes' and the lobe pass's), one set 1 per material.
     VkDescriptorPoolSize sizes[4] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 2 * 2},
                                      {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC, 2 * kDynamic},
-                                     {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, TEXTURE_BINDINGS * materialCount + 2 * 2},
+                                     {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, TEXTURE_BINDINGS * materialCount + 2 * 3},
                                      {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 2}};
     VkDescriptorPoolCreateInfo pci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     pci.maxSets = 2 + materialCount;
@@ -306,6 +326,7 @@ void SpectralResources::createLayouts() {
         {shadowBuffer.handle(), 0, sizeof(gpu::GpuShadowBlock)},
         {},
         {},
+        {},
         {}};
     const VkBufferView view = lobeTableView.get();
     const VkDescriptorImageInfo shadowInfo{shadowSampler.get(), shadowMap.layerView(~0u),
@@ -323,6 +344,11 @@ void SpectralResources::createLayouts() {
     const VkDescriptorImageInfo lobeInfo =
         hasLobePass ? VkDescriptorImageInfo{sampler, lobeWeights.layerView(0), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL}
                     : placeholderInfo;
+    // The opaque depth, where a transmission pass samples it (read-only while it stays attached);
+    // else the placeholder, never read.
+    const VkDescriptorImageInfo opaqueDepthInfo =
+        hasTransmission ? VkDescriptorImageInfo{sampler, depth.layerView(0), VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL}
+                        : placeholderInfo;
     for (VkDescriptorSet set : {descriptorSet, lobeDescriptorSet}) {
         if (set == VK_NULL_HANDLE) continue;
         VkWriteDescriptorSet writes[kBindings];
@@ -336,6 +362,8 @@ void SpectralResources::createLayouts() {
                 writes[i].pImageInfo = &shadowInfo;
             else if (bindings[i].binding == BINDING_LOBE_WEIGHTS)
                 writes[i].pImageInfo = set == descriptorSet ? &lobeInfo : &placeholderInfo;
+            else if (bindings[i].binding == BINDING_OPAQUE_DEPTH)
+                writes[i].pImageInfo = &opaqueDepthInfo;
             else if (bindings[i].binding == BINDING_LOBE_TABLES)
                 writes[i].pTexelBufferView = &view;
             else
@@ -552,7 +580,91 @@ void SpectralResources::createPasses() {
         passes.push_back(std::move(po));
     }
     if (hasLobePass) createLobePass();
+    if (hasTransmission) createTransmissionPasses();
     declareFrame();
+}
+
+// After band pass p, on its layers: colours loaded and blended (destination × source), the depth
+// attached read-only (moved to DEPTH_STENCIL_READ_ONLY_OPTIMAL for the pass and back, so the band
+// passes find it as they left it) and sampled by transmit.frag; no depth test.
+void SpectralResources::createTransmissionPasses() {
+    const VkImageLayout targetLayout = plan.mappedReadback ? VK_IMAGE_LAYOUT_GENERAL : VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+    VkRenderPass rpFull = VK_NULL_HANDLE, rpLast = VK_NULL_HANDLE;
+    VkPipeline plFull = VK_NULL_HANDLE, plLast = VK_NULL_HANDLE;
+    for (const PassObjects& band : passes) {
+        PassObjects po;
+        po.firstLayer = band.firstLayer;
+        po.attachments = band.attachments;
+        const bool full = po.attachments == MAX_OUTPUTS;
+        VkRenderPass& rp = full ? rpFull : rpLast;
+        VkPipeline& pl = full ? plFull : plLast;
+        if (rp == VK_NULL_HANDLE) {
+            vk::RenderPassDesc desc;
+            for (uint32_t i = 0; i < po.attachments; ++i)
+                desc.colors.push_back({VK_FORMAT_R32G32B32A32_SFLOAT, VK_ATTACHMENT_LOAD_OP_LOAD, VK_ATTACHMENT_STORE_OP_STORE,
+                                       targetLayout, targetLayout});
+            desc.depth = vk::AttachmentDesc{VK_FORMAT_D32_SFLOAT, VK_ATTACHMENT_LOAD_OP_LOAD, VK_ATTACHMENT_STORE_OP_STORE,
+                                            VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
+                                            VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
+            desc.depthReadOnly = true;
+            // The band pass's colour writes and the pre-pass's depth writes, before this pass blends and samples.
+            desc.dependencies.push_back(
+                {true, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT,
+                 VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT |
+                     VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT,
+                 VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
+                 VK_ACCESS_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_SHADER_READ_BIT |
+                     VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT});
+            // … and before the next band pass tests depth and writes its colours.
+            desc.dependencies.push_back(
+                {false, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
+                 VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT |
+                     VK_PIPELINE_STAGE_TRANSFER_BIT,
+                 VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_SHADER_READ_BIT,
+                 VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT |
+                     VK_ACCESS_TRANSFER_READ_BIT});
+            renderPasses.push_back(vk::sharedRenderPass(
+                ctx.objects(), fmt::format("spectral.transmission attachments={} mapped={}", po.attachments, plan.mappedReadback),
+                desc));
+            rp = renderPasses.back().get();
+            vk::GraphicsPipelineDesc d;
+            d.renderPass = rp;
+            d.layout = pipelineLayout.get();
+            d.vertex = vert.get();
+            using V = gpu::SpectralVertex;
+            d.bindings = {{0, sizeof(V), VK_VERTEX_INPUT_RATE_VERTEX}};
+            d.attributes = {{VERTEX_POSITION, 0, VK_FORMAT_R32G32B32_SFLOAT, uint32_t(offsetof(V, position))},
+                            {VERTEX_NORMAL, 0, VK_FORMAT_R32G32B32_SFLOAT, uint32_t(offsetof(V, normal))},
+                            {VERTEX_UV, 0, VK_FORMAT_R32G32_SFLOAT, uint32_t(offsetof(V, uv))},
+                            {VERTEX_TANGENT, 0, VK_FORMAT_R32G32B32A32_SFLOAT, uint32_t(offsetof(V, tangent))}};
+            d.width = plan.targetWidth;
+            d.height = plan.targetHeight;
+            d.colorAttachments = po.attachments;
+            d.multiplyBlend = true;
+            d.depthAttached = true;
+            d.cache = ctx.pipelineCache();
+            const std::string key = fmt::format("spectral.transmission attachments={} {}x{} pass={} layout={}", po.attachments,
+                                                d.width, d.height, static_cast<void*>(rp),
+                                                static_cast<void*>(pipelineLayout.get()));
+            pipelines.push_back(ctx.objects().pipeline(
+                key,
+                [&] {
+                    const SpirvCode& code = kTransmitFrag[po.attachments - 1];
+                    const vk::OwnedShaderModule frag(ctx.device(), vk::createShaderModule(ctx.device(), code.code, code.bytes));
+                    d.fragment = frag.get();
+                    return vk::createGraphicsPipeline(ctx.device(), d);
+                },
+                {renderPasses.back(), pipelineLayout}));
+            pl = pipelines.back().get();
+        }
+        po.renderPass = rp;
+        po.pipelines = {pl};
+        std::vector<VkImageView> views;
+        for (uint32_t i = 0; i < po.attachments; ++i) views.push_back(color.layerView(po.firstLayer + i));
+        views.push_back(depth.layerView(0));
+        po.framebuffer = vk::createFramebuffer(ctx.device(), rp, views, plan.targetWidth, plan.targetHeight);
+        transmissionPasses.push_back(std::move(po));
+    }
 }
 
 // The lobe pass: one RGBA32F attachment, the pre-pass's depth loaded and tested EQUAL (each

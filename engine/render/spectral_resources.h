@@ -33,6 +33,9 @@ struct SpectralFrameState {
     gpu::SpectralPushConstants pc;
     // Whether the draw's back faces may be culled from this camera (a closed mesh seen whole from outside).
     bool cullable(const PackedDraw& d) const;
+    // The distance (units) along the view from the camera to the nearest point of the draw's bounds:
+    // 0 from inside them.
+    float nearestDistance(const PackedDraw& d) const;
 };
 
 struct SpectralResources {
@@ -114,6 +117,11 @@ struct SpectralResources {
     bool hasDepthPrePass = true;
     PassObjects depthPrePass, lobePass;
     std::vector<PassObjects> passes;
+    // The transmission passes (shaders/transmit.frag), one after each band pass where the scene has
+    // transparent objects: the same layers, blended destination × source, with the pre-pass's depth
+    // held read-only and sampled (BINDING_OPAQUE_DEPTH). A pipeline each, no material variants.
+    bool hasTransmission = false;
+    std::vector<PassObjects> transmissionPasses;
 
     // The frame as a list of declared passes (render/frame_pass.h), recorded in order by
     // recordSpectralFrame: each names what it reads and writes, its render pass, framebuffer and
@@ -140,6 +148,7 @@ private:
                                           bool writesDepth, int lobeMode);
     void classifyDraws();
     void createLobePass();
+    void createTransmissionPasses();
     void createPasses();
     void declareFrame();
     // The draws the frame's passes record.
@@ -151,6 +160,9 @@ private:
     // the draws of materials with a specular lobe (the lobe pass: nothing else reads its weights).
     void drawScene(VkCommandBuffer cmd, const SpectralFrameState& f, const std::vector<VkPipeline>& pipelines, size_t p,
                    VkDescriptorSet set0, bool specularOnly) const;
+    // The transparent draws of transmission pass p, each with its material's pass-p bands and the
+    // distance its medium's path is measured from (SpectralPushConstants::draw).
+    void drawTransparent(VkCommandBuffer cmd, const SpectralFrameState& f, size_t p) const;
 };
 
 // A frame's commands: clear the target, record the declared passes in order (SpectralResources::

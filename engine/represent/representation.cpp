@@ -342,7 +342,14 @@ SceneOnGrid represent(const SceneOnGrid& spectra, const Representation& r, const
                  fmt::format("the {} mode has no wavelengths: fluorescence is left out", r.mode.name()));
         forEachSpectrum(g, [&](std::vector<double>& values, MaterialSpectrum kind, const char*) {
             switch (kind) {
-                case MaterialSpectrum::Reflectance: values = metamer::apply(r.reflectanceAnalysis, values); return;
+                // A transmittance multiplies like a reflectance; an absorbance is analysed the same
+                // way, as an RGB renderer carries an absorption coefficient per channel (the
+                // exponential is taken of the reduced channels, not reduced after: the mode's error).
+                case MaterialSpectrum::Reflectance:
+                case MaterialSpectrum::Transmittance:
+                case MaterialSpectrum::Absorbance:
+                    if (!values.empty()) values = metamer::apply(r.reflectanceAnalysis, values);
+                    return;
                 case MaterialSpectrum::Absorptance:
                 case MaterialSpectrum::Emission:
                 case MaterialSpectrum::Matrix: values.clear(); return;

@@ -14,6 +14,12 @@ bool Scene::hasSpecular() const {
     return false;
 }
 
+bool Scene::hasTransparency() const {
+    for (const auto& m : materials)
+        if (m.isTransparent()) return true;
+    return false;
+}
+
 bool Scene::hasTextures() const {
     for (const auto& m : materials)
         if (m.textures.diffuse >= 0 || m.textures.specular >= 0) return true;

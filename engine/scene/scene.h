@@ -110,6 +110,23 @@ struct Material {
     double gloss = 0.0;       // Blinn–Phong exponent n (≥ 0)
     std::optional<Fluorescence> fluorescence;
     MaterialTextures textures;
+    // Transparent materials (docs/physics.md, "Transparent objects") reflect nothing and change what
+    // is seen through them, band by band. A thin sheet (a gel, a printed transparency) multiplies by
+    // its transmittance T(λ) at each surface crossed; an absorbing medium fills a closed mesh and
+    // multiplies by 10^(−a(λ)·ℓ) over the path length ℓ inside it (Beer–Lambert).
+    std::optional<SceneSpectrum> transmittance;  // T(λ), 0..1 per crossing
+    // a(λ), decadic absorbance per metre (m⁻¹): the "absorbance" spectrum plus each dye's molar
+    // absorptivity ε(λ) (L·mol⁻¹·cm⁻¹) × concentration c (mol·L⁻¹) × 100 cm/m.
+    std::optional<SceneSpectrum> absorbance;
+    struct Dye {
+        SceneSpectrum absorptivity;  // ε(λ), L·mol⁻¹·cm⁻¹
+        double concentration = 0.0;  // c, mol·L⁻¹
+    };
+    std::vector<Dye> dyes;
+
+    bool isFilter() const { return transmittance.has_value(); }
+    bool isMedium() const { return absorbance.has_value() || !dyes.empty(); }
+    bool isTransparent() const { return isFilter() || isMedium(); }
 
     bool hasSpecular() const {
         return !(specular.spectrum.isConstant() && *specular.spectrum.constant == 0.0);
@@ -160,6 +177,7 @@ struct Scene {
     bool hasSpecular() const;
     bool hasTextures() const;
     bool hasNormalMaps() const;
+    bool hasTransparency() const;  // any filter or absorbing medium
     size_t triangleCount() const;
 };
 

@@ -191,9 +191,14 @@ private:
         if (name.find('.') != std::string::npos)
             failInput(w, "a material name must not contain '.' (key paths use it)");
         asObject(v, w);
-        checkKeys(v, w, {"diffuse", "specular", "gloss", "fluorescence", "textures"});
         Material m;
         m.name = name;
+        if (find(v, "transmittance") || find(v, "absorbance") || find(v, "dyes")) {
+            scene_.materials.push_back(readTransparent(std::move(m), v, w));
+            return;
+        }
+        checkKeys(v, w, {"diffuse", "specular", "gloss", "fluorescence", "textures"}, "a material",
+                  {"transmittance", "absorbance", "dyes"});
         if (const Json* t = find(v, "textures")) m.textures = readTextures(*t, w.child("textures"));
         if (m.textures.diffuse >= 0 && !find(v, "diffuse")) {
             // A diffuse texture is the reflectance; "diffuse" would tint it.
@@ -251,6 +256,59 @@ private:
             m.fluorescence = std::move(fl);
         }
         scene_.materials.push_back(std::move(m));
+    }
+
+    // A transparent material (docs/scene-format.md, "Transparent materials"): a thin sheet
+    // {"transmittance": T} or an absorbing medium {"absorbance": a, "dyes": [{"absorptivity": ε,
+    // "concentration": c}, …]} (either or both of a and dyes). It reflects nothing: the opaque
+    // material's keys are refused by name, so that a user does not believe a glass reflects.
+    Material readTransparent(Material m, const Json& v, const Where& w) {
+        const bool sheet = find(v, "transmittance") != nullptr;
+        for (const char* k : {"diffuse", "specular", "gloss", "fluorescence", "textures"})
+            if (find(v, k))
+                failInput(w.child(k),
+                          "not allowed in a transparent material ({}): a filter or an absorbing medium reflects "
+                          "nothing and does not fluoresce in this renderer (docs/physics.md, \"Transparent objects\")",
+                          sheet ? "it has a 'transmittance'" : "it has an 'absorbance' or 'dyes'");
+        if (sheet) {
+            checkKeys(v, w, {"transmittance"}, "a filter (a thin sheet)", {"absorbance", "dyes"});
+            for (const char* k : {"absorbance", "dyes"})
+                if (find(v, k))
+                    failInput(w.child(k),
+                              "not allowed with 'transmittance': a material is either a thin sheet (a transmittance "
+                              "per crossing) or an absorbing medium (an absorbance per metre inside a closed mesh)");
+            m.transmittance = spectrum(*find(v, "transmittance"), w.child("transmittance"), SpectrumKind::Transmittance);
+        } else {
+            checkKeys(v, w, {"absorbance", "dyes"}, "an absorbing medium");
+            if (const Json* a = find(v, "absorbance"))
+                m.absorbance = spectrum(*a, w.child("absorbance"), SpectrumKind::Absorbance);
+            if (const Json* d = find(v, "dyes")) {
+                const Where dw = w.child("dyes");
+                if (!d->is_array() || d->empty())
+                    failInput(dw, "expected a non-empty list of {{\"absorptivity\": spectrum, \"concentration\": c}}, "
+                                  "got {}",
+                              describe(*d));
+                for (size_t i = 0; i < d->size(); ++i) {
+                    const Where iw = dw.index(i);
+                    const Json& e = (*d)[i];
+                    asObject(e, iw);
+                    checkKeys(e, iw, {"absorptivity", "concentration"}, "a dye");
+                    Material::Dye dye;
+                    dye.absorptivity = spectrum(require(e, iw, "absorptivity", "a molar absorptivity spectrum, L·mol⁻¹·cm⁻¹"),
+                                                iw.child("absorptivity"), SpectrumKind::Absorbance);
+                    dye.concentration = numberIn(require(e, iw, "concentration", "a concentration, mol·L⁻¹"),
+                                                 iw.child("concentration"), 0, 1e6, false, false);
+                    m.dyes.push_back(std::move(dye));
+                }
+            }
+        }
+        // Nothing reflects: the opaque spectra are zero, so code that reads them sees a black surface.
+        for (SceneSpectrum* s : {&m.diffuse, &m.specular}) {
+            s->spectrum = Spectrum::makeConstant(0.0);
+            s->kind = SpectrumKind::Reflectance;
+            s->where = w;
+        }
+        return m;
     }
 
     // "textures": {"diffuse": T, "specular": T, "normal": T, "bump": {"file": ..., "scale": s}}
@@ -447,6 +505,7 @@ private:
                                   "mesh file '{}': a primitive with material '{}' has textures but no TEXCOORD_0",
                                   given, scene_.materials[part.material].name);
                     part.closed = isClosedOutward(part);
+                    requireClosedMedium(part, w);
                     scene_.meshes.push_back(std::move(part));
                 }
                 return;
@@ -455,8 +514,16 @@ private:
             out.closed = isClosedOutward(out);
             out.name = w.key + " (" + given + ")";
         } else {
-            std::string kind = choice(*shape, w.child("shape"), {"sphere", "quad"});
-            if (kind == "sphere") {
+            std::string kind = choice(*shape, w.child("shape"), {"sphere", "quad", "box"});
+            if (kind == "box") {
+                checkKeys(v, w, {"shape", "material", "center", "size"}, "a box",
+                          {"radius", "segments", "normal", "up", "translate", "rotate_deg", "scale"});
+                glm::dvec3 c = vector<3>(require(v, w, "center", "[x, y, z] in metres"), w.child("center"));
+                Where sw = w.child("size");
+                glm::dvec3 size = vector<3>(require(v, w, "size", "[x, y, z] edge lengths in metres"), sw);
+                if (!(size.x > 0 && size.y > 0 && size.z > 0)) failInput(sw, "edge lengths must be > 0");
+                out = makeBox(c, size);
+            } else if (kind == "sphere") {
                 checkKeys(v, w, {"shape", "material", "center", "radius", "segments"}, "a sphere",
                           {"normal", "size", "up", "translate", "rotate_deg", "scale"});
                 glm::dvec3 c = vector<3>(require(v, w, "center", "[x, y, z] in metres"), w.child("center"));
@@ -495,7 +562,20 @@ private:
                       "material '{}' has textures but this object has no texture coordinates (spheres have none; use "
                       "a quad or a glTF mesh with TEXCOORD_0)",
                       scene_.materials[out.material].name);
+        requireClosedMedium(out, w);
         scene_.meshes.push_back(std::move(out));
+    }
+
+    // An absorbing medium fills a volume: the path length inside is measured between the faces a
+    // ray enters and leaves by, which needs a closed mesh wound outwards (Mesh::closed).
+    void requireClosedMedium(const Mesh& mesh, const Where& w) const {
+        const Material& m = scene_.materials[mesh.material];
+        if (m.isMedium() && !mesh.closed)
+            failInput(w.child("material"),
+                      "material '{}' is an absorbing medium, which must fill a closed mesh wound outwards (a box, a "
+                      "sphere, or a watertight glTF mesh); this object is open. For a sheet, give the material a "
+                      "'transmittance' instead",
+                      m.name);
     }
 
     SceneSpectrum spectrum(const Json& v, const Where& w, SpectrumKind kind) {
@@ -507,7 +587,10 @@ private:
             if (kind == SpectrumKind::Emission)
                 failInput(w, "an emission spectrum must be sampled data (its shape matters), not a constant");
             if (kind == SpectrumKind::Light && x < 0) failInput(w, "a light's spectrum must be ≥ 0, got {:g}", x);
-            if ((kind == SpectrumKind::Reflectance || kind == SpectrumKind::Excitation) && (x < 0 || x > 1))
+            if (kind == SpectrumKind::Absorbance && x < 0) failInput(w, "an absorbance must be ≥ 0, got {:g}", x);
+            if ((kind == SpectrumKind::Reflectance || kind == SpectrumKind::Excitation ||
+                 kind == SpectrumKind::Transmittance) &&
+                (x < 0 || x > 1))
                 failInput(w, "a {} must be within [0, 1], got {:g}", kindName(kind), x);
             s.spectrum = Spectrum::makeConstant(x);
         } else if (v.is_string()) {
@@ -618,7 +701,8 @@ private:
         if (*lo < 0)
             warn(s.where, fmt::format("{} spectrum '{}' is negative ({:g} at {:g} nm)", kindName(s.kind),
                                       s.spectrum.source, *lo, wl[lo - vals.begin()]));
-        bool bounded = s.kind == SpectrumKind::Reflectance || s.kind == SpectrumKind::Excitation;
+        bool bounded = s.kind == SpectrumKind::Reflectance || s.kind == SpectrumKind::Excitation ||
+                       s.kind == SpectrumKind::Transmittance;
         if (bounded && *hi > 1)
             warn(s.where, fmt::format("{} spectrum '{}' exceeds 1 ({:g} at {:g} nm)", kindName(s.kind),
                                       s.spectrum.source, *hi, wl[hi - vals.begin()]));

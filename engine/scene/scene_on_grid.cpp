@@ -272,6 +272,16 @@ SceneOnGrid resampleScene(const Scene& scene, const Grid& grid, CoveragePolicy p
                                  "and absorbs more than the light it receives",
                                  worst, worstNm));
         }
+        if (m.transmittance) g.transmittance = onGrid(*m.transmittance, grid, policy, gaps);
+        if (m.isMedium()) {
+            g.absorbance.assign(size_t(grid.bands()), 0.0);
+            if (m.absorbance) g.absorbance = onGrid(*m.absorbance, grid, policy, gaps);
+            for (const Material::Dye& dye : m.dyes) {
+                // ε in L·mol⁻¹·cm⁻¹ × c in mol·L⁻¹ is an absorbance per cm: × 100 per metre.
+                const std::vector<double> eps = onGrid(dye.absorptivity, grid, policy, gaps);
+                for (size_t b = 0; b < eps.size(); ++b) g.absorbance[b] += 100.0 * eps[b] * dye.concentration;
+            }
+        }
         out.materials.push_back(std::move(g));
     }
     warnGaps(gaps, grid);

@@ -46,6 +46,14 @@ struct MaterialOnGrid {
     // (docs/physics.md, "Fluorescence"); excitation and emission are then empty instead.
     std::vector<double> donaldson;
     bool isMatrix() const { return !donaldson.empty(); }
+    // A transparent material (scene/scene.h): a thin sheet's transmittance per crossing, per band,
+    // or an absorbing medium's decadic absorbance per metre (m⁻¹, the dyes' ε·c·100 included), per
+    // band. Empty when the material is not one.
+    std::vector<double> transmittance;
+    std::vector<double> absorbance;
+    bool isFilter() const { return !transmittance.empty(); }
+    bool isMedium() const { return !absorbance.empty(); }
+    bool isTransparent() const { return isFilter() || isMedium(); }
 };
 
 // What a per-band array of a material holds, for code that transforms every one of them (the
@@ -55,6 +63,8 @@ enum class MaterialSpectrum {
     Absorptance,  // a(λ) of the rank-one fluorescence
     Emission,     // ê(λ) of the rank-one fluorescence, nm⁻¹
     Matrix,       // the Donaldson matrix, N × N bands, nm⁻¹
+    Transmittance,  // a sheet's T(λ): 0..1 per band, multiplies what is seen through it
+    Absorbance,     // a medium's a(λ), m⁻¹ per band, decadic
 };
 
 // The one seam for a material's spectra: calls f(array, kind, name) for every per-band array of
@@ -68,6 +78,8 @@ void forEachSpectrum(Material& m, F&& f) {
     f(m.excitation, MaterialSpectrum::Absorptance, "excitation");
     f(m.emission, MaterialSpectrum::Emission, "emission");
     f(m.donaldson, MaterialSpectrum::Matrix, "donaldson");
+    f(m.transmittance, MaterialSpectrum::Transmittance, "transmittance");
+    f(m.absorbance, MaterialSpectrum::Absorbance, "absorbance");
 }
 
 struct SceneOnGrid {

@@ -137,6 +137,31 @@ Mesh makeQuad(const glm::dvec3& center, const glm::dvec3& normal, const glm::dve
     return mesh;
 }
 
+Mesh makeBox(const glm::dvec3& center, const glm::dvec3& size) {
+    Mesh mesh;
+    const glm::dvec3 h = 0.5 * size;
+    for (int axis = 0; axis < 3; ++axis)
+        for (double sign : {-1.0, 1.0}) {
+            glm::dvec3 n(0.0);
+            n[axis] = sign;
+            // Two in-plane axes with right × up = n, so corners (-,-), (+,-), (+,+), (-,+) run
+            // counter-clockwise about the outward normal.
+            glm::dvec3 up(0.0), right(0.0);
+            up[(axis + 2) % 3] = 1.0;
+            right = glm::cross(up, n);
+            const glm::dvec3 c = center + n * h[axis];
+            const glm::dvec3 r = right * glm::dot(glm::abs(right), h), u = up * glm::dot(up, h);
+            const uint32_t first = uint32_t(mesh.positions.size());
+            for (const glm::dvec3& p : {c - r - u, c + r - u, c + r + u, c - r + u}) {
+                mesh.positions.push_back(p);
+                mesh.normals.push_back(n);
+            }
+            mesh.indices.insert(mesh.indices.end(), {first, first + 1, first + 2, first, first + 2, first + 3});
+        }
+    mesh.closed = isClosedOutward(mesh);
+    return mesh;
+}
+
 glm::dmat4 objectTransform(const glm::dvec3& translate, const glm::dvec3& rotateDeg,
                            const glm::dvec3& scale) {
     glm::dmat4 m = glm::translate(glm::dmat4(1.0), translate);

@@ -1,4 +1,4 @@
-// Built-in shapes (sphere, quad) tessellated to world-space triangle meshes, and the mesh
+// Built-in shapes (sphere, quad, box) tessellated to world-space triangle meshes, and the mesh
 // utilities the scene loader shares with the glTF reader: affine transforms and smooth normals.
 #pragma once
 
@@ -38,6 +38,11 @@ bool isClosedOutward(const Mesh& mesh);
 // counter-clockwise seen from the normal side. Precondition: normal ≠ 0, hint not parallel to it.
 Mesh makeQuad(const glm::dvec3& center, const glm::dvec3& normal, const glm::dvec2& size,
               const std::optional<glm::dvec3>& upHint = std::nullopt);
+
+// An axis-aligned box centred at `center` with edge lengths `size` (x, y, z): six faces of two
+// triangles, each face's four corners with the face's normal (flat shading), counter-clockwise
+// seen from outside; closed once welded by position (isClosedOutward). Precondition: size > 0.
+Mesh makeBox(const glm::dvec3& center, const glm::dvec3& size);
 
 // The in-plane axes makeQuad uses; nullopt when the hint is (nearly) parallel to the normal.
 struct QuadAxes {

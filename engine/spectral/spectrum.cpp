@@ -13,6 +13,8 @@ const char* kindName(SpectrumKind kind) {
         case SpectrumKind::Excitation: return "excitation";
         case SpectrumKind::Emission: return "emission";
         case SpectrumKind::Observer: return "observer";
+        case SpectrumKind::Transmittance: return "transmittance";
+        case SpectrumKind::Absorbance: return "absorbance";
     }
     return "?";
 }

@@ -19,6 +19,8 @@ enum class SpectrumKind {
     Excitation,   // fluorescence absorptance, 0..1
     Emission,     // fluorescence emission shape, relative (normalized by the engine)
     Observer,     // a detector's spectral sensitivity
+    Transmittance,  // a thin sheet's transmittance per crossing, 0..1
+    Absorbance,     // decadic absorbance per metre (m⁻¹, ≥ 0), or a dye's molar absorptivity
 };
 
 const char* kindName(SpectrumKind kind);

@@ -68,6 +68,13 @@ VkPipeline createGraphicsPipeline(VkDevice device, const GraphicsPipelineDesc& d
     for (auto& b : blends) {
         b = {};
         b.colorWriteMask = 0xF;
+        if (d.multiplyBlend) {
+            b.blendEnable = VK_TRUE;
+            b.srcColorBlendFactor = b.srcAlphaBlendFactor = VK_BLEND_FACTOR_ZERO;
+            b.dstColorBlendFactor = VK_BLEND_FACTOR_SRC_COLOR;
+            b.dstAlphaBlendFactor = VK_BLEND_FACTOR_SRC_ALPHA;
+            b.colorBlendOp = b.alphaBlendOp = VK_BLEND_OP_ADD;
+        }
     }
     VkPipelineColorBlendStateCreateInfo cb{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
     cb.attachmentCount = d.colorAttachments;
@@ -81,7 +88,7 @@ VkPipeline createGraphicsPipeline(VkDevice device, const GraphicsPipelineDesc& d
     gp.pViewportState = &vp;
     gp.pRasterizationState = &rs;
     gp.pMultisampleState = &ms;
-    gp.pDepthStencilState = d.depthTest ? &ds : nullptr;
+    gp.pDepthStencilState = d.depthTest || d.depthAttached ? &ds : nullptr;
     gp.pColorBlendState = &cb;
     gp.layout = d.layout;
     gp.renderPass = d.renderPass;

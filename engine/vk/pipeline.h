@@ -1,5 +1,5 @@
 // Graphics pipelines with the state every Metamer pass shares: fixed viewport, no culling (two-
-// sided surfaces), no blending, one sample. Each pass states only what differs.
+// sided surfaces), no blending (unless multiplied), one sample. Each pass states only what differs.
 // Tests: through the GPU tests, with validation layers on.
 #pragma once
 
@@ -27,6 +27,7 @@ struct GraphicsPipelineDesc {
     uint32_t width = 0, height = 0;
     uint32_t colorAttachments = 0;
     bool depthTest = false, depthWrite = false;
+    bool depthAttached = false;  // the subpass has a depth attachment the pipeline does not test (read-only, sampled)
     VkCompareOp depthCompare = VK_COMPARE_OP_LESS;
     // Depth bias (the shadow-map pass): enabled when either factor is non-zero.
     float depthBiasConstant = 0.0f, depthBiasSlope = 0.0f;
@@ -35,6 +36,8 @@ struct GraphicsPipelineDesc {
     VkFrontFace frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
     VkCullModeFlags cullMode = VK_CULL_MODE_NONE;  // two-sided shading: back faces are visible
     VkPipelineCache cache = VK_NULL_HANDLE;  // Context::pipelineCache()
+    // Every colour attachment becomes destination × source (the transmission pass's filters).
+    bool multiplyBlend = false;
 };
 
 VkPipeline createGraphicsPipeline(VkDevice device, const GraphicsPipelineDesc& desc);

@@ -1,0 +1,105 @@
+#version 450
+// The transmission pass: after a band pass has written the radiance of the opaque surfaces, every
+// transparent surface multiplies it, band by band, by its factor (blend: destination × source).
+// Multiplication commutes, so the draws need no sorting. Physics: docs/physics.md, "Transparent
+// objects"; the CPU reference follows the same straight rays in double (reference/cpu_renderer).
+//
+// - A thin sheet (MATERIAL_FILTER) in front of the opaque surface multiplies by T(λ).
+// - An absorbing medium (MATERIAL_MEDIUM) in a closed mesh multiplies by exp2(−k·ℓ), ℓ the path
+//   inside it before the opaque surface. Along a ray, ℓ = Σ min(t_leave, t_o) − Σ min(t_enter, t_o)
+//   (t_o the opaque surface's distance): each face the ray enters by (a front face) contributes
+//   exp2(+k·s) and each it leaves by exp2(−k·s), s = min(t, t_o) − t_ref, whatever their order.
+//   A face behind the opaque surface is clamped to it, so its pair cancels; t_ref (the nearest
+//   point of the mesh's bounds) keeps s ≥ 0 and within the mesh's size. An entering face's factor
+//   exceeds 1 and is capped at 2^ENTRY_LIMIT, so that the radiance times it stays finite before
+//   the leaving face's factor brings it back: exact while the medium's absorbance across its
+//   bounds stays below ENTRY_LIMIT·log10(2) ≈ 19 (docs/physics.md); deeper rays come out darker.
+#extension GL_GOOGLE_include_directive : require
+#include "interface.h"
+
+#ifndef OUTPUT_COUNT
+#define OUTPUT_COUNT MAX_OUTPUTS
+#endif
+
+layout(set = 0, binding = BINDING_MATERIAL, std140) uniform Material { GpuMaterialBlock M; };
+layout(set = 0, binding = BINDING_OPAQUE_DEPTH) uniform sampler2D opaqueDepth;
+layout(push_constant) uniform Push { SpectralPushConstants pc; };
+
+layout(location = 0) in vec3 worldPosition;
+// The rest of spectral.vert's outputs, declared so that the interfaces match; not read.
+layout(location = 1) in vec3 worldNormal;
+layout(location = 2) in vec2 uv;
+layout(location = 3) in vec4 worldTangent;
+
+layout(location = 0) out vec4 out0;
+#if OUTPUT_COUNT > 1
+layout(location = 1) out vec4 out1;
+#endif
+#if OUTPUT_COUNT > 2
+layout(location = 2) out vec4 out2;
+#endif
+#if OUTPUT_COUNT > 3
+layout(location = 3) out vec4 out3;
+#endif
+#if OUTPUT_COUNT > 4
+layout(location = 4) out vec4 out4;
+#endif
+#if OUTPUT_COUNT > 5
+layout(location = 5) out vec4 out5;
+#endif
+#if OUTPUT_COUNT > 6
+layout(location = 6) out vec4 out6;
+#endif
+#if OUTPUT_COUNT > 7
+layout(location = 7) out vec4 out7;
+#endif
+
+// An entering face's factor is at most 2^ENTRY_LIMIT: radiances up to ~10¹⁹ times it stay finite.
+const float ENTRY_LIMIT = 64.0;
+
+vec4 factor[OUTPUT_COUNT];
+
+void main() {
+    const float zOpaque = texelFetch(opaqueDepth, ivec2(gl_FragCoord.xy), 0).r;
+    const float z = gl_FragCoord.z;
+    if ((M.switches.x & MATERIAL_MEDIUM) == 0u) {
+        // A sheet on or behind the opaque surface is hidden by it.
+        if (z >= zOpaque) discard;
+        for (int k = 0; k < OUTPUT_COUNT; ++k) factor[k] = M.transmittance[k];
+    } else {
+        // The distance along the ray: from the eye (perspective) or the camera plane (orthographic);
+        // behind the opaque surface, that surface's, from the depths' ratio along the same ray.
+        const bool perspective = pc.cameraPosition.w > 0.5;
+        const vec3 d = worldPosition - pc.cameraPosition.xyz;
+        float t = perspective ? length(d) : dot(d, pc.cameraForward.xyz);
+        if (z > zOpaque) {
+            const float a = pc.cameraForward.w;
+            t = perspective ? t * ((a - z) / (a - zOpaque)) : t - (z - zOpaque) * a;
+        }
+        const float s = (gl_FrontFacing ? 1.0 : -1.0) * (t - pc.draw.x);
+        for (int k = 0; k < OUTPUT_COUNT; ++k)
+            factor[k] = exp2(min(M.attenuation[k] * s, vec4(ENTRY_LIMIT)));
+    }
+    out0 = factor[0];
+#if OUTPUT_COUNT > 1
+    out1 = factor[1];
+#endif
+#if OUTPUT_COUNT > 2
+    out2 = factor[2];
+#endif
+#if OUTPUT_COUNT > 3
+    out3 = factor[3];
+#endif
+#if OUTPUT_COUNT > 4
+    out4 = factor[4];
+#endif
+#if OUTPUT_COUNT > 5
+    out5 = factor[5];
+#endif
+#if OUTPUT_COUNT > 6
+    out6 = factor[6];
+#endif
+#if OUTPUT_COUNT > 7
+    out7 = factor[7];
+#endif
+}
