@@ -44,7 +44,8 @@ using mat4 = glm::mat4;
                                   // lobe tables, one per gloss
                                   // value of the scene's specular materials (shaders/lobe_lookup.h;
                                   // GpuMaterialBlock.params.w is a material's table's first entry)
-#define BINDING_OPAQUE_DEPTH 9    // sampler2D: the depth pre-pass's depth of the opaque surfaces, read by the
+#define BINDING_OPAQUE_DISTANCE 9 // sampler2D (R32F, texelFetch): the nearest opaque surface's distance per pixel,
+                                  // written by the depth pre-pass (opaque_distance.frag) and read by the
                                   // transmission pass (transmit.frag) where a scene has transparent objects
 
 // Shadow maps (docs/physics.md, "Shadows"): D32 layers of SHADOW_MAP_SIZE², depth-compared with
@@ -196,11 +197,10 @@ struct GpuFluorescenceBlock {
 struct SpectralPushConstants {
     mat4 viewProjection;  // local frame → clip (Vulkan clip space, y down, depth 0..1)
     vec4 cameraPosition;  // xyz in the local frame; w = 1 perspective, 0 orthographic
-    vec4 cameraForward;   // xyz: unit view direction (orthographic view vector is -forward); w: how a
-                          // depth z turns into a distance, far/(far − near) for a perspective camera
-                          // (view depth = w·near/(w − z)), far − near in units for an orthographic one
-    vec4 draw;            // the transmission pass, per draw: x = the distance (units) from the camera to
-                          // the nearest point of the mesh's bounds, from which a medium's path is measured
+    vec4 cameraForward;   // xyz: unit view direction (orthographic view vector is -forward)
+    vec4 draw;            // the transmission pass, per draw: xyz = the point of the mesh's bounds nearest
+                          // the camera (perspective) or its plane (orthographic), in the local frame, from
+                          // which a medium's path is measured
 };
 
 // ---------------------------------------------------------------------------------------------

@@ -1,6 +1,7 @@
 #version 450
 // The transmission pass: after a band pass has written the radiance of the opaque surfaces, every
-// transparent surface multiplies it, band by band, by its factor (blend: destination × source).
+// transparent surface in front of them multiplies it, band by band, by its factor (blend:
+// destination × source); the depth pre-pass left the opaque surfaces' distance (opaque_distance.frag).
 // Multiplication commutes, so the draws need no sorting. Physics: docs/physics.md, "Transparent
 // objects"; the CPU reference follows the same straight rays in double (reference/cpu_renderer).
 //
@@ -22,7 +23,7 @@
 #endif
 
 layout(set = 0, binding = BINDING_MATERIAL, std140) uniform Material { GpuMaterialBlock M; };
-layout(set = 0, binding = BINDING_OPAQUE_DEPTH) uniform sampler2D opaqueDepth;
+layout(set = 0, binding = BINDING_OPAQUE_DISTANCE) uniform sampler2D opaqueDistance;
 layout(push_constant) uniform Push { SpectralPushConstants pc; };
 
 layout(location = 0) in vec3 worldPosition;
@@ -60,25 +61,26 @@ const float ENTRY_LIMIT = 64.0;
 vec4 factor[OUTPUT_COUNT];
 
 void main() {
-    const float zOpaque = texelFetch(opaqueDepth, ivec2(gl_FragCoord.xy), 0).r;
-    const float z = gl_FragCoord.z;
+    // Distances along the ray, in units: from the eye (perspective) or the camera's plane
+    // (orthographic), as opaque_distance.frag measures the opaque surface's, tO.
+    const bool perspective = pc.cameraPosition.w > 0.5;
+    const vec3 p = worldPosition, c = pc.cameraPosition.xyz;
+    const float t = perspective ? length(p - c) : dot(p - c, pc.cameraForward.xyz);
+    const float tO = texelFetch(opaqueDistance, ivec2(gl_FragCoord.xy), 0).r;
     if ((M.switches.x & MATERIAL_MEDIUM) == 0u) {
         // A sheet on or behind the opaque surface is hidden by it.
-        if (z >= zOpaque) discard;
+        if (t >= tO) discard;
         for (int k = 0; k < OUTPUT_COUNT; ++k) factor[k] = M.transmittance[k];
     } else {
-        // The distance along the ray: from the eye (perspective) or the camera plane (orthographic);
-        // behind the opaque surface, that surface's, from the depths' ratio along the same ray.
-        const bool perspective = pc.cameraPosition.w > 0.5;
-        const vec3 d = worldPosition - pc.cameraPosition.xyz;
-        float t = perspective ? length(d) : dot(d, pc.cameraForward.xyz);
-        if (z > zOpaque) {
-            const float a = pc.cameraForward.w;
-            t = perspective ? t * ((a - z) / (a - zOpaque)) : t - (z - zOpaque) * a;
-        }
-        const float s = (gl_FrontFacing ? 1.0 : -1.0) * (t - pc.draw.x);
-        for (int k = 0; k < OUTPUT_COUNT; ++k)
-            factor[k] = exp2(min(M.attenuation[k] * s, vec4(ENTRY_LIMIT)));
+        // s = t − t_ref, the distance along the ray past the mesh's nearest point q (pc.draw.xyz), from
+        // differences of nearby points rather than of two distances from the camera, which would
+        // lose the path's precision when the camera is far (t ≫ the mesh): for a perspective camera
+        // |p − c| − |q − c| = (p − q)·((p − c) + (q − c)) / (|p − c| + |q − c|); orthographic, (p − q)·f.
+        const vec3 q = pc.draw.xyz;
+        float s = perspective ? dot(p - q, (p - c) + (q - c)) / (t + length(q - c)) : dot(p - q, pc.cameraForward.xyz);
+        if (t > tO) s -= t - tO;  // behind the opaque surface: the path ends there
+        if (!gl_FrontFacing) s = -s;
+        for (int k = 0; k < OUTPUT_COUNT; ++k) factor[k] = exp2(min(M.attenuation[k] * s, vec4(ENTRY_LIMIT)));
     }
     out0 = factor[0];
 #if OUTPUT_COUNT > 1

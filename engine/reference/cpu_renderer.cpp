@@ -204,7 +204,9 @@ int32_t ReferenceRenderer::trace(const Ray& ray, double* radiance, uint64_t* blo
 // triangles at the same t: hits of one mesh, on the same side, within 1e-9 of the scene's size
 // count once, as a rasterizer covers a pixel by one of the two.
 void ReferenceRenderer::transmit(const Ray& ray, double tEnd, double* radiance) const {
-    std::vector<RayHit> hits = clearBvh_.allHits(ray, kRayTMin, tEnd);
+    // Every crossing along the whole ray: a medium whose first crossing is a way out holds the
+    // ray's start, even where the opaque surface comes before that crossing.
+    std::vector<RayHit> hits = clearBvh_.allHits(ray, kRayTMin, std::numeric_limits<double>::infinity());
     if (hits.empty()) return;
     const auto& tris = clearBvh_.triangles();
     auto entering = [&](const RayHit& h) {
@@ -215,8 +217,8 @@ void ReferenceRenderer::transmit(const Ray& ray, double tEnd, double* radiance) 
     const double same = 1e-9 * std::max(sceneScale_, tEnd);
     struct Inside {
         uint32_t mesh;
-        int depth;
-        double since, length;
+        int depth;            // how many of its faces the ray is behind (nested shells of one mesh)
+        double since, length;  // where the ray last went in; the path inside so far
     };
     std::vector<Inside> media;
     thread_local std::vector<double> factor;
@@ -231,16 +233,17 @@ void ReferenceRenderer::transmit(const Ray& ray, double tEnd, double* radiance) 
         if (repeated) continue;
         const MaterialOnGrid& mat = onGrid_.materials[scene_.meshes[mesh].material];
         if (mat.isFilter()) {
-            for (int b = 0; b < bands_; ++b) factor[size_t(b)] *= mat.transmittance[size_t(b)];
+            if (h.t < tEnd)
+                for (int b = 0; b < bands_; ++b) factor[size_t(b)] *= mat.transmittance[size_t(b)];
             continue;
         }
         auto it = std::find_if(media.begin(), media.end(), [&](const Inside& m) { return m.mesh == mesh; });
-        if (it == media.end()) it = media.insert(media.end(), Inside{mesh, 0, 0.0, 0.0});
+        // A medium whose first crossing leads out held the ray's start (the camera is inside it).
+        if (it == media.end()) it = media.insert(media.end(), Inside{mesh, in ? 0 : 1, 0.0, 0.0});
+        if (h.t >= tEnd) continue;  // past the opaque surface
         if (in) {
             if (it->depth++ == 0) it->since = h.t;
-        } else if (it->depth == 0) {
-            it->length += h.t;  // inside from the ray's start
-        } else if (--it->depth == 0) {
+        } else if (it->depth > 0 && --it->depth == 0) {
             it->length += h.t - it->since;
         }
     }

@@ -4,6 +4,7 @@
 #include "vk/barrier.h"
 
 #include <algorithm>
+#include <limits>
 
 namespace metamer {
 
@@ -22,16 +23,13 @@ bool SpectralFrameState::cullable(const PackedDraw& d) const {
     return true;
 }
 
-float SpectralFrameState::nearestDistance(const PackedDraw& d) const {
-    if (camera.perspective) {
-        const glm::vec3 nearest = glm::clamp(camera.position, d.lower, d.upper);
-        return glm::length(nearest - camera.position);
-    }
-    float nearest = INFINITY;  // orthographic: distances are measured from the camera plane
+glm::vec3 SpectralFrameState::nearestPoint(const PackedDraw& d) const {
+    if (camera.perspective) return glm::clamp(camera.position, d.lower, d.upper);
+    glm::vec3 nearest = d.lower;
     for (int corner = 0; corner < 8; ++corner) {
         const glm::vec3 p(corner & 1 ? d.upper.x : d.lower.x, corner & 2 ? d.upper.y : d.lower.y,
                           corner & 4 ? d.upper.z : d.lower.z);
-        nearest = std::min(nearest, glm::dot(p - camera.position, camera.forward));
+        if (glm::dot(p - nearest, camera.forward) < 0.0f) nearest = p;
     }
     return nearest;
 }
@@ -91,7 +89,7 @@ void SpectralResources::drawTransparent(VkCommandBuffer cmd, const SpectralFrame
     for (const PackedDraw& d : packed.draws) {
         if (!d.transparent) continue;
         gpu::SpectralPushConstants pc = f.pc;
-        pc.draw = glm::vec4(f.nearestDistance(d), 0.0f, 0.0f, 0.0f);
+        pc.draw = glm::vec4(f.nearestPoint(d), 0.0f);
         vkCmdPushConstants(cmd, pipelineLayout.get(), VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
                            sizeof pc, &pc);
         const uint32_t offsets[4] = {uint32_t(p * lightSpectraStride), uint32_t((p * materials + d.material) * materialStride),
@@ -106,9 +104,17 @@ void SpectralResources::declareFrame() {
     const VkExtent2D extent{plan.targetWidth, plan.targetHeight};
     const VkClearValue farDepth{.depthStencil = {1.0f, 0}};
     const bool draws = !packed.draws.empty();
+    // With transparent objects the pre-pass also leaves the nearest opaque surface's distance
+    // (background: the largest float) for the transmission passes.
+    VkClearValue noSurface{};
+    noSurface.color.float32[0] = std::numeric_limits<float>::max();
     if (hasDepthPrePass)
-        frame.push_back({"depth pre-pass", "the scene's triangles", "the depth of the visible surface",
-                         "vertex stage only; back faces culled for closed meshes seen from outside", depthPrePass.renderPass, depthPrePass.framebuffer.get(), extent, {farDepth},
+        frame.push_back({"depth pre-pass", hasTransmission ? "the opaque triangles" : "the scene's triangles",
+                         hasTransmission ? "the depth and distance of the nearest opaque surface" : "the depth of the visible surface",
+                         hasTransmission ? "opaque_distance.frag; back faces culled for closed meshes seen from outside"
+                                         : "vertex stage only; back faces culled for closed meshes seen from outside",
+                         depthPrePass.renderPass, depthPrePass.framebuffer.get(), extent,
+                         hasTransmission ? std::vector<VkClearValue>{noSurface, farDepth} : std::vector<VkClearValue>{farDepth},
                          [this, draws](VkCommandBuffer cmd) {
                              if (draws) drawDepth(cmd, *frameState);
                          }});
@@ -142,7 +148,7 @@ void SpectralResources::declareFrame() {
         if (!hasTransmission) continue;
         const PassObjects& to = transmissionPasses[p];
         std::vector<VkClearValue> none(to.attachments + 1);
-        frame.push_back({fmt::format("transmission pass {}", p), "band pass " + std::to_string(p) + "'s radiance; the opaque depth",
+        frame.push_back({fmt::format("transmission pass {}", p), "band pass " + std::to_string(p) + "'s radiance; the opaque distance",
                          fmt::format("layers {}–{} × the transparent surfaces' transmittance", to.firstLayer,
                                      to.firstLayer + to.attachments - 1),
                          fmt::format("transmit.frag, OUTPUT_COUNT {}; blend destination × source", to.attachments),
@@ -157,10 +163,7 @@ void recordSpectralFrame(VkCommandBuffer cmd, const SpectralResources& r, const 
     SpectralFrameState state{camera, {}};
     state.pc.viewProjection = camera.viewProjection;
     state.pc.cameraPosition = glm::vec4(camera.position, camera.perspective ? 1.0f : 0.0f);
-    // How transmit.frag turns a depth into a distance (interface.h, SpectralPushConstants::cameraForward).
-    const double depthToDistance = camera.perspective ? camera.farPlane / (camera.farPlane - camera.nearPlane)
-                                                      : camera.farPlane - camera.nearPlane;
-    state.pc.cameraForward = glm::vec4(camera.forward, float(depthToDistance));
+    state.pc.cameraForward = glm::vec4(camera.forward, 0.0f);
     {
         // Zero every layer (background radiance is 0), in GENERAL, then let the colour passes load it.
         const uint32_t layers = uint32_t(plan.layers);

@@ -14,6 +14,7 @@
 #include "spectral.frag.6.spv.h"
 #include "spectral.frag.7.spv.h"
 #include "spectral.frag.8.spv.h"
+#include "opaque_distance.frag.spv.h"
 #include "transmit.frag.1.spv.h"
 #include "transmit.frag.2.spv.h"
 #include "transmit.frag.3.spv.h"
@@ -253,9 +254,18 @@ void SpectralResources::createTargets(Readback mode, bool sampled, SpectralPassP
     dd.format = VK_FORMAT_D32_SFLOAT;
     dd.width = w;
     dd.height = h;
-    dd.usage = VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | (hasTransmission ? VK_IMAGE_USAGE_SAMPLED_BIT : 0);
+    dd.usage = VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT;
     dd.name = "depth";
     depth = vk::Image(ctx, dd);
+    if (hasTransmission) {
+        vk::ImageDesc od;
+        od.format = VK_FORMAT_R32_SFLOAT;
+        od.width = w;
+        od.height = h;
+        od.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
+        od.name = "opaque distance";
+        opaqueDistance = vk::Image(ctx, od);
+    }
 }
 
 void SpectralResources::createLayouts() {
@@ -272,7 +282,7 @@ void SpectralResources::createLayouts() {
         {BINDING_SHADOW_MAP, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
         {BINDING_LOBE_WEIGHTS, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
         {BINDING_LOBE_TABLES, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
-        {BINDING_OPAQUE_DEPTH, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
+        {BINDING_OPAQUE_DISTANCE, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
     };
     VkDescriptorSetLayoutCreateInfo sl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
     sl.bindingCount = kBindings;
@@ -344,10 +354,9 @@ void SpectralResources::createLayouts() {
     const VkDescriptorImageInfo lobeInfo =
         hasLobePass ? VkDescriptorImageInfo{sampler, lobeWeights.layerView(0), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL}
                     : placeholderInfo;
-    // The opaque depth, where a transmission pass samples it (read-only while it stays attached);
-    // else the placeholder, never read.
-    const VkDescriptorImageInfo opaqueDepthInfo =
-        hasTransmission ? VkDescriptorImageInfo{sampler, depth.layerView(0), VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL}
+    // The opaque surfaces' distance, where a transmission pass reads it; else the placeholder, never read.
+    const VkDescriptorImageInfo opaqueDistanceInfo =
+        hasTransmission ? VkDescriptorImageInfo{sampler, opaqueDistance.layerView(0), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL}
                         : placeholderInfo;
     for (VkDescriptorSet set : {descriptorSet, lobeDescriptorSet}) {
         if (set == VK_NULL_HANDLE) continue;
@@ -362,8 +371,8 @@ void SpectralResources::createLayouts() {
                 writes[i].pImageInfo = &shadowInfo;
             else if (bindings[i].binding == BINDING_LOBE_WEIGHTS)
                 writes[i].pImageInfo = set == descriptorSet ? &lobeInfo : &placeholderInfo;
-            else if (bindings[i].binding == BINDING_OPAQUE_DEPTH)
-                writes[i].pImageInfo = &opaqueDepthInfo;
+            else if (bindings[i].binding == BINDING_OPAQUE_DISTANCE)
+                writes[i].pImageInfo = &opaqueDistanceInfo;
             else if (bindings[i].binding == BINDING_LOBE_TABLES)
                 writes[i].pTexelBufferView = &view;
             else
@@ -547,7 +556,9 @@ void SpectralResources::createPasses() {
     // 30.9 → 27.9 ms; spheres.json (the environment lookup, back faces culled) 33.4 → 34.3 and
     // imaging-systems.json 25.2 → 24.1, noise either way (docs/performance.md).
     hasDepthPrePass = !plan.responses || scene.hasTextures();
-    if (hasDepthPrePass) {
+    if (hasTransmission) {
+        createDistancePrePass();
+    } else if (hasDepthPrePass) {
         PassObjects& pre = depthPrePass;
         pre.renderPass = makeRenderPass(0, true);
         Variant culled;
@@ -584,9 +595,83 @@ void SpectralResources::createPasses() {
     declareFrame();
 }
 
-// After band pass p, on its layers: colours loaded and blended (destination × source), the depth
-// attached read-only (moved to DEPTH_STENCIL_READ_ONLY_OPTIMAL for the pass and back, so the band
-// passes find it as they left it) and sampled by transmit.frag; no depth test.
+// The depth pre-pass of a scene with transparent objects: it also writes the nearest opaque
+// surface's distance (opaque_distance.frag) into an R32F image, left SHADER_READ_ONLY for the
+// transmission passes. Pipelines: back faces kept, and culled.
+void SpectralResources::createDistancePrePass() {
+    vk::RenderPassDesc desc;
+    desc.colors.push_back({VK_FORMAT_R32_SFLOAT, VK_ATTACHMENT_LOAD_OP_CLEAR, VK_ATTACHMENT_STORE_OP_STORE,
+                           VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL});
+    desc.depth = vk::AttachmentDesc{VK_FORMAT_D32_SFLOAT, VK_ATTACHMENT_LOAD_OP_CLEAR, VK_ATTACHMENT_STORE_OP_STORE,
+                                    VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
+    constexpr VkPipelineStageFlags depthStages =
+        VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT;
+    // The last frame's readers of the distance (the transmission passes) and of the depth, before.
+    desc.dependencies.push_back({true, depthStages | VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
+                                 depthStages | VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT,
+                                 VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT | VK_ACCESS_SHADER_READ_BIT,
+                                 VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT |
+                                     VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT});
+    // The distance, for the transmission passes' fragment shaders, after.
+    desc.dependencies.push_back({false, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
+                                 VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT});
+    renderPasses.push_back(vk::sharedRenderPass(
+        ctx.objects(), fmt::format("spectral.distance pre-pass {}x{}", plan.targetWidth, plan.targetHeight), desc));
+    PassObjects& pre = depthPrePass;
+    pre.renderPass = renderPasses.back().get();
+    pre.attachments = 1;
+    for (bool cull : {false, true}) {
+        vk::GraphicsPipelineDesc d = transparentPipelineDesc(pre.renderPass, 1);
+        d.depthTest = d.depthWrite = true;
+        d.depthCompare = VK_COMPARE_OP_LESS;
+        d.multiplyBlend = false;
+        d.cullMode = cull ? VK_CULL_MODE_BACK_BIT : VK_CULL_MODE_NONE;
+        pre.pipelines.push_back(makeOwnPipeline(
+            fmt::format("spectral.distance pre-pass cull={} {}x{} pass={} layout={}", cull, d.width, d.height,
+                        static_cast<void*>(pre.renderPass), static_cast<void*>(pipelineLayout.get())),
+            d, kSpirv_opaque_distance_frag, sizeof(kSpirv_opaque_distance_frag)));
+    }
+    pre.framebuffer = vk::createFramebuffer(ctx.device(), pre.renderPass, {opaqueDistance.layerView(0), depth.layerView(0)},
+                                            plan.targetWidth, plan.targetHeight);
+}
+
+// What the distance pre-pass's and the transmission passes' pipelines share: spectral.vert, the
+// spectral layout, no depth test, colours blended destination × source.
+vk::GraphicsPipelineDesc SpectralResources::transparentPipelineDesc(VkRenderPass renderPass, uint32_t attachments) const {
+    vk::GraphicsPipelineDesc d;
+    d.renderPass = renderPass;
+    d.layout = pipelineLayout.get();
+    d.vertex = vert.get();
+    using V = gpu::SpectralVertex;
+    d.bindings = {{0, sizeof(V), VK_VERTEX_INPUT_RATE_VERTEX}};
+    d.attributes = {{VERTEX_POSITION, 0, VK_FORMAT_R32G32B32_SFLOAT, uint32_t(offsetof(V, position))},
+                    {VERTEX_NORMAL, 0, VK_FORMAT_R32G32B32_SFLOAT, uint32_t(offsetof(V, normal))},
+                    {VERTEX_UV, 0, VK_FORMAT_R32G32_SFLOAT, uint32_t(offsetof(V, uv))},
+                    {VERTEX_TANGENT, 0, VK_FORMAT_R32G32B32A32_SFLOAT, uint32_t(offsetof(V, tangent))}};
+    d.width = plan.targetWidth;
+    d.height = plan.targetHeight;
+    d.colorAttachments = attachments;
+    d.multiplyBlend = true;
+    d.cache = ctx.pipelineCache();
+    return d;
+}
+
+// A pipeline of `d` with the fragment shader `code`, shared through the device's cache under `key`.
+VkPipeline SpectralResources::makeOwnPipeline(const std::string& key, vk::GraphicsPipelineDesc d, const uint32_t* code,
+                                              size_t bytes) {
+    pipelines.push_back(ctx.objects().pipeline(
+        key,
+        [&] {
+            const vk::OwnedShaderModule frag(ctx.device(), vk::createShaderModule(ctx.device(), code, bytes));
+            d.fragment = frag.get();
+            return vk::createGraphicsPipeline(ctx.device(), d);
+        },
+        {renderPasses.back(), pipelineLayout}));
+    return pipelines.back().get();
+}
+
+// After band pass p, on its layers: colours loaded and blended (destination × source), the opaque
+// distance sampled by transmit.frag; no depth.
 void SpectralResources::createTransmissionPasses() {
     const VkImageLayout targetLayout = plan.mappedReadback ? VK_IMAGE_LAYOUT_GENERAL : VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
     VkRenderPass rpFull = VK_NULL_HANDLE, rpLast = VK_NULL_HANDLE;
@@ -603,65 +688,26 @@ void SpectralResources::createTransmissionPasses() {
             for (uint32_t i = 0; i < po.attachments; ++i)
                 desc.colors.push_back({VK_FORMAT_R32G32B32A32_SFLOAT, VK_ATTACHMENT_LOAD_OP_LOAD, VK_ATTACHMENT_STORE_OP_STORE,
                                        targetLayout, targetLayout});
-            desc.depth = vk::AttachmentDesc{VK_FORMAT_D32_SFLOAT, VK_ATTACHMENT_LOAD_OP_LOAD, VK_ATTACHMENT_STORE_OP_STORE,
-                                            VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
-                                            VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
-            desc.depthReadOnly = true;
-            // The band pass's colour writes and the pre-pass's depth writes, before this pass blends and samples.
-            desc.dependencies.push_back(
-                {true, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT,
-                 VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT |
-                     VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT,
-                 VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
-                 VK_ACCESS_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_SHADER_READ_BIT |
-                     VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT});
-            // … and before the next band pass tests depth and writes its colours.
-            desc.dependencies.push_back(
-                {false, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
-                 VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT |
-                     VK_PIPELINE_STAGE_TRANSFER_BIT,
-                 VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_SHADER_READ_BIT,
-                 VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT |
-                     VK_ACCESS_TRANSFER_READ_BIT});
+            // The band pass's colour writes, before this pass blends onto them; after, the readback's copy.
+            desc.dependencies.push_back({true, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT,
+                                         VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT,
+                                         VK_ACCESS_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT});
+            desc.dependencies.push_back({false, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                                         VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT});
             renderPasses.push_back(vk::sharedRenderPass(
                 ctx.objects(), fmt::format("spectral.transmission attachments={} mapped={}", po.attachments, plan.mappedReadback),
                 desc));
             rp = renderPasses.back().get();
-            vk::GraphicsPipelineDesc d;
-            d.renderPass = rp;
-            d.layout = pipelineLayout.get();
-            d.vertex = vert.get();
-            using V = gpu::SpectralVertex;
-            d.bindings = {{0, sizeof(V), VK_VERTEX_INPUT_RATE_VERTEX}};
-            d.attributes = {{VERTEX_POSITION, 0, VK_FORMAT_R32G32B32_SFLOAT, uint32_t(offsetof(V, position))},
-                            {VERTEX_NORMAL, 0, VK_FORMAT_R32G32B32_SFLOAT, uint32_t(offsetof(V, normal))},
-                            {VERTEX_UV, 0, VK_FORMAT_R32G32_SFLOAT, uint32_t(offsetof(V, uv))},
-                            {VERTEX_TANGENT, 0, VK_FORMAT_R32G32B32A32_SFLOAT, uint32_t(offsetof(V, tangent))}};
-            d.width = plan.targetWidth;
-            d.height = plan.targetHeight;
-            d.colorAttachments = po.attachments;
-            d.multiplyBlend = true;
-            d.depthAttached = true;
-            d.cache = ctx.pipelineCache();
-            const std::string key = fmt::format("spectral.transmission attachments={} {}x{} pass={} layout={}", po.attachments,
-                                                d.width, d.height, static_cast<void*>(rp),
-                                                static_cast<void*>(pipelineLayout.get()));
-            pipelines.push_back(ctx.objects().pipeline(
-                key,
-                [&] {
-                    const SpirvCode& code = kTransmitFrag[po.attachments - 1];
-                    const vk::OwnedShaderModule frag(ctx.device(), vk::createShaderModule(ctx.device(), code.code, code.bytes));
-                    d.fragment = frag.get();
-                    return vk::createGraphicsPipeline(ctx.device(), d);
-                },
-                {renderPasses.back(), pipelineLayout}));
-            pl = pipelines.back().get();
+            const SpirvCode& code = kTransmitFrag[po.attachments - 1];
+            pl = makeOwnPipeline(fmt::format("spectral.transmission attachments={} {}x{} pass={} layout={}", po.attachments,
+                                             plan.targetWidth, plan.targetHeight, static_cast<void*>(rp),
+                                             static_cast<void*>(pipelineLayout.get())),
+                                 transparentPipelineDesc(rp, po.attachments), code.code, code.bytes);
         }
         po.renderPass = rp;
         po.pipelines = {pl};
         std::vector<VkImageView> views;
         for (uint32_t i = 0; i < po.attachments; ++i) views.push_back(color.layerView(po.firstLayer + i));
-        views.push_back(depth.layerView(0));
         po.framebuffer = vk::createFramebuffer(ctx.device(), rp, views, plan.targetWidth, plan.targetHeight);
         transmissionPasses.push_back(std::move(po));
     }

@@ -18,6 +18,7 @@
 #include "vk/context.h"
 #include "vk/device_objects.h"
 #include "vk/handle.h"
+#include "vk/pipeline.h"
 #include "vk/resources.h"
 
 #include <array>
@@ -33,9 +34,9 @@ struct SpectralFrameState {
     gpu::SpectralPushConstants pc;
     // Whether the draw's back faces may be culled from this camera (a closed mesh seen whole from outside).
     bool cullable(const PackedDraw& d) const;
-    // The distance (units) along the view from the camera to the nearest point of the draw's bounds:
-    // 0 from inside them.
-    float nearestDistance(const PackedDraw& d) const;
+    // The point of the draw's bounds nearest the camera (the camera's own position inside them), or,
+    // orthographic, the corner nearest the camera's plane: where a medium's path is measured from.
+    glm::vec3 nearestPoint(const PackedDraw& d) const;
 };
 
 struct SpectralResources {
@@ -118,9 +119,11 @@ struct SpectralResources {
     PassObjects depthPrePass, lobePass;
     std::vector<PassObjects> passes;
     // The transmission passes (shaders/transmit.frag), one after each band pass where the scene has
-    // transparent objects: the same layers, blended destination × source, with the pre-pass's depth
-    // held read-only and sampled (BINDING_OPAQUE_DEPTH). A pipeline each, no material variants.
+    // transparent objects: the same layers, blended destination × source, reading the nearest opaque
+    // surface's distance that the depth pre-pass then writes too (opaqueDistance, R32F;
+    // opaque_distance.frag, BINDING_OPAQUE_DISTANCE). A pipeline each, no material variants.
     bool hasTransmission = false;
+    vk::Image opaqueDistance;
     std::vector<PassObjects> transmissionPasses;
 
     // The frame as a list of declared passes (render/frame_pass.h), recorded in order by
@@ -149,6 +152,9 @@ private:
     void classifyDraws();
     void createLobePass();
     void createTransmissionPasses();
+    void createDistancePrePass();
+    vk::GraphicsPipelineDesc transparentPipelineDesc(VkRenderPass renderPass, uint32_t attachments) const;
+    VkPipeline makeOwnPipeline(const std::string& key, vk::GraphicsPipelineDesc d, const uint32_t* code, size_t bytes);
     void createPasses();
     void declareFrame();
     // The draws the frame's passes record.

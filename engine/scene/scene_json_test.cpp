@@ -269,6 +269,40 @@ TEST_P(SceneJsonBad, NamesFileKeyAndProblem) {
 Json parse(const char* s) { return Json::parse(s); }
 
 const BadCase kBadCases[] = {
+    // Transparent materials (docs/scene-format.md, "Transparent materials").
+    {"FilterWithDiffuse", [](Json& d) { d["materials"]["gel"] = parse(R"({"transmittance": 0.5, "diffuse": 0.2})"); },
+     "materials.gel.diffuse", "not allowed in a transparent material (it has a 'transmittance')"},
+    {"FilterAndMedium", [](Json& d) { d["materials"]["gel"] = parse(R"({"transmittance": 0.5, "absorbance": 2})"); },
+     "materials.gel.absorbance", "a material is either a thin sheet"},
+    {"TransmittanceAboveOne", [](Json& d) { d["materials"]["gel"] = parse(R"({"transmittance": 1.5})"); },
+     "materials.gel.transmittance", "a transmittance must be within [0, 1], got 1.5"},
+    {"NegativeAbsorbance", [](Json& d) { d["materials"]["dye"] = parse(R"({"absorbance": -1})"); },
+     "materials.dye.absorbance", "an absorbance must be ≥ 0"},
+    {"MediumWithGloss", [](Json& d) { d["materials"]["dye"] = parse(R"({"absorbance": 1, "gloss": 3})"); },
+     "materials.dye.gloss", "not allowed in a transparent material (it has an 'absorbance' or 'dyes')"},
+    {"DyesNotAList", [](Json& d) { d["materials"]["dye"] = parse(R"({"dyes": {"absorptivity": 1}})"); },
+     "materials.dye.dyes", "expected a non-empty list"},
+    {"DyeWithoutConcentration", [](Json& d) { d["materials"]["dye"] = parse(R"({"dyes": [{"absorptivity": 100}]})"); },
+     "materials.dye.dyes.0.concentration", "missing required key"},
+    {"DyeConcentrationTypo",
+     [](Json& d) { d["materials"]["dye"] = parse(R"({"dyes": [{"absorptivity": 100, "concentraton": 1}]})"); },
+     "materials.dye.dyes.0.concentraton", "did you mean 'concentration'?"},
+    {"MediumOnAnOpenQuad",
+     [](Json& d) {
+         d["materials"]["dye"] = parse(R"({"absorbance": 2})");
+         d["objects"][4]["material"] = "dye";
+     },
+     "objects.4.material", "is an absorbing medium, which must fill a closed mesh"},
+    {"BoxWithoutSize", [](Json& d) { d["objects"][3] = parse(R"({"shape": "box", "center": [0, 0, 0], "material": "white"})"); },
+     "objects.3.size", "missing required key"},
+    {"BoxFlat",
+     [](Json& d) { d["objects"][3] = parse(R"({"shape": "box", "center": [0, 0, 0], "size": [1, 0, 1], "material": "white"})"); },
+     "objects.3.size", "edge lengths must be > 0"},
+    {"BoxWithRadius",
+     [](Json& d) {
+         d["objects"][3] = parse(R"({"shape": "box", "center": [0, 0, 0], "size": [1, 1, 1], "radius": 1, "material": "white"})");
+     },
+     "objects.3.radius", "key not allowed for a box"},
     {"UnknownTopLevelKey", [](Json& d) { d["light"] = Json::array(); }, "light",
      "unknown key; did you mean 'lights'?"},
     {"DescriptionNotString", [](Json& d) { d["description"] = 3; }, "description", "expected a string, got a number"},
@@ -419,6 +453,41 @@ INSTANTIATE_TEST_SUITE_P(All, SceneJsonBad, ::testing::ValuesIn(kBadCases),
                          [](const auto& info) { return std::string(info.param.name); });
 
 // Errors found while parsing carry the line (and what the parser was inside).
+TEST(SceneJson, TransparentMaterialsAndBoxes) {
+    Json d = baseScene();
+    d["materials"]["gel"] = parse(R"({"transmittance": {"wavelengths_nm": [400, 700], "values": [0.2, 0.9]}})");
+    d["materials"]["dye"] =
+        parse(R"({"absorbance": 1.5, "dyes": [{"absorptivity": 200, "concentration": 0.01},
+                                              {"absorptivity": 50, "concentration": 0.1}]})");
+    d["objects"][4]["material"] = "gel";
+    d["objects"][3] = parse(R"({"shape": "box", "center": [3, 0, 0], "size": [0.5, 1, 2], "material": "dye"})");
+    d["objects"].push_back(parse(R"({"shape": "sphere", "center": [-3, 0, 0], "radius": 0.5, "material": "white"})"));
+    const Scene s = load(d);
+    const Mesh& box = s.meshes[3];
+    EXPECT_TRUE(box.closed);
+    EXPECT_EQ(box.indices.size(), 36u);
+    glm::dvec3 lo(INFINITY), hi(-INFINITY);
+    for (const glm::dvec3& p : box.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
+    EXPECT_EQ(lo, glm::dvec3(2.75, -0.5, -1));
+    EXPECT_EQ(hi, glm::dvec3(3.25, 0.5, 1));
+    const SceneOnGrid g = resampleScene(s, s.grid);
+    const size_t gel = size_t(std::find_if(s.materials.begin(), s.materials.end(), [](const Material& m) { return m.name == "gel"; }) -
+                              s.materials.begin());
+    const size_t dye = size_t(std::find_if(s.materials.begin(), s.materials.end(), [](const Material& m) { return m.name == "dye"; }) -
+                              s.materials.begin());
+    EXPECT_TRUE(s.materials[gel].isFilter());
+    EXPECT_TRUE(s.materials[dye].isMedium());
+    EXPECT_TRUE(s.hasTransparency());
+    // 400 nm and 700 nm (bands 2 and 32 of 380:780:10), the data's ends; 0 outside them, as for a reflectance.
+    EXPECT_DOUBLE_EQ(g.materials[gel].transmittance[2], 0.2);
+    EXPECT_DOUBLE_EQ(g.materials[gel].transmittance[32], 0.9);
+    EXPECT_EQ(g.materials[gel].transmittance[0], 0.0);
+    // a = 1.5 m⁻¹ + 100 cm/m × (200 × 0.01 + 50 × 0.1) per cm = 701.5 m⁻¹, at every band.
+    ASSERT_EQ(g.materials[dye].absorbance.size(), size_t(g.grid.bands()));
+    for (double a : g.materials[dye].absorbance) EXPECT_NEAR(a, 701.5, 1e-9);
+    EXPECT_TRUE(g.materials[dye].diffuse.size() == size_t(g.grid.bands()) && g.materials[dye].diffuse[0] == 0.0);
+}
+
 TEST(SceneJson, SyntaxErrorGivesLineAndColumn) {
     std::string text = "{\n  \"camera\": {\n    \"width\": 64,\n    \"height\": \n  }\n}\n";
     std::string what = errorOf([&] { loadSceneFromString(text, "dir/broken.json", fixtureLibrary()); });

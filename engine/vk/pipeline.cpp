@@ -88,7 +88,7 @@ VkPipeline createGraphicsPipeline(VkDevice device, const GraphicsPipelineDesc& d
     gp.pViewportState = &vp;
     gp.pRasterizationState = &rs;
     gp.pMultisampleState = &ms;
-    gp.pDepthStencilState = d.depthTest || d.depthAttached ? &ds : nullptr;
+    gp.pDepthStencilState = d.depthTest ? &ds : nullptr;
     gp.pColorBlendState = &cb;
     gp.layout = d.layout;
     gp.renderPass = d.renderPass;

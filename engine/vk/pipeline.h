@@ -27,7 +27,6 @@ struct GraphicsPipelineDesc {
     uint32_t width = 0, height = 0;
     uint32_t colorAttachments = 0;
     bool depthTest = false, depthWrite = false;
-    bool depthAttached = false;  // the subpass has a depth attachment the pipeline does not test (read-only, sampled)
     VkCompareOp depthCompare = VK_COMPARE_OP_LESS;
     // Depth bias (the shadow-map pass): enabled when either factor is non-zero.
     float depthBiasConstant = 0.0f, depthBiasSlope = 0.0f;

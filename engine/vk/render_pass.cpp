@@ -30,8 +30,7 @@ RenderPassInfo::RenderPassInfo(const RenderPassDesc& desc) {
     subpass.colorAttachmentCount = uint32_t(colorRefs.size());
     subpass.pColorAttachments = colorRefs.empty() ? nullptr : colorRefs.data();
     if (desc.depth) {
-        depthRef = {uint32_t(attachments.size()), desc.depthReadOnly ? VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL
-                                                                     : VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
+        depthRef = {uint32_t(attachments.size()), VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
         attachments.push_back(description(*desc.depth));
         subpass.pDepthStencilAttachment = &depthRef;
     }

@@ -35,7 +35,6 @@ struct PassDependency {
 struct RenderPassDesc {
     std::vector<AttachmentDesc> colors;   // used as COLOR_ATTACHMENT_OPTIMAL, at indices 0..n−1
     std::optional<AttachmentDesc> depth;  // used as DEPTH_STENCIL_ATTACHMENT_OPTIMAL, after the colours
-    bool depthReadOnly = false;           // … or DEPTH_STENCIL_READ_ONLY_OPTIMAL: not written, and sampled too
     std::vector<PassDependency> dependencies;
 };
 

@@ -68,6 +68,20 @@ inline Material lambertian(double rho, std::string name = "lambertian") {
     return lambertian(constantSpectrum(rho), std::move(name));
 }
 
+// A thin sheet that transmits T(λ) per crossing and reflects nothing (scene/scene.h).
+inline Material filterSheet(Spectrum transmittance, std::string name = "filter") {
+    Material m = lambertian(0.0, name);
+    m.transmittance = sceneSpectrum(std::move(transmittance), SpectrumKind::Transmittance, "materials." + name + ".transmittance");
+    return m;
+}
+
+// An absorbing medium of decadic absorbance a(λ) per metre (to fill a closed mesh).
+inline Material absorbingMedium(Spectrum absorbancePerMetre, std::string name = "medium") {
+    Material m = lambertian(0.0, name);
+    m.absorbance = sceneSpectrum(std::move(absorbancePerMetre), SpectrumKind::Absorbance, "materials." + name + ".absorbance");
+    return m;
+}
+
 inline Material glossy(Spectrum diffuse, Spectrum specular, double gloss, std::string name = "glossy") {
     Material m = lambertian(std::move(diffuse), name);
     m.specular = sceneSpectrum(std::move(specular), SpectrumKind::Reflectance,
