@@ -271,6 +271,41 @@ def fluorescent() -> None:
 
 
 # --------------------------------------------------------------------------------------------
+# Transparent materials. See README "Filters and dyes". Models, not measurements.
+
+TRANSPARENT_GRID = (300, 830, 1)
+
+
+def logistic(wl, edge_nm, width_nm):
+    return 1.0 / (1.0 + np.exp(-(wl - edge_nm) / width_nm))
+
+
+def transparent() -> None:
+    wl = grid(*TRANSPARENT_GRID)
+    # Lighting gels (thin sheets): transmittance per crossing, 0..1.
+    orange = 0.02 + 0.86 * logistic(wl, 575.0, 12.0)  # long-pass: an amber/orange gel
+    blue = 0.03 + 0.72 * gaussian_nm(wl, 465.0, 110.0) + 0.55 * logistic(wl, 705.0, 15.0)  # blue, with the red leak dyed gels have
+    green = 0.02 + 0.68 * gaussian_nm(wl, 530.0, 85.0) + 0.40 * logistic(wl, 730.0, 15.0)
+    for name, t in (("orange_gel", orange), ("blue_gel", blue), ("green_gel", green)):
+        assert np.all((t >= 0) & (t <= 1)), name
+        print(f"  filters/{name}: T {t.min():.3f}..{t.max():.3f}, at 450/550/650 nm "
+              f"{t[150]:.3f}/{t[250]:.3f}/{t[350]:.3f}")
+        write_csv(f"filters/{name}.csv", wl, {"value": t}, sig=7, decimals=6)
+    # Rhodamine 6G in ethanol: molar absorptivity, L·mol⁻¹·cm⁻¹. The S0→S1 band and its vibronic
+    # shoulder, and a weak near-UV band, as Gaussians in energy; scaled so that the peak is
+    # 116 000 near 530 nm (the literature value, PhotochemCAD; the model's peak falls at 529 nm).
+    r6g = absorbance(wl, [(530.0, 0.115, 1.0), (498.0, 0.20, 0.32), (348.0, 0.45, 0.09)])
+    r6g *= 116000.0 / r6g.max()
+    print(f"  dyes/rhodamine_6g_epsilon: peak {r6g.max():.0f} at {peak_nm(wl, r6g):g} nm")
+    write_csv("dyes/rhodamine_6g_epsilon.csv", wl, {"value": r6g}, sig=7, decimals=2)
+    # Tinted (blue-green) glass: decadic absorbance per metre, rising into the red (an Fe²⁺-like
+    # band) with a UV edge. 6 mm of it transmits ~0.85 at 500 nm, ~0.70 at 700 nm (no reflection).
+    glass = 12.0 + 45.0 * gaussian_ev(wl, 1050.0, 0.9) + 400.0 * logistic(wl, 320.0, -8.0)
+    print(f"  media/tinted_glass_absorbance: {glass[200]:.1f} m⁻¹ at 500 nm, {glass[400]:.1f} at 700 nm")
+    write_csv("media/tinted_glass_absorbance.csv", wl, {"value": glass}, sig=7, decimals=4)
+
+
+# --------------------------------------------------------------------------------------------
 # Metals: Lorentz–Drude model of Rakić, Djurišić, Elazar & Majewski, Appl. Opt. 37(22), 5271
 # (1998), Table 1 (LD model). ωp, Γ, ω in eV.
 #   ε(ω) = 1 - f0 ωp² / (ω (ω + iΓ0)) + Σj fj ωp² / (ωj² - ω² - iωΓj)
@@ -345,6 +380,7 @@ def main() -> int:
     illuminants()
     colorchecker()
     fluorescent()
+    transparent()
     metals()
     observers()
     print(f"{len(written)} files")

@@ -254,3 +254,34 @@ TEST(ResponsePass, RefusesMoreChannelsThanTheTonemapPassCarriesAndHasNoCube) {
         EXPECT_NE(std::string(e.what()).find("at most 8"), std::string::npos) << e.what();
     }
 }
+
+// Radiance through a filter is a product of two materials' spectra, which the response pass cannot
+// sum: a scene with transparent objects draws bands for its display image, and its responses and
+// counts are those of the cube path exactly (the same band passes, the same tonemap pass).
+TEST(ResponsePass, ASceneWithTransparentObjectsDrawsBandsForItsDisplayImage) {
+    const uint32_t before = gpu().validationErrors();
+    RenderJob job;
+    job.scene = fs::path(METAMER_SOURCE_DIR) / "scenes" / "filters.json";
+    job.overrides = {"camera.width=80", "camera.height=64"};
+    const std::unique_ptr<LoadedScene> loaded = loadJobScene(job);
+    const TonemapPlan plan = makeJobTonemapPlan(job, *loaded, tonemapSettings(job, loaded->scene, nullptr));
+    SpectralPassOptions po;
+    po.sampled = true;
+    SpectralPass bands(gpu(), loaded->scene, loaded->rendered, po);
+    bands.draw();
+    TonemapPass bandTonemap(gpu(), bands, plan);
+    const DisplayImage viaPass = bandTonemap.render();
+    SpectralCube cube;
+    bands.readback(cube);
+    const DisplayImage integral = tonemapReference(plan, cube);
+
+    DisplayFrame frame(gpu(), loaded->scene, loaded->rendered, plan, SpectralPassOptions{});
+    EXPECT_FALSE(frame.passPlan().responses);
+    EXPECT_EQ(frame.passPlan().bands, loaded->rendered.grid.bands());
+    const DisplayImage viaFrame = frame.render();
+    EXPECT_EQ(viaFrame.responses, viaPass.responses);
+    EXPECT_EQ(viaFrame.counts, viaPass.counts);
+    EXPECT_LE(worstRelative(viaFrame.responses, integral.responses, viaFrame.channels).relative, 1e-5);
+    EXPECT_LE(worstCount(viaFrame.counts, integral.counts), 1);
+    EXPECT_NO_VALIDATION_ERRORS(before);
+}

@@ -184,14 +184,18 @@ Ray ReferenceRenderer::cameraRay(double px, double py) const {
     return ray;
 }
 
-int32_t ReferenceRenderer::trace(const Ray& ray, double* radiance, uint64_t* blocked) const {
+int32_t ReferenceRenderer::trace(const Ray& ray, double* radiance, uint64_t* blocked, uint32_t* crossings) const {
     std::fill(radiance, radiance + bands_, 0.0);
     if (blocked) *blocked = 0;
+    if (crossings) *crossings = 0;
     auto hit = bvh_.intersect(ray, kRayTMin);
     if (!hit) return kBackgroundId;
     uint64_t b = 0;
     shade(*hit, ray, radiance, b);
-    if (!clearBvh_.triangles().empty()) transmit(ray, hit->t, radiance);
+    if (!clearBvh_.triangles().empty()) {
+        const uint32_t c = transmit(ray, hit->t, radiance);
+        if (crossings) *crossings = c;
+    }
     if (blocked) *blocked = b;
     return static_cast<int32_t>(bvh_.triangles()[hit->index].mesh);
 }
@@ -203,11 +207,12 @@ int32_t ReferenceRenderer::trace(const Ray& ray, double* radiance, uint64_t* blo
 // Each mesh counts on its own, so overlapping media multiply. A ray through an edge meets both
 // triangles at the same t: hits of one mesh, on the same side, within 1e-9 of the scene's size
 // count once, as a rasterizer covers a pixel by one of the two.
-void ReferenceRenderer::transmit(const Ray& ray, double tEnd, double* radiance) const {
+uint32_t ReferenceRenderer::transmit(const Ray& ray, double tEnd, double* radiance) const {
     // Every crossing along the whole ray: a medium whose first crossing is a way out holds the
     // ray's start, even where the opaque surface comes before that crossing.
     std::vector<RayHit> hits = clearBvh_.allHits(ray, kRayTMin, std::numeric_limits<double>::infinity());
-    if (hits.empty()) return;
+    if (hits.empty()) return 0;
+    uint32_t signature = 0;  // a sum over the crossings before tEnd: the same set, the same value
     const auto& tris = clearBvh_.triangles();
     auto entering = [&](const RayHit& h) {
         const BvhTriangle& t = tris[h.index];
@@ -232,6 +237,7 @@ void ReferenceRenderer::transmit(const Ray& ray, double tEnd, double* radiance) 
             repeated = repeated || (tris[hits[j].index].mesh == mesh && entering(hits[j]) == in);
         if (repeated) continue;
         const MaterialOnGrid& mat = onGrid_.materials[scene_.meshes[mesh].material];
+        if (h.t < tEnd) signature += (mesh + 1) * 2654435761u + (in ? 1u : 2u);
         if (mat.isFilter()) {
             if (h.t < tEnd)
                 for (int b = 0; b < bands_; ++b) factor[size_t(b)] *= mat.transmittance[size_t(b)];
@@ -254,6 +260,7 @@ void ReferenceRenderer::transmit(const Ray& ray, double tEnd, double* radiance) 
         for (int b = 0; b < bands_; ++b) factor[size_t(b)] *= std::pow(10.0, -mat.absorbance[size_t(b)] * metres);
     }
     for (int b = 0; b < bands_; ++b) radiance[b] *= factor[size_t(b)];
+    return signature == kMixedCrossings ? signature - 1 : signature;
 }
 
 // A shadow ray from the hit point towards the light: any triangle but the one it leaves, past
@@ -391,23 +398,27 @@ void ReferenceRenderer::shade(const RayHit& hit, const Ray& ray, double* radianc
     }
 }
 
-int32_t ReferenceRenderer::pixel(int x, int y, double* radiance, uint64_t* blocked) const {
+int32_t ReferenceRenderer::pixel(int x, int y, double* radiance, uint64_t* blocked, uint32_t* crossings) const {
     const int s = options_.ssaa;
     std::vector<double> sample(bands_);
     std::fill(radiance, radiance + bands_, 0.0);
     int32_t id = kBackgroundId;
     uint64_t shadows = 0;
+    uint32_t crossed = 0;
     for (int j = 0; j < s; ++j) {
         for (int i = 0; i < s; ++i) {
             const Ray ray = cameraRay(x + (i + 0.5) / s, y + (j + 0.5) / s);
             uint64_t b = 0;
-            const int32_t sid = trace(ray, sample.data(), &b);
+            uint32_t c = 0;
+            const int32_t sid = trace(ray, sample.data(), &b, &c);
             if (i == 0 && j == 0) {
                 id = sid;
                 shadows = b;
+                crossed = c;
             } else {
                 if (sid != id) id = kMixedId;
                 if (b != shadows) shadows = kMixedShadows;
+                if (c != crossed) crossed = kMixedCrossings;
             }
             for (int b = 0; b < bands_; ++b) radiance[b] += sample[b];
         }
@@ -415,6 +426,7 @@ int32_t ReferenceRenderer::pixel(int x, int y, double* radiance, uint64_t* block
     const double inv = 1.0 / (static_cast<double>(s) * s);
     for (int b = 0; b < bands_; ++b) radiance[b] *= inv;
     if (blocked) *blocked = shadows;
+    if (crossings) *crossings = crossed;
     return id;
 }
 
@@ -424,6 +436,7 @@ ReferenceImage ReferenceRenderer::render() const {
     image.cube = SpectralCube(w, h, onGrid_.grid);
     image.objectId.assign(static_cast<size_t>(w) * h, kBackgroundId);
     image.shadows.assign(static_cast<size_t>(w) * h, 0);
+    image.crossings.assign(static_cast<size_t>(w) * h, 0);
 
     int threads = options_.threads;
     if (threads == 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
@@ -440,7 +453,7 @@ ReferenceImage ReferenceRenderer::render() const {
             for (int y = nextRow++; y < h; y = nextRow++) {
                 for (int x = 0; x < w; ++x) {
                     const size_t at = static_cast<size_t>(y) * w + x;
-                    image.objectId[at] = pixel(x, y, radiance.data(), &image.shadows[at]);
+                    image.objectId[at] = pixel(x, y, radiance.data(), &image.shadows[at], &image.crossings[at]);
                     float* out = image.cube.pixel(x, y);
                     for (int b = 0; b < bands_; ++b) out[b] = static_cast<float>(radiance[b]);
                 }

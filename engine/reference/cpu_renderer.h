@@ -31,10 +31,17 @@ inline constexpr int32_t kMixedId = -2;  // the pixel's sub-samples saw differen
 // (Light::castsShadows), set when it is blocked. kMixedShadows: the pixel's sub-samples differ.
 inline constexpr uint64_t kMixedShadows = ~uint64_t(0);
 
+// Which transparent surfaces a sample's ray crossed before its opaque hit, as a signature (0:
+// none; the same set of crossings, the same value). kMixedCrossings: the pixel's sub-samples differ.
+inline constexpr uint32_t kMixedCrossings = ~uint32_t(0);
+
 struct ReferenceImage {
     SpectralCube cube;             // spectral radiance per band, W·sr⁻¹·m⁻²·nm⁻¹
     std::vector<int32_t> objectId;  // per pixel, row 0 at the top: mesh index, -1 or -2
     std::vector<uint64_t> shadows;  // per pixel: the blocked shadowing lights, or kMixedShadows
+    // Per pixel: the transparent crossings' signature, or kMixedCrossings. Where it changes is a
+    // transparent object's silhouette, an edge as much as an opaque object's (render_job's edgeMask).
+    std::vector<uint32_t> crossings;
 };
 
 ReferenceImage renderReference(const Scene& scene, const SceneOnGrid& onGrid,
@@ -58,10 +65,11 @@ public:
     // Radiance along one ray into `radiance` (bands() values, overwritten); returns the mesh
     // index hit, or kBackgroundId.
     // `blocked`, when given, gets the shadowing lights the hit point does not see (see kMixedShadows).
-    int32_t trace(const Ray& ray, double* radiance, uint64_t* blocked = nullptr) const;
+    // `crossings`, when given, gets the signature of the transparent surfaces crossed (kMixedCrossings).
+    int32_t trace(const Ray& ray, double* radiance, uint64_t* blocked = nullptr, uint32_t* crossings = nullptr) const;
 
     // Box-averaged radiance of pixel (x, y) over the ssaa×ssaa sub-samples; returns its objectId.
-    int32_t pixel(int x, int y, double* radiance, uint64_t* blocked = nullptr) const;
+    int32_t pixel(int x, int y, double* radiance, uint64_t* blocked = nullptr, uint32_t* crossings = nullptr) const;
 
     ReferenceImage render() const;
 
@@ -72,7 +80,8 @@ private:
     bool inShadow(size_t l, const glm::dvec3& p, const glm::dvec3& w, uint32_t triangle) const;
     // Multiplies `radiance` by the transmittance of the transparent surfaces and media the ray
     // crosses before t = tEnd (the opaque surface it ends on).
-    void transmit(const Ray& ray, double tEnd, double* radiance) const;
+    // Returns the crossings' signature (ReferenceImage::crossings).
+    uint32_t transmit(const Ray& ray, double tEnd, double* radiance) const;
 
     const Scene& scene_;
     const SceneOnGrid& onGrid_;

@@ -106,26 +106,29 @@ TonemapSettings tonemapSettings(const RenderJob& job, const Scene& scene, Output
 
 namespace {
 
-// An edge is a pixel that, or a neighbour of which, sees something else: there rasterization and
-// ray casting may pick different surfaces, so the golden comparisons skip it (255). A shadow
+// An edge is a pixel that, or a neighbour of which, sees something else — another opaque surface,
+// or through another set of transparent ones: there rasterization and ray casting may pick
+// different surfaces, so the golden comparisons skip it (255). A shadow
 // boundary is a pixel that, or a neighbour of which, sees a different set of blocked lights, or
 // whose sub-samples do (128): there the GPU's shadow map may put the boundary up to a texel away.
 std::vector<uint16_t> edgeMask(const ReferenceImage& img) {
     const int W = img.cube.width, H = img.cube.height;
     std::vector<uint16_t> edges(size_t(W) * H, 0);
     const bool shadows = img.shadows.size() == edges.size();
+    const bool crossings = img.crossings.size() == edges.size();
     for (int y = 0; y < H; ++y)
         for (int x = 0; x < W; ++x) {
             const size_t at = size_t(y) * W + x;
             const int32_t id = img.objectId[at];
             const uint64_t blocked = shadows ? img.shadows[at] : 0;
-            bool edge = id == kMixedId, boundary = blocked == kMixedShadows;
+            const uint32_t crossed = crossings ? img.crossings[at] : 0;
+            bool edge = id == kMixedId || crossed == kMixedCrossings, boundary = blocked == kMixedShadows;
             for (int dy = -1; dy <= 1 && !edge; ++dy)
                 for (int dx = -1; dx <= 1 && !edge; ++dx) {
                     int nx = x + dx, ny = y + dy;
                     if (nx < 0 || ny < 0 || nx >= W || ny >= H) continue;
                     const size_t there = size_t(ny) * W + nx;
-                    edge = img.objectId[there] != id;
+                    edge = img.objectId[there] != id || (crossings && img.crossings[there] != crossed);
                     boundary = boundary || (shadows && img.shadows[there] != blocked);
                 }
             edges[at] = edge ? 255 : boundary ? 128 : 0;

@@ -50,7 +50,10 @@ inline InteriorComparison compareInterior(const SpectralCube& gpuCube, const Ref
             for (int dy = -1; dy <= 1; ++dy)
                 for (int dx = -1; dx <= 1; ++dx) {
                     const size_t at = size_t(y + dy) * W + x + dx;
-                    interior = interior && ref.objectId[at] == id && (!shadows || ref.shadows[at] == blocked);
+                    interior = interior && ref.objectId[at] == id && (!shadows || ref.shadows[at] == blocked) &&
+                               (ref.crossings.size() != ref.objectId.size() ||
+                                (ref.crossings[at] == ref.crossings[size_t(y) * W + x] &&
+                                 ref.crossings[at] != kMixedCrossings));
                 }
             if (!interior) continue;
             ++m.pixels;
