@@ -51,17 +51,19 @@ void printTimings(const RenderJobResult& r) {
     std::printf("\n");
     if (t.shadow_ms > 0) std::printf("shadow maps: %.1f ms of the upload (drawn once per scene)\n", t.shadow_ms);
     double bandPixels = double(r.width) * r.height * r.grid.bands();
-    if (r.responsePass) {
-        // The display path without the bands: a frame is the response pass and the tonemap pass.
+    if (r.displayOnly) {
+        // The display path: a frame is the response pass (or, with transparent objects, the band
+        // passes) and the tonemap pass.
+        const char* what = r.responsePass ? "response pass: the detector's channels, no bands"
+                                          : "band passes: transparent objects need the bands";
         if (t.frames > 1)
-            std::printf("frames: %d (response pass: the detector's channels, no bands); first frame shading %.1f ms "
+            std::printf("frames: %d (%s); first frame shading %.1f ms "
                         "(includes shader compilation); median of the other %d: shading %.1f ms, tonemap %.1f ms, "
                         "frame %.1f ms\n",
-                        t.frames, t.first_shading_ms, t.frames - 1, t.median_shading_ms, t.median_tonemap_ms,
+                        t.frames, what, t.first_shading_ms, t.frames - 1, t.median_shading_ms, t.median_tonemap_ms,
                         t.median_shading_ms + t.median_tonemap_ms);
         else
-            std::printf("response pass (the detector's channels, no bands): one frame, includes shader compilation; "
-                        "--frames N for steady state\n");
+            std::printf("%s: one frame, includes shader compilation; --frames N for steady state\n", what);
         return;
     }
     if (t.frames > 1) {

@@ -233,6 +233,7 @@ int renderStripsInto(const RenderJob& job, LoadedScene& loaded, const TonemapPla
     r.timings.readback_ms = sr.readback_ms;
     r.backendDescription = sr.description;
     r.responsePass = sr.responsePass;
+    r.displayOnly = sr.displayOnly;
     r.clippedPixels = sr.clippedPixels;
     return sr.strips;
 }
@@ -254,7 +255,8 @@ void renderDisplayFrames(const RenderJob& job, LoadedScene& loaded, const Tonema
             shading.push_back(frame.timings().shading_ms);
             tonemap.push_back(frame.timings().tonemap_ms);
         }
-        r.responsePass = true;
+        r.responsePass = frame.passPlan().responses;
+        r.displayOnly = true;
         r.timings.upload_ms = frame.timings().upload_ms;
         r.timings.shadow_ms = frame.timings().shadow_ms;
         r.timings.shading_ms = shading[0];
@@ -396,8 +398,11 @@ RenderJobResult runRenderJob(const RenderJob& job) {
     // detector's quick look the CIE 1931 observer's.
     const bool quickLook = files.png && planPtr && planPtr->mode == TonemapMode::ResponsesOnly;
     const bool needsBands = files.cube || files.edges || !display || job.backend == Backend::Cpu;
+    // A scene with transparent objects draws its bands for the display image too (display_frame.cpp):
+    // its memory is counted as the cube path's (the cube itself is not held, so this errs high).
+    const bool drawsBands = needsBands || scene.hasTransparency();
     const RenderMemory memory =
-        estimateRenderMemory(W, H, loaded->grid.bands(), job.ssaa, job.backend, display, needsBands);
+        estimateRenderMemory(W, H, loaded->grid.bands(), job.ssaa, job.backend, display, drawsBands);
     refuseAbsurdSizes(job, scene, loaded->grid, memory);
     r.timings.load_ms = msSince(t);
     r.grid = loaded->grid;
@@ -407,7 +412,7 @@ RenderJobResult runRenderJob(const RenderJob& job) {
     // 3. Every output opened at once (temporary files), whatever renders the pixels.
     std::string why;
     const int stripRows = stripRowsFor(job, scene, memory,
-                                       estimateRenderMemory(W, 1, channels, job.ssaa, job.backend, display, needsBands),
+                                       estimateRenderMemory(W, 1, channels, job.ssaa, job.backend, display, drawsBands),
                                        files.edges || quickLook, why);
     OutputOptions oo;
     oo.half = job.half;

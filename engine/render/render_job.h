@@ -49,6 +49,9 @@ struct RenderJobResult {
     // The display path without the bands (render/display_frame.h): no cube was asked for, so the
     // GPU drew the detector's channels instead of the bands.
     bool responsePass = false;
+    // The display path only (no cube asked for): the response pass, or, for a scene with
+    // transparent objects, the band passes and the tonemap pass.
+    bool displayOnly = false;
     std::string displayDescription;  // the tonemap plan, when there is one
     std::string xyzUnits;
     StageTimings timings;

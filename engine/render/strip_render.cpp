@@ -17,12 +17,13 @@ size_t defaultMemoryBudget() { return size_t(machineMemoryBytes() / 4); }
 
 namespace {
 
-// Display outputs only: the response pass and the tonemap pass, strip by strip.
+// Display outputs only: the response pass (bands, with transparent objects) and the tonemap pass, strip by strip.
 StripResult displayStrips(const StripJob& j, SpectralPassOptions po) {
     const int W = j.scene->camera.width, H = j.scene->camera.height;
     StripResult r;
-    r.responsePass = true;
     DisplayFrame frame(*j.context, *j.scene, *j.rendered, *j.plan, po, j.outputs->displayOutputs());
+    r.responsePass = frame.passPlan().responses;
+    r.displayOnly = true;
     r.description = j.context->deviceInfo().name + ": " + frame.passPlan().describe() +
                     fmt::format(", in strips of {} rows", frame.rows());
     for (int r0 = 0; r0 < H; r0 += frame.rows()) {

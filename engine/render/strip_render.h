@@ -42,7 +42,8 @@ struct StripResult {
     int strips = 0;
     size_t clippedPixels = 0;
     double shading_ms = 0, tonemap_ms = 0, readback_ms = 0;
-    bool responsePass = false;  // display outputs only: the bands were never drawn
+    bool responsePass = false;  // display outputs only, and the bands were never drawn
+    bool displayOnly = false;   // display outputs only (the response pass, or bands with transparent objects)
     std::string description;  // device and plan
 };
 
