@@ -3,6 +3,7 @@
 #include "preview/file_watch.h"
 #include "preview/preview.h"
 #include "preview/settings_panel.h"
+#include "scene/scene_json.h"
 
 #include <gtest/gtest.h>
 
@@ -86,4 +87,25 @@ TEST(PreviewSettings, FileWatchSeesAChangeOnceAndAReplacedFile) {
     fs::remove(f);  // missing for a moment: no change reported yet
     EXPECT_FALSE(w.changed());
     fs::remove_all(dir);
+}
+
+// The transparent objects' controls edit scene keys that load: a filter swapped for another from
+// the library, a dye's concentration doubled (its absorbance per metre doubles).
+TEST(PreviewSettings, TransparentObjectControlsSetKeysThatLoad) {
+    const fs::path scene = fs::path(METAMER_SOURCE_DIR) / "scenes" / "filters.json";
+    const SpectrumLibrary library;
+    Scene s = loadScene(scene, library);
+    auto named = [](const Scene& sc, const std::string& n) {
+        return *std::find_if(sc.materials.begin(), sc.materials.end(), [&](const Material& m) { return m.name == n; });
+    };
+    const Material gel = named(s, "amber_gel"), dye = named(s, "rhodamine");
+    std::vector<std::string> o;
+    setOverride(o, transmittanceKey(gel), "filters/green_gel");
+    setOverride(o, dyeConcentrationKey(dye, 0), "1e-05");
+    EXPECT_EQ(o, (std::vector<std::string>{"materials.amber_gel.transmittance=filters/green_gel",
+                                           "materials.rhodamine.dyes.0.concentration=1e-05"}));
+    const Scene edited = loadScene(scene, library, o);
+    EXPECT_EQ(named(edited, "amber_gel").transmittance->spectrum.source, "filters/green_gel");
+    EXPECT_DOUBLE_EQ(named(edited, "rhodamine").dyes[0].concentration, 1e-5);
+    EXPECT_EQ(absorbanceKey(named(s, "tinted_glass")), "materials.tinted_glass.absorbance");
 }

@@ -59,9 +59,18 @@ Grid gridWithStep(const Grid& grid, double step_nm) {
     return g;
 }
 
+std::string transmittanceKey(const Material& m) { return "materials." + m.name + ".transmittance"; }
+std::string absorbanceKey(const Material& m) { return "materials." + m.name + ".absorbance"; }
+std::string dyeConcentrationKey(const Material& m, size_t dye) {
+    return fmt::format("materials.{}.dyes.{}.concentration", m.name, dye);
+}
+
 SettingsPanel::SettingsPanel(const SpectrumLibrary& library) {
-    for (const auto& n : library.names())
+    for (const auto& n : library.names()) {
         if (n.rfind("illuminants/", 0) == 0) lightSpectra_.push_back(n);
+        if (n.rfind("filters/", 0) == 0) filterSpectra_.push_back(n);
+        if (n.rfind("media/", 0) == 0) mediumSpectra_.push_back(n);
+    }
     detectors_ = detectorNames(library);
 }
 
@@ -108,6 +117,49 @@ bool SettingsPanel::draw(const View& view, RenderJob& job) {
             ImGui::PopID();
         }
         if (scene.lights.empty()) ImGui::TextDisabled("the scene has no lights");
+    }
+
+    if (scene.hasTransparency() && ImGui::CollapsingHeader("Transparent objects", ImGuiTreeNodeFlags_DefaultOpen)) {
+        // A filter's spectrum from the library's filters/, a medium's from media/, a dye's
+        // concentration halved or doubled (its transmittance squared or rooted).
+        for (size_t i = 0; i < scene.materials.size(); ++i) {
+            const Material& m = scene.materials[i];
+            if (!m.isTransparent()) continue;
+            ImGui::PushID(int(1000 + i));
+            ImGui::Text("%s (%s)", m.name.c_str(), m.isFilter() ? "filter" : "medium");
+            if (m.transmittance) {
+                const std::string pick = combo("transmittance", m.transmittance->spectrum.source, filterSpectra_);
+                if (!pick.empty()) {
+                    setOverride(job.overrides, transmittanceKey(m), pick);
+                    changed = true;
+                }
+            }
+            if (m.absorbance) {
+                const std::string pick = combo("absorbance", m.absorbance->spectrum.source, mediumSpectra_);
+                if (!pick.empty()) {
+                    setOverride(job.overrides, absorbanceKey(m), pick);
+                    changed = true;
+                }
+            }
+            for (size_t d = 0; d < m.dyes.size(); ++d) {
+                ImGui::PushID(int(d));
+                ImGui::Text("dye %zu: %s, %.4g mol/L", d, m.dyes[d].absorptivity.spectrum.source.c_str(),
+                            m.dyes[d].concentration);
+                ImGui::SameLine();
+                const double c = m.dyes[d].concentration;
+                if (ImGui::SmallButton("\u00d7\u00bd")) {  // ×½
+                    setOverride(job.overrides, dyeConcentrationKey(m, d), fmt::format("{:.9g}", c * 0.5));
+                    changed = true;
+                }
+                ImGui::SameLine();
+                if (ImGui::SmallButton("\u00d72")) {  // ×2
+                    setOverride(job.overrides, dyeConcentrationKey(m, d), fmt::format("{:.9g}", c * 2.0));
+                    changed = true;
+                }
+                ImGui::PopID();
+            }
+            ImGui::PopID();
+        }
     }
 
     if (ImGui::CollapsingHeader("Detector and display", ImGuiTreeNodeFlags_DefaultOpen)) {

@@ -1,4 +1,5 @@
-// The live controls of one view: each light's spectrum (from the library) and scale, the detector,
+// The live controls of one view: each light's spectrum (from the library) and scale, each
+// transparent material's filter or medium spectrum and dye concentrations, the detector,
 // chromatic adaptation, display model, representation mode and grid step. They edit a copy of
 // the view's RenderJob; the session hands the edited job to View::update(), which re-renders.
 // Tests: engine/preview/preview_settings_test.cpp.
@@ -20,6 +21,12 @@ void setOverride(std::vector<std::string>& overrides, const std::string& key, co
 // centre that is not past `grid.end_nm`.
 Grid gridWithStep(const Grid& grid, double step_nm);
 
+// The --set keys the panel edits on a transparent material: its filter spectrum
+// ("materials.NAME.transmittance"), its medium's absorbance, or dye i's concentration.
+std::string transmittanceKey(const Material& m);
+std::string absorbanceKey(const Material& m);
+std::string dyeConcentrationKey(const Material& m, size_t dye);
+
 class SettingsPanel {
 public:
     explicit SettingsPanel(const SpectrumLibrary& library);
@@ -29,6 +36,7 @@ public:
 
 private:
     std::vector<std::string> lightSpectra_;  // library illuminants
+    std::vector<std::string> filterSpectra_, mediumSpectra_;  // library filters/ and media/
     std::vector<std::string> detectors_;
 };
 
