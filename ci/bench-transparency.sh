@@ -6,7 +6,8 @@
 #   display: `metamer render --write png --frames 6 --timings`, the median shading + tonemap
 #            (without transparency the response pass; with it, the band passes and their tonemap).
 # One run per row; compare ratios within a run. Prints figures, asserts nothing. The lavapipe
-# ceiling (../shared/tools/lavapipe-ceiling) is run beside it when CEILING names its binary.
+# ceiling (../shared/tools/lavapipe-ceiling, built by its build.sh) is run beside it when CEILING
+# names its binary (proto).
 #
 #   bash ci/bench-transparency.sh [SIZES...]    default: 512 1024
 set -euo pipefail
@@ -49,5 +50,5 @@ for size in "${sizes[@]}"; do
 done
 if [ -n "${CEILING:-}" ]; then
   echo "lavapipe ceiling ($CEILING):"
-  XDG_RUNTIME_DIR="${TMPDIR:-/tmp}" MODES=b "$CEILING" 2>/dev/null | head -20
+  (cd "$(dirname "$CEILING")" && XDG_RUNTIME_DIR="${TMPDIR:-/tmp}" MODES=b "./$(basename "$CEILING")" 2>/dev/null)
 fi
