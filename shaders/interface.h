@@ -44,6 +44,13 @@ using mat4 = glm::mat4;
                                   // lobe tables, one per gloss
                                   // value of the scene's specular materials (shaders/lobe_lookup.h;
                                   // GpuMaterialBlock.params.w is a material's table's first entry)
+#define BINDING_SHADOW_TRANSMITTANCE 10 // sampler2DArray (RGBA32F, texelFetch): coloured shadows — per shadow-map
+                                        // layer, BAND_LAYERS layers of the light's transmittance through the
+                                        // transparent objects to the nearest opaque surface, TRANSMITTANCE_MAP_SIZE²
+                                        // (read when SPEC_FILTERED_SHADOWS)
+#define BINDING_SHADOW_EXCITATION 11    // samplerBuffer (RGBA32F texel buffer): per rank-one fluorescent material,
+                                        // per light, BAND_LAYERS vec4 of its excitation integrand, so that a
+                                        // filtered light's coupling is Σ integrand·τ (read when SPEC_FILTERED_SHADOWS)
 #define BINDING_OPAQUE_DISTANCE 9 // sampler2D (R32F, texelFetch): the nearest opaque surface's distance per pixel,
                                   // written by the depth pre-pass (opaque_distance.frag) and read by the
                                   // transmission pass (transmit.frag) where a scene has transparent objects
@@ -54,6 +61,9 @@ using mat4 = glm::mat4;
 #define SHADOW_MAP_SIZE 2048
 #define MAX_SHADOW_LAYERS 96
 #define SHADOW_NORMAL_OFFSET 1.0
+// Coloured shadows: the transmittance maps' size. Coarser than the depth maps, because they hold
+// every band (BAND_LAYERS RGBA32F layers per shadow-map layer: 23 MiB each at the default grid).
+#define TRANSMITTANCE_MAP_SIZE 256
 
 // Descriptor set 1 of the spectral pass: the draw's material's textures (one set per material),
 // RGBA32F 2D-array images read with texelFetch (bilinear filtering is done in the shader, in
@@ -96,6 +106,11 @@ using mat4 = glm::mat4;
 #define SPEC_SHADOWED_DIRECTIONAL 12  // the first N directional lights cast shadows
 #define SPEC_SHADOWED_POINT 13        // the first N point lights cast shadows
 #define SPEC_HEMISPHERE_PAIRED 14     // bit i: hemisphere light i's up is opposite hemisphere light i−1's
+// Coloured shadows: the scene has transparent objects and shadowing lights, so a shadowing light's
+// spectrum is multiplied by its transmittance map at the receiver (BINDING_SHADOW_TRANSMITTANCE),
+// and a rank-one fluorescent material's coupling is taken from the filtered light.
+#define SPEC_FILTERED_SHADOWS 15
+#define SPEC_BAND_LAYERS 16           // ⌈bands / 4⌉: the transmittance maps' layers per shadow-map layer
 
 // The hemisphere lights' lobe integrals are independent of wavelength but costly: with several band
 // passes and at most MAX_LOBE_LIGHTS hemisphere lights, a lobe pass (one RGBA32F attachment, after
@@ -154,7 +169,8 @@ struct GpuMaterialBlock {
                                            // s, per material, keeps the coupling near the
                                            // radiance's magnitude in float (docs/numerics.md)
     vec4 params;                           // x: gloss N; y: the texture layer of this pass's first
-                                           // vec4; z, w: 0
+                                           // vec4; z: the material's first entry in
+                                           // BINDING_SHADOW_EXCITATION, −1 if none; w: 0
     uvec4 switches;                        // x: MATERIAL_* bits (below); y, z, w: 0
     vec4 lobe;                             // x: the first entry of its lobe table in BINDING_LOBE_TABLES,
                                            // −1 if none; y, z: the table's x1 warp (lobeWarp, lobe_lookup.h)
@@ -273,13 +289,16 @@ struct SpectralSpecialization {
     int32_t lobeMode;    // SPEC_LOBE_MODE
     int32_t shadowedDirectional, shadowedPoint;  // SPEC_SHADOWED_DIRECTIONAL, SPEC_SHADOWED_POINT
     uint32_t hemispherePaired;                   // SPEC_HEMISPHERE_PAIRED
+    uint32_t filteredShadows;                    // SPEC_FILTERED_SHADOWS (VkBool32)
+    int32_t bandLayers;                          // SPEC_BAND_LAYERS
 };
-static_assert(sizeof(SpectralSpecialization) == 4 * (SPEC_HEMISPHERE_PAIRED + 1), "one 4-byte field per id");
+static_assert(sizeof(SpectralSpecialization) == 4 * (SPEC_BAND_LAYERS + 1), "one 4-byte field per id");
 static_assert(SPEC_AMBIENT_COUNT == 0 && SPEC_DIRECTIONAL_COUNT == 1 && SPEC_POINT_COUNT == 2 && SPEC_HAS_SPECULAR == 3 &&
                   SPEC_HAS_FLUORESCENCE == 4 && SPEC_HAS_TEXTURES == 5 && SPEC_HAS_NORMAL_MAPS == 6 &&
                   SPEC_FLUORESCENCE_SPECTRA == 7 && SPEC_RESPONSES == 8 && SPEC_HEMISPHERE_COUNT == 9 &&
                   SPEC_SHADOWS == 10 && SPEC_LOBE_MODE == 11 && SPEC_SHADOWED_DIRECTIONAL == 12 &&
-                  SPEC_SHADOWED_POINT == 13 && SPEC_HEMISPHERE_PAIRED == 14,
+                  SPEC_SHADOWED_POINT == 13 && SPEC_HEMISPHERE_PAIRED == 14 && SPEC_FILTERED_SHADOWS == 15 &&
+                  SPEC_BAND_LAYERS == 16,
               "SpectralSpecialization's fields are in id order");
 
 // tonemap.frag's specialization constants, in id order.

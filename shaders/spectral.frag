@@ -31,6 +31,9 @@ layout(constant_id = SPEC_LOBE_MODE) const int LOBE_MODE = LOBE_COMPUTE;
 layout(constant_id = SPEC_SHADOWED_DIRECTIONAL) const int SHADOWED_DIRECTIONAL = 0;
 layout(constant_id = SPEC_SHADOWED_POINT) const int SHADOWED_POINT = 0;
 layout(constant_id = SPEC_HEMISPHERE_PAIRED) const uint HEMISPHERE_PAIRED = 0u;
+// Coloured shadows: shadowing lights are filtered by the transparent objects on their way.
+layout(constant_id = SPEC_FILTERED_SHADOWS) const bool FILTERED_SHADOWS = false;
+layout(constant_id = SPEC_BAND_LAYERS) const int BAND_LAYERS = 1;
 
 layout(set = 0, binding = BINDING_LIGHTS, std140) uniform Lights { GpuLightBlock L; };
 layout(set = 0, binding = BINDING_LIGHT_SPECTRA, std140) uniform LightSpectra { GpuLightSpectraBlock E; };
@@ -41,6 +44,8 @@ layout(set = 0, binding = BINDING_SHADOW_MATRICES, std140) uniform Shadows { Gpu
 layout(set = 0, binding = BINDING_SHADOW_MAP) uniform sampler2DArrayShadow shadowMap;
 layout(set = 0, binding = BINDING_LOBE_WEIGHTS) uniform sampler2D lobeWeights;
 layout(set = 0, binding = BINDING_LOBE_TABLES) uniform usamplerBuffer lobeData;
+layout(set = 0, binding = BINDING_SHADOW_TRANSMITTANCE) uniform sampler2DArray shadowTransmittance;
+layout(set = 0, binding = BINDING_SHADOW_EXCITATION) uniform samplerBuffer shadowExcitation;
 
 layout(set = 1, binding = TEXTURE_BINDING_DIFFUSE) uniform sampler2DArray diffuseTexture;
 layout(set = 1, binding = TEXTURE_BINDING_SPECULAR) uniform sampler2DArray specularTexture;
@@ -80,10 +85,62 @@ const float INV_PI = 0.31830988618379067;
 const float FLT_MIN_NORMAL = 1.17549435e-38;
 const float FLT_MAX_FINITE = 3.40282347e38;
 
+// Where visibility() looked light l up (surface_shading.glsl): the shadow-map layer, −1 when it
+// did not, and the position in the transmittance maps there (texel centres at integers).
+int shadowLayer;
+vec2 shadowTexel;
+
 vec4 acc[OUTPUT_COUNT];  // this pass's bands, 4 per attachment
 float fluorescence;      // rank-one form: Σ_l g_l·coupling_l, scales ê(λ)/λ
 
 float coupling(int l) { return M.coupling[l / 4][l % 4]; }
+
+// Coloured shadows (FILTERED_SHADOWS): the current light's transmittance to this fragment for
+// this pass's bands, from its transmittance map at the texel the shadow lookup used
+// (visibility() leaves it in shadowTexel, shadowLayer); `filtered` false where the light arrives
+// unfiltered (outside the map, or not a shadowing light).
+vec4 lightFilter[OUTPUT_COUNT];
+bool filtered;
+// The transmittance maps hold optical depths, log2 τ, interpolated bilinearly between texel
+// centres (by hand, in float, as the textures are): a texel holds the depth along the ray through
+// its centre, and where a medium's path changes across the map (a slab's side, a sphere) the
+// nearest texel would be off by the path's change over half a texel; the depth is linear in the
+// path, so along a slab's side the interpolation is exact.
+ivec2 transmittanceTexel[4];
+float transmittanceWeight[4];
+void transmittanceBilinear() {
+    const vec2 p0 = floor(shadowTexel), f = shadowTexel - p0;
+    const ivec2 i0 = ivec2(p0), last = ivec2(TRANSMITTANCE_MAP_SIZE - 1);
+    transmittanceTexel[0] = clamp(i0, ivec2(0), last);
+    transmittanceTexel[1] = clamp(i0 + ivec2(1, 0), ivec2(0), last);
+    transmittanceTexel[2] = clamp(i0 + ivec2(0, 1), ivec2(0), last);
+    transmittanceTexel[3] = clamp(i0 + ivec2(1, 1), ivec2(0), last);
+    transmittanceWeight[0] = (1.0 - f.x) * (1.0 - f.y);
+    transmittanceWeight[1] = f.x * (1.0 - f.y);
+    transmittanceWeight[2] = (1.0 - f.x) * f.y;
+    transmittanceWeight[3] = f.x * f.y;
+}
+vec4 transmittanceAt(int layer) {
+    vec4 depth = vec4(0.0);
+    [[unroll]] for (int c = 0; c < 4; ++c)
+        depth += transmittanceWeight[c] * texelFetch(shadowTransmittance, ivec3(transmittanceTexel[c], layer), 0);
+    return exp2(depth);
+}
+void filterLight() {
+    filtered = FILTERED_SHADOWS && shadowLayer >= 0;
+    if (!filtered) return;
+    transmittanceBilinear();
+    const int first = shadowLayer * BAND_LAYERS + int(M.params.y);
+    [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) lightFilter[k] = transmittanceAt(first + k);
+}
+// The rank-one coupling of light l under its filter: Σ over every band (all passes) of the
+// excitation integrand × τ, in place of the unfiltered M.coupling.
+float filteredCoupling(int l) {
+    const int record = int(M.params.z) + l * BAND_LAYERS, first = shadowLayer * BAND_LAYERS;
+    float sum = 0.0;
+    for (int j = 0; j < BAND_LAYERS; ++j) sum += dot(texelFetch(shadowExcitation, record + j), transmittanceAt(first + j));
+    return sum;
+}
 
 // Textured reflectance at this fragment (HAS_TEXTURES only): the material's spectra times the
 // textures' bands.
@@ -143,7 +200,9 @@ void addLight(int l, float diffuseWeight, float specularWeight) {
     [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) {
         vec4 reflectance = diffuseAt(k) * diffuseWeight;
         if (HAS_SPECULAR) reflectance += specularAt(k) * specularWeight;
-        acc[k] += E.lightBands[l * MAX_OUTPUTS + k] * reflectance;
+        vec4 e = E.lightBands[l * MAX_OUTPUTS + k];
+        if (FILTERED_SHADOWS && filtered) e *= lightFilter[k];
+        acc[k] += e * reflectance;
     }
 }
 
@@ -155,8 +214,10 @@ void addFluorescence(int l, float g) {
         [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) acc[k] += g * R.fluorescence[l * RESPONSE_VEC4 + k];
         return;
     }
-    if (FLUORESCENCE_SPECTRA)
+    if (FLUORESCENCE_SPECTRA)  // a Donaldson matrix: excited by the unfiltered light (docs/physics.md)
         [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) acc[k] += g * F.emitted[l * MAX_OUTPUTS + k];
+    else if (FILTERED_SHADOWS && filtered && g > 0.0 && M.params.z >= 0.0)
+        fluorescence += g * filteredCoupling(l);
     else
         fluorescence += g * coupling(l);
 }
@@ -195,17 +256,21 @@ void main() {
     if (HAS_TEXTURES) sampleTextures();
 
     // Ambient: irradiance on every surface, no cosine, no specular.
+    filtered = false;
     [[unroll]] for (int i = 0; i < AMBIENT_COUNT; ++i) {
         int l = i;
         addLight(l, INV_PI, 0.0);
         addFluorescence(l, 1.0);
     }
     vec3 ng = dot(faceNormal, faceNormal) > 0.0 ? normalize(faceNormal) : n;
+    filtered = false;
     [[unroll]] for (int i = 0; i < DIRECTIONAL_COUNT; ++i) {
         int l = AMBIENT_COUNT + i;
         vec3 w = L.lights[l].vector.xyz;
         float g = max(dot(n, w), 0.0);
+        shadowLayer = -1;
         if (i < SHADOWED_DIRECTIONAL && g > 0.0) g *= visibility(l, worldPosition, ng, w, false);
+        if (FILTERED_SHADOWS) filterLight();
         addLight(l, g * INV_PI, specularWeight(n, w, v, g));
         addFluorescence(l, g);
     }
@@ -220,10 +285,13 @@ void main() {
         bool apart = d2 >= FLT_MIN_NORMAL;
         vec3 w = apart ? d * inversesqrt(d2) : n;
         float g = apart ? min(max(dot(n, w), 0.0) / d2 * L.lights[l].vector.w, FLT_MAX_FINITE) : 0.0;
+        shadowLayer = -1;
         if (i < SHADOWED_POINT && g > 0.0) g *= visibility(l, worldPosition, ng, w, true);
+        if (FILTERED_SHADOWS) filterLight();
         addLight(l, g * INV_PI, specularWeight(n, w, v, g));
         addFluorescence(l, g);
     }
+    filtered = false;  // the hemisphere lights are not shadowed, nor filtered
     // Hemisphere: radiance L from every ω with ω·u > 0, not occluded. Irradiance π·L·(1 + n·u)/2
     // exactly; the lobe's integral over the lune from the material's lobe table (lobe_lookup.h).
     vec2 previousLobe = vec2(0.0);

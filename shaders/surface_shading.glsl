@@ -3,8 +3,9 @@
 // programs (spectral.frag) and any later program that shades a surface point (a transmittance
 // pass). Included after the including shader has declared what these read: the specialization
 // constants (HAS_SPECULAR, SHADOWS, LOBE_MODE, the light counts, HEMISPHERE_PAIRED), the uniform
-// blocks M, L and S, the samplers shadowMap, lobeWeights, lobeData and normalTexture, and the
-// inputs uv and worldTangent (spectral.frag shows the declarations). Physics: docs/physics.md.
+// blocks M, L and S, the samplers shadowMap, lobeWeights, lobeData and normalTexture, the inputs
+// uv and worldTangent, and the globals shadowLayer and shadowTexel that visibility() sets
+// (spectral.frag shows the declarations). Physics: docs/physics.md.
 
 // Bilinear filtering by hand, so that it is float arithmetic the CPU reference can match (the
 // sampler's own filtering uses the device's sub-texel precision, 8 bits on lavapipe). Texel
@@ -99,6 +100,9 @@ float visibility(int l, vec3 p, vec3 ng, vec3 w, bool point) {
     vec3 q = c.xyz / c.w;
     vec2 st = q.xy * 0.5 + 0.5;
     if (any(lessThan(st, vec2(0.0))) || any(greaterThan(st, vec2(1.0))) || q.z > 1.0) return 1.0;
+    // Where a coloured shadow's transmittance is looked up (the including shader declares these).
+    shadowLayer = layer;
+    shadowTexel = st * float(TRANSMITTANCE_MAP_SIZE) - 0.5;  // texel centres at integers
     // On a cube face's edge st reaches 1 (the edge of the last texel), which the sampler would
     // read as its border: keep the lookup on the face's outermost texels.
     st = clamp(st, vec2(0.5 / float(SHADOW_MAP_SIZE)), vec2(1.0 - 0.5 / float(SHADOW_MAP_SIZE)));

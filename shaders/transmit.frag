@@ -22,6 +22,11 @@
 #define OUTPUT_COUNT MAX_OUTPUTS
 #endif
 
+// The coloured shadows' passes (drawn from a light, render/spectral_resources.cpp) write the
+// optical depth log2 of each factor instead, blended by addition, so that the band passes can
+// interpolate it between the map's texels — linear along a slab's side, where τ is not.
+layout(constant_id = 0) const bool LOG_OUTPUT = false;
+
 layout(set = 0, binding = BINDING_MATERIAL, std140) uniform Material { GpuMaterialBlock M; };
 layout(set = 0, binding = BINDING_OPAQUE_DISTANCE) uniform sampler2D opaqueDistance;
 layout(push_constant) uniform Push { SpectralPushConstants pc; };
@@ -70,7 +75,9 @@ void main() {
     if ((M.switches.x & MATERIAL_MEDIUM) == 0u) {
         // A sheet on or behind the opaque surface is hidden by it.
         if (t >= tO) discard;
-        for (int k = 0; k < OUTPUT_COUNT; ++k) factor[k] = M.transmittance[k];
+        // log2 of a black band is −∞, and −∞ × a zero interpolation weight NaN: 2⁻¹⁴⁹ is 0 in float.
+        for (int k = 0; k < OUTPUT_COUNT; ++k)
+            factor[k] = LOG_OUTPUT ? max(log2(M.transmittance[k]), vec4(-149.0)) : M.transmittance[k];
     } else {
         // s = t − t_ref, the distance along the ray past the mesh's nearest point q (pc.draw.xyz), from
         // differences of nearby points rather than of two distances from the camera, which would
@@ -80,7 +87,8 @@ void main() {
         float s = perspective ? dot(p - q, (p - c) + (q - c)) / (t + length(q - c)) : dot(p - q, pc.cameraForward.xyz);
         if (t > tO) s -= t - tO;  // behind the opaque surface: the path ends there
         if (!gl_FrontFacing) s = -s;
-        for (int k = 0; k < OUTPUT_COUNT; ++k) factor[k] = exp2(min(M.attenuation[k] * s, vec4(ENTRY_LIMIT)));
+        for (int k = 0; k < OUTPUT_COUNT; ++k)
+            factor[k] = LOG_OUTPUT ? M.attenuation[k] * s : exp2(min(M.attenuation[k] * s, vec4(ENTRY_LIMIT)));
     }
     out0 = factor[0];
 #if OUTPUT_COUNT > 1

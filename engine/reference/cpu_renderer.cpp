@@ -191,9 +191,11 @@ int32_t ReferenceRenderer::trace(const Ray& ray, double* radiance, uint64_t* blo
     auto hit = bvh_.intersect(ray, kRayTMin);
     if (!hit) return kBackgroundId;
     uint64_t b = 0;
-    shade(*hit, ray, radiance, b);
+    uint32_t lit = 0;  // the shadow rays' crossings
+    shade(*hit, ray, radiance, b, lit);
     if (!clearBvh_.triangles().empty()) {
-        const uint32_t c = transmit(ray, hit->t, radiance);
+        uint32_t c = transmit(ray, hit->t, radiance) + lit;
+        if (c == kMixedCrossings) --c;
         if (crossings) *crossings = c;
     }
     if (blocked) *blocked = b;
@@ -207,10 +209,11 @@ int32_t ReferenceRenderer::trace(const Ray& ray, double* radiance, uint64_t* blo
 // Each mesh counts on its own, so overlapping media multiply. A ray through an edge meets both
 // triangles at the same t: hits of one mesh, on the same side, within 1e-9 of the scene's size
 // count once, as a rasterizer covers a pixel by one of the two.
-uint32_t ReferenceRenderer::transmit(const Ray& ray, double tEnd, double* radiance) const {
+uint32_t ReferenceRenderer::crossings(const Ray& ray, double tMin, double tEnd, std::vector<double>& factor) const {
+    factor.clear();
     // Every crossing along the whole ray: a medium whose first crossing is a way out holds the
     // ray's start, even where the opaque surface comes before that crossing.
-    std::vector<RayHit> hits = clearBvh_.allHits(ray, kRayTMin, std::numeric_limits<double>::infinity());
+    std::vector<RayHit> hits = clearBvh_.allHits(ray, tMin, std::numeric_limits<double>::infinity());
     if (hits.empty()) return 0;
     uint32_t signature = 0;  // a sum over the crossings before tEnd: the same set, the same value
     const auto& tris = clearBvh_.triangles();
@@ -226,7 +229,6 @@ uint32_t ReferenceRenderer::transmit(const Ray& ray, double tEnd, double* radian
         double since, length;  // where the ray last went in; the path inside so far
     };
     std::vector<Inside> media;
-    thread_local std::vector<double> factor;
     factor.assign(size_t(bands_), 1.0);
     for (size_t i = 0; i < hits.size(); ++i) {
         const RayHit& h = hits[i];
@@ -254,13 +256,52 @@ uint32_t ReferenceRenderer::transmit(const Ray& ray, double tEnd, double* radian
         }
     }
     for (Inside& m : media) {
-        if (m.depth > 0) m.length += tEnd - m.since;  // the opaque surface lies inside the medium
+        // The ray ends inside the medium (an opaque surface in it, a light in it). A ray to a
+        // directional light cannot, unless rounding lost its way out through an edge: nothing then.
+        if (m.depth > 0 && std::isfinite(tEnd)) m.length += tEnd - m.since;
         const MaterialOnGrid& mat = onGrid_.materials[scene_.meshes[m.mesh].material];
         const double metres = m.length * frame_.unit_m();
         for (int b = 0; b < bands_; ++b) factor[size_t(b)] *= std::pow(10.0, -mat.absorbance[size_t(b)] * metres);
     }
-    for (int b = 0; b < bands_; ++b) radiance[b] *= factor[size_t(b)];
     return signature == kMixedCrossings ? signature - 1 : signature;
+}
+
+uint32_t ReferenceRenderer::transmit(const Ray& ray, double tEnd, double* radiance) const {
+    thread_local std::vector<double> factor;
+    const uint32_t signature = crossings(ray, kRayTMin, tEnd, factor);
+    for (size_t b = 0; b < factor.size(); ++b) radiance[b] *= factor[b];
+    return signature;
+}
+
+// Coloured shadows: what reaches p from light l through the transparent objects on the way, the
+// shadow ray's crossings as the primary ray's (same start past the surface as inShadow).
+bool ReferenceRenderer::lightTransmittance(size_t l, const glm::dvec3& p, const glm::dvec3& w,
+                                           std::vector<double>& factor, uint32_t& signature) const {
+    const Light& light = scene_.lights[l];
+    const double eps = 1e-9 * sceneScale_;
+    double tEnd = std::numeric_limits<double>::infinity();
+    if (light.type == Light::Type::Point) tEnd = glm::length(lightPositions_[l] - p);
+    signature = crossings(Ray{p, w}, eps, tEnd, factor);
+    return !factor.empty();
+}
+
+// Fluorescence per unit geometric factor under light l filtered by `tau`: the excitation sums of
+// the constructor's terms taken over E·τ instead of E.
+void ReferenceRenderer::filteredFluorescence(uint32_t material, size_t l, const double* tau, double* out) const {
+    const MaterialOnGrid& mat = onGrid_.materials[material];
+    const std::vector<double>& e = onGrid_.lights[l];
+    const double step = onGrid_.grid.step_nm;
+    if (mat.isMatrix()) {
+        for (int o = 0; o < bands_; ++o) {
+            double sum = 0.0;
+            for (int i = 0; i < bands_; ++i) sum += mat.donaldson[size_t(i) * bands_ + o] * e[i] * tau[i];
+            out[o] = sum * step / kPi;
+        }
+        return;
+    }
+    double s = 0.0;
+    for (int b = 0; b < bands_; ++b) s += mat.excitation[b] * e[b] * tau[b] * onGrid_.wavelengths_nm[b] * step;
+    for (int b = 0; b < bands_; ++b) out[b] = mat.quantum_yield / kPi * mat.emission[b] / onGrid_.wavelengths_nm[b] * s;
 }
 
 // A shadow ray from the hit point towards the light: any triangle but the one it leaves, past
@@ -274,7 +315,8 @@ bool ReferenceRenderer::inShadow(size_t l, const glm::dvec3& p, const glm::dvec3
     return tMax > eps && bvh_.occluded(Ray{p, w}, eps, tMax, triangle);
 }
 
-void ReferenceRenderer::shade(const RayHit& hit, const Ray& ray, double* radiance, uint64_t& blocked) const {
+void ReferenceRenderer::shade(const RayHit& hit, const Ray& ray, double* radiance, uint64_t& blocked,
+                              uint32_t& crossed) const {
     const BvhTriangle& tri = bvh_.triangles()[hit.index];
     const Mesh& mesh = scene_.meshes[tri.mesh];
     const uint32_t material = mesh.material;
@@ -335,9 +377,11 @@ void ReferenceRenderer::shade(const RayHit& hit, const Ray& ray, double* radianc
 
     const double gloss = onGrid_.materials[material].gloss;
     glm::dvec2 previousLobe(0.0);  // the last hemisphere light's (I, I_unoccluded): a ground after its sky shares it
+    thread_local std::vector<double> lightFilter, filteredEmission;
     for (size_t l = 0; l < scene_.lights.size(); ++l) {
         const Light& light = scene_.lights[l];
         double gDiffuse = 0.0, gSpecular = 0.0;  // geometric factors; fluorescence uses gDiffuse
+        const double* tau = nullptr;             // the light's transmittance to p per band, when filtered
         if (light.type == Light::Type::Ambient) {
             gDiffuse = 1.0;  // irradiance E on every surface, whatever its orientation
         } else if (light.type == Light::Type::Hemisphere) {
@@ -369,6 +413,12 @@ void ReferenceRenderer::shade(const RayHit& hit, const Ray& ray, double* radianc
                 blocked |= uint64_t(1) << shadowBit_[l];
                 continue;  // blocked: no reflection, no fluorescence
             }
+            // Not blocked, but perhaps filtered: a coloured shadow (what casts shadows filters).
+            uint32_t through = 0;
+            if (shadowBit_[l] >= 0 && !clearBvh_.triangles().empty() && lightTransmittance(l, p, w, lightFilter, through)) {
+                tau = lightFilter.data();
+                crossed += through * uint32_t(2 * l + 3);
+            }
             gDiffuse = cosI * falloff;
             if (hasSpecular_[material]) {
                 const glm::dvec3 hv = w + v;
@@ -380,19 +430,26 @@ void ReferenceRenderer::shade(const RayHit& hit, const Ray& ray, double* radianc
         }
         const size_t o = termOffset(material, l);
         const double* d = &diffuseTerm_[o];
+        auto filtered = [tau](int b) { return tau ? tau[b] : 1.0; };
         if (diffuseTextured)
-            for (int b = 0; b < bands_; ++b) radiance[b] += gDiffuse * d[b] * diffuseTex[b];
+            for (int b = 0; b < bands_; ++b) radiance[b] += gDiffuse * d[b] * diffuseTex[b] * filtered(b);
         else
-            for (int b = 0; b < bands_; ++b) radiance[b] += gDiffuse * d[b];
+            for (int b = 0; b < bands_; ++b) radiance[b] += gDiffuse * d[b] * filtered(b);
         if (gSpecular != 0.0) {
             const double* s = &specularTerm_[o];
             if (specularTextured)
-                for (int b = 0; b < bands_; ++b) radiance[b] += gSpecular * s[b] * specularTex[b];
+                for (int b = 0; b < bands_; ++b) radiance[b] += gSpecular * s[b] * specularTex[b] * filtered(b);
             else
-                for (int b = 0; b < bands_; ++b) radiance[b] += gSpecular * s[b];
+                for (int b = 0; b < bands_; ++b) radiance[b] += gSpecular * s[b] * filtered(b);
         }
         if (hasFluorescence_[material]) {
+            // Excited by the light that arrives: through a filter, the sums over E·τ.
             const double* f = &fluorescenceTerm_[o];
+            if (tau) {
+                filteredEmission.resize(size_t(bands_));
+                filteredFluorescence(material, l, tau, filteredEmission.data());
+                f = filteredEmission.data();
+            }
             for (int b = 0; b < bands_; ++b) radiance[b] += gDiffuse * f[b];
         }
     }

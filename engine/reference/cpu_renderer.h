@@ -1,7 +1,8 @@
 // The CPU reference renderer: ray casting in double precision, one ray per sub-sample, local
 // illumination (one scattering event: no interreflection), with exact shadow rays through the BVH
 // for directional and point lights. Rays pass straight through transparent objects (filters and
-// absorbing media), which multiply what is behind them band by band. It shares only the Scene model and the
+// absorbing media), which multiply what is behind them band by band; so do shadow rays (coloured
+// shadows), and fluorescence is excited by the filtered light. It shares only the Scene model and the
 // SceneOnGrid spectra with the GPU path and produces the goldens the GPU is checked against.
 // Every convention (camera, pixels, shading) is spelled out in docs/physics.md.
 #pragma once
@@ -31,8 +32,9 @@ inline constexpr int32_t kMixedId = -2;  // the pixel's sub-samples saw differen
 // (Light::castsShadows), set when it is blocked. kMixedShadows: the pixel's sub-samples differ.
 inline constexpr uint64_t kMixedShadows = ~uint64_t(0);
 
-// Which transparent surfaces a sample's ray crossed before its opaque hit, as a signature (0:
-// none; the same set of crossings, the same value). kMixedCrossings: the pixel's sub-samples differ.
+// Which transparent surfaces a sample's ray crossed before its opaque hit, and which its shadow
+// rays crossed (coloured shadows), as a signature (0: none; the same set of crossings, the same
+// value). kMixedCrossings: the pixel's sub-samples differ.
 inline constexpr uint32_t kMixedCrossings = ~uint32_t(0);
 
 struct ReferenceImage {
@@ -74,14 +76,25 @@ public:
     ReferenceImage render() const;
 
 private:
-    // Outgoing radiance at a hit, towards -ray.direction.
-    void shade(const RayHit& hit, const Ray& ray, double* radiance, uint64_t& blocked) const;
+    // Outgoing radiance at a hit, towards -ray.direction. `crossed` gets the signature of the
+    // transparent objects its lights came through (coloured shadows), added to.
+    void shade(const RayHit& hit, const Ray& ray, double* radiance, uint64_t& blocked, uint32_t& crossed) const;
     // Whether light l is blocked between p (on triangle `triangle`) and the light, along w.
     bool inShadow(size_t l, const glm::dvec3& p, const glm::dvec3& w, uint32_t triangle) const;
     // Multiplies `radiance` by the transmittance of the transparent surfaces and media the ray
     // crosses before t = tEnd (the opaque surface it ends on).
     // Returns the crossings' signature (ReferenceImage::crossings).
     uint32_t transmit(const Ray& ray, double tEnd, double* radiance) const;
+    // The transparent crossings of `ray` in (tMin, tEnd): `factor` gets the transmittance per band,
+    // or is left empty when there are none; returns their signature.
+    uint32_t crossings(const Ray& ray, double tMin, double tEnd, std::vector<double>& factor) const;
+    // Light l's transmittance to p along w (a coloured shadow) into `factor`; false when nothing
+    // transparent lies on the way.
+    // `signature` gets the crossings' (ReferenceImage::crossings), 0 for none.
+    bool lightTransmittance(size_t l, const glm::dvec3& p, const glm::dvec3& w, std::vector<double>& factor,
+                            uint32_t& signature) const;
+    // The material's fluorescence per unit geometric factor under light l filtered by tau (per band).
+    void filteredFluorescence(uint32_t material, size_t l, const double* tau, double* out) const;
 
     const Scene& scene_;
     const SceneOnGrid& onGrid_;

@@ -111,7 +111,7 @@ void SpectralResources::createShadowMaps() {
                  gpu::ShadowPushConstants pc{packed.shadowBlock.layers[l]};
                  vkCmdPushConstants(cmd, layout, VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof pc, &pc);
                  for (const PackedDraw& draw : packed.draws)
-                     if (!draw.transparent)  // light passes through filters and media (no coloured shadows yet)
+                     if (!draw.transparent)  // filters and media colour the light instead (the transmittance maps)
                          vkCmdDrawIndexed(cmd, draw.indexCount, 1, draw.firstIndex, draw.vertexOffset, 0);
              }});
     ctx.submitAndWait([&](VkCommandBuffer cmd) {

@@ -184,6 +184,16 @@ PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes, const Loc
     const std::vector<size_t> order = lightOrder(scene, p);
     p.shadowMaps = planShadowMaps(scene, SHADOW_MAP_SIZE, frame);
     for (size_t k = 0; k < p.shadowMaps.layers.size(); ++k) p.shadowBlock.layers[k] = glm::mat4(p.shadowMaps.layers[k].viewProjection);
+    p.shadowEyes.assign(p.shadowMaps.layers.size(), glm::vec4(0.0f));
+    for (size_t l = 0; l < scene.lights.size(); ++l) {
+        const int first = p.shadowMaps.lights[l].firstLayer;
+        if (first < 0) continue;
+        const Light& light = scene.lights[l];
+        const bool point = light.type == Light::Type::Point;
+        const glm::vec4 eye = point ? glm::vec4(glm::vec3(frame.position(light.position)), 1.0f)
+                                    : glm::vec4(glm::vec3(glm::normalize(light.direction)), 0.0f);
+        for (int k = 0; k < (point ? 6 : 1); ++k) p.shadowEyes[size_t(first + k)] = eye;
+    }
     for (size_t i = 0; i < order.size(); ++i) {
         const Light& light = scene.lights[order[i]];
         gpu::GpuLight& out = p.lights.lights[i];
@@ -233,6 +243,17 @@ PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes, const Loc
         }
         return it->second;
     };
+    p.filteredShadows = scene.hasTransparency() && p.shadowMaps.any();
+    p.bandLayers = (g.grid.bands() + 3) / 4;
+    // A Donaldson matrix re-emits each band from every band: under a coloured shadow that is a
+    // matrix–vector product per fragment per light, which the GPU path does not take yet.
+    if (p.filteredShadows)
+        for (size_t mi = 0; mi < g.materials.size(); ++mi)
+            if (g.materials[mi].fluorescent && g.materials[mi].isMatrix())
+                warn(Where{scene.file.string(), "materials." + scene.materials[mi].name + ".fluorescence"},
+                     "a Donaldson-matrix material in a scene with coloured shadows: the GPU path excites it with the "
+                     "unfiltered light where a transparent object filters a light (the CPU reference, --backend cpu, "
+                     "filters it)");
     std::vector<double> emissionOverLambda, attenuation;
     for (size_t mi = 0; mi < g.materials.size(); ++mi) {
         const MaterialOnGrid& m = g.materials[mi];
@@ -244,6 +265,7 @@ PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes, const Loc
         // View-independent fluorescence coupling per light, (Φ/π)·Σ a·E_l·λ·Δλ, summed in double
         // so the shader only multiplies by the light's geometric factor.
         std::vector<float> coupling(MAX_LIGHTS, 0.0f);
+        float excitationBase = -1.0f;
         emissionOverLambda.assign(m.diffuse.size(), 0.0);
         if (m.fluorescent && !p.fluorescenceSpectra) {
             double largest = 0.0;
@@ -263,13 +285,31 @@ PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes, const Loc
                 for (size_t b = 0; b < E.size(); ++b) sum += m.excitation[b] * E[b] * g.wavelengths_nm[b];
                 coupling[i] = float(std::ldexp(m.quantum_yield / M_PI * sum * g.grid.step_nm, shift));
             }
+            // Under a coloured shadow the coupling is Σ of these terms × τ, taken per fragment.
+            if (p.filteredShadows) {
+                excitationBase = float(p.shadowExcitation.size());
+                for (size_t i = 0; i < order.size(); ++i) {
+                    const auto& E = g.lights[order[i]];
+                    for (int j = 0; j < p.bandLayers; ++j) {
+                        glm::vec4 v(0.0f);
+                        for (int c = 0; c < 4; ++c) {
+                            const size_t b = size_t(4 * j + c);
+                            if (b < E.size())
+                                v[c] = float(std::ldexp(m.quantum_yield / M_PI * m.excitation[b] * E[b] *
+                                                            g.wavelengths_nm[b] * g.grid.step_nm,
+                                                        shift));
+                        }
+                        p.shadowExcitation.push_back(v);
+                    }
+                }
+            }
         }
         for (int pass = 0; pass < passes; ++pass) {
             gpu::GpuMaterialBlock& b = p.materials[size_t(pass) * g.materials.size() + mi];
             scatterBands(m.diffuse, pass, b.diffuse);
             scatterBands(m.specular, pass, b.specular);
             scatterBands(emissionOverLambda, pass, b.emissionOverLambda);
-            b.params = glm::vec4(float(m.gloss), float(pass * MAX_OUTPUTS), 0.0f, 0.0f);
+            b.params = glm::vec4(float(m.gloss), float(pass * MAX_OUTPUTS), excitationBase, 0.0f);
             b.lobe = glm::vec4(lobeTableBase, glm::vec2(lobeWarp(m.gloss)), 0.0f);
             b.switches = glm::uvec4(materialSwitches(m, specular), 0u, 0u, 0u);
             for (int l = 0; l < MAX_LIGHTS; ++l) b.coupling[l / 4][l % 4] = coupling[l];
@@ -277,6 +317,7 @@ PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes, const Loc
             scatterBands(attenuation, pass, b.attenuation);
         }
     }
+    if (p.shadowExcitation.empty()) p.shadowExcitation.push_back(glm::vec4(0.0f));
     packFluorescence(p, scene, g, order, passes);
     return p;
 }

@@ -41,8 +41,19 @@ struct PackedScene {
     // The shadow maps' layers (render/shadow_maps.h) and their matrices for the shader.
     ShadowMaps shadowMaps;
     gpu::GpuShadowBlock shadowBlock{};
+    // Per shadow-map layer, where its light is, for the coloured shadows' passes drawn from it:
+    // xyz the point light's position in the frame (w = 1), or the directional light's direction of
+    // travel (w = 0).
+    std::vector<glm::vec4> shadowEyes;
     std::vector<gpu::GpuLightSpectraBlock> lightSpectra;  // per pass
     std::vector<gpu::GpuMaterialBlock> materials;         // per pass × material: [pass][material]
+    // Coloured shadows (scenes with transparent objects and shadowing lights; interface.h,
+    // SPEC_FILTERED_SHADOWS): bandLayers = ⌈bands/4⌉, and per rank-one fluorescent material, per
+    // light, bandLayers vec4 of its excitation integrand (Φ/π)·a·E·λ·Δλ·2ˢ — the coupling's terms
+    // (a material's params.z is its first entry). One zero entry when there is none.
+    bool filteredShadows = false;
+    int bandLayers = 0;
+    std::vector<glm::vec4> shadowExcitation;
     // With hemisphere lights: the lobe table of every distinct gloss value of the specular
     // materials (reference/lobe_table.h), one after another; a material's params.w is its first entry.
     std::vector<glm::uvec4> lobeTables;

@@ -82,8 +82,9 @@ void SpectralResources::drawScene(VkCommandBuffer cmd, const SpectralFrameState&
     }
 }
 
-void SpectralResources::drawTransparent(VkCommandBuffer cmd, const SpectralFrameState& f, size_t p) const {
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, transmissionPasses[p].pipelines[0]);
+void SpectralResources::drawTransparent(VkCommandBuffer cmd, const SpectralFrameState& f, size_t p, VkPipeline pipeline,
+                                        VkDescriptorSet set0) const {
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
     bindGeometry(cmd, f);
     const size_t materials = packed.materials.size() / passes.size();
     for (const PackedDraw& d : packed.draws) {
@@ -94,7 +95,7 @@ void SpectralResources::drawTransparent(VkCommandBuffer cmd, const SpectralFrame
                            sizeof pc, &pc);
         const uint32_t offsets[4] = {uint32_t(p * lightSpectraStride), uint32_t((p * materials + d.material) * materialStride),
                                      0u, 0u};
-        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelineLayout.get(), 0, 1, &descriptorSet, 4, offsets);
+        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelineLayout.get(), 0, 1, &set0, 4, offsets);
         vkCmdDrawIndexed(cmd, d.indexCount, 1, d.firstIndex, d.vertexOffset, 0);
     }
 }
@@ -153,7 +154,9 @@ void SpectralResources::declareFrame() {
                                      to.firstLayer + to.attachments - 1),
                          fmt::format("transmit.frag, OUTPUT_COUNT {}; blend destination × source", to.attachments),
                          to.renderPass, to.framebuffer.get(), extent, std::move(none),
-                         [this, p](VkCommandBuffer cmd) { drawTransparent(cmd, *frameState, p); }});
+                         [this, p](VkCommandBuffer cmd) {
+                             drawTransparent(cmd, *frameState, p, transmissionPasses[p].pipelines[0], descriptorSet);
+                         }});
     }
 }
 

@@ -25,8 +25,13 @@
 #include "transmit.frag.8.spv.h"
 #include "spectral.vert.spv.h"
 
+#include "core/timing.h"
+
 #include <algorithm>
 #include <cstdlib>
+#include <limits>
+#include <map>
+#include <memory>
 #include <cstddef>
 
 namespace metamer {
@@ -87,8 +92,10 @@ SpectralResources::SpectralResources(vk::Context& c, const Scene& s, const Scene
         ld.name = "lobe weights";
         lobeWeights = vk::Image(ctx, ld);
     }
+    if (packed.filteredShadows) createShadowTransmittanceImages();
     createLayouts();
     createPasses();
+    if (packed.filteredShadows) drawShadowTransmittance();
 }
 
 VkDeviceSize SpectralResources::aligned(VkDeviceSize size) const {
@@ -161,6 +168,22 @@ void SpectralResources::createBuffers() {
     VkBufferView view = VK_NULL_HANDLE;
     VK_CHECK(vkCreateBufferView(ctx.device(), &bv, nullptr, &view));
     lobeTableView = vk::OwnedBufferView(ctx.device(), view);
+    // The excitation integrands (one zero entry when there are none), a texel buffer as the tables.
+    const VkDeviceSize excitationBytes = packed.shadowExcitation.size() * sizeof(glm::vec4);
+    if (packed.shadowExcitation.size() > ctx.properties().limits.maxTexelBufferElements)
+        failInput(Where{scene.file.string(), "materials", 0},
+                  "the fluorescent materials' excitation under coloured shadows needs {} texels; this device reads at "
+                  "most {}",
+                  packed.shadowExcitation.size(), ctx.properties().limits.maxTexelBufferElements);
+    shadowExcitationBuffer = vk::Buffer(ctx, excitationBytes, VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT, "shadow excitation");
+    shadowExcitationBuffer.upload(packed.shadowExcitation.data(), excitationBytes);
+    VkBufferViewCreateInfo ev{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
+    ev.buffer = shadowExcitationBuffer.handle();
+    ev.format = VK_FORMAT_R32G32B32A32_SFLOAT;
+    ev.range = VK_WHOLE_SIZE;
+    VkBufferView evView = VK_NULL_HANDLE;
+    VK_CHECK(vkCreateBufferView(ctx.device(), &ev, nullptr, &evView));
+    shadowExcitationView = vk::OwnedBufferView(ctx.device(), evView);
 }
 
 // Each texture as an RGBA32F 2D-array image, 4 channels per layer (zero-padded), copied from a
@@ -270,7 +293,7 @@ void SpectralResources::createTargets(Readback mode, bool sampled, SpectralPassP
 
 void SpectralResources::createLayouts() {
     VkDevice d = ctx.device();
-    constexpr int kBindings = 10;
+    constexpr int kBindings = 12;
     constexpr int kDynamic = 4;  // bindings 1..4
     VkDescriptorSetLayoutBinding bindings[kBindings] = {
         {BINDING_LIGHTS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
@@ -283,6 +306,8 @@ void SpectralResources::createLayouts() {
         {BINDING_LOBE_WEIGHTS, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
         {BINDING_LOBE_TABLES, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
         {BINDING_OPAQUE_DISTANCE, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
+        {BINDING_SHADOW_TRANSMITTANCE, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
+        {BINDING_SHADOW_EXCITATION, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
     };
     VkDescriptorSetLayoutCreateInfo sl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
     sl.bindingCount = kBindings;
@@ -307,13 +332,13 @@ void SpectralResources::createLayouts() {
     pipelineLayout = objects.pipelineLayout("spectral.layout", pl, {setLayout, textureSetLayout});
 
     const uint32_t materialCount = uint32_t(std::max<size_t>(1, scene.materials.size()));
-    // Two sets 0 (the band passes' and the lobe pass's), one set 1 per material.
-    VkDescriptorPoolSize sizes[4] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 2 * 2},
-                                     {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC, 2 * kDynamic},
-                                     {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, TEXTURE_BINDINGS * materialCount + 2 * 3},
-                                     {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 2}};
+    // Three sets 0 (the band passes', the lobe pass's, the coloured shadows' passes'), one set 1 per material.
+    VkDescriptorPoolSize sizes[4] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 3 * 2},
+                                     {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC, 3 * kDynamic},
+                                     {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, TEXTURE_BINDINGS * materialCount + 3 * 4},
+                                     {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 3 * 2}};
     VkDescriptorPoolCreateInfo pci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-    pci.maxSets = 2 + materialCount;
+    pci.maxSets = 3 + materialCount;
     pci.poolSizeCount = 4;
     pci.pPoolSizes = sizes;
     VkDescriptorPool pool = VK_NULL_HANDLE;
@@ -326,6 +351,7 @@ void SpectralResources::createLayouts() {
     ai.pSetLayouts = &set0;
     VK_CHECK(vkAllocateDescriptorSets(d, &ai, &descriptorSet));
     if (hasLobePass) VK_CHECK(vkAllocateDescriptorSets(d, &ai, &lobeDescriptorSet));
+    if (packed.filteredShadows) VK_CHECK(vkAllocateDescriptorSets(d, &ai, &lightDescriptorSet));
     // Per binding, in the order of `bindings` (the two images' entries unused).
     VkDescriptorBufferInfo infos[kBindings] = {
         {lightBuffer.handle(), 0, sizeof(gpu::GpuLightBlock)},
@@ -334,6 +360,8 @@ void SpectralResources::createLayouts() {
         {fluorescenceBuffer.handle(), 0, sizeof(gpu::GpuFluorescenceBlock)},
         {responseBuffer.handle(), 0, sizeof(gpu::GpuResponseBlock)},
         {shadowBuffer.handle(), 0, sizeof(gpu::GpuShadowBlock)},
+        {},
+        {},
         {},
         {},
         {},
@@ -358,7 +386,20 @@ void SpectralResources::createLayouts() {
     const VkDescriptorImageInfo opaqueDistanceInfo =
         hasTransmission ? VkDescriptorImageInfo{sampler, opaqueDistance.layerView(0), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL}
                         : placeholderInfo;
-    for (VkDescriptorSet set : {descriptorSet, lobeDescriptorSet}) {
+    // The coloured shadows' transmittance, where the band passes read it (not in the set of the passes
+    // that draw it); the excitation integrands.
+    const VkDescriptorImageInfo placeholderArrayInfo{sampler, textures.back().layerView(~0u),
+                                                     VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+    const VkDescriptorImageInfo shadowTransmittanceInfo =
+        packed.filteredShadows
+            ? VkDescriptorImageInfo{sampler, shadowTransmittance.layerView(~0u), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL}
+            : placeholderArrayInfo;
+    const VkDescriptorImageInfo lightDistanceInfo =
+        packed.filteredShadows
+            ? VkDescriptorImageInfo{sampler, lightDistance.layerView(0), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL}
+            : placeholderInfo;
+    const VkBufferView excitationView = shadowExcitationView.get();
+    for (VkDescriptorSet set : {descriptorSet, lobeDescriptorSet, lightDescriptorSet}) {
         if (set == VK_NULL_HANDLE) continue;
         VkWriteDescriptorSet writes[kBindings];
         for (int i = 0; i < kBindings; ++i) {
@@ -372,7 +413,11 @@ void SpectralResources::createLayouts() {
             else if (bindings[i].binding == BINDING_LOBE_WEIGHTS)
                 writes[i].pImageInfo = set == descriptorSet ? &lobeInfo : &placeholderInfo;
             else if (bindings[i].binding == BINDING_OPAQUE_DISTANCE)
-                writes[i].pImageInfo = &opaqueDistanceInfo;
+                writes[i].pImageInfo = set == lightDescriptorSet ? &lightDistanceInfo : &opaqueDistanceInfo;
+            else if (bindings[i].binding == BINDING_SHADOW_TRANSMITTANCE)
+                writes[i].pImageInfo = set == lightDescriptorSet ? &placeholderArrayInfo : &shadowTransmittanceInfo;
+            else if (bindings[i].binding == BINDING_SHADOW_EXCITATION)
+                writes[i].pTexelBufferView = &excitationView;
             else if (bindings[i].binding == BINDING_LOBE_TABLES)
                 writes[i].pTexelBufferView = &view;
             else
@@ -464,9 +509,11 @@ VkPipeline SpectralResources::makePipeline(const vk::SharedHandle<VkRenderPass>&
                                            lobeMode,
                                            packed.shadowedDirectional,
                                            packed.shadowedPoint,
-                                           packed.hemispherePaired};
+                                           packed.hemispherePaired,
+                                           packed.filteredShadows,
+                                           packed.bandLayers};
     // interface.h orders the struct's 4-byte fields by id.
-    constexpr uint32_t kIds = SPEC_HEMISPHERE_PAIRED + 1;
+    constexpr uint32_t kIds = SPEC_BAND_LAYERS + 1;
     VkSpecializationMapEntry entries[kIds];
     for (uint32_t id = 0; id < kIds; ++id) entries[id] = {id, id * 4, 4};
     VkSpecializationInfo si{kIds, entries, sizeof(spec), &spec};
@@ -598,7 +645,7 @@ void SpectralResources::createPasses() {
 // The depth pre-pass of a scene with transparent objects: it also writes the nearest opaque
 // surface's distance (opaque_distance.frag) into an R32F image, left SHADER_READ_ONLY for the
 // transmission passes. Pipelines: back faces kept, and culled.
-void SpectralResources::createDistancePrePass() {
+vk::RenderPassDesc SpectralResources::distancePrePassDesc() const {
     vk::RenderPassDesc desc;
     desc.colors.push_back({VK_FORMAT_R32_SFLOAT, VK_ATTACHMENT_LOAD_OP_CLEAR, VK_ATTACHMENT_STORE_OP_STORE,
                            VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL});
@@ -615,6 +662,11 @@ void SpectralResources::createDistancePrePass() {
     // The distance, for the transmission passes' fragment shaders, after.
     desc.dependencies.push_back({false, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
                                  VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT});
+    return desc;
+}
+
+void SpectralResources::createDistancePrePass() {
+    const vk::RenderPassDesc desc = distancePrePassDesc();
     renderPasses.push_back(vk::sharedRenderPass(
         ctx.objects(), fmt::format("spectral.distance pre-pass {}x{}", plan.targetWidth, plan.targetHeight), desc));
     PassObjects& pre = depthPrePass;
@@ -637,7 +689,8 @@ void SpectralResources::createDistancePrePass() {
 
 // What the distance pre-pass's and the transmission passes' pipelines share: spectral.vert, the
 // spectral layout, no depth test, colours blended destination × source.
-vk::GraphicsPipelineDesc SpectralResources::transparentPipelineDesc(VkRenderPass renderPass, uint32_t attachments) const {
+vk::GraphicsPipelineDesc SpectralResources::transparentPipelineDesc(VkRenderPass renderPass, uint32_t attachments,
+                                                                   uint32_t size) const {
     vk::GraphicsPipelineDesc d;
     d.renderPass = renderPass;
     d.layout = pipelineLayout.get();
@@ -648,8 +701,8 @@ vk::GraphicsPipelineDesc SpectralResources::transparentPipelineDesc(VkRenderPass
                     {VERTEX_NORMAL, 0, VK_FORMAT_R32G32B32_SFLOAT, uint32_t(offsetof(V, normal))},
                     {VERTEX_UV, 0, VK_FORMAT_R32G32_SFLOAT, uint32_t(offsetof(V, uv))},
                     {VERTEX_TANGENT, 0, VK_FORMAT_R32G32B32A32_SFLOAT, uint32_t(offsetof(V, tangent))}};
-    d.width = plan.targetWidth;
-    d.height = plan.targetHeight;
+    d.width = size ? size : plan.targetWidth;
+    d.height = size ? size : plan.targetHeight;
     d.colorAttachments = attachments;
     d.multiplyBlend = true;
     d.cache = ctx.pipelineCache();
@@ -658,7 +711,8 @@ vk::GraphicsPipelineDesc SpectralResources::transparentPipelineDesc(VkRenderPass
 
 // A pipeline of `d` with the fragment shader `code`, shared through the device's cache under `key`.
 VkPipeline SpectralResources::makeOwnPipeline(const std::string& key, vk::GraphicsPipelineDesc d, const uint32_t* code,
-                                              size_t bytes) {
+                                              size_t bytes, const VkSpecializationInfo* specialization) {
+    d.fragmentSpecialization = specialization;
     pipelines.push_back(ctx.objects().pipeline(
         key,
         [&] {
@@ -763,6 +817,141 @@ LayeredView SpectralResources::mapTarget() {
         a.layerPitch = a.rowPitch * plan.targetHeight;
     }
     return a;
+}
+
+}  // namespace metamer
+
+namespace metamer {
+
+// The coloured shadows' images: the transmittance maps (per shadow-map layer, every band layer) and
+// the light's distance pre-pass targets, TRANSMITTANCE_MAP_SIZE².
+void SpectralResources::createShadowTransmittanceImages() {
+    const uint32_t size = TRANSMITTANCE_MAP_SIZE;
+    const uint32_t layers = uint32_t(packed.shadowMaps.layers.size()) * uint32_t(packed.bandLayers);
+    if (layers > ctx.properties().limits.maxImageArrayLayers)
+        failInput(Where{scene.file.string(), "lights", 0},
+                  "coloured shadows need a transmittance layer per shadow-map layer ({}) and per 4 bands ({}): {} layers, "
+                  "beyond this device's {}; cast shadows from fewer lights (\"shadows\": false), or render fewer bands",
+                  packed.shadowMaps.layers.size(), packed.bandLayers, layers, ctx.properties().limits.maxImageArrayLayers);
+    vk::ImageDesc t;
+    t.width = t.height = size;
+    t.layers = layers;
+    t.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
+    t.name = "shadow transmittance";
+    shadowTransmittance = vk::Image(ctx, t);
+    vk::ImageDesc dist;
+    dist.format = VK_FORMAT_R32_SFLOAT;
+    dist.width = dist.height = size;
+    dist.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
+    dist.name = "light distance";
+    lightDistance = vk::Image(ctx, dist);
+    vk::ImageDesc depthDesc;
+    depthDesc.format = VK_FORMAT_D32_SFLOAT;
+    depthDesc.width = depthDesc.height = size;
+    depthDesc.usage = VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT;
+    depthDesc.name = "light depth";
+    lightDepth = vk::Image(ctx, depthDesc);
+}
+
+// Coloured shadows, drawn once per scene (they depend on the lights and objects, not the camera):
+// from each shadow-map layer's light, the opaque surfaces' distance (opaque_distance.frag) and then,
+// band group by band group, the transparent surfaces' product in front of them (transmit.frag) —
+// the camera's transmission, seen from the light — into that layer's transmittance layers.
+void SpectralResources::drawShadowTransmittance() {
+    auto t0 = Clock::now();
+    const uint32_t size = TRANSMITTANCE_MAP_SIZE;
+    renderPasses.push_back(vk::sharedRenderPass(ctx.objects(), fmt::format("spectral.distance pre-pass {}x{}", size, size),
+                                                distancePrePassDesc()));
+    const VkRenderPass distancePass = renderPasses.back().get();
+    vk::GraphicsPipelineDesc dd = transparentPipelineDesc(distancePass, 1, size);
+    dd.depthTest = dd.depthWrite = true;
+    dd.depthCompare = VK_COMPARE_OP_LESS;
+    dd.multiplyBlend = false;
+    const VkPipeline distancePipeline = makeOwnPipeline(
+        fmt::format("spectral.light distance {}x{} pass={} layout={}", size, size, static_cast<void*>(distancePass),
+                    static_cast<void*>(pipelineLayout.get())),
+        dd, kSpirv_opaque_distance_frag, sizeof(kSpirv_opaque_distance_frag));
+    const vk::OwnedFramebuffer distanceFramebuffer =
+        vk::createFramebuffer(ctx.device(), distancePass, {lightDistance.layerView(0), lightDepth.layerView(0)}, size, size);
+    // One render pass and pipeline per attachment count: clear to 0, add the optical depths.
+    std::map<uint32_t, std::pair<VkRenderPass, VkPipeline>> byCount;
+    for (const PassObjects& band : passes) {
+        if (byCount.count(band.attachments)) continue;
+        vk::RenderPassDesc desc;
+        for (uint32_t i = 0; i < band.attachments; ++i)
+            desc.colors.push_back({VK_FORMAT_R32G32B32A32_SFLOAT, VK_ATTACHMENT_LOAD_OP_CLEAR, VK_ATTACHMENT_STORE_OP_STORE,
+                                   VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL});
+        desc.dependencies.push_back({false, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
+                                     VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT});
+        renderPasses.push_back(vk::sharedRenderPass(
+            ctx.objects(), fmt::format("spectral.shadow transmittance attachments={}", band.attachments), desc));
+        const VkRenderPass rp = renderPasses.back().get();
+        const SpirvCode& code = kTransmitFrag[band.attachments - 1];
+        vk::GraphicsPipelineDesc pd = transparentPipelineDesc(rp, band.attachments, size);
+        pd.multiplyBlend = false;
+        pd.addBlend = true;  // optical depths add (transmit.frag, LOG_OUTPUT)
+        const uint32_t logOutput = VK_TRUE;
+        const VkSpecializationMapEntry entry{0, 0, sizeof logOutput};
+        const VkSpecializationInfo si{1, &entry, sizeof logOutput, &logOutput};
+        const VkPipeline pl = makeOwnPipeline(
+            fmt::format("spectral.shadow transmittance attachments={} {}x{} pass={} layout={} log", band.attachments, size,
+                        size, static_cast<void*>(rp), static_cast<void*>(pipelineLayout.get())),
+            pd, code.code, code.bytes, &si);
+        byCount[band.attachments] = {rp, pl};
+    }
+    std::vector<vk::OwnedFramebuffer> framebuffers;
+    std::vector<FramePass> lightPasses;
+    std::vector<std::unique_ptr<CameraMatrices>> eyes;
+    std::vector<std::unique_ptr<SpectralFrameState>> states;
+    const VkClearValue farDepth{.depthStencil = {1.0f, 0}};
+    VkClearValue noSurface{};
+    noSurface.color.float32[0] = std::numeric_limits<float>::max();
+    const VkClearValue clear{};  // optical depth 0: nothing in the way
+    for (size_t layer = 0; layer < packed.shadowMaps.layers.size(); ++layer) {
+        // The light as the passes' "camera": a point light's position (distances from it), or a
+        // directional light's travel (distances along it, from the frame's origin).
+        const glm::vec4 eye = packed.shadowEyes[layer];
+        auto cm = std::make_unique<CameraMatrices>();
+        cm->viewProjection = packed.shadowBlock.layers[layer];
+        cm->perspective = eye.w > 0.5f;
+        cm->position = cm->perspective ? glm::vec3(eye) : glm::vec3(0.0f);
+        cm->forward = cm->perspective ? glm::vec3(0.0f, 0.0f, -1.0f) : glm::vec3(eye);
+        auto state = std::make_unique<SpectralFrameState>(SpectralFrameState{*cm, {}});
+        state->pc.viewProjection = cm->viewProjection;
+        state->pc.cameraPosition = glm::vec4(cm->position, cm->perspective ? 1.0f : 0.0f);
+        state->pc.cameraForward = glm::vec4(cm->forward, 0.0f);
+        const SpectralFrameState* f = state.get();
+        lightPasses.push_back({fmt::format("light distance {}", layer), "the opaque triangles seen from the light",
+                               "their distance from the light", "opaque_distance.frag", distancePass,
+                               distanceFramebuffer.get(), {size, size}, {noSurface, farDepth},
+                               [this, f, distancePipeline](VkCommandBuffer cmd) {
+                                   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, distancePipeline);
+                                   bindGeometry(cmd, *f);
+                                   for (const PackedDraw& d : packed.draws)
+                                       if (!d.transparent) vkCmdDrawIndexed(cmd, d.indexCount, 1, d.firstIndex, d.vertexOffset, 0);
+                               }});
+        for (size_t p = 0; p < passes.size(); ++p) {
+            const auto [rp, pl] = byCount.at(passes[p].attachments);
+            std::vector<VkImageView> views;
+            const uint32_t first = uint32_t(layer) * uint32_t(packed.bandLayers) + passes[p].firstLayer;
+            for (uint32_t i = 0; i < passes[p].attachments; ++i) views.push_back(shadowTransmittance.layerView(first + i));
+            framebuffers.push_back(vk::createFramebuffer(ctx.device(), rp, views, size, size));
+            const VkPipeline pipeline = pl;
+            lightPasses.push_back({fmt::format("shadow transmittance {} band pass {}", layer, p),
+                                   "the light's distance; the transparent triangles", "the light's transmittance",
+                                   "transmit.frag", rp, framebuffers.back().get(), {size, size},
+                                   std::vector<VkClearValue>(passes[p].attachments, clear),
+                                   [this, f, p, pipeline](VkCommandBuffer cmd) {
+                                       drawTransparent(cmd, *f, p, pipeline, lightDescriptorSet);
+                                   }});
+        }
+        eyes.push_back(std::move(cm));
+        states.push_back(std::move(state));
+    }
+    ctx.submitAndWait([&](VkCommandBuffer cmd) {
+        for (const FramePass& pass : lightPasses) recordFramePass(cmd, pass);
+    });
+    shadowMs += msSince(t0);
 }
 
 }  // namespace metamer

@@ -19,6 +19,7 @@
 #include "vk/device_objects.h"
 #include "vk/handle.h"
 #include "vk/pipeline.h"
+#include "vk/render_pass.h"
 #include "vk/resources.h"
 
 #include <array>
@@ -124,6 +125,16 @@ struct SpectralResources {
     // opaque_distance.frag, BINDING_OPAQUE_DISTANCE). A pipeline each, no material variants.
     bool hasTransmission = false;
     vk::Image opaqueDistance;
+    // Coloured shadows (packed.filteredShadows): per shadow-map layer, BAND_LAYERS layers of the
+    // light's transmittance to the nearest opaque surface (TRANSMITTANCE_MAP_SIZE², RGBA32F), drawn
+    // once per scene like the shadow maps — from each light, the same distance pre-pass and
+    // transmission passes as from the camera, into lightDistance (R32F) and shadowTransmittance —
+    // and read by the band passes (BINDING_SHADOW_TRANSMITTANCE); the rank-one fluorescent
+    // materials' excitation integrands as a texel buffer (BINDING_SHADOW_EXCITATION).
+    vk::Image shadowTransmittance, lightDistance, lightDepth;
+    vk::Buffer shadowExcitationBuffer;
+    vk::OwnedBufferView shadowExcitationView;
+    VkDescriptorSet lightDescriptorSet = VK_NULL_HANDLE;  // set 0 with the light's distance
     std::vector<PassObjects> transmissionPasses;
 
     // The frame as a list of declared passes (render/frame_pass.h), recorded in order by
@@ -153,8 +164,13 @@ private:
     void createLobePass();
     void createTransmissionPasses();
     void createDistancePrePass();
-    vk::GraphicsPipelineDesc transparentPipelineDesc(VkRenderPass renderPass, uint32_t attachments) const;
-    VkPipeline makeOwnPipeline(const std::string& key, vk::GraphicsPipelineDesc d, const uint32_t* code, size_t bytes);
+    void createShadowTransmittanceImages();
+    void drawShadowTransmittance();
+    vk::RenderPassDesc distancePrePassDesc() const;
+    // size: the square target's side (the transmittance maps'), 0 for the spectral target's.
+    vk::GraphicsPipelineDesc transparentPipelineDesc(VkRenderPass renderPass, uint32_t attachments, uint32_t size = 0) const;
+    VkPipeline makeOwnPipeline(const std::string& key, vk::GraphicsPipelineDesc d, const uint32_t* code, size_t bytes,
+                               const VkSpecializationInfo* specialization = nullptr);
     void createPasses();
     void declareFrame();
     // The draws the frame's passes record.
@@ -168,7 +184,8 @@ private:
                    VkDescriptorSet set0, bool specularOnly) const;
     // The transparent draws of transmission pass p, each with its material's pass-p bands and the
     // distance its medium's path is measured from (SpectralPushConstants::draw).
-    void drawTransparent(VkCommandBuffer cmd, const SpectralFrameState& f, size_t p) const;
+    void drawTransparent(VkCommandBuffer cmd, const SpectralFrameState& f, size_t p, VkPipeline pipeline,
+                         VkDescriptorSet set0) const;
 };
 
 // A frame's commands: clear the target, record the declared passes in order (SpectralResources::

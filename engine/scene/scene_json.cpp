@@ -197,8 +197,7 @@ private:
             scene_.materials.push_back(readTransparent(std::move(m), v, w));
             return;
         }
-        checkKeys(v, w, {"diffuse", "specular", "gloss", "fluorescence", "textures"}, "a material",
-                  {"transmittance", "absorbance", "dyes"});
+        checkKeys(v, w, {"diffuse", "specular", "gloss", "fluorescence", "textures"});
         if (const Json* t = find(v, "textures")) m.textures = readTextures(*t, w.child("textures"));
         if (m.textures.diffuse >= 0 && !find(v, "diffuse")) {
             // A diffuse texture is the reflectance; "diffuse" would tint it.
@@ -271,12 +270,12 @@ private:
                           "nothing and does not fluoresce in this renderer (docs/physics.md, \"Transparent objects\")",
                           sheet ? "it has a 'transmittance'" : "it has an 'absorbance' or 'dyes'");
         if (sheet) {
-            checkKeys(v, w, {"transmittance"}, "a filter (a thin sheet)", {"absorbance", "dyes"});
             for (const char* k : {"absorbance", "dyes"})
                 if (find(v, k))
                     failInput(w.child(k),
                               "not allowed with 'transmittance': a material is either a thin sheet (a transmittance "
                               "per crossing) or an absorbing medium (an absorbance per metre inside a closed mesh)");
+            checkKeys(v, w, {"transmittance"}, "a filter (a thin sheet)");
             m.transmittance = spectrum(*find(v, "transmittance"), w.child("transmittance"), SpectrumKind::Transmittance);
         } else {
             checkKeys(v, w, {"absorbance", "dyes"}, "an absorbing medium");

@@ -74,6 +74,10 @@ VkPipeline createGraphicsPipeline(VkDevice device, const GraphicsPipelineDesc& d
             b.dstColorBlendFactor = VK_BLEND_FACTOR_SRC_COLOR;
             b.dstAlphaBlendFactor = VK_BLEND_FACTOR_SRC_ALPHA;
             b.colorBlendOp = b.alphaBlendOp = VK_BLEND_OP_ADD;
+        } else if (d.addBlend) {
+            b.blendEnable = VK_TRUE;
+            b.srcColorBlendFactor = b.srcAlphaBlendFactor = b.dstColorBlendFactor = b.dstAlphaBlendFactor = VK_BLEND_FACTOR_ONE;
+            b.colorBlendOp = b.alphaBlendOp = VK_BLEND_OP_ADD;
         }
     }
     VkPipelineColorBlendStateCreateInfo cb{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};

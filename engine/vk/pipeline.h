@@ -35,8 +35,9 @@ struct GraphicsPipelineDesc {
     VkFrontFace frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
     VkCullModeFlags cullMode = VK_CULL_MODE_NONE;  // two-sided shading: back faces are visible
     VkPipelineCache cache = VK_NULL_HANDLE;  // Context::pipelineCache()
-    // Every colour attachment becomes destination × source (the transmission pass's filters).
-    bool multiplyBlend = false;
+    // Every colour attachment becomes destination × source (the transmission pass's filters), or
+    // destination + source (the coloured shadows' optical depths).
+    bool multiplyBlend = false, addBlend = false;
 };
 
 VkPipeline createGraphicsPipeline(VkDevice device, const GraphicsPipelineDesc& desc);
