@@ -161,6 +161,7 @@ struct GpuLightSpectraBlock {
 #define MATERIAL_NORMAL_TEXTURE 16u   // a normal map perturbs the shading normal
 #define MATERIAL_FILTER 32u           // a thin sheet: multiplies what is behind it by transmittance[]
 #define MATERIAL_MEDIUM 64u           // an absorbing medium in a closed mesh: by exp2(−attenuation[]·ℓ)
+#define MATERIAL_SLAB 128u            // a dielectric slab: Fresnel with ior[], internal exp2(−attenuation[]/cos θt)
 
 struct GpuMaterialBlock {
     vec4 diffuse[MAX_OUTPUTS];             // ρd
@@ -175,12 +176,14 @@ struct GpuMaterialBlock {
     vec4 lobe;                             // x: the first entry of its lobe table in BINDING_LOBE_TABLES,
                                            // −1 if none; y, z: the table's x1 warp (lobeWarp, lobe_lookup.h)
     vec4 coupling[MAX_LIGHTS / 4];         // per light: (Φ/π)·Σ a·E·λ·Δλ·2ˢ (fluorescence)
-    // Transparent materials (MATERIAL_FILTER, MATERIAL_MEDIUM; the transmission pass): a sheet's
-    // transmittance per crossing, and a medium's attenuation a·log2(10)·unit per unit of the local
-    // frame (a the decadic absorbance per metre, unit the frame's unit in metres), so that a path of
-    // ℓ units transmits exp2(−attenuation·ℓ). 0 for other materials.
+    // Transparent materials (MATERIAL_FILTER, MATERIAL_MEDIUM, MATERIAL_SLAB; the transmission pass):
+    // a sheet's transmittance per crossing; a medium's attenuation a·log2(10)·unit per unit of the
+    // local frame (a the decadic absorbance per metre, unit the frame's unit in metres), so that a
+    // path of ℓ units transmits exp2(−attenuation·ℓ), or a slab's a·d·log2(10) across its thickness
+    // d (exp2(−attenuation/cos θt) along the refracted path); a slab's refractive index. 0 else.
     vec4 transmittance[MAX_OUTPUTS];
     vec4 attenuation[MAX_OUTPUTS];
+    vec4 ior[MAX_OUTPUTS];
 };
 
 // The response pass (SPEC_RESPONSES): every term's geometric factor is independent of wavelength,
@@ -218,6 +221,13 @@ struct SpectralPushConstants {
                           // the camera (perspective) or its plane (orthographic), in the local frame, from
                           // which a medium's path is measured
 };
+
+// transmit.frag's specialization constants (its own ids).
+#define TRANSMIT_SPEC_LOG_OUTPUT 0        // write log2 of the factor (the coloured shadows' maps, blended by addition)
+#define TRANSMIT_SPEC_REFLECTION 1        // the slabs' reflection pass: add R·(the environment in the mirror direction)
+#define TRANSMIT_SPEC_AMBIENT_COUNT 2     // the environment a slab reflects: the ambient lights (0 …)
+#define TRANSMIT_SPEC_HEMISPHERE_FIRST 3  // and the hemisphere lights (their first index, their count)
+#define TRANSMIT_SPEC_HEMISPHERE_COUNT 4
 
 // ---------------------------------------------------------------------------------------------
 // The tonemap pass (tonemap.frag): one fragment per output pixel reads the spectral target and
@@ -301,6 +311,13 @@ static_assert(SPEC_AMBIENT_COUNT == 0 && SPEC_DIRECTIONAL_COUNT == 1 && SPEC_POI
                   SPEC_BAND_LAYERS == 16,
               "SpectralSpecialization's fields are in id order");
 
+// transmit.frag's specialization constants, in id order.
+struct TransmitSpecialization {
+    uint32_t logOutput, reflection;                        // VkBool32
+    int32_t ambientCount, hemisphereFirst, hemisphereCount;
+};
+static_assert(sizeof(TransmitSpecialization) == 4 * (TRANSMIT_SPEC_HEMISPHERE_COUNT + 1), "one 4-byte field per id");
+
 // tonemap.frag's specialization constants, in id order.
 struct TonemapSpecialization {
     int32_t channels, layers, ssaa, mode, display, input;  // TONEMAP_SPEC_CHANNELS … TONEMAP_SPEC_INPUT
@@ -315,7 +332,7 @@ static_assert(sizeof(GpuLightBlock) == 32 * MAX_LIGHTS, "std140 layout");
 static_assert(sizeof(GpuShadowBlock) == 64 * MAX_SHADOW_LAYERS, "std140 layout");
 static_assert(sizeof(ShadowPushConstants) == 64, "push constants must match GLSL");
 static_assert(sizeof(GpuLightSpectraBlock) == 16384, "must fit the minimum maxUniformBufferRange");
-static_assert(sizeof(GpuMaterialBlock) == 16 * (5 * MAX_OUTPUTS + 3 + MAX_LIGHTS / 4), "std140 layout");
+static_assert(sizeof(GpuMaterialBlock) == 16 * (6 * MAX_OUTPUTS + 3 + MAX_LIGHTS / 4), "std140 layout");
 static_assert(sizeof(GpuFluorescenceBlock) == 16384, "must fit the minimum maxUniformBufferRange");
 static_assert(sizeof(GpuResponseBlock) <= 16384, "must fit the minimum maxUniformBufferRange");
 static_assert(4 * RESPONSE_VEC4 == TONEMAP_MAX_CHANNELS, "the response pass carries every detector channel");

@@ -25,8 +25,16 @@
 // The coloured shadows' passes (drawn from a light, render/spectral_resources.cpp) write the
 // optical depth log2 of each factor instead, blended by addition, so that the band passes can
 // interpolate it between the map's texels — linear along a slab's side, where τ is not.
-layout(constant_id = 0) const bool LOG_OUTPUT = false;
+layout(constant_id = TRANSMIT_SPEC_LOG_OUTPUT) const bool LOG_OUTPUT = false;
+// The slabs' second draw: their reflection R·L(mirror direction), added (blend destination + source)
+// after their transmittance has multiplied what is behind — draws go back to front.
+layout(constant_id = TRANSMIT_SPEC_REFLECTION) const bool REFLECTION = false;
+layout(constant_id = TRANSMIT_SPEC_AMBIENT_COUNT) const int AMBIENT_COUNT = 0;
+layout(constant_id = TRANSMIT_SPEC_HEMISPHERE_FIRST) const int HEMISPHERE_FIRST = 0;
+layout(constant_id = TRANSMIT_SPEC_HEMISPHERE_COUNT) const int HEMISPHERE_COUNT = 0;
 
+layout(set = 0, binding = BINDING_LIGHTS, std140) uniform Lights { GpuLightBlock L; };
+layout(set = 0, binding = BINDING_LIGHT_SPECTRA, std140) uniform LightSpectra { GpuLightSpectraBlock E; };
 layout(set = 0, binding = BINDING_MATERIAL, std140) uniform Material { GpuMaterialBlock M; };
 layout(set = 0, binding = BINDING_OPAQUE_DISTANCE) uniform sampler2D opaqueDistance;
 layout(push_constant) uniform Push { SpectralPushConstants pc; };
@@ -62,6 +70,7 @@ layout(location = 7) out vec4 out7;
 
 // An entering face's factor is at most 2^ENTRY_LIMIT: radiances up to ~10¹⁹ times it stay finite.
 const float ENTRY_LIMIT = 64.0;
+const float INV_PI = 0.31830988618379067;
 
 vec4 factor[OUTPUT_COUNT];
 
@@ -72,7 +81,41 @@ void main() {
     const vec3 p = worldPosition, c = pc.cameraPosition.xyz;
     const float t = perspective ? length(p - c) : dot(p - c, pc.cameraForward.xyz);
     const float tO = texelFetch(opaqueDistance, ivec2(gl_FragCoord.xy), 0).r;
-    if ((M.switches.x & MATERIAL_MEDIUM) == 0u) {
+    if ((M.switches.x & MATERIAL_SLAB) != 0u) {
+        // A slab (docs/physics.md, "Transparent objects"): Fresnel at both faces for n(λ) at this angle, the glass's
+        // absorption along the refracted path, the reflections inside summed incoherently, s and p
+        // averaged — spectral/dielectric.cpp's slab(), in float. Hidden behind the opaque surface.
+        if (t >= tO) discard;
+        vec3 nrm = dot(worldNormal, worldNormal) > 1e-24 ? normalize(worldNormal) : vec3(0.0, 0.0, 1.0);
+        const vec3 v = perspective ? normalize(c - p) : -pc.cameraForward.xyz;
+        if (dot(nrm, v) < 0.0) nrm = -nrm;
+        const float cosI = min(dot(nrm, v), 1.0);
+        const vec3 mirror = reflect(-v, nrm);
+        for (int k = 0; k < OUTPUT_COUNT; ++k) {
+            const vec4 n = M.ior[k];
+            const vec4 cosT = sqrt(max(vec4(1.0) - (1.0 - cosI * cosI) / (n * n), vec4(0.0)));
+            const vec4 tau = exp2(-M.attenuation[k] / max(cosT, vec4(1e-6)));
+            vec4 rs = (cosI - n * cosT) / (cosI + n * cosT), rp = (cosT - n * cosI) / (cosT + n * cosI);
+            rs *= rs;
+            rp *= rp;
+            const vec4 ds = 1.0 / (1.0 - rs * rs * tau * tau), dp = 1.0 / (1.0 - rp * rp * tau * tau);
+            const vec4 T = 0.5 * ((1.0 - rs) * (1.0 - rs) * tau * ds + (1.0 - rp) * (1.0 - rp) * tau * dp);
+            if (!REFLECTION) {
+                factor[k] = LOG_OUTPUT ? max(log2(T), vec4(-149.0)) : T;
+                continue;
+            }
+            const vec4 R = 0.5 * (rs + (1.0 - rs) * (1.0 - rs) * rs * tau * tau * ds + rp +
+                                  (1.0 - rp) * (1.0 - rp) * rp * tau * tau * dp);
+            // The environment the mirror direction sees: ambient E/π, a hemisphere light's L.
+            vec4 environment = vec4(0.0);
+            for (int i = 0; i < AMBIENT_COUNT; ++i) environment += E.lightBands[i * MAX_OUTPUTS + k] * INV_PI;
+            for (int i = 0; i < HEMISPHERE_COUNT; ++i) {
+                const int l = HEMISPHERE_FIRST + i;
+                if (dot(mirror, L.lights[l].vector.xyz) > 0.0) environment += E.lightBands[l * MAX_OUTPUTS + k];
+            }
+            factor[k] = R * environment;
+        }
+    } else if ((M.switches.x & MATERIAL_MEDIUM) == 0u) {
         // A sheet on or behind the opaque surface is hidden by it.
         if (t >= tO) discard;
         // log2 of a black band is −∞, and −∞ × a zero interpolation weight NaN: 2⁻¹⁴⁹ is 0 in float.

@@ -1,6 +1,7 @@
 #include "reference/cpu_renderer.h"
 
 #include "reference/hemisphere_lobe.h"
+#include "spectral/dielectric.h"
 
 #include <algorithm>
 #include <atomic>
@@ -189,7 +190,14 @@ int32_t ReferenceRenderer::trace(const Ray& ray, double* radiance, uint64_t* blo
     if (blocked) *blocked = 0;
     if (crossings) *crossings = 0;
     auto hit = bvh_.intersect(ray, kRayTMin);
-    if (!hit) return kBackgroundId;
+    if (!hit) {
+        // The background is black, but a slab in front of it still reflects.
+        if (!clearBvh_.triangles().empty()) {
+            const uint32_t c = transmit(ray, std::numeric_limits<double>::infinity(), radiance);
+            if (crossings) *crossings = c;
+        }
+        return kBackgroundId;
+    }
     uint64_t b = 0;
     uint32_t lit = 0;  // the shadow rays' crossings
     shade(*hit, ray, radiance, b, lit);
@@ -209,67 +217,111 @@ int32_t ReferenceRenderer::trace(const Ray& ray, double* radiance, uint64_t* blo
 // Each mesh counts on its own, so overlapping media multiply. A ray through an edge meets both
 // triangles at the same t: hits of one mesh, on the same side, within 1e-9 of the scene's size
 // count once, as a rasterizer covers a pixel by one of the two.
-uint32_t ReferenceRenderer::crossings(const Ray& ray, double tMin, double tEnd, std::vector<double>& factor) const {
+uint32_t ReferenceRenderer::crossings(const Ray& ray, double tMin, double tEnd, std::vector<double>& factor,
+                                      double* reflected) const {
     factor.clear();
     // Every crossing along the whole ray: a medium whose first crossing is a way out holds the
     // ray's start, even where the opaque surface comes before that crossing.
-    std::vector<RayHit> hits = clearBvh_.allHits(ray, tMin, std::numeric_limits<double>::infinity());
-    if (hits.empty()) return 0;
-    uint32_t signature = 0;  // a sum over the crossings before tEnd: the same set, the same value
+    std::vector<RayHit> all = clearBvh_.allHits(ray, tMin, std::numeric_limits<double>::infinity());
+    if (all.empty()) return 0;
     const auto& tris = clearBvh_.triangles();
-    auto entering = [&](const RayHit& h) {
+    auto faceNormal = [&](const RayHit& h) {
         const BvhTriangle& t = tris[h.index];
-        return glm::dot(glm::cross(t.p1 - t.p0, t.p2 - t.p0), ray.direction) < 0.0;
+        return glm::cross(t.p1 - t.p0, t.p2 - t.p0);
     };
-    std::sort(hits.begin(), hits.end(), [](const RayHit& a, const RayHit& b) { return a.t < b.t; });
-    const double same = 1e-9 * std::max(sceneScale_, tEnd);
+    auto entering = [&](const RayHit& h) { return glm::dot(faceNormal(h), ray.direction) < 0.0; };
+    std::sort(all.begin(), all.end(), [](const RayHit& a, const RayHit& b) { return a.t < b.t; });
+    // One crossing per surface: a ray through a shared edge meets both triangles at the same t.
+    const double same = 1e-9 * std::max(sceneScale_, std::isfinite(tEnd) ? tEnd : 0.0);
+    std::vector<RayHit> hits;
+    for (size_t i = 0; i < all.size(); ++i) {
+        const uint32_t mesh = tris[all[i].index].mesh;
+        const bool in = entering(all[i]);
+        bool repeated = false;
+        for (size_t j = i; j-- > 0 && all[i].t - all[j].t <= same;)
+            repeated = repeated || (tris[all[j].index].mesh == mesh && entering(all[j]) == in);
+        if (!repeated) hits.push_back(all[i]);
+    }
     struct Inside {
         uint32_t mesh;
         int depth;            // how many of its faces the ray is behind (nested shells of one mesh)
         double since, length;  // where the ray last went in; the path inside so far
     };
+    // Every medium on the ray, inside from the start when its first crossing leads out.
     std::vector<Inside> media;
-    factor.assign(size_t(bands_), 1.0);
-    for (size_t i = 0; i < hits.size(); ++i) {
-        const RayHit& h = hits[i];
+    for (const RayHit& h : hits) {
+        const uint32_t mesh = tris[h.index].mesh;
+        if (!onGrid_.materials[scene_.meshes[mesh].material].isMedium()) continue;
+        if (std::none_of(media.begin(), media.end(), [&](const Inside& m) { return m.mesh == mesh; }))
+            media.push_back(Inside{mesh, entering(h) ? 0 : 1, 0.0, 0.0});
+    }
+    // The media's transmittance from the start to t; with t infinite, over their completed paths.
+    auto mediaFactor = [&](int b, double t) {
+        double depth = 0.0;
+        for (const Inside& m : media) {
+            const double length = m.length + (m.depth > 0 && std::isfinite(t) ? t - m.since : 0.0);
+            depth += onGrid_.materials[scene_.meshes[m.mesh].material].absorbance[size_t(b)] * length * frame_.unit_m();
+        }
+        return std::pow(10.0, -depth);
+    };
+    uint32_t signature = 0;  // a sum over the crossings before tEnd: the same set, the same value
+    factor.assign(size_t(bands_), 1.0);  // the sheets' and slabs' product so far
+    for (const RayHit& h : hits) {
+        if (h.t >= tEnd) break;
         const uint32_t mesh = tris[h.index].mesh;
         const bool in = entering(h);
-        bool repeated = false;
-        for (size_t j = i; j-- > 0 && h.t - hits[j].t <= same;)
-            repeated = repeated || (tris[hits[j].index].mesh == mesh && entering(hits[j]) == in);
-        if (repeated) continue;
+        signature += (mesh + 1) * 2654435761u + (in ? 1u : 2u);
         const MaterialOnGrid& mat = onGrid_.materials[scene_.meshes[mesh].material];
-        if (h.t < tEnd) signature += (mesh + 1) * 2654435761u + (in ? 1u : 2u);
         if (mat.isFilter()) {
-            if (h.t < tEnd)
-                for (int b = 0; b < bands_; ++b) factor[size_t(b)] *= mat.transmittance[size_t(b)];
-            continue;
-        }
-        auto it = std::find_if(media.begin(), media.end(), [&](const Inside& m) { return m.mesh == mesh; });
-        // A medium whose first crossing leads out held the ray's start (the camera is inside it).
-        if (it == media.end()) it = media.insert(media.end(), Inside{mesh, in ? 0 : 1, 0.0, 0.0});
-        if (h.t >= tEnd) continue;  // past the opaque surface
-        if (in) {
-            if (it->depth++ == 0) it->since = h.t;
-        } else if (it->depth > 0 && --it->depth == 0) {
-            it->length += h.t - it->since;
+            for (int b = 0; b < bands_; ++b) factor[size_t(b)] *= mat.transmittance[size_t(b)];
+        } else if (mat.isSlab()) {
+            // Fresnel at both faces, the glass's absorption along the refracted path, the
+            // reflections inside added incoherently (spectral/dielectric.h): T and R per band at
+            // this crossing's angle; what the slab reflects is its mirror direction's light.
+            const glm::dvec3 n = glm::normalize(faceNormal(h));
+            const double cosI = std::min(1.0, std::fabs(glm::dot(n, ray.direction)));
+            const glm::dvec3 mirror = ray.direction - 2.0 * glm::dot(ray.direction, n) * n;
+            for (int b = 0; b < bands_; ++b) {
+                const double ior = mat.ior[size_t(b)];
+                const double tau = slabInternalTransmittance(ior, cosI, mat.slabAbsorbance[size_t(b)], mat.slabThickness);
+                const SlabReflectanceTransmittance rt = slab(ior, cosI, tau);
+                if (reflected)
+                    reflected[b] += factor[size_t(b)] * mediaFactor(b, h.t) * rt.reflectance * environment(mirror, b);
+                factor[size_t(b)] *= rt.transmittance;
+            }
+        } else {
+            auto it = std::find_if(media.begin(), media.end(), [&](const Inside& m) { return m.mesh == mesh; });
+            if (in) {
+                if (it->depth++ == 0) it->since = h.t;
+            } else if (it->depth > 0 && --it->depth == 0) {
+                it->length += h.t - it->since;
+            }
         }
     }
-    for (Inside& m : media) {
-        // The ray ends inside the medium (an opaque surface in it, a light in it). A ray to a
-        // directional light cannot, unless rounding lost its way out through an edge: nothing then.
-        if (m.depth > 0 && std::isfinite(tEnd)) m.length += tEnd - m.since;
-        const MaterialOnGrid& mat = onGrid_.materials[scene_.meshes[m.mesh].material];
-        const double metres = m.length * frame_.unit_m();
-        for (int b = 0; b < bands_; ++b) factor[size_t(b)] *= std::pow(10.0, -mat.absorbance[size_t(b)] * metres);
-    }
+    // The ray ends inside a medium (an opaque surface in it, a light in it). A ray to a
+    // directional light cannot, unless rounding lost its way out through an edge: nothing then.
+    for (int b = 0; b < bands_; ++b) factor[size_t(b)] *= mediaFactor(b, tEnd);
     return signature == kMixedCrossings ? signature - 1 : signature;
 }
 
+// The light a mirror sees in direction r: the hemisphere lights' radiance L where r·up > 0, and an
+// ambient light's E/π (uniform radiance that gives irradiance E). Points and directional lights
+// are single directions: a mirror shows them as points, not drawn (docs/physics.md, "Transparent objects").
+double ReferenceRenderer::environment(const glm::dvec3& r, int b) const {
+    double l = 0.0;
+    for (size_t i = 0; i < scene_.lights.size(); ++i) {
+        const Light& light = scene_.lights[i];
+        if (light.type == Light::Type::Ambient) l += onGrid_.lights[i][size_t(b)] / kPi;
+        if (light.type == Light::Type::Hemisphere && glm::dot(r, light.up) > 0.0) l += onGrid_.lights[i][size_t(b)];
+    }
+    return l;
+}
+
 uint32_t ReferenceRenderer::transmit(const Ray& ray, double tEnd, double* radiance) const {
-    thread_local std::vector<double> factor;
-    const uint32_t signature = crossings(ray, kRayTMin, tEnd, factor);
-    for (size_t b = 0; b < factor.size(); ++b) radiance[b] *= factor[b];
+    thread_local std::vector<double> factor, reflected;
+    reflected.assign(size_t(bands_), 0.0);
+    const uint32_t signature = crossings(ray, kRayTMin, tEnd, factor, reflected.data());
+    for (size_t b = 0; b < factor.size(); ++b) radiance[b] = radiance[b] * factor[b] + reflected[b];
     return signature;
 }
 

@@ -87,7 +87,12 @@ private:
     uint32_t transmit(const Ray& ray, double tEnd, double* radiance) const;
     // The transparent crossings of `ray` in (tMin, tEnd): `factor` gets the transmittance per band,
     // or is left empty when there are none; returns their signature.
-    uint32_t crossings(const Ray& ray, double tMin, double tEnd, std::vector<double>& factor) const;
+    // `reflected`, when given (bands() values), gets the slabs' reflections added, each times the
+    // transmittance in front of it.
+    uint32_t crossings(const Ray& ray, double tMin, double tEnd, std::vector<double>& factor,
+                       double* reflected = nullptr) const;
+    // The radiance a mirror sees in unit direction r, band b: hemisphere lights and ambient light.
+    double environment(const glm::dvec3& r, int b) const;
     // Light l's transmittance to p along w (a coloured shadow) into `factor`; false when nothing
     // transparent lies on the way.
     // `signature` gets the crossings' (ReferenceImage::crossings), 0 for none.

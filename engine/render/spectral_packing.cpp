@@ -122,7 +122,7 @@ uint32_t materialSwitches(const MaterialOnGrid& m, bool specular) {
     return (m.fluorescent ? MATERIAL_FLUORESCENT : 0u) | (specular ? MATERIAL_SPECULAR : 0u) |
            (m.diffuseTexture >= 0 ? MATERIAL_DIFFUSE_TEXTURE : 0u) |
            (m.specularTexture >= 0 ? MATERIAL_SPECULAR_TEXTURE : 0u) | (m.normalTexture >= 0 ? MATERIAL_NORMAL_TEXTURE : 0u) |
-           (m.isFilter() ? MATERIAL_FILTER : 0u) | (m.isMedium() ? MATERIAL_MEDIUM : 0u);
+           (m.isFilter() ? MATERIAL_FILTER : 0u) | (m.isMedium() ? MATERIAL_MEDIUM : 0u) | (m.isSlab() ? MATERIAL_SLAB : 0u);
 }
 
 PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes, const LocalFrame& frame) {
@@ -259,9 +259,11 @@ PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes, const Loc
         const MaterialOnGrid& m = g.materials[mi];
         bool specular = std::any_of(m.specular.begin(), m.specular.end(), [](double v) { return v != 0.0; });
         const float lobeTableBase = lobeTable(m, specular);
-        // A medium's attenuation per unit of the frame, for exp2: a·log2(10)·unit (m⁻¹ × m).
+        // A medium's attenuation per unit of the frame, for exp2: a·log2(10)·unit (m⁻¹ × m); a
+        // slab's across its thickness, a·log2(10)·d.
         attenuation.clear();
         for (double a : m.absorbance) attenuation.push_back(a * std::log2(10.0) * frame.unit_m());
+        for (double a : m.slabAbsorbance) attenuation.push_back(a * std::log2(10.0) * m.slabThickness);
         // View-independent fluorescence coupling per light, (Φ/π)·Σ a·E_l·λ·Δλ, summed in double
         // so the shader only multiplies by the light's geometric factor.
         std::vector<float> coupling(MAX_LIGHTS, 0.0f);
@@ -315,6 +317,13 @@ PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes, const Loc
             for (int l = 0; l < MAX_LIGHTS; ++l) b.coupling[l / 4][l % 4] = coupling[l];
             scatterBands(m.transmittance, pass, b.transmittance);
             scatterBands(attenuation, pass, b.attenuation);
+            scatterBands(m.ior, pass, b.ior);
+            // Past the grid's last band a slab is air (n = 1: nothing reflected, all transmitted),
+            // so that the padding lanes stay finite for the tonemap pass, which reads whole layers.
+            if (m.isSlab())
+                for (int k = 0; k < MAX_OUTPUTS; ++k)
+                    for (int c = 0; c < 4; ++c)
+                        if (size_t(pass) * BANDS_PER_PASS + size_t(4 * k + c) >= m.ior.size()) b.ior[k][c] = 1.0f;
         }
     }
     if (p.shadowExcitation.empty()) p.shadowExcitation.push_back(glm::vec4(0.0f));

@@ -83,12 +83,21 @@ void SpectralResources::drawScene(VkCommandBuffer cmd, const SpectralFrameState&
 }
 
 void SpectralResources::drawTransparent(VkCommandBuffer cmd, const SpectralFrameState& f, size_t p, VkPipeline pipeline,
-                                        VkDescriptorSet set0) const {
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
+                                        VkDescriptorSet set0, VkPipeline reflection) const {
     bindGeometry(cmd, f);
     const size_t materials = packed.materials.size() / passes.size();
+    std::vector<std::pair<float, const PackedDraw*>> order;
     for (const PackedDraw& d : packed.draws) {
         if (!d.transparent) continue;
+        const glm::vec3 centre = 0.5f * (d.lower + d.upper);
+        const float distance = f.camera.perspective ? glm::length(centre - f.camera.position)
+                                                    : glm::dot(centre - f.camera.position, f.camera.forward);
+        order.push_back({distance, &d});
+    }
+    std::stable_sort(order.begin(), order.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+    VkPipeline bound = VK_NULL_HANDLE;
+    for (const auto& [distance, draw] : order) {
+        const PackedDraw& d = *draw;
         gpu::SpectralPushConstants pc = f.pc;
         pc.draw = glm::vec4(f.nearestPoint(d), 0.0f);
         vkCmdPushConstants(cmd, pipelineLayout.get(), VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
@@ -96,7 +105,12 @@ void SpectralResources::drawTransparent(VkCommandBuffer cmd, const SpectralFrame
         const uint32_t offsets[4] = {uint32_t(p * lightSpectraStride), uint32_t((p * materials + d.material) * materialStride),
                                      0u, 0u};
         vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelineLayout.get(), 0, 1, &set0, 4, offsets);
+        if (bound != pipeline) vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, bound = pipeline);
         vkCmdDrawIndexed(cmd, d.indexCount, 1, d.firstIndex, d.vertexOffset, 0);
+        if (reflection != VK_NULL_HANDLE && (packed.materials[d.material].switches.x & MATERIAL_SLAB) != 0u) {
+            vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, bound = reflection);
+            vkCmdDrawIndexed(cmd, d.indexCount, 1, d.firstIndex, d.vertexOffset, 0);
+        }
     }
 }
 
@@ -152,10 +166,11 @@ void SpectralResources::declareFrame() {
         frame.push_back({fmt::format("transmission pass {}", p), "band pass " + std::to_string(p) + "'s radiance; the opaque distance",
                          fmt::format("layers {}–{} × the transparent surfaces' transmittance", to.firstLayer,
                                      to.firstLayer + to.attachments - 1),
-                         fmt::format("transmit.frag, OUTPUT_COUNT {}; blend destination × source", to.attachments),
+                         fmt::format("transmit.frag, OUTPUT_COUNT {}; farthest first, blend destination × source (slabs: then + their reflection)", to.attachments),
                          to.renderPass, to.framebuffer.get(), extent, std::move(none),
                          [this, p](VkCommandBuffer cmd) {
-                             drawTransparent(cmd, *frameState, p, transmissionPasses[p].pipelines[0], descriptorSet);
+                             drawTransparent(cmd, *frameState, p, transmissionPasses[p].pipelines[0], descriptorSet,
+                                             transmissionPasses[p].pipelines[1]);
                          }});
     }
 }

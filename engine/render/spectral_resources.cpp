@@ -729,7 +729,14 @@ VkPipeline SpectralResources::makeOwnPipeline(const std::string& key, vk::Graphi
 void SpectralResources::createTransmissionPasses() {
     const VkImageLayout targetLayout = plan.mappedReadback ? VK_IMAGE_LAYOUT_GENERAL : VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
     VkRenderPass rpFull = VK_NULL_HANDLE, rpLast = VK_NULL_HANDLE;
-    VkPipeline plFull = VK_NULL_HANDLE, plLast = VK_NULL_HANDLE;
+    VkPipeline plFull = VK_NULL_HANDLE, plLast = VK_NULL_HANDLE, reflectFull = VK_NULL_HANDLE, reflectLast = VK_NULL_HANDLE;
+    const bool slabs = std::any_of(scene.materials.begin(), scene.materials.end(), [](const Material& m) { return m.isSlab(); });
+    // The slabs' reflection draws add R·(ambient and hemisphere lights in the mirror direction).
+    const gpu::TransmitSpecialization reflection{VK_FALSE, VK_TRUE, packed.ambient,
+                                                 packed.ambient + packed.directional + packed.point, packed.hemisphere};
+    VkSpecializationMapEntry entries[TRANSMIT_SPEC_HEMISPHERE_COUNT + 1];
+    for (uint32_t id = 0; id <= TRANSMIT_SPEC_HEMISPHERE_COUNT; ++id) entries[id] = {id, id * 4, 4};
+    const VkSpecializationInfo reflectionInfo{TRANSMIT_SPEC_HEMISPHERE_COUNT + 1, entries, sizeof reflection, &reflection};
     for (const PassObjects& band : passes) {
         PassObjects po;
         po.firstLayer = band.firstLayer;
@@ -737,6 +744,7 @@ void SpectralResources::createTransmissionPasses() {
         const bool full = po.attachments == MAX_OUTPUTS;
         VkRenderPass& rp = full ? rpFull : rpLast;
         VkPipeline& pl = full ? plFull : plLast;
+        VkPipeline& reflect = full ? reflectFull : reflectLast;
         if (rp == VK_NULL_HANDLE) {
             vk::RenderPassDesc desc;
             for (uint32_t i = 0; i < po.attachments; ++i)
@@ -757,9 +765,19 @@ void SpectralResources::createTransmissionPasses() {
                                              plan.targetWidth, plan.targetHeight, static_cast<void*>(rp),
                                              static_cast<void*>(pipelineLayout.get())),
                                  transparentPipelineDesc(rp, po.attachments), code.code, code.bytes);
+            if (slabs) {
+                vk::GraphicsPipelineDesc rd = transparentPipelineDesc(rp, po.attachments);
+                rd.multiplyBlend = false;
+                rd.addBlend = true;
+                reflect = makeOwnPipeline(
+                    fmt::format("spectral.reflection attachments={} {}x{} pass={} layout={} spec={}", po.attachments,
+                                plan.targetWidth, plan.targetHeight, static_cast<void*>(rp),
+                                static_cast<void*>(pipelineLayout.get()), vk::keyBytes(&reflection, sizeof reflection)),
+                    rd, code.code, code.bytes, &reflectionInfo);
+            }
         }
         po.renderPass = rp;
-        po.pipelines = {pl};
+        po.pipelines = {pl, reflect};
         std::vector<VkImageView> views;
         for (uint32_t i = 0; i < po.attachments; ++i) views.push_back(color.layerView(po.firstLayer + i));
         po.framebuffer = vk::createFramebuffer(ctx.device(), rp, views, plan.targetWidth, plan.targetHeight);

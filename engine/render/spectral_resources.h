@@ -183,9 +183,12 @@ private:
     void drawScene(VkCommandBuffer cmd, const SpectralFrameState& f, const std::vector<VkPipeline>& pipelines, size_t p,
                    VkDescriptorSet set0, bool specularOnly) const;
     // The transparent draws of transmission pass p, each with its material's pass-p bands and the
-    // distance its medium's path is measured from (SpectralPushConstants::draw).
+    // point its medium's path is measured from (SpectralPushConstants::draw).
+    // Back to front (by their bounds' centres), so that a slab's reflection, added after its
+    // transmittance multiplied what is behind it, is itself multiplied by what is in front;
+    // `reflection`: the slabs' second, additive draw (VK_NULL_HANDLE: none, as from a light).
     void drawTransparent(VkCommandBuffer cmd, const SpectralFrameState& f, size_t p, VkPipeline pipeline,
-                         VkDescriptorSet set0) const;
+                         VkDescriptorSet set0, VkPipeline reflection = VK_NULL_HANDLE) const;
 };
 
 // A frame's commands: clear the target, record the declared passes in order (SpectralResources::

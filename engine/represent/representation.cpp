@@ -345,9 +345,12 @@ SceneOnGrid represent(const SceneOnGrid& spectra, const Representation& r, const
                 // A transmittance multiplies like a reflectance; an absorbance is analysed the same
                 // way, as an RGB renderer carries an absorption coefficient per channel (the
                 // exponential is taken of the reduced channels, not reduced after: the mode's error).
+                // A slab's n(λ) likewise: the analysis of a constant is the constant, so clear glass of
+                // one index stays itself, and a dispersive one gets a weighted n per channel.
                 case MaterialSpectrum::Reflectance:
                 case MaterialSpectrum::Transmittance:
                 case MaterialSpectrum::Absorbance:
+                case MaterialSpectrum::Index:
                     if (!values.empty()) values = metamer::apply(r.reflectanceAnalysis, values);
                     return;
                 case MaterialSpectrum::Absorptance:

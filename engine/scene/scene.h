@@ -6,6 +6,7 @@
 
 #include "core/error.h"
 #include "spectral/bispectral.h"
+#include "spectral/dielectric.h"
 #include "spectral/grid.h"
 #include "spectral/spectrum.h"
 
@@ -123,10 +124,22 @@ struct Material {
         double concentration = 0.0;  // c, mol·L⁻¹
     };
     std::vector<Dye> dyes;
+    // A plane-parallel dielectric slab on a surface (a window, a glass sheet, filter glass): its
+    // faces reflect and transmit by Fresnel's equations with n(λ), the reflections inside add
+    // incoherently, and the glass absorbs along the refracted path (docs/physics.md, "Transparent objects").
+    struct Slab {
+        RefractiveIndex ior;
+        std::string iorSource;  // how the scene gave n: "1.52", "N-BK7", "sellmeier", "cauchy", "table"
+        Where iorWhere;
+        double thickness_m = 0.0;
+        std::optional<SceneSpectrum> absorbance;  // decadic, per metre of path inside
+    };
+    std::optional<Slab> slab;
 
     bool isFilter() const { return transmittance.has_value(); }
     bool isMedium() const { return absorbance.has_value() || !dyes.empty(); }
-    bool isTransparent() const { return isFilter() || isMedium(); }
+    bool isSlab() const { return slab.has_value(); }
+    bool isTransparent() const { return isFilter() || isMedium() || isSlab(); }
 
     bool hasSpecular() const {
         return !(specular.spectrum.isConstant() && *specular.spectrum.constant == 0.0);

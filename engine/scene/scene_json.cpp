@@ -193,7 +193,7 @@ private:
         asObject(v, w);
         Material m;
         m.name = name;
-        if (find(v, "transmittance") || find(v, "absorbance") || find(v, "dyes")) {
+        if (find(v, "transmittance") || find(v, "absorbance") || find(v, "dyes") || find(v, "slab")) {
             scene_.materials.push_back(readTransparent(std::move(m), v, w));
             return;
         }
@@ -262,14 +262,25 @@ private:
     // "concentration": c}, …]} (either or both of a and dyes). It reflects nothing: the opaque
     // material's keys are refused by name, so that a user does not believe a glass reflects.
     Material readTransparent(Material m, const Json& v, const Where& w) {
-        const bool sheet = find(v, "transmittance") != nullptr;
+        const bool sheet = find(v, "transmittance") != nullptr, glass = find(v, "slab") != nullptr;
         for (const char* k : {"diffuse", "specular", "gloss", "fluorescence", "textures"})
             if (find(v, k))
                 failInput(w.child(k),
-                          "not allowed in a transparent material ({}): a filter or an absorbing medium reflects "
-                          "nothing and does not fluoresce in this renderer (docs/physics.md, \"Transparent objects\")",
-                          sheet ? "it has a 'transmittance'" : "it has an 'absorbance' or 'dyes'");
-        if (sheet) {
+                          "not allowed in a transparent material ({}): a transparent material's reflection is its "
+                          "own (a slab's Fresnel reflection) or none, and it does not fluoresce in this renderer "
+                          "(docs/physics.md, \"Transparent objects\")",
+                          glass   ? "it has a 'slab'"
+                          : sheet ? "it has a 'transmittance'"
+                                  : "it has an 'absorbance' or 'dyes'");
+        if (glass) {
+            for (const char* k : {"transmittance", "absorbance", "dyes"})
+                if (find(v, k))
+                    failInput(w.child(k),
+                              "not allowed beside 'slab': a slab's own absorbance goes inside it "
+                              "(\"slab\": {{\"absorbance\": ...}})");
+            checkKeys(v, w, {"slab"}, "a slab material");
+            m.slab = readSlab(*find(v, "slab"), w.child("slab"));
+        } else if (sheet) {
             for (const char* k : {"absorbance", "dyes"})
                 if (find(v, k))
                     failInput(w.child(k),
@@ -308,6 +319,81 @@ private:
             s->where = w;
         }
         return m;
+    }
+
+    // "slab": {"ior": n, "thickness": d, "absorbance": a}: n a number, "N-BK7", {"sellmeier": {"B":
+    // [...], "C": [...]}}, {"cauchy": {"A": a, "B": b, "C": c}} or a table {"wavelengths_nm": [...],
+    // "values": [...]} (λ in µm for the formulas' coefficients, as glass catalogues give them).
+    Material::Slab readSlab(const Json& v, const Where& w) {
+        asObject(v, w);
+        checkKeys(v, w, {"ior", "thickness", "absorbance"}, "a slab");
+        Material::Slab slab;
+        slab.thickness_m = numberIn(require(v, w, "thickness", "the slab's thickness in metres"), w.child("thickness"), 0,
+                                    INFINITY, true, true, " m");
+        if (const Json* a = find(v, "absorbance")) slab.absorbance = spectrum(*a, w.child("absorbance"), SpectrumKind::Absorbance);
+        const Where iw = w.child("ior");
+        slab.iorWhere = iw;
+        const Json& n = require(v, w, "ior", "a refractive index: a number, \"N-BK7\", {\"sellmeier\": ...}, "
+                                                "{\"cauchy\": ...} or a table");
+        constexpr const char* kForms =
+            "a number (1 … 5), \"N-BK7\", {\"sellmeier\": {\"B\": [...], \"C\": [...]}}, {\"cauchy\": {\"A\": a, \"B\": b, "
+            "\"C\": c}} or {\"wavelengths_nm\": [...], \"values\": [...]}";
+        if (n.is_number()) {
+            slab.ior.kind = RefractiveIndex::Kind::Constant;
+            slab.ior.constant = numberIn(n, iw, 1, 5, false, false);
+            slab.iorSource = fmt::format("{:g}", slab.ior.constant);
+        } else if (n.is_string()) {
+            if (n.get<std::string>() != "N-BK7") failInput(iw, "unknown glass '{}'; expected {}", n.get<std::string>(), kForms);
+            slab.ior = nbk7();
+            slab.iorSource = "N-BK7";
+        } else if (n.is_object() && find(n, "sellmeier")) {
+            checkKeys(n, iw, {"sellmeier"}, "a Sellmeier index");
+            const Where sw = iw.child("sellmeier");
+            const Json& f = *find(n, "sellmeier");
+            asObject(f, sw);
+            checkKeys(f, sw, {"B", "C"}, "Sellmeier coefficients");
+            slab.ior.kind = RefractiveIndex::Kind::Sellmeier;
+            slab.ior.b = numbers(require(f, sw, "B", "the coefficients B₁ … (dimensionless)"), sw.child("B"));
+            slab.ior.c = numbers(require(f, sw, "C", "the coefficients C₁ … in µm²"), sw.child("C"));
+            if (slab.ior.b.size() != slab.ior.c.size() || slab.ior.b.empty())
+                failInput(sw, "expected as many B as C coefficients (at least one), got {} and {}", slab.ior.b.size(),
+                          slab.ior.c.size());
+            slab.iorSource = "sellmeier";
+        } else if (n.is_object() && find(n, "cauchy")) {
+            checkKeys(n, iw, {"cauchy"}, "a Cauchy index");
+            const Where cw = iw.child("cauchy");
+            const Json& f = *find(n, "cauchy");
+            asObject(f, cw);
+            checkKeys(f, cw, {"A", "B", "C"}, "Cauchy coefficients");
+            slab.ior.kind = RefractiveIndex::Kind::Cauchy;
+            slab.ior.b = {numberIn(require(f, cw, "A", "n at infinite wavelength"), cw.child("A"), 1, 5, false, false),
+                          find(f, "B") ? number(*find(f, "B"), cw.child("B")) : 0.0,
+                          find(f, "C") ? number(*find(f, "C"), cw.child("C")) : 0.0};
+            slab.iorSource = "cauchy";
+        } else if (n.is_object() && find(n, "wavelengths_nm")) {
+            checkKeys(n, iw, {"wavelengths_nm", "values"}, "a refractive-index table");
+            slab.ior.kind = RefractiveIndex::Kind::Table;
+            slab.ior.wavelengths_nm = numbers(require(n, iw, "wavelengths_nm", "increasing wavelengths, nm"), iw.child("wavelengths_nm"));
+            slab.ior.values = numbers(require(n, iw, "values", "n at each wavelength"), iw.child("values"));
+            if (slab.ior.values.size() != slab.ior.wavelengths_nm.size() || slab.ior.values.empty())
+                failInput(iw, "expected as many values as wavelengths (at least one), got {} and {}",
+                          slab.ior.values.size(), slab.ior.wavelengths_nm.size());
+            for (size_t i = 1; i < slab.ior.wavelengths_nm.size(); ++i)
+                if (!(slab.ior.wavelengths_nm[i] > slab.ior.wavelengths_nm[i - 1]))
+                    failInput(iw.child("wavelengths_nm"), "wavelengths must increase ({:g} after {:g})",
+                              slab.ior.wavelengths_nm[i], slab.ior.wavelengths_nm[i - 1]);
+            slab.iorSource = "table";
+        } else {
+            failInput(iw, "expected {}, got {}", kForms, describe(n));
+        }
+        return slab;
+    }
+
+    std::vector<double> numbers(const Json& v, const Where& w) {
+        if (!v.is_array() || v.empty()) failInput(w, "expected a non-empty array of numbers, got {}", describe(v));
+        std::vector<double> out;
+        for (size_t i = 0; i < v.size(); ++i) out.push_back(number(v[i], w.index(i)));
+        return out;
     }
 
     // "textures": {"diffuse": T, "specular": T, "normal": T, "bump": {"file": ..., "scale": s}}

@@ -269,6 +269,20 @@ TEST_P(SceneJsonBad, NamesFileKeyAndProblem) {
 Json parse(const char* s) { return Json::parse(s); }
 
 const BadCase kBadCases[] = {
+    {"SlabWithoutThickness", [](Json& d) { d["materials"]["glass"] = parse(R"({"slab": {"ior": 1.5}})"); },
+     "materials.glass.slab.thickness", "missing required key"},
+    {"SlabIndexBelowOne", [](Json& d) { d["materials"]["glass"] = parse(R"({"slab": {"ior": 0.9, "thickness": 0.01}})"); },
+     "materials.glass.slab.ior", "outside the allowed range"},
+    {"SlabUnknownGlass", [](Json& d) { d["materials"]["glass"] = parse(R"({"slab": {"ior": "BK7", "thickness": 0.01}})"); },
+     "materials.glass.slab.ior", "unknown glass 'BK7'; expected a number (1 … 5), \"N-BK7\""},
+    {"SlabSellmeierMismatch",
+     [](Json& d) { d["materials"]["glass"] = parse(R"({"slab": {"ior": {"sellmeier": {"B": [1, 0.2], "C": [0.006]}}, "thickness": 0.01}})"); },
+     "materials.glass.slab.ior.sellmeier", "expected as many B as C coefficients"},
+    {"SlabBesideTransmittance",
+     [](Json& d) { d["materials"]["glass"] = parse(R"({"slab": {"ior": 1.5, "thickness": 0.01}, "transmittance": 0.5})"); },
+     "materials.glass.transmittance", "not allowed beside 'slab'"},
+    {"SlabWithDiffuse", [](Json& d) { d["materials"]["glass"] = parse(R"({"slab": {"ior": 1.5, "thickness": 0.01}, "diffuse": 0.1})"); },
+     "materials.glass.diffuse", "not allowed in a transparent material (it has a 'slab')"},
     // Transparent materials (docs/scene-format.md, "Transparent materials").
     {"FilterWithDiffuse", [](Json& d) { d["materials"]["gel"] = parse(R"({"transmittance": 0.5, "diffuse": 0.2})"); },
      "materials.gel.diffuse", "not allowed in a transparent material (it has a 'transmittance')"},
@@ -486,6 +500,41 @@ TEST(SceneJson, TransparentMaterialsAndBoxes) {
     ASSERT_EQ(g.materials[dye].absorbance.size(), size_t(g.grid.bands()));
     for (double a : g.materials[dye].absorbance) EXPECT_NEAR(a, 701.5, 1e-9);
     EXPECT_TRUE(g.materials[dye].diffuse.size() == size_t(g.grid.bands()) && g.materials[dye].diffuse[0] == 0.0);
+}
+
+TEST(SceneJson, SlabsAndTheirRefractiveIndices) {
+    Json d = baseScene();
+    d["materials"]["window"] = parse(R"({"slab": {"ior": "N-BK7", "thickness": 0.006, "absorbance": 12}})");
+    d["materials"]["crown"] = parse(R"({"slab": {"ior": {"cauchy": {"A": 1.5046, "B": 0.0042}}, "thickness": 0.01}})");
+    d["materials"]["flint"] =
+        parse(R"({"slab": {"ior": {"sellmeier": {"B": [1.34533359, 0.209073176, 0.937357162],
+                                                 "C": [0.00997743871, 0.0470450767, 111.886764]}}, "thickness": 0.01}})");
+    d["materials"]["table"] = parse(R"({"slab": {"ior": {"wavelengths_nm": [400, 700], "values": [1.6, 1.5]}, "thickness": 0.002}})");
+    d["objects"][4]["material"] = "window";
+    d["objects"].push_back(parse(R"({"shape": "quad", "center": [0, 0, -4], "normal": [0, 0, 1], "size": [1, 1], "material": "crown"})"));
+    d["objects"].push_back(parse(R"({"shape": "quad", "center": [0, 0, -5], "normal": [0, 0, 1], "size": [1, 1], "material": "flint"})"));
+    d["objects"].push_back(parse(R"({"shape": "quad", "center": [0, 0, -6], "normal": [0, 0, 1], "size": [1, 1], "material": "table"})"));
+    const Scene s = load(d);
+    const SceneOnGrid g = resampleScene(s, s.grid);
+    auto index = [&](const char* name) {
+        return size_t(std::find_if(s.materials.begin(), s.materials.end(), [&](const Material& m) { return m.name == name; }) -
+                      s.materials.begin());
+    };
+    const MaterialOnGrid &window = g.materials[index("window")], &crown = g.materials[index("crown")],
+                         &flint = g.materials[index("flint")], &table = g.materials[index("table")];
+    ASSERT_TRUE(window.isSlab() && crown.isSlab() && flint.isSlab() && table.isSlab());
+    EXPECT_DOUBLE_EQ(window.slabThickness, 0.006);
+    EXPECT_DOUBLE_EQ(window.slabAbsorbance[5], 12.0);
+    EXPECT_EQ(crown.slabAbsorbance[5], 0.0);
+    // Band 21 of 380:780:10 is 590 nm: N-BK7 ≈ 1.5168 near the d line; Cauchy A + B/λ²; the
+    // table linear between its points; dispersion: n falls with wavelength.
+    EXPECT_NEAR(window.ior[21], nbk7().at(590.0), 1e-15);
+    EXPECT_NEAR(window.ior[21], 1.5168, 2e-4);
+    EXPECT_NEAR(crown.ior[21], 1.5046 + 0.0042 / (0.59 * 0.59), 1e-12);
+    EXPECT_NEAR(table.ior[2], 1.6, 1e-12);  // 400 nm
+    EXPECT_NEAR(table.ior[17], 1.55, 1e-12);  // 550 nm
+    EXPECT_GT(flint.ior[2], flint.ior[30]);
+    EXPECT_TRUE(s.hasTransparency());
 }
 
 TEST(SceneJson, SyntaxErrorGivesLineAndColumn) {

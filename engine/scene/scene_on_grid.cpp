@@ -273,6 +273,19 @@ SceneOnGrid resampleScene(const Scene& scene, const Grid& grid, CoveragePolicy p
                                  worst, worstNm));
         }
         if (m.transmittance) g.transmittance = onGrid(*m.transmittance, grid, policy, gaps);
+        if (m.slab) {
+            g.slabThickness = m.slab->thickness_m;
+            g.slabAbsorbance.assign(size_t(grid.bands()), 0.0);
+            if (m.slab->absorbance) g.slabAbsorbance = onGrid(*m.slab->absorbance, grid, policy, gaps);
+            for (double nm : out.wavelengths_nm) {
+                const double n = m.slab->ior.at(nm);
+                // A Sellmeier or Cauchy formula can pass through a pole or below 1 on the grid.
+                if (!(n >= 1.0 && n <= 5.0))
+                    failInput(m.slab->iorWhere, "the refractive index ({}) is {:g} at {:g} nm; expected 1 … 5 over the grid",
+                              m.slab->iorSource, n, nm);
+                g.ior.push_back(n);
+            }
+        }
         if (m.isMedium()) {
             g.absorbance.assign(size_t(grid.bands()), 0.0);
             if (m.absorbance) g.absorbance = onGrid(*m.absorbance, grid, policy, gaps);

@@ -51,9 +51,15 @@ struct MaterialOnGrid {
     // band. Empty when the material is not one.
     std::vector<double> transmittance;
     std::vector<double> absorbance;
+    // A slab (scene/scene.h, Material::Slab): n at each band's centre, its glass's decadic
+    // absorbance per metre per band (zeros for clear glass), and its thickness in metres.
+    std::vector<double> ior;
+    std::vector<double> slabAbsorbance;
+    double slabThickness = 0.0;
     bool isFilter() const { return !transmittance.empty(); }
     bool isMedium() const { return !absorbance.empty(); }
-    bool isTransparent() const { return isFilter() || isMedium(); }
+    bool isSlab() const { return !ior.empty(); }
+    bool isTransparent() const { return isFilter() || isMedium() || isSlab(); }
 };
 
 // What a per-band array of a material holds, for code that transforms every one of them (the
@@ -64,7 +70,8 @@ enum class MaterialSpectrum {
     Emission,     // ê(λ) of the rank-one fluorescence, nm⁻¹
     Matrix,       // the Donaldson matrix, N × N bands, nm⁻¹
     Transmittance,  // a sheet's T(λ): 0..1 per band, multiplies what is seen through it
-    Absorbance,     // a medium's a(λ), m⁻¹ per band, decadic
+    Absorbance,     // a medium's or a slab's a(λ), m⁻¹ per band, decadic
+    Index,          // a slab's refractive index n(λ) per band
 };
 
 // The one seam for a material's spectra: calls f(array, kind, name) for every per-band array of
@@ -80,6 +87,8 @@ void forEachSpectrum(Material& m, F&& f) {
     f(m.donaldson, MaterialSpectrum::Matrix, "donaldson");
     f(m.transmittance, MaterialSpectrum::Transmittance, "transmittance");
     f(m.absorbance, MaterialSpectrum::Absorbance, "absorbance");
+    f(m.ior, MaterialSpectrum::Index, "ior");
+    f(m.slabAbsorbance, MaterialSpectrum::Absorbance, "slabAbsorbance");
 }
 
 struct SceneOnGrid {

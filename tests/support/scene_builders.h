@@ -75,6 +75,24 @@ inline Material filterSheet(Spectrum transmittance, std::string name = "filter")
     return m;
 }
 
+// A plane-parallel dielectric slab of index n, thickness d (m) and glass absorbance a(λ) per metre.
+inline Material slabMaterial(RefractiveIndex n, double thickness_m, std::optional<Spectrum> absorbance = std::nullopt,
+                             std::string name = "glass") {
+    Material m = lambertian(0.0, name);
+    Material::Slab slab;
+    slab.ior = std::move(n);
+    slab.iorSource = "test";
+    slab.thickness_m = thickness_m;
+    if (absorbance) slab.absorbance = sceneSpectrum(*absorbance, SpectrumKind::Absorbance, "materials." + name + ".slab.absorbance");
+    m.slab = std::move(slab);
+    return m;
+}
+inline RefractiveIndex constantIndex(double n) {
+    RefractiveIndex r;
+    r.constant = n;
+    return r;
+}
+
 // An absorbing medium of decadic absorbance a(λ) per metre (to fill a closed mesh).
 inline Material absorbingMedium(Spectrum absorbancePerMetre, std::string name = "medium") {
     Material m = lambertian(0.0, name);
