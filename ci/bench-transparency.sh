@@ -20,7 +20,7 @@ sizes=("$@")
 python3 - "$here/scenes/filters.json" "$here/scenes/.bench-filters-opaque.json" <<'PY'
 import json, sys
 scene = json.load(open(sys.argv[1]))
-clear = {n for n, m in scene["materials"].items() if {"transmittance", "absorbance", "dyes"} & set(m)}
+clear = {n for n, m in scene["materials"].items() if {"transmittance", "absorbance", "dyes", "slab"} & set(m)}
 scene["objects"] = [o for o in scene["objects"] if o.get("material") not in clear]
 scene["materials"] = {n: m for n, m in scene["materials"].items() if n not in clear}
 json.dump(scene, open(sys.argv[2], "w"))
@@ -30,12 +30,15 @@ median() { grep -oE "median of the other [0-9]+: [^;]*" <<<"$1" | head -1; }
 field() {  # OUTPUT NAME: a stage's median from the "median of the other N" line
   median "$1" | grep -oE "$2 [0-9.]+" | grep -oE "[0-9.]+$" || echo "?"
 }
-printf "%-12s %6s %10s %10s %12s %12s\n" variant size "cube ms" "upload ms" "display ms" "(tonemap ms)"
+printf "%-20s %6s %10s %10s %12s %12s\n" variant size "cube ms" "upload ms" "display ms" "(tonemap ms)"
+# Variants: the scene without its transparent objects and as shipped, each with and without the
+# key light's shadows (without them, nothing is filtered: no coloured shadows, no transmittance maps).
 for size in "${sizes[@]}"; do
-  for name in opaque filters; do
+  for name in opaque opaque-unshadowed filters filters-unshadowed; do
     scene="$here/scenes/filters.json"
-    [ "$name" = opaque ] && scene="$here/scenes/.bench-filters-opaque.json"
+    [[ "$name" == opaque* ]] && scene="$here/scenes/.bench-filters-opaque.json"
     common=(--set camera.width="$size" --set camera.height="$size" --frames 6 --timings)
+    [[ "$name" == *unshadowed ]] && common+=(--set lights.0.shadows=false)
     cube="$("$metamer" render "$scene" --out "$work/$name" --write cube --compression none "${common[@]}" 2>&1)"
     display="$("$metamer" render "$scene" --out "$work/$name-png" --write png "${common[@]}" 2>&1)"
     upload="$(grep -oE 'upload [0-9.]+' <<<"$cube" | head -1 | grep -oE '[0-9.]+')"
@@ -43,7 +46,7 @@ for size in "${sizes[@]}"; do
     dshading="$(field "$display" shading)" dtonemap="$(field "$display" tonemap)"
     dtotal="?"
     [[ "$dshading" != "?" && "$dtonemap" != "?" ]] && dtotal="$(python3 -c "print(f'{$dshading + $dtonemap:.1f}')")"
-    printf "%-12s %6s %10s %10s %12s %12s\n" "$name" "${size}²" "$shading" "$upload" "$dtotal" "($dtonemap)"
+    printf "%-20s %6s %10s %10s %12s %12s\n" "$name" "${size}²" "$shading" "$upload" "$dtotal" "($dtonemap)"
     [ "$shading" != "?" ] || echo "$cube" >&2
     [ "$dtotal" != "?" ] || echo "$display" >&2
   done
