@@ -48,9 +48,11 @@ using mat4 = glm::mat4;
                                         // layer, BAND_LAYERS layers of the light's transmittance through the
                                         // transparent objects to the nearest opaque surface, TRANSMITTANCE_MAP_SIZE²
                                         // (read when SPEC_FILTERED_SHADOWS)
-#define BINDING_SHADOW_EXCITATION 11    // samplerBuffer (RGBA32F texel buffer): per rank-one fluorescent material,
-                                        // per light, BAND_LAYERS vec4 of its excitation integrand, so that a
-                                        // filtered light's coupling is Σ integrand·τ (read when SPEC_FILTERED_SHADOWS)
+#define BINDING_SHADOW_EXCITATION 11    // samplerBuffer (RGBA32F texel buffer): per fluorescent material, per light,
+                                        // its excitation integrand (rank-one: a filtered light's coupling is
+                                        // Σ integrand·τ) or, with SPEC_FLUORESCENCE_SPECTRA, its matrix
+                                        // (1/π)·D·E·Δλ (emission = Σ τ·row) — render/spectral_packing.h
+                                        // (read when SPEC_FILTERED_SHADOWS)
 #define BINDING_OPAQUE_DISTANCE 9 // sampler2D (R32F, texelFetch): the nearest opaque surface's distance per pixel,
                                   // written by the depth pre-pass (opaque_distance.frag) and read by the
                                   // transmission pass (transmit.frag) where a scene has transparent objects

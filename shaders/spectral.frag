@@ -206,6 +206,22 @@ void addLight(int l, float diffuseWeight, float specularWeight) {
     }
 }
 
+// With a Donaldson matrix in the scene, light l's emission under its filter: Σ over every input
+// band of τ × that band's row of (1/π)·D·E·Δλ, this pass's output bands (a matrix–vector
+// product per fragment: 4·BAND_LAYERS rows of OUTPUT_COUNT fetches).
+void addFilteredEmission(int l, float g) {
+    const int base = int(M.params.z) + l * 4 * BAND_LAYERS * BAND_LAYERS, first = shadowLayer * BAND_LAYERS;
+    const int outFirst = int(M.params.y);
+    for (int j = 0; j < BAND_LAYERS; ++j) {
+        const vec4 tau = transmittanceAt(first + j);
+        for (int c = 0; c < 4; ++c) {
+            const float w = g * tau[c];
+            const int row = base + (4 * j + c) * BAND_LAYERS + outFirst;
+            [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) acc[k] += w * texelFetch(shadowExcitation, row + k);
+        }
+    }
+}
+
 // Light l's fluorescence with geometric factor g: the rank-one form sums g·coupling_l (times ê/λ
 // at the end); with a Donaldson matrix in the scene, every fluorescent material adds g·F_l(λ).
 void addFluorescence(int l, float g) {
@@ -214,7 +230,9 @@ void addFluorescence(int l, float g) {
         [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) acc[k] += g * R.fluorescence[l * RESPONSE_VEC4 + k];
         return;
     }
-    if (FLUORESCENCE_SPECTRA)  // a Donaldson matrix: excited by the unfiltered light (docs/physics.md)
+    if (FLUORESCENCE_SPECTRA && FILTERED_SHADOWS && filtered && g > 0.0 && M.params.z >= 0.0)
+        addFilteredEmission(l, g);
+    else if (FLUORESCENCE_SPECTRA)
         [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) acc[k] += g * F.emitted[l * MAX_OUTPUTS + k];
     else if (FILTERED_SHADOWS && filtered && g > 0.0 && M.params.z >= 0.0)
         fluorescence += g * filteredCoupling(l);

@@ -310,6 +310,49 @@ TEST(Transparency, FluorescenceInAColouredShadowIsExcitedByTheFilteredLight) {
         2e-5, "fluorescence in a coloured shadow");
 }
 
+// The same with a Donaldson matrix in the scene (every fluorescent material then emits from
+// per-light spectra): in the coloured shadow the emission is (1/π)·Σᵢ D(λᵢ, λo)·E(λᵢ)·T(λᵢ)·Δλ,
+// a matrix–vector product per fragment on the GPU.
+TEST(Transparency, DonaldsonFluorescenceInAColouredShadowIsExcitedByTheFilteredLight) {
+    Scene s = emptyScene(Grid{360, 700, 10}, orthographicCamera({0, 0, 5}, {0, 0, 0}, {0, 1, 0}, 1.0, kPx, kPx));
+    BispectralMatrix d;  // one fluorophore: excited around 420 nm, emitting around 560 nm
+    for (double l = 300; l <= 800; l += 5) {
+        d.in_nm.push_back(l);
+        d.out_nm.push_back(l);
+    }
+    const size_t n = d.in_nm.size();
+    d.values.assign(n * n, 0.0);
+    for (size_t i = 0; i < n; ++i)
+        for (size_t o = 0; o < n; ++o)
+            d.values[i * n + o] = 0.6 * std::exp(-0.5 * std::pow((d.in_nm[i] - 420) / 25, 2)) * 0.01 *
+                                  std::exp(-0.5 * std::pow((d.out_nm[o] - 560) / 30, 2));
+    d.source = "test";
+    s.materials.push_back(donaldsonMaterial(constantSpectrum(0.3), d, 1.0, "paint"));
+    s.meshes.push_back(quad({0, 0, 0}, {0, 0, 1}, 4, 4, 0));
+    s.lights.push_back(directionalLight({1, 0, -1}, gaussianSpectrum(450, 80, 1.0, 300, 800, 1), 2.0));
+    s.lights.back().shadows = true;
+    std::vector<double> nm, v;
+    for (double l = 300; l <= 800; l += 2) {
+        nm.push_back(l);
+        v.push_back(0.1 + 0.8 / (1.0 + std::exp(-(l - 470) / 8)));
+    }
+    const uint32_t gel = addMaterial(s, filterSheet(sampledSpectrum(nm, v, "yellow"), "yellow"));
+    s.meshes.push_back(quad({-0.3, 0, 0.3}, {0, 0, 1}, 0.3, 0.3, gel));
+    expectPixel(
+        s, kPx / 2, kPx / 2,
+        [](const SceneOnGrid& g, int b) {
+            const MaterialOnGrid& m = g.materials[0];
+            const std::vector<double>& E = g.lights[0];
+            const std::vector<double>& T = g.materials[1].transmittance;
+            const double cosI = std::sqrt(0.5), step = g.grid.step_nm;
+            const size_t bands = E.size(), o = size_t(b);
+            double emitted = 0.0;
+            for (size_t i = 0; i < bands; ++i) emitted += m.donaldson[i * bands + o] * E[i] * T[i] * step / kPi;
+            return m.diffuse[o] * E[o] * T[o] * cosI / kPi + cosI * emitted;
+        },
+        2e-5, "Donaldson fluorescence in a coloured shadow");
+}
+
 // Slabs (docs/physics.md, "Transparent objects"): the closed forms written out here, independently of
 // spectral/dielectric.cpp. A white wall lit by a directional light that casts no shadow (so the
 // slab does not filter its light) and nothing a slab could reflect (no ambient, no hemisphere).

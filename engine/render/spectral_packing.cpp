@@ -245,15 +245,7 @@ PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes, const Loc
     };
     p.filteredShadows = scene.hasTransparency() && p.shadowMaps.any();
     p.bandLayers = (g.grid.bands() + 3) / 4;
-    // A Donaldson matrix re-emits each band from every band: under a coloured shadow that is a
-    // matrix–vector product per fragment per light, which the GPU path does not take yet.
-    if (p.filteredShadows)
-        for (size_t mi = 0; mi < g.materials.size(); ++mi)
-            if (g.materials[mi].fluorescent && g.materials[mi].isMatrix())
-                warn(Where{scene.file.string(), "materials." + scene.materials[mi].name + ".fluorescence"},
-                     "a Donaldson-matrix material in a scene with coloured shadows: the GPU path excites it with the "
-                     "unfiltered light where a transparent object filters a light (the CPU reference, --backend cpu, "
-                     "filters it)");
+
     std::vector<double> emissionOverLambda, attenuation;
     for (size_t mi = 0; mi < g.materials.size(); ++mi) {
         const MaterialOnGrid& m = g.materials[mi];
@@ -324,6 +316,38 @@ PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes, const Loc
                 for (int k = 0; k < MAX_OUTPUTS; ++k)
                     for (int c = 0; c < 4; ++c)
                         if (size_t(pass) * BANDS_PER_PASS + size_t(4 * k + c) >= m.ior.size()) b.ior[k][c] = 1.0f;
+        }
+    }
+    // With a Donaldson matrix in the scene every fluorescent material re-emits from per-light
+    // spectra; under a coloured shadow they are a matrix–vector product with τ per fragment:
+    // F_l(λo) = Σᵢ τ(λᵢ)·[(1/π)·D(λᵢ, λo)·E_l(λᵢ)·Δλ], the bracket stored per (material, light) as
+    // rows of input bands, each BAND_LAYERS vec4 of output bands (the rank-one form expanded to
+    // its matrix Φ·a(λᵢ)·ê(λo)·λᵢ/λo).
+    if (p.filteredShadows && p.fluorescenceSpectra) {
+        const size_t n = g.wavelengths_nm.size(), layers = size_t(p.bandLayers);
+        const double step = g.grid.step_nm;
+        for (size_t mi = 0; mi < g.materials.size(); ++mi) {
+            const MaterialOnGrid& m = g.materials[mi];
+            if (!m.fluorescent) continue;
+            const float base = float(p.shadowExcitation.size());
+            for (int pass = 0; pass < passes; ++pass) p.materials[size_t(pass) * g.materials.size() + mi].params.z = base;
+            auto matrix = [&](size_t in, size_t o) {
+                return m.isMatrix() ? m.donaldson[in * n + o]
+                                    : m.quantum_yield * m.excitation[in] * m.emission[o] * g.wavelengths_nm[in] /
+                                          g.wavelengths_nm[o];
+            };
+            for (size_t i = 0; i < order.size(); ++i) {
+                const std::vector<double>& E = g.lights[order[i]];
+                for (size_t in = 0; in < 4 * layers; ++in)
+                    for (size_t k = 0; k < layers; ++k) {
+                        glm::vec4 v(0.0f);
+                        for (int c = 0; c < 4; ++c) {
+                            const size_t o = 4 * k + size_t(c);
+                            if (in < n && o < n) v[c] = float(matrix(in, o) * E[in] * step / M_PI);
+                        }
+                        p.shadowExcitation.push_back(v);
+                    }
+            }
         }
     }
     if (p.shadowExcitation.empty()) p.shadowExcitation.push_back(glm::vec4(0.0f));

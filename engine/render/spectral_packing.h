@@ -48,9 +48,11 @@ struct PackedScene {
     std::vector<gpu::GpuLightSpectraBlock> lightSpectra;  // per pass
     std::vector<gpu::GpuMaterialBlock> materials;         // per pass × material: [pass][material]
     // Coloured shadows (scenes with transparent objects and shadowing lights; interface.h,
-    // SPEC_FILTERED_SHADOWS): bandLayers = ⌈bands/4⌉, and per rank-one fluorescent material, per
-    // light, bandLayers vec4 of its excitation integrand (Φ/π)·a·E·λ·Δλ·2ˢ — the coupling's terms
-    // (a material's params.z is its first entry). One zero entry when there is none.
+    // SPEC_FILTERED_SHADOWS): bandLayers = ⌈bands/4⌉, and per fluorescent material, per light,
+    // what its emission under a filtered light is summed from — the rank-one form's excitation
+    // integrand (Φ/π)·a·E·λ·Δλ·2ˢ (bandLayers vec4: the coupling's terms), or in a scene with a
+    // Donaldson matrix the matrix (1/π)·D·E·Δλ (4·bandLayers rows of input bands × bandLayers vec4
+    // of output bands). A material's params.z is its first entry; one zero entry when none.
     bool filteredShadows = false;
     int bandLayers = 0;
     std::vector<glm::vec4> shadowExcitation;
