@@ -2,10 +2,13 @@
 // The transmission pass: after a band pass has written the radiance of the opaque surfaces, every
 // transparent surface in front of them multiplies it, band by band, by its factor (blend:
 // destination × source); the depth pre-pass left the opaque surfaces' distance (opaque_distance.frag).
-// Multiplication commutes, so the draws need no sorting. Physics: docs/physics.md, "Transparent
+// Sheets and media only multiply, which commutes; slabs also add their reflection, so the draws
+// go farthest first (render/spectral_recording.cpp). Physics: docs/physics.md, "Transparent
 // objects"; the CPU reference follows the same straight rays in double (reference/cpu_renderer).
 //
 // - A thin sheet (MATERIAL_FILTER) in front of the opaque surface multiplies by T(λ).
+// - A slab (MATERIAL_SLAB) multiplies by its Fresnel transmittance at this angle, then, in a
+//   second draw (REFLECTION), adds its reflectance times the light from the mirror direction.
 // - An absorbing medium (MATERIAL_MEDIUM) in a closed mesh multiplies by exp2(−k·ℓ), ℓ the path
 //   inside it before the opaque surface. Along a ray, ℓ = Σ min(t_leave, t_o) − Σ min(t_enter, t_o)
 //   (t_o the opaque surface's distance): each face the ray enters by (a front face) contributes
