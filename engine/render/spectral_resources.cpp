@@ -57,6 +57,27 @@ const SpirvCode kTransmitFrag[MAX_OUTPUTS] = {
     {kSpirv_transmit_frag_7, sizeof(kSpirv_transmit_frag_7)}, {kSpirv_transmit_frag_8, sizeof(kSpirv_transmit_frag_8)},
 };
 
+// spectral.vert's vertex input: one interleaved buffer of gpu::SpectralVertex.
+void spectralVertexInput(vk::GraphicsPipelineDesc& d) {
+    using V = gpu::SpectralVertex;
+    d.bindings = {{0, sizeof(V), VK_VERTEX_INPUT_RATE_VERTEX}};
+    d.attributes = {{VERTEX_POSITION, 0, VK_FORMAT_R32G32B32_SFLOAT, uint32_t(offsetof(V, position))},
+                    {VERTEX_NORMAL, 0, VK_FORMAT_R32G32B32_SFLOAT, uint32_t(offsetof(V, normal))},
+                    {VERTEX_UV, 0, VK_FORMAT_R32G32_SFLOAT, uint32_t(offsetof(V, uv))},
+                    {VERTEX_TANGENT, 0, VK_FORMAT_R32G32B32A32_SFLOAT, uint32_t(offsetof(V, tangent))}};
+}
+
+// A texel-buffer view of the whole of `buffer` in `format`.
+vk::OwnedBufferView texelBufferView(VkDevice device, const vk::Buffer& buffer, VkFormat format) {
+    VkBufferViewCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
+    info.buffer = buffer.handle();
+    info.format = format;
+    info.range = VK_WHOLE_SIZE;
+    VkBufferView view = VK_NULL_HANDLE;
+    VK_CHECK(vkCreateBufferView(device, &info, nullptr, &view));
+    return vk::OwnedBufferView(device, view);
+}
+
 }  // namespace
 
 SpectralResources::SpectralResources(vk::Context& c, const Scene& s, const SceneOnGrid& spectra,
@@ -161,13 +182,7 @@ void SpectralResources::createBuffers() {
     lobeTableBuffer = vk::Buffer(ctx, lobeBytes, VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT, "lobe tables");
     const glm::uvec4 zero(0u);
     lobeTableBuffer.upload(packed.lobeTables.empty() ? &zero : packed.lobeTables.data(), lobeBytes);
-    VkBufferViewCreateInfo bv{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
-    bv.buffer = lobeTableBuffer.handle();
-    bv.format = VK_FORMAT_R32G32B32A32_UINT;
-    bv.range = VK_WHOLE_SIZE;
-    VkBufferView view = VK_NULL_HANDLE;
-    VK_CHECK(vkCreateBufferView(ctx.device(), &bv, nullptr, &view));
-    lobeTableView = vk::OwnedBufferView(ctx.device(), view);
+    lobeTableView = texelBufferView(ctx.device(), lobeTableBuffer, VK_FORMAT_R32G32B32A32_UINT);
     // The excitation integrands (one zero entry when there are none), a texel buffer as the tables.
     const VkDeviceSize excitationBytes = packed.shadowExcitation.size() * sizeof(glm::vec4);
     if (packed.shadowExcitation.size() > ctx.properties().limits.maxTexelBufferElements)
@@ -177,13 +192,7 @@ void SpectralResources::createBuffers() {
                   packed.shadowExcitation.size(), ctx.properties().limits.maxTexelBufferElements);
     shadowExcitationBuffer = vk::Buffer(ctx, excitationBytes, VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT, "shadow excitation");
     shadowExcitationBuffer.upload(packed.shadowExcitation.data(), excitationBytes);
-    VkBufferViewCreateInfo ev{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
-    ev.buffer = shadowExcitationBuffer.handle();
-    ev.format = VK_FORMAT_R32G32B32A32_SFLOAT;
-    ev.range = VK_WHOLE_SIZE;
-    VkBufferView evView = VK_NULL_HANDLE;
-    VK_CHECK(vkCreateBufferView(ctx.device(), &ev, nullptr, &evView));
-    shadowExcitationView = vk::OwnedBufferView(ctx.device(), evView);
+    shadowExcitationView = texelBufferView(ctx.device(), shadowExcitationBuffer, VK_FORMAT_R32G32B32A32_SFLOAT);
 }
 
 // Each texture as an RGBA32F 2D-array image, 4 channels per layer (zero-padded), copied from a
@@ -524,12 +533,7 @@ VkPipeline SpectralResources::makePipeline(const vk::SharedHandle<VkRenderPass>&
     d.layout = pipelineLayout.get();
     d.vertex = vert.get();
     d.fragmentSpecialization = &si;
-    using V = gpu::SpectralVertex;
-    d.bindings = {{0, sizeof(V), VK_VERTEX_INPUT_RATE_VERTEX}};
-    d.attributes = {{VERTEX_POSITION, 0, VK_FORMAT_R32G32B32_SFLOAT, uint32_t(offsetof(V, position))},
-                    {VERTEX_NORMAL, 0, VK_FORMAT_R32G32B32_SFLOAT, uint32_t(offsetof(V, normal))},
-                    {VERTEX_UV, 0, VK_FORMAT_R32G32_SFLOAT, uint32_t(offsetof(V, uv))},
-                    {VERTEX_TANGENT, 0, VK_FORMAT_R32G32B32A32_SFLOAT, uint32_t(offsetof(V, tangent))}};
+    spectralVertexInput(d);
     d.width = plan.targetWidth;
     d.height = plan.targetHeight;
     d.colorAttachments = attachments;
@@ -695,12 +699,7 @@ vk::GraphicsPipelineDesc SpectralResources::transparentPipelineDesc(VkRenderPass
     d.renderPass = renderPass;
     d.layout = pipelineLayout.get();
     d.vertex = vert.get();
-    using V = gpu::SpectralVertex;
-    d.bindings = {{0, sizeof(V), VK_VERTEX_INPUT_RATE_VERTEX}};
-    d.attributes = {{VERTEX_POSITION, 0, VK_FORMAT_R32G32B32_SFLOAT, uint32_t(offsetof(V, position))},
-                    {VERTEX_NORMAL, 0, VK_FORMAT_R32G32B32_SFLOAT, uint32_t(offsetof(V, normal))},
-                    {VERTEX_UV, 0, VK_FORMAT_R32G32_SFLOAT, uint32_t(offsetof(V, uv))},
-                    {VERTEX_TANGENT, 0, VK_FORMAT_R32G32B32A32_SFLOAT, uint32_t(offsetof(V, tangent))}};
+    spectralVertexInput(d);
     d.width = size ? size : plan.targetWidth;
     d.height = size ? size : plan.targetHeight;
     d.colorAttachments = attachments;
