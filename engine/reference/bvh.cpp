@@ -53,11 +53,13 @@ std::optional<RayHit> intersectTriangle(const BvhTriangle& tri, const Ray& ray, 
     return RayHit{t, u, v, 0};
 }
 
-std::vector<BvhTriangle> Bvh::collectTriangles(const Scene& scene, const LocalFrame& frame) {
+std::vector<BvhTriangle> Bvh::collectTriangles(const Scene& scene, const LocalFrame& frame,
+                                               const std::function<bool(const Mesh&)>& keep) {
     std::vector<BvhTriangle> out;
-    out.reserve(scene.triangleCount());
+    out.reserve(keep ? 0 : scene.triangleCount());
     for (size_t m = 0; m < scene.meshes.size(); ++m) {
         const Mesh& mesh = scene.meshes[m];
+        if (keep && !keep(mesh)) continue;
         for (size_t i = 0; i + 2 < mesh.indices.size(); i += 3) {
             BvhTriangle t;
             t.p0 = frame.position(mesh.positions.at(mesh.indices[i]));

@@ -9,6 +9,7 @@
 #include <glm/glm.hpp>
 
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <optional>
 #include <vector>
@@ -42,9 +43,10 @@ std::optional<RayHit> intersectTriangle(const BvhTriangle& tri, const Ray& ray, 
 
 class Bvh {
 public:
-    // Every triangle of every mesh, its corners in `frame` (scene/local_frame.h); meshes keep their
-    // index so hits can name them.
-    static std::vector<BvhTriangle> collectTriangles(const Scene& scene, const LocalFrame& frame = {});
+    // Every triangle of every mesh (of those `keep` accepts, when given), its corners in `frame`
+    // (scene/local_frame.h); meshes keep their index so hits can name them.
+    static std::vector<BvhTriangle> collectTriangles(const Scene& scene, const LocalFrame& frame = {},
+                                                     const std::function<bool(const Mesh&)>& keep = {});
 
     explicit Bvh(std::vector<BvhTriangle> triangles);
 

@@ -62,10 +62,9 @@ void bilinear(const TextureOnGrid& t, const glm::dvec2& uv, double* out) {
 
 // The triangles of the opaque meshes, or of the transparent ones.
 std::vector<BvhTriangle> trianglesOf(const Scene& scene, const LocalFrame& frame, bool transparent) {
-    std::vector<BvhTriangle> all = Bvh::collectTriangles(scene, frame), kept;
-    for (const BvhTriangle& t : all)
-        if (scene.materials[scene.meshes[t.mesh].material].isTransparent() == transparent) kept.push_back(t);
-    return kept;
+    return Bvh::collectTriangles(scene, frame, [&](const Mesh& mesh) {
+        return scene.materials[mesh.material].isTransparent() == transparent;
+    });
 }
 
 }  // namespace
