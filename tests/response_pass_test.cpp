@@ -94,6 +94,25 @@ struct Figures {
     int countsVsPass = 0, countsVsReference = 0;
 };
 
+// The cube path: every band, read back; its tonemap pass, and the integral in double.
+struct CubePath {
+    DisplayImage viaPass, integral;
+};
+CubePath cubePath(const LoadedScene& loaded, const TonemapPlan& plan, int ssaa) {
+    SpectralPassOptions po;
+    po.ssaa = ssaa;
+    po.sampled = true;
+    SpectralPass bands(gpu(), loaded.scene, loaded.rendered, po);
+    bands.draw();
+    TonemapPass bandTonemap(gpu(), bands, plan);
+    CubePath out;
+    out.viaPass = bandTonemap.render();
+    SpectralCube cube;
+    bands.readback(cube);
+    out.integral = tonemapReference(plan, cube);
+    return out;
+}
+
 Figures compareCase(const Case& c) {
     RenderJob job;
     job.scene = fs::path(METAMER_SOURCE_DIR) / "scenes" / (c.scene + ".json");
@@ -107,17 +126,7 @@ Figures compareCase(const Case& c) {
     const std::unique_ptr<LoadedScene> loaded = loadJobScene(job);
     const TonemapPlan plan = makeJobTonemapPlan(job, *loaded, tonemapSettings(job, loaded->scene, nullptr));
 
-    // The cube path: every band, read back; its tonemap pass, and the integral in double.
-    SpectralPassOptions po;
-    po.ssaa = c.ssaa;
-    po.sampled = true;
-    SpectralPass bands(gpu(), loaded->scene, loaded->rendered, po);
-    bands.draw();
-    TonemapPass bandTonemap(gpu(), bands, plan);
-    const DisplayImage viaPass = bandTonemap.render();
-    SpectralCube cube;
-    bands.readback(cube);
-    const DisplayImage integral = tonemapReference(plan, cube);
+    const auto [viaPass, integral] = cubePath(*loaded, plan, c.ssaa);
 
     // The response pass.
     SpectralPassOptions ro;
@@ -265,15 +274,7 @@ TEST(ResponsePass, ASceneWithTransparentObjectsDrawsBandsForItsDisplayImage) {
     job.overrides = {"camera.width=80", "camera.height=64"};
     const std::unique_ptr<LoadedScene> loaded = loadJobScene(job);
     const TonemapPlan plan = makeJobTonemapPlan(job, *loaded, tonemapSettings(job, loaded->scene, nullptr));
-    SpectralPassOptions po;
-    po.sampled = true;
-    SpectralPass bands(gpu(), loaded->scene, loaded->rendered, po);
-    bands.draw();
-    TonemapPass bandTonemap(gpu(), bands, plan);
-    const DisplayImage viaPass = bandTonemap.render();
-    SpectralCube cube;
-    bands.readback(cube);
-    const DisplayImage integral = tonemapReference(plan, cube);
+    const auto [viaPass, integral] = cubePath(*loaded, plan, 1);
 
     DisplayFrame frame(gpu(), loaded->scene, loaded->rendered, plan, SpectralPassOptions{});
     EXPECT_FALSE(frame.passPlan().responses);

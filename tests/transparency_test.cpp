@@ -254,7 +254,6 @@ double litByBoth(const SceneOnGrid& g, int b, double tau) {
 
 TEST(Transparency, AFiltersColouredShadowIsTTimesTheLight) {
     const Scene s = colouredShadowScene(filterSheet(gelTransmittance(), "gel"), false);
-    const SceneOnGrid g0 = onGrid(s);
     for (int x : {kPx / 2 - 2, kPx / 2, kPx / 2 + 2})  // inside the shadow, clear of the filter's own image
         expectPixel(
             s, x, kPx / 2,
@@ -262,7 +261,6 @@ TEST(Transparency, AFiltersColouredShadowIsTTimesTheLight) {
             2e-6, "coloured shadow");
     // Outside it, the light is whole.
     expectPixel(s, kPx - 3, kPx / 2, [](const SceneOnGrid& g, int b) { return litByBoth(g, b, 1.0); }, 2e-6, "lit");
-    (void)g0;
 }
 
 TEST(Transparency, AMediumsShadowIsBeerLambertAlongTheLight) {
@@ -278,15 +276,14 @@ TEST(Transparency, AMediumsShadowIsBeerLambertAlongTheLight) {
 
 // Fluorescence is excited by the light that arrives: a filter that passes the excitation band
 // half as well halves the fluorescence in its shadow, while reflection follows T band by band.
-TEST(Transparency, FluorescenceInAColouredShadowIsExcitedByTheFilteredLight) {
+// A fluorescent wall (material 0) under a violet-blue light at 45° that casts the shadow of a
+// yellow gel (material 1: T = 0.1 below ~470 nm, 0.9 above) over the wall's centre.
+Scene fluorescentWallBehindAYellowGel(Material paint) {
     Scene s = emptyScene(Grid{360, 700, 10}, orthographicCamera({0, 0, 5}, {0, 0, 0}, {0, 1, 0}, 1.0, kPx, kPx));
-    const Spectrum excitation = gaussianSpectrum(420, 25, 0.6, 300, 800, 1);
-    const Spectrum emission = gaussianSpectrum(560, 30, 1.0, 300, 800, 1);
-    s.materials.push_back(fluorescent(constantSpectrum(0.3), excitation, emission, 0.8, "paint"));
+    s.materials.push_back(std::move(paint));
     s.meshes.push_back(quad({0, 0, 0}, {0, 0, 1}, 4, 4, 0));
     s.lights.push_back(directionalLight({1, 0, -1}, gaussianSpectrum(450, 80, 1.0, 300, 800, 1), 2.0));
     s.lights.back().shadows = true;
-    // Blocks the violet (T = 0.1 below ~470 nm), passes the rest (0.9).
     std::vector<double> nm, v;
     for (double l = 300; l <= 800; l += 2) {
         nm.push_back(l);
@@ -294,6 +291,13 @@ TEST(Transparency, FluorescenceInAColouredShadowIsExcitedByTheFilteredLight) {
     }
     const uint32_t gel = addMaterial(s, filterSheet(sampledSpectrum(nm, v, "yellow"), "yellow"));
     s.meshes.push_back(quad({-0.3, 0, 0.3}, {0, 0, 1}, 0.3, 0.3, gel));
+    return s;
+}
+
+TEST(Transparency, FluorescenceInAColouredShadowIsExcitedByTheFilteredLight) {
+    const Spectrum excitation = gaussianSpectrum(420, 25, 0.6, 300, 800, 1);
+    const Spectrum emission = gaussianSpectrum(560, 30, 1.0, 300, 800, 1);
+    const Scene s = fluorescentWallBehindAYellowGel(fluorescent(constantSpectrum(0.3), excitation, emission, 0.8, "paint"));
     expectPixel(
         s, kPx / 2, kPx / 2,
         [](const SceneOnGrid& g, int b) {
@@ -314,7 +318,6 @@ TEST(Transparency, FluorescenceInAColouredShadowIsExcitedByTheFilteredLight) {
 // per-light spectra): in the coloured shadow the emission is (1/π)·Σᵢ D(λᵢ, λo)·E(λᵢ)·T(λᵢ)·Δλ,
 // a matrix–vector product per fragment on the GPU.
 TEST(Transparency, DonaldsonFluorescenceInAColouredShadowIsExcitedByTheFilteredLight) {
-    Scene s = emptyScene(Grid{360, 700, 10}, orthographicCamera({0, 0, 5}, {0, 0, 0}, {0, 1, 0}, 1.0, kPx, kPx));
     BispectralMatrix d;  // one fluorophore: excited around 420 nm, emitting around 560 nm
     for (double l = 300; l <= 800; l += 5) {
         d.in_nm.push_back(l);
@@ -327,17 +330,7 @@ TEST(Transparency, DonaldsonFluorescenceInAColouredShadowIsExcitedByTheFilteredL
             d.values[i * n + o] = 0.6 * std::exp(-0.5 * std::pow((d.in_nm[i] - 420) / 25, 2)) * 0.01 *
                                   std::exp(-0.5 * std::pow((d.out_nm[o] - 560) / 30, 2));
     d.source = "test";
-    s.materials.push_back(donaldsonMaterial(constantSpectrum(0.3), d, 1.0, "paint"));
-    s.meshes.push_back(quad({0, 0, 0}, {0, 0, 1}, 4, 4, 0));
-    s.lights.push_back(directionalLight({1, 0, -1}, gaussianSpectrum(450, 80, 1.0, 300, 800, 1), 2.0));
-    s.lights.back().shadows = true;
-    std::vector<double> nm, v;
-    for (double l = 300; l <= 800; l += 2) {
-        nm.push_back(l);
-        v.push_back(0.1 + 0.8 / (1.0 + std::exp(-(l - 470) / 8)));
-    }
-    const uint32_t gel = addMaterial(s, filterSheet(sampledSpectrum(nm, v, "yellow"), "yellow"));
-    s.meshes.push_back(quad({-0.3, 0, 0.3}, {0, 0, 1}, 0.3, 0.3, gel));
+    const Scene s = fluorescentWallBehindAYellowGel(donaldsonMaterial(constantSpectrum(0.3), d, 1.0, "paint"));
     expectPixel(
         s, kPx / 2, kPx / 2,
         [](const SceneOnGrid& g, int b) {
