@@ -1,6 +1,6 @@
 // Light at dielectric interfaces and through absorbing media, per wavelength, in double: the
-// physics the transparent materials of issue 27 are built on (docs/physics.md will say how the
-// renderers use it). Unpolarized light throughout: s and p are carried separately and averaged
+// physics of the slab material (the reference renderer calls it; shaders/transmit.frag evaluates
+// the same formulas in float; docs/physics.md, "Transparent objects"). Unpolarized light throughout: s and p are carried separately and averaged
 // only at the end, which is what an incoherent slab needs. Plain functions, no scene.
 // Tests: spectral/dielectric_test.cpp.
 #pragma once
