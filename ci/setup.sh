@@ -57,4 +57,8 @@ fi
 if ! "$venv/bin/python" -c "import tmm" 2>/dev/null; then
   "${pip_in_venv[@]}" "tmm==0.2.0" "numpy==2.2.6"
 fi
+# scipy solves the two-flux equations for the Kubelka–Munk oracle (tests/python/check_kubelka_munk.py).
+if ! "$venv/bin/python" -c "import scipy.integrate" 2>/dev/null; then
+  "${pip_in_venv[@]}" "scipy==1.17.1" "numpy==2.2.6"
+fi
 echo "metamer: set-up complete"
