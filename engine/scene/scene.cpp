@@ -22,7 +22,8 @@ bool Scene::hasTransparency() const {
 
 bool Scene::hasTextures() const {
     for (const auto& m : materials)
-        if (m.textures.diffuse >= 0 || m.textures.specular >= 0) return true;
+        if (m.textures.diffuse >= 0 || m.textures.specular >= 0 || (m.paint && m.paint->thicknessMap() >= 0))
+            return true;
     return false;
 }
 

@@ -87,6 +87,8 @@ struct Texture {
         Rgb,       // linear RGB reflectance (sRGB-encoded files are decoded on load), up-sampled
                    // to spectra on the grid (color/rgb_upsampling.h)
         Normal,    // tangent-space unit normals (x right, y up in the image, z out of the surface)
+        Scalar,    // one number ≥ 0 per texel (a paint layer's thickness factor), turned into
+                   // spectra on the grid by the material that uses it (scene/scene_on_grid)
     };
     Kind kind = Kind::Spectral;
     std::filesystem::path file;
@@ -135,7 +137,46 @@ struct Material {
         std::optional<SceneSpectrum> absorbance;  // decadic, per metre of path inside
     };
     std::optional<Slab> slab;
+    // A layered material (docs/physics.md, "Paints and coatings"): Kubelka–Munk films over a
+    // substrate, whose reflectance — computed once per scene on the grid — is the body (diffuse)
+    // reflectance under the material's specular and fluorescence terms. `diffuse` then holds 1.
+    struct Paint {
+        struct Pigment {
+            std::string name;         // "pigments/rutile_white", or "" for an inline K/S pair
+            SceneSpectrum k, s;       // per unit concentration, m⁻¹
+            double concentration = 0; // cᵢ: K += cᵢkᵢ, S += cᵢsᵢ (two-constant mixing)
+            Where where;
+        };
+        struct Layer {
+            std::optional<SceneSpectrum> K, S;  // the layer's own (a binder, or a whole measured layer), m⁻¹
+            std::vector<Pigment> pigments;
+            double thickness_m = 0.0;  // X; INFINITY: an opaque layer (R∞), the bottom one only
+            int thicknessMap = -1;     // Scene::textures (Kind::Scalar): X × the texel's value
+            Where where;
+        };
+        std::vector<Layer> layers;  // bottom-up
+        std::optional<SceneSpectrum> substrate;  // R_g(λ); or:
+        int substrateMaterial = -1;              // an earlier material's diffuse reflectance
+        Where substrateWhere;
+        // Saunderson's correction: k1 and k2 given, or from n (k1 = ((n−1)/(n+1))², k2 integrated).
+        struct Surface {
+            std::optional<RefractiveIndex> ior;
+            std::string iorSource;
+            double k1 = 0.0, k2 = 0.0;
+            Where where;
+        };
+        std::optional<Surface> surface;
+        int thicknessMap() const {
+            for (const Layer& l : layers)
+                if (l.thicknessMap >= 0) return l.thicknessMap;
+            return -1;
+        }
+    };
+    std::optional<Paint> paint;
 
+    bool isPaint() const { return paint.has_value(); }
+    // Textures read with the object's texture coordinates (a paint's thickness map among them).
+    bool needsTextureCoordinates() const { return textures.any() || (paint && paint->thicknessMap() >= 0); }
     bool isFilter() const { return transmittance.has_value(); }
     bool isMedium() const { return absorbance.has_value() || !dyes.empty(); }
     bool isSlab() const { return slab.has_value(); }
@@ -188,7 +229,7 @@ struct Scene {
 
     bool hasFluorescence() const;
     bool hasSpecular() const;
-    bool hasTextures() const;
+    bool hasTextures() const;  // diffuse or specular maps, a paint's thickness map included
     bool hasNormalMaps() const;
     bool hasTransparency() const;  // any filter or absorbing medium
     size_t triangleCount() const;

@@ -197,9 +197,27 @@ private:
             scene_.materials.push_back(readTransparent(std::move(m), v, w));
             return;
         }
-        checkKeys(v, w, {"diffuse", "specular", "gloss", "fluorescence", "textures"});
+        checkKeys(v, w, {"diffuse", "specular", "gloss", "fluorescence", "textures", "layers", "substrate", "surface"});
         if (const Json* t = find(v, "textures")) m.textures = readTextures(*t, w.child("textures"));
-        if (m.textures.diffuse >= 0 && !find(v, "diffuse")) {
+        if (find(v, "layers")) {
+            // A paint: its layers' Kubelka–Munk reflectance is the body reflectance, so a diffuse
+            // spectrum or texture beside them would be a second, contradicting one.
+            if (find(v, "diffuse"))
+                failInput(w.child("diffuse"),
+                          "not allowed beside 'layers': the layers' Kubelka–Munk reflectance is the material's body "
+                          "(diffuse) reflectance");
+            if (m.textures.diffuse >= 0)
+                failInput(w.child("textures").child("diffuse"),
+                          "not allowed with 'layers': a paint's reflectance comes from its layers (vary a layer's "
+                          "thickness with its \"thickness_map\")");
+            m.paint = readPaint(v, w);
+            m.diffuse.spectrum = Spectrum::makeConstant(1.0);
+            m.diffuse.kind = SpectrumKind::Reflectance;
+            m.diffuse.where = w.child("layers");
+        } else if (const char* k = find(v, "substrate") ? "substrate" : find(v, "surface") ? "surface" : nullptr) {
+            failInput(w.child(k), "'{}' belongs to a paint: give the material 'layers' (Kubelka–Munk films), or "
+                                  "remove it", k);
+        } else if (m.textures.diffuse >= 0 && !find(v, "diffuse")) {
             // A diffuse texture is the reflectance; "diffuse" would tint it.
             m.diffuse.spectrum = Spectrum::makeConstant(1.0);
             m.diffuse.kind = SpectrumKind::Reflectance;
@@ -321,6 +339,146 @@ private:
         return m;
     }
 
+    // A paint (docs/scene-format.md, "Paints and coatings"): "layers" (bottom first), "substrate"
+    // (a reflectance or {"material": NAME}) unless the bottom layer is opaque, and an optional
+    // "surface" ({"ior": n} or {"k1": a, "k2": b}) for Saunderson's correction.
+    Material::Paint readPaint(const Json& v, const Where& w) {
+        Material::Paint p;
+        const Json& layers = *find(v, "layers");
+        const Where lw = w.child("layers");
+        constexpr size_t kMaxLayers = 64;
+        if (!layers.is_array() || layers.empty() || layers.size() > kMaxLayers)
+            failInput(lw, "expected a list of 1 … {} layers, bottom first, each {{\"pigments\": [...], \"thickness\": "
+                          "X}} or {{\"K\": ..., \"S\": ..., \"thickness\": X}}; got {}",
+                      kMaxLayers, describe(layers));
+        for (size_t i = 0; i < layers.size(); ++i) {
+            p.layers.push_back(readLayer(layers[i], lw.index(i), i == 0));
+            if (p.layers.back().thicknessMap >= 0 && i > 0)
+                for (size_t j = 0; j < i; ++j)
+                    if (p.layers[j].thicknessMap >= 0)
+                        failInput(lw.index(i).child("thickness_map"),
+                                  "only one layer of a paint may have a thickness map (layer {} has one)", j);
+        }
+        const Where sw = w.child("substrate");
+        p.substrateWhere = sw;
+        if (std::isinf(p.layers.front().thickness_m)) {
+            if (find(v, "substrate"))
+                failInput(sw, "not allowed: the bottom layer is opaque (\"thickness\": \"opaque\"), so nothing "
+                              "beneath it shows");
+        } else {
+            const Json& s = require(v, w, "substrate",
+                                    "what lies beneath the layers: a reflectance spectrum, or {\"material\": NAME} (an "
+                                    "earlier material's diffuse reflectance)");
+            if (s.is_object() && find(s, "material")) {
+                checkKeys(s, sw, {"material"}, "a substrate material");
+                const std::string name = string(*find(s, "material"), sw.child("material"));
+                for (size_t i = 0; i < scene_.materials.size(); ++i)
+                    if (scene_.materials[i].name == name) p.substrateMaterial = int(i);
+                if (p.substrateMaterial < 0)
+                    failInput(sw.child("material"),
+                              "unknown material '{}': a substrate must be a material defined before this one", name);
+                const Material& under = scene_.materials[size_t(p.substrateMaterial)];
+                if (under.isTransparent())
+                    failInput(sw.child("material"), "material '{}' is transparent: it has no diffuse reflectance", name);
+                if (under.textures.diffuse >= 0 || (under.paint && under.paint->thicknessMap() >= 0))
+                    failInput(sw.child("material"),
+                              "material '{}' varies across its surface (a texture or a thickness map): a substrate "
+                              "is one reflectance spectrum",
+                              name);
+            } else {
+                p.substrate = spectrum(s, sw, SpectrumKind::Reflectance);
+            }
+        }
+        if (const Json* s = find(v, "surface")) {
+            const Where fw = w.child("surface");
+            asObject(*s, fw);
+            Material::Paint::Surface surface;
+            surface.where = fw;
+            if (const Json* n = find(*s, "ior")) {
+                checkKeys(*s, fw, {"ior"}, "a paint's surface given by its refractive index", {"k1", "k2"});
+                std::tie(surface.ior, surface.iorSource) = refractiveIndex(*n, fw.child("ior"));
+            } else {
+                checkKeys(*s, fw, {"k1", "k2"}, "a paint's surface: {\"ior\": n} or {\"k1\": a, \"k2\": b}");
+                surface.k1 = numberIn(require(*s, fw, "k1", "the surface's external (specular) reflectance, 0 … 1"),
+                                      fw.child("k1"), 0, 1, false, true);
+                surface.k2 = numberIn(require(*s, fw, "k2", "the surface's internal diffuse reflectance, 0 … 1"),
+                                      fw.child("k2"), 0, 1, false, true);
+            }
+            p.surface = std::move(surface);
+        }
+        return p;
+    }
+
+    // One Kubelka–Munk film: {"K": spectrum, "S": spectrum, "pigments": [...], "thickness": X,
+    // "thickness_map": texture}; K and S (m⁻¹) and the pigments' cᵢkᵢ, cᵢsᵢ add up.
+    Material::Paint::Layer readLayer(const Json& v, const Where& w, bool bottom) {
+        asObject(v, w);
+        checkKeys(v, w, {"K", "S", "pigments", "thickness", "thickness_map"}, "a paint layer");
+        Material::Paint::Layer l;
+        l.where = w;
+        if (const Json* k = find(v, "K")) l.K = spectrum(*k, w.child("K"), SpectrumKind::KubelkaMunk);
+        if (const Json* s = find(v, "S")) l.S = spectrum(*s, w.child("S"), SpectrumKind::KubelkaMunk);
+        if (const Json* ps = find(v, "pigments")) {
+            const Where pw = w.child("pigments");
+            if (!ps->is_array() || ps->empty() || ps->size() > 64)
+                failInput(pw, "expected a list of 1 … 64 pigments, each {{\"pigment\": NAME, \"concentration\": c}} or "
+                              "{{\"k\": ..., \"s\": ..., \"concentration\": c}}; got {}",
+                          describe(*ps));
+            for (size_t i = 0; i < ps->size(); ++i) l.pigments.push_back(readPigment((*ps)[i], pw.index(i)));
+        }
+        if (!l.K && !l.S && l.pigments.empty())
+            failInput(w, "a layer needs 'pigments', or its own 'K' and 'S' (Kubelka–Munk absorption and scattering, "
+                         "m⁻¹)");
+        const Json& x = require(v, w, "thickness", "the layer's thickness in metres, or \"opaque\"");
+        const Where xw = w.child("thickness");
+        if (x.is_string()) {
+            if (x.get<std::string>() != "opaque")
+                failInput(xw, "expected a thickness in metres or \"opaque\", got \"{}\"", x.get<std::string>());
+            if (!bottom)
+                failInput(xw, "only the bottom layer may be opaque: an opaque layer hides the layers beneath it");
+            l.thickness_m = INFINITY;
+        } else {
+            l.thickness_m = numberIn(x, xw, 0, 1e3, true, false, " m");
+        }
+        if (const Json* t = find(v, "thickness_map")) {
+            if (std::isinf(l.thickness_m))
+                failInput(w.child("thickness_map"), "an opaque layer has no thickness to vary");
+            l.thicknessMap = textureRef(*t, w.child("thickness_map"), TextureRole::Scalar);
+        }
+        return l;
+    }
+
+    Material::Paint::Pigment readPigment(const Json& v, const Where& w) {
+        asObject(v, w);
+        Material::Paint::Pigment p;
+        p.where = w;
+        if (const Json* n = find(v, "pigment")) {
+            checkKeys(v, w, {"pigment", "concentration"}, "a library pigment", {"k", "s"});
+            p.name = string(*n, w.child("pigment"));
+            const Where nw = w.child("pigment");
+            if (!lib_.contains(p.name + "_k") || !lib_.contains(p.name + "_s")) {
+                std::string known;
+                for (const std::string& s : lib_.names())
+                    if (s.size() > 2 && s.compare(s.size() - 2, 2, "_k") == 0 && lib_.contains(s.substr(0, s.size() - 2) + "_s"))
+                        known += (known.empty() ? "" : ", ") + s.substr(0, s.size() - 2);
+                failInput(nw, "unknown pigment '{}': a library pigment is a pair of spectra NAME_k and NAME_s "
+                              "(absorption and scattering per unit concentration, m⁻¹); the library has {}",
+                          p.name, known.empty() ? "none" : known);
+            }
+            p.k = spectrum(Json(p.name + "_k"), nw, SpectrumKind::KubelkaMunk);
+            p.s = spectrum(Json(p.name + "_s"), nw, SpectrumKind::KubelkaMunk);
+        } else {
+            checkKeys(v, w, {"k", "s", "concentration"}, "a pigment given by its spectra");
+            p.k = spectrum(require(v, w, "k", "the pigment's absorption per unit concentration, m⁻¹ (or \"pigment\": NAME)"),
+                           w.child("k"), SpectrumKind::KubelkaMunk);
+            p.s = spectrum(require(v, w, "s", "the pigment's scattering per unit concentration, m⁻¹"), w.child("s"),
+                           SpectrumKind::KubelkaMunk);
+        }
+        p.concentration = numberIn(require(v, w, "concentration", "the pigment's concentration cᵢ, ≥ 0"),
+                                   w.child("concentration"), 0, 1e6, false, false);
+        return p;
+    }
+
     // "slab": {"ior": n, "thickness": d, "absorbance": a}: n a number, "N-BK7", {"sellmeier": {"B":
     // [...], "C": [...]}}, {"cauchy": {"A": a, "B": b, "C": c}} or a table {"wavelengths_nm": [...],
     // "values": [...]} (λ in µm for the formulas' coefficients, as glass catalogues give them).
@@ -331,62 +489,72 @@ private:
         slab.thickness_m = numberIn(require(v, w, "thickness", "the slab's thickness in metres"), w.child("thickness"), 0,
                                     INFINITY, true, true, " m");
         if (const Json* a = find(v, "absorbance")) slab.absorbance = spectrum(*a, w.child("absorbance"), SpectrumKind::Absorbance);
-        const Where iw = w.child("ior");
-        slab.iorWhere = iw;
+        slab.iorWhere = w.child("ior");
         const Json& n = require(v, w, "ior", "a refractive index: a number, \"N-BK7\", {\"sellmeier\": ...}, "
                                                 "{\"cauchy\": ...} or a table");
+        std::tie(slab.ior, slab.iorSource) = refractiveIndex(n, slab.iorWhere);
+        return slab;
+    }
+
+    // A refractive index n(λ) (docs/scene-format.md, the slab's "ior"): a number (1 … 5), "N-BK7",
+    // {"sellmeier": {"B": [...], "C": [...]}}, {"cauchy": {"A": a, "B": b, "C": c}} or a table
+    // {"wavelengths_nm": [...], "values": [...]} (λ in µm for the formulas' coefficients, as glass
+    // catalogues give them), and how the scene gave it, for messages.
+    std::pair<RefractiveIndex, std::string> refractiveIndex(const Json& n, const Where& iw) {
+        RefractiveIndex ior;
+        std::string source;
         constexpr const char* kForms =
             "a number (1 … 5), \"N-BK7\", {\"sellmeier\": {\"B\": [...], \"C\": [...]}}, {\"cauchy\": {\"A\": a, \"B\": b, "
             "\"C\": c}} or {\"wavelengths_nm\": [...], \"values\": [...]}";
         if (n.is_number()) {
-            slab.ior.kind = RefractiveIndex::Kind::Constant;
-            slab.ior.constant = numberIn(n, iw, 1, 5, false, false);
-            slab.iorSource = fmt::format("{:g}", slab.ior.constant);
+            ior.kind = RefractiveIndex::Kind::Constant;
+            ior.constant = numberIn(n, iw, 1, 5, false, false);
+            source = fmt::format("{:g}", ior.constant);
         } else if (n.is_string()) {
             if (n.get<std::string>() != "N-BK7") failInput(iw, "unknown glass '{}'; expected {}", n.get<std::string>(), kForms);
-            slab.ior = nbk7();
-            slab.iorSource = "N-BK7";
+            ior = nbk7();
+            source = "N-BK7";
         } else if (n.is_object() && find(n, "sellmeier")) {
             checkKeys(n, iw, {"sellmeier"}, "a Sellmeier index");
             const Where sw = iw.child("sellmeier");
             const Json& f = *find(n, "sellmeier");
             asObject(f, sw);
             checkKeys(f, sw, {"B", "C"}, "Sellmeier coefficients");
-            slab.ior.kind = RefractiveIndex::Kind::Sellmeier;
-            slab.ior.b = numbers(require(f, sw, "B", "the coefficients B₁ … (dimensionless)"), sw.child("B"));
-            slab.ior.c = numbers(require(f, sw, "C", "the coefficients C₁ … in µm²"), sw.child("C"));
-            if (slab.ior.b.size() != slab.ior.c.size() || slab.ior.b.empty())
-                failInput(sw, "expected as many B as C coefficients (at least one), got {} and {}", slab.ior.b.size(),
-                          slab.ior.c.size());
-            slab.iorSource = "sellmeier";
+            ior.kind = RefractiveIndex::Kind::Sellmeier;
+            ior.b = numbers(require(f, sw, "B", "the coefficients B₁ … (dimensionless)"), sw.child("B"));
+            ior.c = numbers(require(f, sw, "C", "the coefficients C₁ … in µm²"), sw.child("C"));
+            if (ior.b.size() != ior.c.size() || ior.b.empty())
+                failInput(sw, "expected as many B as C coefficients (at least one), got {} and {}", ior.b.size(),
+                          ior.c.size());
+            source = "sellmeier";
         } else if (n.is_object() && find(n, "cauchy")) {
             checkKeys(n, iw, {"cauchy"}, "a Cauchy index");
             const Where cw = iw.child("cauchy");
             const Json& f = *find(n, "cauchy");
             asObject(f, cw);
             checkKeys(f, cw, {"A", "B", "C"}, "Cauchy coefficients");
-            slab.ior.kind = RefractiveIndex::Kind::Cauchy;
-            slab.ior.b = {numberIn(require(f, cw, "A", "n at infinite wavelength"), cw.child("A"), 1, 5, false, false),
+            ior.kind = RefractiveIndex::Kind::Cauchy;
+            ior.b = {numberIn(require(f, cw, "A", "n at infinite wavelength"), cw.child("A"), 1, 5, false, false),
                           find(f, "B") ? number(*find(f, "B"), cw.child("B")) : 0.0,
                           find(f, "C") ? number(*find(f, "C"), cw.child("C")) : 0.0};
-            slab.iorSource = "cauchy";
+            source = "cauchy";
         } else if (n.is_object() && find(n, "wavelengths_nm")) {
             checkKeys(n, iw, {"wavelengths_nm", "values"}, "a refractive-index table");
-            slab.ior.kind = RefractiveIndex::Kind::Table;
-            slab.ior.wavelengths_nm = numbers(require(n, iw, "wavelengths_nm", "increasing wavelengths, nm"), iw.child("wavelengths_nm"));
-            slab.ior.values = numbers(require(n, iw, "values", "n at each wavelength"), iw.child("values"));
-            if (slab.ior.values.size() != slab.ior.wavelengths_nm.size() || slab.ior.values.empty())
+            ior.kind = RefractiveIndex::Kind::Table;
+            ior.wavelengths_nm = numbers(require(n, iw, "wavelengths_nm", "increasing wavelengths, nm"), iw.child("wavelengths_nm"));
+            ior.values = numbers(require(n, iw, "values", "n at each wavelength"), iw.child("values"));
+            if (ior.values.size() != ior.wavelengths_nm.size() || ior.values.empty())
                 failInput(iw, "expected as many values as wavelengths (at least one), got {} and {}",
-                          slab.ior.values.size(), slab.ior.wavelengths_nm.size());
-            for (size_t i = 1; i < slab.ior.wavelengths_nm.size(); ++i)
-                if (!(slab.ior.wavelengths_nm[i] > slab.ior.wavelengths_nm[i - 1]))
+                          ior.values.size(), ior.wavelengths_nm.size());
+            for (size_t i = 1; i < ior.wavelengths_nm.size(); ++i)
+                if (!(ior.wavelengths_nm[i] > ior.wavelengths_nm[i - 1]))
                     failInput(iw.child("wavelengths_nm"), "wavelengths must increase ({:g} after {:g})",
-                              slab.ior.wavelengths_nm[i], slab.ior.wavelengths_nm[i - 1]);
-            slab.iorSource = "table";
+                              ior.wavelengths_nm[i], ior.wavelengths_nm[i - 1]);
+            source = "table";
         } else {
             failInput(iw, "expected {}, got {}", kForms, describe(n));
         }
-        return slab;
+        return {ior, source};
     }
 
     std::vector<double> numbers(const Json& v, const Where& w) {
@@ -585,7 +753,7 @@ private:
                             failInput(w, "the object's geometry is not finite: its position, size or scale is too "
                                          "large or too small for double precision");
                     part.material = gltfMaterialRef(model, part.material, path, w.child("mesh"));
-                    if (scene_.materials[part.material].textures.any() && part.uvs.empty())
+                    if (scene_.materials[part.material].needsTextureCoordinates() && part.uvs.empty())
                         failInput(w.child("mesh"),
                                   "mesh file '{}': a primitive with material '{}' has textures but no TEXCOORD_0",
                                   given, scene_.materials[part.material].name);
@@ -641,8 +809,7 @@ private:
                 failInput(w, "the object's geometry is not finite: its position, size or scale is too large or "
                              "too small for double precision");
         out.material = materialRef(v, w);
-        const MaterialTextures& tex = scene_.materials[out.material].textures;
-        if (tex.any() && out.uvs.empty())
+        if (scene_.materials[out.material].needsTextureCoordinates() && out.uvs.empty())
             failInput(w.child("material"),
                       "material '{}' has textures but this object has no texture coordinates (spheres have none; use "
                       "a quad or a glTF mesh with TEXCOORD_0)",
@@ -673,6 +840,8 @@ private:
                 failInput(w, "an emission spectrum must be sampled data (its shape matters), not a constant");
             if (kind == SpectrumKind::Light && x < 0) failInput(w, "a light's spectrum must be ≥ 0, got {:g}", x);
             if (kind == SpectrumKind::Absorbance && x < 0) failInput(w, "an absorbance must be ≥ 0, got {:g}", x);
+            if (kind == SpectrumKind::KubelkaMunk && !(x >= 0 && x < 1e12))
+                failInput(w, "a Kubelka–Munk coefficient must be within [0, 1e12) per metre, got {:g}", x);
             if ((kind == SpectrumKind::Reflectance || kind == SpectrumKind::Excitation ||
                  kind == SpectrumKind::Transmittance) &&
                 (x < 0 || x > 1))

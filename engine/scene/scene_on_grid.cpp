@@ -5,6 +5,7 @@
 #include "color/rgb_upsampling.h"
 #include "core/memory_limits.h"
 #include "scene/texture.h"
+#include "spectral/kubelka_munk.h"
 
 #include <algorithm>
 #include <cmath>
@@ -187,12 +188,111 @@ void photonBalance(const MaterialOnGrid& g, const std::vector<double>& nm, doubl
                                 worst, worstNm));
 }
 
+// A paint's films on the grid (Material::Paint): K and S per band for each layer (the layer's own
+// plus its pigments' cᵢkᵢ and cᵢsᵢ, m⁻¹), the substrate and Saunderson's k1 and k2 per band.
+struct PaintOnGrid {
+    std::vector<std::vector<double>> K, S;  // [layer][band]
+    std::vector<double> thickness_m;        // per layer
+    int mapped = -1;                        // the layer whose thickness the map scales
+    std::vector<double> substrate, k1, k2;  // per band; k1, k2 empty without a surface
+    bool surface = false;
+
+    // The body reflectance in band b with the mapped layer's thickness × `factor`.
+    double body(size_t b, double factor = 1.0) const {
+        double r = substrate.empty() ? 0.0 : substrate[b];
+        for (size_t l = 0; l < K.size(); ++l) {
+            const double x = int(l) == mapped ? thickness_m[l] * factor : thickness_m[l];
+            r = kubelkaMunkOverSubstrate(K[l][b], S[l][b], x, r);
+        }
+        return surface ? saundersonBody(r, k1[b], k2[b]) : r;
+    }
+};
+
+PaintOnGrid paintOnGrid(const Material::Paint& paint, const std::vector<MaterialOnGrid>& earlier, const Grid& grid,
+                        const std::vector<double>& nm, CoveragePolicy policy, std::vector<Gap>& gaps) {
+    PaintOnGrid p;
+    const size_t bands = size_t(grid.bands());
+    for (size_t l = 0; l < paint.layers.size(); ++l) {
+        const Material::Paint::Layer& layer = paint.layers[l];
+        std::vector<double> K(bands, 0.0), S(bands, 0.0);
+        if (layer.K) K = onGrid(*layer.K, grid, policy, gaps);
+        if (layer.S) S = onGrid(*layer.S, grid, policy, gaps);
+        for (const Material::Paint::Pigment& pigment : layer.pigments) {
+            const std::vector<double> k = onGrid(pigment.k, grid, policy, gaps), s = onGrid(pigment.s, grid, policy, gaps);
+            for (size_t b = 0; b < bands; ++b) {
+                K[b] += pigment.concentration * k[b];
+                S[b] += pigment.concentration * s[b];
+            }
+        }
+        for (size_t b = 0; b < bands; ++b)
+            if (!(K[b] >= 0.0 && S[b] >= 0.0 && std::isfinite(K[b] + S[b])))
+                failInput(layer.where, "the layer's K = {:g} and S = {:g} m⁻¹ at {:g} nm; expected finite values ≥ 0",
+                          K[b], S[b], nm[b]);
+        p.K.push_back(std::move(K));
+        p.S.push_back(std::move(S));
+        p.thickness_m.push_back(layer.thickness_m);
+        if (layer.thicknessMap >= 0) p.mapped = int(l);
+    }
+    if (paint.substrate) p.substrate = onGrid(*paint.substrate, grid, policy, gaps);
+    if (paint.substrateMaterial >= 0) p.substrate = earlier[size_t(paint.substrateMaterial)].diffuse;
+    if (paint.surface) {
+        p.surface = true;
+        const Material::Paint::Surface& s = *paint.surface;
+        if (s.ior) {
+            std::unordered_map<double, std::pair<double, double>> byIndex;  // k2 is an integral: once per n
+            for (double l : nm) {
+                const double n = s.ior->at(l);
+                if (!(n >= 1.0 && n <= 5.0))
+                    failInput(s.where.child("ior"), "the refractive index ({}) is {:g} at {:g} nm; expected 1 … 5 over the grid",
+                              s.iorSource, n, l);
+                auto it = byIndex.find(n);
+                if (it == byIndex.end())
+                    it = byIndex.emplace(n, std::pair{saundersonK1(n), internalDiffuseReflectance(n)}).first;
+                p.k1.push_back(it->second.first);
+                p.k2.push_back(it->second.second);
+            }
+        } else {
+            p.k1.assign(bands, s.k1);
+            p.k2.assign(bands, s.k2);
+        }
+    }
+    return p;
+}
+
+// The paint's reflectance per texel of its thickness map: a spectral texture (memoized by the
+// texel's value: an 8-bit map has at most 256 distinct thicknesses).
+TextureOnGrid paintTexture(const PaintOnGrid& p, const Texture& map, size_t bands) {
+    TextureOnGrid t;
+    t.width = map.width;
+    t.height = map.height;
+    t.channels = int(bands);
+    t.data.resize(size_t(map.width) * map.height * bands);
+    std::unordered_map<float, size_t> done;  // value → the first texel that has it
+    for (size_t i = 0; i < map.texels.size(); ++i) {
+        float* out = &t.data[i * bands];
+        auto [it, fresh] = done.emplace(map.texels[i], i);
+        if (!fresh) {
+            std::memcpy(out, &t.data[it->second * bands], bands * sizeof(float));
+            continue;
+        }
+        for (size_t b = 0; b < bands; ++b) out[b] = float(p.body(b, double(map.texels[i])));
+    }
+    return t;
+}
+
 }  // namespace
 
 uint64_t textureMemory(const Scene& scene, const Grid& grid) {
     uint64_t bytes = 0;
     for (const Texture& t : scene.textures)
-        bytes += uint64_t(t.width) * t.height * (t.kind == Texture::Kind::Normal ? 3 : grid.bands()) * 4;
+        if (t.kind != Texture::Kind::Scalar)
+            bytes += uint64_t(t.width) * t.height * (t.kind == Texture::Kind::Normal ? 3 : grid.bands()) * 4;
+    // A thickness map becomes a spectral texture for each paint that uses it.
+    for (const Material& m : scene.materials)
+        if (m.paint && m.paint->thicknessMap() >= 0) {
+            const Texture& t = scene.textures[size_t(m.paint->thicknessMap())];
+            bytes += uint64_t(t.width) * t.height * grid.bands() * 4;
+        }
     return bytes;
 }
 
@@ -224,6 +324,13 @@ SceneOnGrid resampleScene(const Scene& scene, const Grid& grid, CoveragePolicy p
             out.textures.push_back(spectralTextureOnGrid(t, grid, policy, gaps, textureProbes));
         } else if (t.kind == Texture::Kind::Rgb) {
             out.textures.push_back(rgbTextureOnGrid(t, grid, RgbUpsampler::srgb(SpectrumLibrary())));
+        } else if (t.kind == Texture::Kind::Scalar) {
+            // Read by no shader: each paint that uses it gets its own spectral texture, below. A
+            // 1×1 stand-in keeps the indices of Scene::textures.
+            TextureOnGrid placeholder;
+            placeholder.width = placeholder.height = placeholder.channels = 1;
+            placeholder.data = {0.0f};
+            out.textures.push_back(std::move(placeholder));
         } else {
             TextureOnGrid n;
             n.width = t.width;
@@ -240,6 +347,24 @@ SceneOnGrid resampleScene(const Scene& scene, const Grid& grid, CoveragePolicy p
         g.specularTexture = m.textures.specular;
         g.normalTexture = m.textures.normal;
         g.diffuse = onGrid(m.diffuse, grid, policy, gaps);
+        // What the energy check below compares with the excitation: the largest body reflectance.
+        std::vector<double> brightest = g.diffuse;
+        if (m.paint) {
+            // Kubelka–Munk, once per scene: the body reflectance per band, or per texel of a
+            // thickness map (a spectral texture that the diffuse slot reads, ρd = 1).
+            const PaintOnGrid paint = paintOnGrid(*m.paint, out.materials, grid, out.wavelengths_nm, policy, gaps);
+            const int map = m.paint->thicknessMap();
+            for (size_t b = 0; b < g.diffuse.size(); ++b) g.diffuse[b] = map >= 0 ? 1.0 : paint.body(b);
+            brightest = g.diffuse;
+            if (map >= 0) {
+                out.textures.push_back(paintTexture(paint, scene.textures[size_t(map)], g.diffuse.size()));
+                g.diffuseTexture = int(out.textures.size() - 1);
+                const TextureOnGrid& t = out.textures.back();
+                brightest.assign(g.diffuse.size(), 0.0);
+                for (size_t i = 0; i < t.data.size(); ++i)
+                    brightest[i % brightest.size()] = std::max(brightest[i % brightest.size()], double(t.data[i]));
+            }
+        }
         g.specular = onGrid(m.specular, grid, policy, gaps);
         g.gloss = m.gloss;
         if (m.fluorescence && m.fluorescence->matrix) {
@@ -262,8 +387,8 @@ SceneOnGrid resampleScene(const Scene& scene, const Grid& grid, CoveragePolicy p
             // Energy: what is absorbed for fluorescence cannot also be reflected.
             double worst = 0.0, worstNm = 0.0;
             for (size_t i = 0; i < g.diffuse.size(); ++i)
-                if (g.diffuse[i] + g.excitation[i] > worst) {
-                    worst = g.diffuse[i] + g.excitation[i];
+                if (brightest[i] + g.excitation[i] > worst) {
+                    worst = brightest[i] + g.excitation[i];
                     worstNm = out.wavelengths_nm[i];
                 }
             if (worst > 1.0 + 1e-9)

@@ -56,13 +56,25 @@ std::string withoutPrefix(const std::string& message) {
     return message.rfind(prefix, 0) == 0 ? message.substr(prefix.size()) : message;
 }
 
+const char* roleName(TextureRole role) {
+    switch (role) {
+        case TextureRole::Reflectance: return "reflectance";
+        case TextureRole::Normal: return "normal";
+        case TextureRole::Height: return "bump";
+        case TextureRole::Scalar: return "thickness";
+    }
+    return "?";
+}
+
 // What a texture's header must pass before its texels are decoded: its side, and (given the grid
 // it goes to) its size there.
 ImageHeaderCheck textureHeaderCheck(const std::string& name, TextureRole role, const Grid* grid, const Where& where) {
     return [name, role, grid, where](const RasterImage& h) {
         checkSize(h.width, h.height, name, where);
         if (!grid) return;
-        const uint64_t perTexel = role == TextureRole::Reflectance ? uint64_t(grid->bands()) : 3;
+        // A scalar map becomes a spectrum per texel on the grid (a paint layer's reflectance).
+        const uint64_t perTexel =
+            role == TextureRole::Reflectance || role == TextureRole::Scalar ? uint64_t(grid->bands()) : 3;
         const uint64_t bytes = uint64_t(h.width) * uint64_t(h.height) * perTexel * 4;
         if (bytes > textureMemoryLimit())
             failInput(where, "texture '{}' is {}×{} texels: on the grid {} nm ({} values × 4 bytes per texel) it would "
@@ -149,7 +161,7 @@ Texture imageTexture(const RasterImage& in, const std::string& name, TextureRole
     TextureEncoding e = role == TextureRole::Reflectance ? encoding : TextureEncoding::Linear;
     if (role != TextureRole::Reflectance && encoding == TextureEncoding::Srgb)
         failInput(where, "texture '{}': a {} map is data and is read linearly; remove \"encoding\"", name,
-                  role == TextureRole::Normal ? "normal" : "bump");
+                  roleName(role));
     std::vector<float> rgb = readRgb(in, name, e, where, t.width, t.height, wasFloat);
     t.channels = 3;
     if (role == TextureRole::Reflectance) {
@@ -161,6 +173,18 @@ Texture imageTexture(const RasterImage& in, const std::string& name, TextureRole
     for (size_t i = 0; i < rgb.size(); ++i)
         if (!std::isfinite(rgb[i]))
             failInput(where, "texture '{}': texel ({}, {}) is not finite", name, (i / 3) % t.width, (i / 3) / t.width);
+    if (role == TextureRole::Scalar) {
+        t.kind = Texture::Kind::Scalar;
+        t.channels = 1;
+        t.texels.resize(size_t(t.width) * t.height);
+        for (size_t p = 0; p < t.texels.size(); ++p) {
+            t.texels[p] = rgb[p * 3];  // the first (or only) channel
+            if (!(t.texels[p] >= 0.0f))
+                failInput(where, "texture '{}': texel ({}, {}) is {:g}; a {} map's values must be ≥ 0", name,
+                          p % t.width, p / t.width, t.texels[p], roleName(role));
+        }
+        return t;
+    }
     t.kind = Texture::Kind::Normal;
     if (role == TextureRole::Height) {
         std::vector<float> h(size_t(t.width) * t.height);
@@ -213,7 +237,7 @@ Texture loadTexture(const fs::path& path, TextureRole role, TextureEncoding enco
     bool spectral = format && *format != CubeFormat::Exr;
     if (spectral && role != TextureRole::Reflectance)
         failInput(where, "texture '{}' is a spectral {} cube; a {} map is an image", path.string(),
-                  cubeFormatName(*format), role == TextureRole::Normal ? "normal" : "bump");
+                  cubeFormatName(*format), roleName(role));
     const ImageHeaderCheck check = textureHeaderCheck(path.string(), role, grid, where);
     if (role == TextureRole::Reflectance && imageSignature(path) == "openexr") {
         ExrHeader h;

@@ -17,6 +17,7 @@ enum class TextureRole {
     Reflectance,  // diffuse or specular: a spectral EXR (T.<λ>nm channels) or an RGB image
     Normal,       // a tangent-space normal map: RGB = (n + 1)/2, +y up the image (glTF's convention)
     Height,       // a bump map: one channel of height in [0, 1], turned into a normal map
+    Scalar,       // a map of numbers ≥ 0: one channel, read linearly (a paint layer's thickness factor)
 };
 
 enum class TextureEncoding {

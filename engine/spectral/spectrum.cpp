@@ -15,6 +15,7 @@ const char* kindName(SpectrumKind kind) {
         case SpectrumKind::Observer: return "observer";
         case SpectrumKind::Transmittance: return "transmittance";
         case SpectrumKind::Absorbance: return "absorbance";
+        case SpectrumKind::KubelkaMunk: return "Kubelka–Munk coefficient";
     }
     return "?";
 }

@@ -21,6 +21,8 @@ enum class SpectrumKind {
     Observer,     // a detector's spectral sensitivity
     Transmittance,  // a thin sheet's transmittance per crossing, 0..1
     Absorbance,     // decadic absorbance per metre (m⁻¹, ≥ 0), or a dye's molar absorptivity
+    KubelkaMunk,    // a Kubelka–Munk absorption K or scattering S coefficient, m⁻¹ (≥ 0), or a
+                    // pigment's per unit concentration
 };
 
 const char* kindName(SpectrumKind kind);
