@@ -168,6 +168,21 @@ def meshes():
     write("model.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
 
 
+def grey_png(rel, width, height, values):
+    """An 8-bit greyscale PNG (values 0..255, row by row), written with zlib: a thickness map."""
+    import zlib
+
+    def chunk(kind, data):
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF)
+
+    rows = b"".join(b"\0" + bytes(values[y * width:(y + 1) * width]) for y in range(height))
+    data = (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, 0, 0, 0, 0)) +
+            chunk(b"IDAT", zlib.compress(rows, 9)) + chunk(b"IEND", b""))
+    with open(os.path.join(HERE, rel), "wb") as f:
+        f.write(data)
+
+
 if __name__ == "__main__":
     spectra()
     meshes()
+    grey_png("wedge.png", 4, 1, [0, 85, 170, 255])
