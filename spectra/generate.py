@@ -306,6 +306,105 @@ def transparent() -> None:
 
 
 # --------------------------------------------------------------------------------------------
+# Pigments for Kubelka–Munk paints. See README "Pigments". Models, not measurements: absorption k
+# and scattering s per unit volume concentration of pigment in the dry film, m⁻¹ (a layer's K = Σ
+# cᵢkᵢ, S = Σ cᵢsᵢ; docs/physics.md, "Paints and coatings").
+
+PIGMENT_GRID = (300, 830, 1)
+
+
+def scattering(wl, s550, exponent):
+    """Scattering falling with wavelength as (λ/550)^−exponent, s550 at 550 nm (m⁻¹)."""
+    return s550 * (wl / 550.0) ** -exponent
+
+
+PIGMENTS = {
+    # name: (k(λ), s(λ)) as functions of the wavelength array
+    # Rutile titanium white: absorbs below its ~410 nm band edge, scatters strongly.
+    "titanium_white": (lambda wl: 2.0e3 + 4.0e7 * logistic(wl, 405.0, -7.0),
+                       lambda wl: scattering(wl, 2.5e6, 1.2) * (0.3 + 0.7 * logistic(wl, 405.0, 7.0))),
+    # Carbon black: absorbs everything, slightly less in the red; scatters little.
+    "carbon_black": (lambda wl: 6.0e7 * (wl / 550.0) ** -0.3, lambda wl: scattering(wl, 6.0e5, 1.0)),
+    # An arylide-like yellow: an absorption edge at 490 nm.
+    "arylide_yellow": (lambda wl: 3.0e3 + 2.2e7 * logistic(wl, 488.0, -9.0) * (1.0 + 0.3 * gaussian_nm(wl, 430.0, 60.0)),
+                       lambda wl: scattering(wl, 4.0e5, 1.0)),
+    # A naphthol-like red: an edge at 585 nm, a shoulder in the green.
+    "naphthol_red": (lambda wl: 4.0e3 + 1.8e7 * logistic(wl, 590.0, -6.0) + 4.0e6 * gaussian_nm(wl, 530.0, 60.0),
+                     lambda wl: scattering(wl, 3.0e5, 1.0)),
+    # A phthalocyanine-like blue: two absorption bands in the red, clear in the blue.
+    "phthalo_blue": (lambda wl: 2.0e4 + 3.0e7 * gaussian_nm(wl, 610.0, 55.0) + 2.4e7 * gaussian_nm(wl, 680.0, 55.0)
+                     + 8.0e6 * logistic(wl, 380.0, -8.0),
+                     lambda wl: scattering(wl, 1.5e5, 1.0)),
+    # A phthalocyanine-like green: absorbs the blue and the red, clear near 510 nm.
+    "phthalo_green": (lambda wl: 2.0e4 + 2.6e7 * gaussian_nm(wl, 430.0, 70.0) + 3.2e7 * gaussian_nm(wl, 640.0, 90.0)
+                      + 1.2e7 * logistic(wl, 720.0, 30.0),
+                      lambda wl: scattering(wl, 1.5e5, 1.0)),
+}
+
+
+def km_infinite(k, s):
+    q = k / s
+    return 1.0 + q - np.sqrt(q * q + 2.0 * q)
+
+
+def pigments() -> None:
+    wl = grid(*PIGMENT_GRID)
+    for name, (kf, sf) in PIGMENTS.items():
+        k, s = kf(wl), sf(wl)
+        assert np.all(k > 0) and np.all(s > 0), name
+        # The masstone with a little white (c 0.1 of the pigment, 0.1 white), opaque: its R∞.
+        kw, sw = PIGMENTS["titanium_white"][0](wl), PIGMENTS["titanium_white"][1](wl)
+        tint = km_infinite(0.1 * k + 0.1 * kw, 0.1 * s + 0.1 * sw)
+        print(f"  pigments/{name}: k {k.min():.3g}..{k.max():.3g} m⁻¹, s {s.min():.3g}..{s.max():.3g} m⁻¹; "
+              f"1:1 with white, R∞ at 450/550/650 nm {tint[150]:.3f}/{tint[250]:.3f}/{tint[350]:.3f}")
+        write_csv(f"pigments/{name}_k.csv", wl, {"value": k}, sig=6)
+        write_csv(f"pigments/{name}_s.csv", wl, {"value": s}, sig=6)
+
+
+def paint_reflectance(wl, recipe):
+    """R∞ of an opaque paint {pigment: concentration}."""
+    k = sum(c * PIGMENTS[n][0](wl) for n, c in recipe.items())
+    s = sum(c * PIGMENTS[n][1](wl) for n, c in recipe.items())
+    return km_infinite(k, s)
+
+
+def metameric_paints() -> None:
+    """Prints the recipes of scenes/paints.json's metameric pair: a grey of white and black, and a
+    grey of white (the same 0.1), yellow, red and blue whose three concentrations are solved so
+    that the two have the same CIE 1931 XYZ under D65 (R∞ depends only on the ratios, so white is
+    held fixed). Under A they differ (ΔE00 about 2)."""
+    from scipy.optimize import least_squares
+
+    wl = np.arange(380, 781, 5, dtype=float)
+    shape = colour.SpectralShape(380, 780, 5)
+    cmfs = colour.MSDS_CMFS["CIE 1931 2 Degree Standard Observer"].copy().align(shape)
+
+    def xyz(r, illuminant):
+        sd = colour.SpectralDistribution(dict(zip(wl, r)))
+        ill = colour.SDS_ILLUMINANTS[illuminant].copy().align(shape)
+        return colour.sd_to_XYZ(sd, cmfs, ill) / 100.0
+
+    first = {"titanium_white": 0.10, "carbon_black": 0.004}
+    target = xyz(paint_reflectance(wl, first), "D65")
+
+    def residual(logc):
+        c = np.exp(logc)
+        recipe = {"titanium_white": 0.1, "arylide_yellow": c[0], "phthalo_blue": c[1], "naphthol_red": c[2]}
+        return (xyz(paint_reflectance(wl, recipe), "D65") - target) * 100.0
+
+    fit = least_squares(residual, np.log([0.004, 0.004, 0.004]), xtol=1e-15, ftol=1e-15, gtol=1e-15)
+    c = np.exp(fit.x)
+    second = {"titanium_white": 0.1, "arylide_yellow": c[0], "phthalo_blue": c[1], "naphthol_red": c[2]}
+    for ill in ("D65", "A"):
+        a, b = xyz(paint_reflectance(wl, first), ill), xyz(paint_reflectance(wl, second), ill)
+        white = xyz(np.ones_like(wl), ill)
+        lab_a, lab_b = (colour.XYZ_to_Lab(v, colour.XYZ_to_xy(white)) for v in (a, b))
+        print(f"  metameric paints under {ill}: ΔE00 {colour.delta_E(lab_a, lab_b, method='CIE 2000'):.3f}")
+    print("  first:  " + ", ".join(f"{n} {v:.6g}" for n, v in first.items()))
+    print("  second: " + ", ".join(f"{n} {v:.6g}" for n, v in second.items()))
+
+
+# --------------------------------------------------------------------------------------------
 # Metals: Lorentz–Drude model of Rakić, Djurišić, Elazar & Majewski, Appl. Opt. 37(22), 5271
 # (1998), Table 1 (LD model). ωp, Γ, ω in eV.
 #   ε(ω) = 1 - f0 ωp² / (ω (ω + iΓ0)) + Σj fj ωp² / (ωj² - ω² - iωΓj)
@@ -381,6 +480,8 @@ def main() -> int:
     colorchecker()
     fluorescent()
     transparent()
+    pigments()
+    metameric_paints()
     metals()
     observers()
     print(f"{len(written)} files")
