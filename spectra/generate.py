@@ -321,8 +321,8 @@ def scattering(wl, s550, exponent):
 PIGMENTS = {
     # name: (k(λ), s(λ)) as functions of the wavelength array
     # Rutile titanium white: absorbs below its ~410 nm band edge, scatters strongly.
-    "titanium_white": (lambda wl: 2.0e3 + 4.0e7 * logistic(wl, 405.0, -7.0),
-                       lambda wl: scattering(wl, 2.5e6, 1.2) * (0.3 + 0.7 * logistic(wl, 405.0, 7.0))),
+    "titanium_white": (lambda wl: 2.0e3 + 4.0e7 * logistic(wl, 400.0, -5.0),
+                       lambda wl: scattering(wl, 2.5e6, 1.2) * (0.3 + 0.7 * logistic(wl, 400.0, 5.0))),
     # Carbon black: absorbs everything, slightly less in the red; scatters little.
     "carbon_black": (lambda wl: 6.0e7 * (wl / 550.0) ** -0.3, lambda wl: scattering(wl, 6.0e5, 1.0)),
     # An arylide-like yellow: an absorption edge at 490 nm.

@@ -61,6 +61,9 @@ public:
                 readMaterial(it.key(), it.value(), mw.child(it.key()));
         }
         used_.assign(scene_.materials.size(), false);
+        // A paint's substrate material is used through the paint.
+        for (const Material& m : scene_.materials)
+            if (m.paint && m.paint->substrateMaterial >= 0) used_[size_t(m.paint->substrateMaterial)] = true;
         declaredMaterials_ = scene_.materials.size();
         if (const Json* o = find(doc, "objects")) {
             const Json& objects = asArray(*o, root.child("objects"));

@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
 """Generates the glTF meshes of the bundled scenes: torus.gltf (smooth, with analytic normals)
 and gem.gltf (faceted, no NORMAL attribute: the loader computes flat normals from the unshared
-vertices). Geometry is procedural; buffers are embedded as base64 data URIs.
+vertices). Geometry is procedural; buffers are embedded as base64 data URIs. Also
+paint_wedge.png, the thickness map of scenes/paints.json's drawdown: 256 x 1 texels, 16-bit grey,
+a linear ramp from 0 (left) to 1 (right).
 Standard library only: python3 scenes/assets/make_assets.py"""
 
 import base64
@@ -113,7 +115,22 @@ def gem(sides=8, table_r=0.30, table_y=0.20, girdle_r=0.50, girdle_y=0.05, culet
     return positions, indices
 
 
+def grey16_png(name, values):
+    """A one-row 16-bit greyscale PNG of `values` (0..65535)."""
+    import zlib
+
+    def chunk(kind, data):
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF)
+
+    row = b"\0" + b"".join(struct.pack(">H", v) for v in values)
+    data = (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", len(values), 1, 16, 0, 0, 0, 0)) +
+            chunk(b"IDAT", zlib.compress(row, 9)) + chunk(b"IEND", b""))
+    with open(os.path.join(HERE, name), "wb") as f:
+        f.write(data)
+
+
 if __name__ == "__main__":
+    grey16_png("paint_wedge.png", [round(65535 * i / 255) for i in range(256)])
     p, n, i = torus()
     write_gltf("torus", p, i, n)
     p, i = gem()
