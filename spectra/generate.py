@@ -372,7 +372,8 @@ def metameric_paints() -> None:
     """Prints the recipes of scenes/paints.json's metameric pair: a grey of white and black, and a
     grey of white (the same 0.1), yellow, red and blue whose three concentrations are solved so
     that the two have the same CIE 1931 XYZ under D65 (R∞ depends only on the ratios, so white is
-    held fixed). Under A they differ (ΔE00 about 2)."""
+    held fixed), as the scene draws them: opaque (R∞) under a surface of n = 1.5 (Saunderson's body
+    reflectance). Under A they differ (ΔE00 about 2)."""
     from scipy.optimize import least_squares
 
     wl = np.arange(380, 781, 5, dtype=float)
@@ -382,21 +383,40 @@ def metameric_paints() -> None:
     def xyz(r, illuminant):
         sd = colour.SpectralDistribution(dict(zip(wl, r)))
         ill = colour.SDS_ILLUMINANTS[illuminant].copy().align(shape)
-        return colour.sd_to_XYZ(sd, cmfs, ill) / 100.0
+        return colour.sd_to_XYZ(sd, cmfs, ill, method="Integration") / 100.0  # a Riemann sum, as Metamer integrates
+
+    # The scene's paints have a surface of n = 1.5: Saunderson's body reflectance, with k1 = 0.04
+    # and k2 the internal diffuse reflectance integrated from Fresnel's equations.
+    from scipy.integrate import quad
+
+    def fresnel_inside(theta, n=1.5):
+        sin_t = n * np.sin(theta)
+        if sin_t >= 1:
+            return 1.0
+        ci, ct = np.cos(theta), np.sqrt(1 - sin_t * sin_t)
+        rs, rp = (n * ci - ct) / (n * ci + ct), (n * ct - ci) / (n * ct + ci)
+        return 0.5 * (rs * rs + rp * rp)
+
+    k1 = 0.04
+    k2 = quad(lambda t: fresnel_inside(t) * 2 * np.sin(t) * np.cos(t), 0, np.pi / 2, points=[np.arcsin(1 / 1.5)])[0]
+
+    def paint(recipe):
+        r = paint_reflectance(wl, recipe)
+        return (1 - k1) * (1 - k2) * r / (1 - k2 * r)
 
     first = {"titanium_white": 0.10, "carbon_black": 0.004}
-    target = xyz(paint_reflectance(wl, first), "D65")
+    target = xyz(paint(first), "D65")
 
     def residual(logc):
         c = np.exp(logc)
         recipe = {"titanium_white": 0.1, "arylide_yellow": c[0], "phthalo_blue": c[1], "naphthol_red": c[2]}
-        return (xyz(paint_reflectance(wl, recipe), "D65") - target) * 100.0
+        return (xyz(paint(recipe), "D65") - target) * 100.0
 
     fit = least_squares(residual, np.log([0.004, 0.004, 0.004]), xtol=1e-15, ftol=1e-15, gtol=1e-15)
     c = np.exp(fit.x)
     second = {"titanium_white": 0.1, "arylide_yellow": c[0], "phthalo_blue": c[1], "naphthol_red": c[2]}
     for ill in ("D65", "A"):
-        a, b = xyz(paint_reflectance(wl, first), ill), xyz(paint_reflectance(wl, second), ill)
+        a, b = xyz(paint(first), ill), xyz(paint(second), ill)
         white = xyz(np.ones_like(wl), ill)
         lab_a, lab_b = (colour.XYZ_to_Lab(v, colour.XYZ_to_xy(white)) for v in (a, b))
         print(f"  metameric paints under {ill}: ΔE00 {colour.delta_E(lab_a, lab_b, method='CIE 2000'):.3f}")
