@@ -4,6 +4,7 @@
 #include "preview/preview.h"
 #include "preview/settings_panel.h"
 #include "scene/scene_json.h"
+#include "scene/scene_on_grid.h"
 
 #include <gtest/gtest.h>
 
@@ -87,6 +88,29 @@ TEST(PreviewSettings, FileWatchSeesAChangeOnceAndAReplacedFile) {
     fs::remove(f);  // missing for a moment: no change reported yet
     EXPECT_FALSE(w.changed());
     fs::remove_all(dir);
+}
+
+// The paint controls edit scene keys that load: a layer's thickness and a pigment's concentration.
+TEST(PreviewSettings, PaintControlsSetKeysThatLoad) {
+    const fs::path scene = fs::path(METAMER_SOURCE_DIR) / "scenes" / "paints.json";
+    const SpectrumLibrary library;
+    const Scene s = loadScene(scene, library);
+    auto named = [](const Scene& sc, const std::string& n) {
+        return *std::find_if(sc.materials.begin(), sc.materials.end(), [&](const Material& m) { return m.name == n; });
+    };
+    std::vector<std::string> o;
+    setOverride(o, layerThicknessKey(named(s, "drawdown_over_black"), 0), "7.5e-05");
+    setOverride(o, pigmentConcentrationKey(named(s, "mix_050"), 0, 2), "0.02");
+    EXPECT_EQ(o, (std::vector<std::string>{"materials.drawdown_over_black.layers.0.thickness=7.5e-05",
+                                           "materials.mix_050.layers.0.pigments.2.concentration=0.02"}));
+    const Scene edited = loadScene(scene, library, o);
+    EXPECT_DOUBLE_EQ(named(edited, "drawdown_over_black").paint->layers[0].thickness_m, 7.5e-5);
+    EXPECT_DOUBLE_EQ(named(edited, "mix_050").paint->layers[0].pigments[2].concentration, 0.02);
+    // And the reflectance follows: more blue, less light at 550 nm.
+    const SceneOnGrid before = resampleScene(s, s.grid), after = resampleScene(edited, edited.grid);
+    size_t mix = 0;
+    while (s.materials[mix].name != "mix_050") ++mix;
+    EXPECT_LT(after.materials[mix].diffuse[34], before.materials[mix].diffuse[34]);
 }
 
 // The transparent objects' controls edit scene keys that load: a filter swapped for another from

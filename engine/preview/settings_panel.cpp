@@ -65,6 +65,14 @@ std::string dyeConcentrationKey(const Material& m, size_t dye) {
     return fmt::format("materials.{}.dyes.{}.concentration", m.name, dye);
 }
 
+std::string layerThicknessKey(const Material& m, size_t layer) {
+    return fmt::format("materials.{}.layers.{}.thickness", m.name, layer);
+}
+
+std::string pigmentConcentrationKey(const Material& m, size_t layer, size_t pigment) {
+    return fmt::format("materials.{}.layers.{}.pigments.{}.concentration", m.name, layer, pigment);
+}
+
 SettingsPanel::SettingsPanel(const SpectrumLibrary& library) {
     for (const auto& n : library.names()) {
         if (n.rfind("illuminants/", 0) == 0) lightSpectra_.push_back(n);
@@ -155,6 +163,50 @@ bool SettingsPanel::draw(const View& view, RenderJob& job) {
                 if (ImGui::SmallButton("\u00d72")) {  // ×2
                     setOverride(job.overrides, dyeConcentrationKey(m, d), fmt::format("{:.9g}", c * 2.0));
                     changed = true;
+                }
+                ImGui::PopID();
+            }
+            ImGui::PopID();
+        }
+    }
+
+    if (std::any_of(scene.materials.begin(), scene.materials.end(), [](const Material& m) { return m.isPaint(); }) &&
+        ImGui::CollapsingHeader("Paints", ImGuiTreeNodeFlags_DefaultOpen)) {
+        // A layer's thickness and a pigment's concentration halved or doubled: the scene reloads
+        // and Kubelka–Munk runs again for that material (once, not per frame).
+        auto halveOrDouble = [&](const std::string& key, double value) {
+            ImGui::SameLine();
+            if (ImGui::SmallButton("\u00d7\u00bd")) {  // ×½
+                setOverride(job.overrides, key, fmt::format("{:.9g}", value * 0.5));
+                changed = true;
+            }
+            ImGui::SameLine();
+            if (ImGui::SmallButton("\u00d72")) {  // ×2
+                setOverride(job.overrides, key, fmt::format("{:.9g}", value * 2.0));
+                changed = true;
+            }
+        };
+        for (size_t i = 0; i < scene.materials.size(); ++i) {
+            const Material& m = scene.materials[i];
+            if (!m.isPaint()) continue;
+            ImGui::PushID(int(2000 + i));
+            ImGui::Text("%s", m.name.c_str());
+            for (size_t l = 0; l < m.paint->layers.size(); ++l) {
+                const Material::Paint::Layer& layer = m.paint->layers[l];
+                ImGui::PushID(int(l));
+                if (std::isinf(layer.thickness_m)) {
+                    ImGui::Text("  layer %zu: opaque", l);
+                } else {
+                    ImGui::Text("  layer %zu: %.4g \u00b5m%s", l, layer.thickness_m * 1e6,
+                                layer.thicknessMap >= 0 ? " \u00d7 map" : "");
+                    halveOrDouble(layerThicknessKey(m, l), layer.thickness_m);
+                }
+                for (size_t p = 0; p < layer.pigments.size(); ++p) {
+                    ImGui::PushID(int(p));
+                    const Material::Paint::Pigment& pigment = layer.pigments[p];
+                    ImGui::Text("    %s %.4g", pigment.name.empty() ? "(k, s)" : pigment.name.c_str(), pigment.concentration);
+                    halveOrDouble(pigmentConcentrationKey(m, l, p), pigment.concentration);
+                    ImGui::PopID();
                 }
                 ImGui::PopID();
             }

@@ -26,6 +26,10 @@ Grid gridWithStep(const Grid& grid, double step_nm);
 std::string transmittanceKey(const Material& m);
 std::string absorbanceKey(const Material& m);
 std::string dyeConcentrationKey(const Material& m, size_t dye);
+// The --set keys the panel edits on a paint: a layer's thickness, and a layer's pigment's
+// concentration ("materials.NAME.layers.L.pigments.P.concentration").
+std::string layerThicknessKey(const Material& m, size_t layer);
+std::string pigmentConcentrationKey(const Material& m, size_t layer, size_t pigment);
 
 class SettingsPanel {
 public:
