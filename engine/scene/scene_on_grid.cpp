@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <thread>
 #include <unordered_map>
 
 namespace metamer {
@@ -191,7 +192,7 @@ void photonBalance(const MaterialOnGrid& g, const std::vector<double>& nm, doubl
 // A paint's films on the grid (Material::Paint): K and S per band for each layer (the layer's own
 // plus its pigments' cᵢkᵢ and cᵢsᵢ, m⁻¹), the substrate and Saunderson's k1 and k2 per band.
 struct PaintOnGrid {
-    std::vector<std::vector<double>> K, S;  // [layer][band]
+    std::vector<std::vector<KubelkaMunkConstants>> films;  // [layer][band]
     std::vector<double> thickness_m;        // per layer
     int mapped = -1;                        // the layer whose thickness the map scales
     std::vector<double> substrate, k1, k2;  // per band; k1, k2 empty without a surface
@@ -200,9 +201,9 @@ struct PaintOnGrid {
     // The body reflectance in band b with the mapped layer's thickness × `factor`.
     double body(size_t b, double factor = 1.0) const {
         double r = substrate.empty() ? 0.0 : substrate[b];
-        for (size_t l = 0; l < K.size(); ++l) {
+        for (size_t l = 0; l < films.size(); ++l) {
             const double x = int(l) == mapped ? thickness_m[l] * factor : thickness_m[l];
-            r = kubelkaMunkOverSubstrate(K[l][b], S[l][b], x, r);
+            r = kubelkaMunkOverSubstrate(films[l][b], x, r);
         }
         return surface ? saundersonBody(r, k1[b], k2[b]) : r;
     }
@@ -228,8 +229,9 @@ PaintOnGrid paintOnGrid(const Material::Paint& paint, const std::vector<Material
             if (!(K[b] >= 0.0 && S[b] >= 0.0 && std::isfinite(K[b] + S[b])))
                 failInput(layer.where, "the layer's K = {:g} and S = {:g} m⁻¹ at {:g} nm; expected finite values ≥ 0",
                           K[b], S[b], nm[b]);
-        p.K.push_back(std::move(K));
-        p.S.push_back(std::move(S));
+        std::vector<KubelkaMunkConstants> film(bands);
+        for (size_t b = 0; b < bands; ++b) film[b] = kubelkaMunkConstants(K[b], S[b]);
+        p.films.push_back(std::move(film));
         p.thickness_m.push_back(layer.thickness_m);
         if (layer.thicknessMap >= 0) p.mapped = int(l);
     }
@@ -259,24 +261,36 @@ PaintOnGrid paintOnGrid(const Material::Paint& paint, const std::vector<Material
     return p;
 }
 
-// The paint's reflectance per texel of its thickness map: a spectral texture (memoized by the
-// texel's value: an 8-bit map has at most 256 distinct thicknesses).
+// The paint's reflectance per texel of its thickness map: a spectral texture. Computed once per
+// distinct texel value (an 8-bit map has at most 256, a 16-bit one 65 536), the values split
+// between threads.
 TextureOnGrid paintTexture(const PaintOnGrid& p, const Texture& map, size_t bands) {
+    std::unordered_map<float, uint32_t> index;  // texel value → its row in `spectra`
+    std::vector<float> values;
+    std::vector<uint32_t> row(map.texels.size());
+    for (size_t i = 0; i < map.texels.size(); ++i) {
+        auto [it, fresh] = index.emplace(map.texels[i], uint32_t(values.size()));
+        if (fresh) values.push_back(map.texels[i]);
+        row[i] = it->second;
+    }
+    std::vector<float> spectra(values.size() * bands);
+    auto compute = [&](size_t begin, size_t end) {
+        for (size_t v = begin; v < end; ++v)
+            for (size_t b = 0; b < bands; ++b) spectra[v * bands + b] = float(p.body(b, double(values[v])));
+    };
+    const size_t threads = std::clamp<size_t>(values.size() / 1024, 1, std::max(1u, std::thread::hardware_concurrency()));
+    std::vector<std::thread> pool;
+    for (size_t t = 1; t < threads; ++t)
+        pool.emplace_back(compute, values.size() * t / threads, values.size() * (t + 1) / threads);
+    compute(0, values.size() / threads);
+    for (std::thread& t : pool) t.join();
     TextureOnGrid t;
     t.width = map.width;
     t.height = map.height;
     t.channels = int(bands);
-    t.data.resize(size_t(map.width) * map.height * bands);
-    std::unordered_map<float, size_t> done;  // value → the first texel that has it
-    for (size_t i = 0; i < map.texels.size(); ++i) {
-        float* out = &t.data[i * bands];
-        auto [it, fresh] = done.emplace(map.texels[i], i);
-        if (!fresh) {
-            std::memcpy(out, &t.data[it->second * bands], bands * sizeof(float));
-            continue;
-        }
-        for (size_t b = 0; b < bands; ++b) out[b] = float(p.body(b, double(map.texels[i])));
-    }
+    t.data.resize(map.texels.size() * bands);
+    for (size_t i = 0; i < row.size(); ++i)
+        std::memcpy(&t.data[i * bands], &spectra[size_t(row[i]) * bands], bands * sizeof(float));
     return t;
 }
 

@@ -8,23 +8,31 @@
 
 namespace metamer {
 
-KubelkaMunkLayer kubelkaMunkLayer(double K, double S, double X) {
+KubelkaMunkConstants kubelkaMunkConstants(double K, double S) {
+    // √K·√(K + 2S) rather than √(K² + 2KS), which overflows first.
+    return {K, S, K + S, std::sqrt(K) * std::sqrt(K + 2.0 * S)};
+}
+
+KubelkaMunkLayer kubelkaMunkLayer(const KubelkaMunkConstants& f, double X) {
     KubelkaMunkLayer out;
     if (std::isinf(X)) {
-        out.reflectance = kubelkaMunkInfinite(K, S);
-        out.transmittance = (K + S > 0.0) ? 0.0 : 1.0;
+        out.reflectance = kubelkaMunkInfinite(f.K, f.S);
+        out.transmittance = (f.alpha > 0.0) ? 0.0 : 1.0;
         return out;
     }
-    // √K·√(K + 2S) rather than √(K² + 2KS), which overflows first.
-    const double alpha = K + S, beta = std::sqrt(K) * std::sqrt(K + 2.0 * S), bx = beta * X;
-    // t = tanh(βX)/β, by its series where βX is small (tanh x/x = 1 − x²/3 + 2x⁴/15 − …).
-    const double t = bx < 1e-4 ? X * (1.0 - bx * bx / 3.0) : std::tanh(bx) / beta;
-    const double denominator = alpha * t + 1.0;
+    const double bx = f.beta * X;
+    // t = tanh(βX)/β and sech(βX) from e = exp(−βX): tanh = −expm1(−2βX)/(1 + e²), sech = 2e/(1 + e²);
+    // by its series where βX is small (tanh x/x = 1 − x²/3 + …), where the quotient would lose digits.
+    const double e = std::exp(-bx), e2 = e * e;
+    const double t = bx < 1e-4 ? X * (1.0 - bx * bx / 3.0) : -std::expm1(-2.0 * bx) / ((1.0 + e2) * f.beta);
+    const double denominator = f.alpha * t + 1.0;
     // S·t/(α·t + 1) written as 1/(α/S + 1/(S·t)), finite when S·t overflows.
-    out.reflectance = S > 0.0 ? 1.0 / (alpha / S + 1.0 / (S * t)) : 0.0;
-    out.transmittance = 1.0 / (std::cosh(bx) * denominator);
+    out.reflectance = f.S > 0.0 ? 1.0 / (f.alpha / f.S + 1.0 / (f.S * t)) : 0.0;
+    out.transmittance = 2.0 * e / ((1.0 + e2) * denominator);
     return out;
 }
+
+KubelkaMunkLayer kubelkaMunkLayer(double K, double S, double X) { return kubelkaMunkLayer(kubelkaMunkConstants(K, S), X); }
 
 double kubelkaMunkInfinite(double K, double S) {
     if (S <= 0.0) return 0.0;
@@ -32,13 +40,17 @@ double kubelkaMunkInfinite(double K, double S) {
     return 1.0 / (1.0 + q + std::sqrt(q * (q + 2.0)));
 }
 
-double kubelkaMunkOverSubstrate(double K, double S, double X, double Rg) {
-    const KubelkaMunkLayer l = kubelkaMunkLayer(K, S, X);
+double kubelkaMunkOverSubstrate(const KubelkaMunkConstants& film, double X, double Rg) {
+    const KubelkaMunkLayer l = kubelkaMunkLayer(film, X);
     if (l.transmittance == 0.0) return l.reflectance;
     // R_l·Rg = 1 only for a layer that absorbs nothing over a white substrate: all light returns.
     const double denominator = 1.0 - l.reflectance * Rg;
     if (denominator <= 0.0) return 1.0;
     return l.reflectance + l.transmittance * l.transmittance * Rg / denominator;
+}
+
+double kubelkaMunkOverSubstrate(double K, double S, double X, double Rg) {
+    return kubelkaMunkOverSubstrate(kubelkaMunkConstants(K, S), X, Rg);
 }
 
 double kubelkaMunkStack(std::span<const KubelkaMunkFilm> bottomUp, double substrate) {

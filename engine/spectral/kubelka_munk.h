@@ -23,6 +23,15 @@ struct KubelkaMunkLayer {
 // (R = R∞, T = 0).
 KubelkaMunkLayer kubelkaMunkLayer(double K, double S, double X);
 
+// What every thickness of one film shares (α, β above), for evaluating it at many thicknesses — a
+// thickness map's texels: one exp per evaluation, no square root, tanh or cosh.
+struct KubelkaMunkConstants {
+    double K = 0.0, S = 0.0, alpha = 0.0, beta = 0.0;
+};
+KubelkaMunkConstants kubelkaMunkConstants(double K, double S);
+KubelkaMunkLayer kubelkaMunkLayer(const KubelkaMunkConstants& film, double X);
+double kubelkaMunkOverSubstrate(const KubelkaMunkConstants& film, double X, double Rg);
+
 // R∞ = a − b, the reflectance of a layer thick enough to hide anything, in the form
 // 1/(1 + K/S + √((K/S)² + 2K/S)), which does not cancel when K/S is large. 0 when S = 0.
 double kubelkaMunkInfinite(double K, double S);
