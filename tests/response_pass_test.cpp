@@ -155,7 +155,7 @@ Figures compareCase(const Case& c) {
 }
 
 const char* kScenes[] = {"spheres", "colorchecker", "textured", "metamers", "fluorescent", "fluorescent-matrix",
-                         "imaging-systems", "mesh"};
+                         "imaging-systems", "mesh", "paints"};
 
 }  // namespace
 
@@ -175,7 +175,7 @@ TEST(ResponsePass, EqualsTheCubePathOnEveryBundledSceneAndDetector) {
             worst.countsVsPass = std::max(worst.countsVsPass, f.countsVsPass);
             worst.countsVsReference = std::max(worst.countsVsReference, f.countsVsReference);
         }
-    std::printf("response pass vs cube path, 8 scenes × 6 detectors: worst relative error responses %.2e, XYZ %.2e; "
+    std::printf("response pass vs cube path, 9 scenes × 6 detectors: worst relative error responses %.2e, XYZ %.2e; "
                 "worst count difference %d (tonemap pass), %d (CPU tonemap)\n",
                 worst.responses, worst.xyz, worst.countsVsPass, worst.countsVsReference);
     EXPECT_NO_VALIDATION_ERRORS(before);
