@@ -134,3 +134,27 @@ def test_the_metameric_greys_match_under_d65_and_not_under_a(light, lo, hi):
     print(f"{light}: ΔE00 {de:.3f} (L* {lab_a[0]:.1f})")
     assert lo <= de <= hi
     assert 40 < lab_a[0] < 70   # a mid grey, and the pixel is on the patch
+
+
+def test_the_kubelka_munk_functions_convert_measured_reflectances_both_ways():
+    km = metamer.kubelka_munk
+    # The known answers, through the module.
+    assert km.infinite(0.1, 1.0) == pytest.approx(0.6417424, abs=5e-8)
+    assert km.reflectance(1, 10, 0.1) == pytest.approx(0.4610336, abs=5e-8)
+    assert km.reflectance(1, 10, 0.1, 0.8) == pytest.approx(0.7123473, abs=5e-8)
+    assert km.transmittance(1, 10, 0.1) == pytest.approx(0.4452842, abs=5e-8)
+    assert km.saunderson(km.infinite(0.1, 1.0), 0.04, 0.6) == pytest.approx(0.4407273, abs=5e-8)
+    assert km.reflectance(1, 10, math.inf, 0.3) == km.infinite(1, 10)
+    # Element-wise over arrays, against the oracles above.
+    K, S, X, Rg = np.array([0.5, 2.0, 8.0]), np.array([10.0, 3.0, 60.0]), np.array([0.05, 0.2, 0.01]), 0.4
+    assert np.allclose(km.reflectance(K, S, X, Rg), km_over(K, S, X, Rg), rtol=0, atol=1e-13)
+    assert km.k2(1.5) == pytest.approx(internal_diffuse_reflectance(1.5), abs=1e-12)
+    assert km.k1(1.5) == pytest.approx(0.04, abs=1e-16)
+    # A measured masstone (specular included) → R → K/S → R∞ → measured again.
+    measured = np.linspace(0.05, 0.9, 18)
+    k1, k2 = km.k1(1.5), km.k2(1.5)
+    R = km.saunderson_inverse(measured, k1, k2)
+    q = km.k_over_s(R)
+    again = km.saunderson(km.infinite(q, np.ones_like(q)), k1, k2)
+    assert np.allclose(again, measured, rtol=0, atol=1e-14)
+    assert np.allclose(km.saunderson(R, k1, k2) - km.saunderson_body(R, k1, k2), k1, atol=1e-15)
