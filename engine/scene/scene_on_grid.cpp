@@ -189,6 +189,11 @@ void photonBalance(const MaterialOnGrid& g, const std::vector<double>& nm, doubl
                                 worst, worstNm));
 }
 
+// n for a message: a Sellmeier formula past a pole gives n² < 0, whose root is not a number.
+std::string indexValue(double n) {
+    return std::isnan(n) ? std::string("not a real number (n² < 0: the formula is past a pole)") : fmt::format("{:g}", n);
+}
+
 // A paint's films on the grid (Material::Paint): K and S per band for each layer (the layer's own
 // plus its pigments' cᵢkᵢ and cᵢsᵢ, m⁻¹), the substrate and Saunderson's k1 and k2 per band.
 struct PaintOnGrid {
@@ -245,8 +250,8 @@ PaintOnGrid paintOnGrid(const Material::Paint& paint, const std::vector<Material
             for (double l : nm) {
                 const double n = s.ior->at(l);
                 if (!(n >= 1.0 && n <= 5.0))
-                    failInput(s.where.child("ior"), "the refractive index ({}) is {:g} at {:g} nm; expected 1 … 5 over the grid",
-                              s.iorSource, n, l);
+                    failInput(s.where.child("ior"), "the refractive index ({}) is {} at {:g} nm; expected 1 … 5 over the grid",
+                              s.iorSource, indexValue(n), l);
                 auto it = byIndex.find(n);
                 if (it == byIndex.end())
                     it = byIndex.emplace(n, std::pair{saundersonK1(n), internalDiffuseReflectance(n)}).first;
@@ -420,8 +425,8 @@ SceneOnGrid resampleScene(const Scene& scene, const Grid& grid, CoveragePolicy p
                 const double n = m.slab->ior.at(nm);
                 // A Sellmeier or Cauchy formula can pass through a pole or below 1 on the grid.
                 if (!(n >= 1.0 && n <= 5.0))
-                    failInput(m.slab->iorWhere, "the refractive index ({}) is {:g} at {:g} nm; expected 1 … 5 over the grid",
-                              m.slab->iorSource, n, nm);
+                    failInput(m.slab->iorWhere, "the refractive index ({}) is {} at {:g} nm; expected 1 … 5 over the grid",
+                              m.slab->iorSource, indexValue(n), nm);
                 g.ior.push_back(n);
             }
         }
