@@ -1,0 +1,127 @@
+#include "sensor/capture.h"
+
+#include "core/error.h"
+#include "core/statistics.h"
+#include "sensor/poisson.h"
+#include "spectral/resampling.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace metamer {
+
+namespace {
+
+// Streams: the key is (seed, purpose), the counter (pixel, frame, 0), so a pixel's shot noise, read
+// noise, PRNU and DSNU never share words, whatever the seeds.
+constexpr uint64_t kPrnuStream = 1, kDsnuStream = 2, kShotStream = 3, kReadStream = 4;
+
+}  // namespace
+
+double standardNormal(CounterStream& stream) {
+    const double u1 = stream.uniform(), u2 = stream.uniform();
+    return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * std::numbers::pi * u2);
+}
+
+double prnuGain(const SensorSpec& sensor, uint64_t pixel) {
+    if (sensor.prnu == 0.0) return 1.0;
+    CounterStream s({sensor.fpnSeed, kPrnuStream}, pixel, 0, 0);
+    return std::max(0.0, 1.0 + sensor.prnu * standardNormal(s));
+}
+
+double dsnuOffset(const SensorSpec& sensor, uint64_t pixel) {
+    if (sensor.dsnu_e == 0.0) return 0.0;
+    CounterStream s({sensor.fpnSeed, kDsnuStream}, pixel, 0, 0);
+    return sensor.dsnu_e * standardNormal(s);
+}
+
+ExpectedElectrons expectedElectrons(const SpectralCube& cube, const SensorSpec& sensor, std::optional<double> exposure_s) {
+    const Grid& grid = cube.grid;
+    const size_t bands = size_t(grid.bands());
+    const std::vector<double> nm = grid.wavelengths(), lens = resample(sensor.lensTransmittance, grid);
+    // Electrons per second per pixel from radiance L in band b on channel c:
+    // A · π·T(λ)/(4N²(1 + m)²) · QE_c(λ) · λ/(hc) · Δλ · L — the camera equation's irradiance,
+    // in photons, through the channel (cos⁴θ per pixel below).
+    const double optics = std::numbers::pi / (4.0 * sensor.fNumber * sensor.fNumber *
+                                              (1.0 + sensor.magnification) * (1.0 + sensor.magnification));
+    std::vector<std::vector<double>> weights;
+    for (const Spectrum& qe : sensor.quantumEfficiency) {
+        const std::vector<double> q = resample(qe, grid);
+        std::vector<double> w(bands);
+        for (size_t b = 0; b < bands; ++b)
+            w[b] = sensor.pixelArea_m2() * optics * lens[b] * q[b] * (nm[b] * 1e-9) / (kPlanck * kSpeedOfLight) * grid.step_nm;
+        weights.push_back(std::move(w));
+    }
+    ExpectedElectrons out;
+    out.width = cube.width;
+    out.height = cube.height;
+    const size_t pixels = size_t(cube.width) * size_t(cube.height);
+    std::vector<double> rate(pixels);  // signal electrons per second, before PRNU
+    out.channel.resize(pixels);
+    const double cx = 0.5 * cube.width, cy = 0.5 * cube.height;
+    for (int y = 0; y < cube.height; ++y)
+        for (int x = 0; x < cube.width; ++x) {
+            const size_t i = size_t(y) * cube.width + x;
+            const int c = sensor.channelAt(x, y);
+            out.channel[i] = uint8_t(c);
+            const float* L = cube.pixel(x, y);
+            double r = 0.0;
+            for (size_t b = 0; b < bands; ++b) r += weights[size_t(c)][b] * double(L[b]);
+            if (sensor.cos4) {
+                // θ between the optical axis and the ray to the pixel's centre, the lens focal length
+                // away: tan θ = (distance on the sensor) / f.
+                const double dx = (x + 0.5 - cx) * sensor.pitch_um * 1e-3, dy = (y + 0.5 - cy) * sensor.pitch_um * 1e-3;
+                const double c2 = 1.0 / (1.0 + (dx * dx + dy * dy) / (sensor.focalLength_mm * sensor.focalLength_mm));
+                r *= c2 * c2;
+            }
+            if (!std::isfinite(r) || r < 0.0)
+                failInput(Where{sensor.file.string()}, "pixel ({}, {}) receives {:g} electrons per second; the cube must "
+                                                       "hold finite radiance ≥ 0",
+                          x, y, r);
+            rate[i] = r;
+        }
+    if (exposure_s) {
+        out.exposure_s = *exposure_s;
+    } else if (sensor.exposure_s) {
+        out.exposure_s = *sensor.exposure_s;
+    } else {
+        // Auto-exposure: the 99th percentile of the signal reaches the chosen fraction of the full well.
+        const double p99 = percentile(rate, 0.99);
+        if (!(p99 > 0.0))
+            failInput(Where{sensor.file.string(), "exposure_s"},
+                      "auto-exposure needs light: the image's 99th-percentile pixel receives no signal; give an "
+                      "exposure time");
+        out.exposure_s = sensor.autoExposureFullWellFraction * sensor.fullWell_e / p99;
+        out.autoExposed = true;
+    }
+    out.electrons.resize(pixels);
+    for (size_t i = 0; i < pixels; ++i) {
+        const double dark = sensor.darkCurrent_e_per_s * out.exposure_s + dsnuOffset(sensor, i);
+        out.electrons[i] = std::max(0.0, out.exposure_s * rate[i] * prnuGain(sensor, i) + dark);
+    }
+    return out;
+}
+
+std::vector<uint16_t> digitize(const std::vector<double>& expected, int width, const SensorSpec& sensor,
+                               const CaptureNoise& noise) {
+    std::vector<uint16_t> raw(expected.size());
+    const double white = double(sensor.whiteLevel());
+    (void)width;
+    for (size_t i = 0; i < expected.size(); ++i) {
+        double electrons;
+        if (noise.enabled) {
+            CounterStream shot({noise.seed, kShotStream}, i, noise.frame, 0), read({noise.seed, kReadStream}, i, noise.frame, 0);
+            const double mean = std::min(expected[i], kMaxPoissonMean);
+            electrons = std::min(double(poisson(mean, shot)), sensor.fullWell_e);
+            if (sensor.readNoise_e > 0.0) electrons += sensor.readNoise_e * standardNormal(read);
+        } else {
+            electrons = std::min(expected[i], sensor.fullWell_e);
+        }
+        const double dn = std::nearbyint(sensor.gain_dn_per_e * electrons) + sensor.blackLevel_dn;
+        raw[i] = uint16_t(std::clamp(dn, 0.0, white));
+    }
+    return raw;
+}
+
+}  // namespace metamer

@@ -1,0 +1,58 @@
+// The simulated sensor's capture (docs/sensor.md): from a noise-free spectral radiance cube to
+// what the sensor records. Two steps, each testable alone:
+//   1. expectedElectrons: the camera equation, the channels' quantum efficiencies through the CFA,
+//      the exposure, dark current and the fixed patterns (PRNU, DSNU) — the mean electron count of
+//      every pixel, the truth the noise is drawn around;
+//   2. digitize: Poisson shot noise (of signal and dark current together), the full well, Gaussian
+//      read noise, the conversion gain, the black level and the ADC's range.
+// Random numbers come from counter-based streams (sensor/counter_rng.h) keyed by (seed, frame) and
+// pixel, and the fixed patterns from their own seed: the same files on any machine, in any order,
+// and frames that differ only in their temporal noise.
+// Tests: sensor/capture_test.cpp, tests/python/test_sensor.py.
+#pragma once
+
+#include "sensor/counter_rng.h"
+#include "sensor/sensor_spec.h"
+#include "spectral/cube.h"
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+namespace metamer {
+
+// Planck's constant and the speed of light (SI, exact since 2019).
+constexpr double kPlanck = 6.62607015e-34, kSpeedOfLight = 299792458.0;
+
+struct ExpectedElectrons {
+    int width = 0, height = 0;
+    double exposure_s = 0.0;
+    bool autoExposed = false;
+    std::vector<double> electrons;  // μe per pixel, row 0 at the top: signal·(1 + PRNU) + dark + DSNU, ≥ 0
+    std::vector<uint8_t> channel;   // the CFA's channel per pixel
+};
+
+// μe of every pixel of `cube` (spectral radiance, W·sr⁻¹·m⁻²·nm⁻¹) seen by `sensor`, exposed for
+// `exposure_s` (the sensor's own when not given, auto-exposure when it has none).
+ExpectedElectrons expectedElectrons(const SpectralCube& cube, const SensorSpec& sensor,
+                                    std::optional<double> exposure_s = std::nullopt);
+
+struct CaptureNoise {
+    bool enabled = true;     // false: DN = round(K·min(μe, full well)) + black, nothing drawn
+    uint64_t seed = 0;       // the temporal noise's seed …
+    uint64_t frame = 0;      // … and frame: each (seed, frame) is one exposure's noise
+};
+
+// The raw image: digital numbers per pixel, 0 … 2^bits − 1.
+std::vector<uint16_t> digitize(const std::vector<double>& expectedElectrons, int width, const SensorSpec& sensor,
+                               const CaptureNoise& noise);
+
+// The fixed patterns of `sensor` at pixel index i (y·width + x): its gain factor 1 + PRNU·z₁ and
+// its dark offset DSNU·z₂ in electrons, z standard normal from the sensor's fpn_seed.
+double prnuGain(const SensorSpec& sensor, uint64_t pixel);
+double dsnuOffset(const SensorSpec& sensor, uint64_t pixel);
+
+// A standard normal variate from two uniforms of `stream` (Box–Muller, the cosine branch).
+double standardNormal(CounterStream& stream);
+
+}  // namespace metamer
