@@ -61,4 +61,8 @@ fi
 if ! "$venv/bin/python" -c "import scipy.integrate" 2>/dev/null; then
   "${pip_in_venv[@]}" "scipy==1.17.1" "numpy==2.2.6"
 fi
+# colour-demosaicing: the oracle for the simulated sensor's Bayer mosaic (tests/python/test_sensor.py).
+if ! "$venv/bin/python" -c "import colour_demosaicing" 2>/dev/null; then
+  "${pip_in_venv[@]}" "colour-demosaicing==0.2.7" "colour-science==0.4.7" "numpy==2.2.6"
+fi
 echo "metamer: set-up complete"

@@ -3,6 +3,7 @@
 #include "app/batch_command.h"    // metamer batch
 #include "app/bench_command.h"    // metamer bench
 #include "app/cli_checks.h"       // checks every command line gets
+#include "app/capture_command.h"  // metamer capture
 #include "app/compare_command.h"  // metamer compare
 #include "app/preview_command.h"  // metamer preview
 #include "app/render_flags.h"     // the render flags, shared with preview, bench and batch
@@ -128,6 +129,11 @@ int main(int argc, char** argv) {
     auto* compare = addCompareCommand(app, compareArgs);
     // --- end metamer compare
 
+    // --- metamer capture (engine/app/capture_command.cpp, docs/sensor.md)
+    CaptureArgs captureArgs;
+    auto* capture = addCaptureCommand(app, captureArgs);
+    // --- end metamer capture
+
     // --- metamer bench (engine/app/bench_command.cpp, docs/speed-vs-accuracy.md)
     BenchArgs benchArgs;
     auto* bench = addBenchCommand(app, benchArgs);
@@ -164,6 +170,7 @@ int main(int argc, char** argv) {
     try {
         if (devices->parsed()) return listDevices();
         if (compare->parsed()) return runCompare(compareArgs);  // metamer compare
+        if (capture->parsed()) return runCapture(captureArgs);  // metamer capture
         if (bench->parsed()) return runBenchCommand(benchArgs);  // metamer bench
         if (batch->parsed()) return runBatchCommand(batchArgs);  // metamer batch
         if (preview->parsed()) return runPreviewCommand(previewArgs);  // metamer preview

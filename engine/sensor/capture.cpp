@@ -36,7 +36,8 @@ double dsnuOffset(const SensorSpec& sensor, uint64_t pixel) {
     return sensor.dsnu_e * standardNormal(s);
 }
 
-ExpectedElectrons expectedElectrons(const SpectralCube& cube, const SensorSpec& sensor, std::optional<double> exposure_s) {
+ExpectedElectrons expectedElectrons(const SpectralCube& cube, const SensorSpec& sensor, std::optional<double> exposure_s,
+                                    bool fixedPattern) {
     const Grid& grid = cube.grid;
     const size_t bands = size_t(grid.bands());
     const std::vector<double> nm = grid.wavelengths(), lens = resample(sensor.lensTransmittance, grid);
@@ -97,8 +98,8 @@ ExpectedElectrons expectedElectrons(const SpectralCube& cube, const SensorSpec& 
     }
     out.electrons.resize(pixels);
     for (size_t i = 0; i < pixels; ++i) {
-        const double dark = sensor.darkCurrent_e_per_s * out.exposure_s + dsnuOffset(sensor, i);
-        out.electrons[i] = std::max(0.0, out.exposure_s * rate[i] * prnuGain(sensor, i) + dark);
+        const double gain = fixedPattern ? prnuGain(sensor, i) : 1.0, offset = fixedPattern ? dsnuOffset(sensor, i) : 0.0;
+        out.electrons[i] = std::max(0.0, out.exposure_s * (rate[i] * gain + sensor.darkCurrent_e_per_s) + offset);
     }
     return out;
 }

@@ -33,9 +33,10 @@ struct ExpectedElectrons {
 };
 
 // μe of every pixel of `cube` (spectral radiance, W·sr⁻¹·m⁻²·nm⁻¹) seen by `sensor`, exposed for
-// `exposure_s` (the sensor's own when not given, auto-exposure when it has none).
+// `exposure_s` (the sensor's own when not given, auto-exposure when it has none); without
+// `fixedPattern`, every pixel has gain 1 and no dark offset (a noise-free capture).
 ExpectedElectrons expectedElectrons(const SpectralCube& cube, const SensorSpec& sensor,
-                                    std::optional<double> exposure_s = std::nullopt);
+                                    std::optional<double> exposure_s = std::nullopt, bool fixedPattern = true);
 
 struct CaptureNoise {
     bool enabled = true;     // false: DN = round(K·min(μe, full well)) + black, nothing drawn

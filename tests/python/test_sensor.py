@@ -1,0 +1,114 @@
+"""The simulated sensor (issue 29; docs/sensor.md) end to end through `metamer capture`, against
+oracles written here: numpy's own camera equation on the rendered cube (noise off: the raw is
+round(K·μe) + black, exactly), colour-demosaicing's Bayer mosaic, and the files' determinism.
+Run by CTest (tests/CMakeLists.txt, test `python_sensor`). The noise statistics themselves (Poisson
+flat fields, photon transfer, χ²) are tested in engine/sensor/*_test.cpp and
+tests/python/check_counter_rng.py.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import warnings
+from pathlib import Path
+
+import numpy as np
+import OpenImageIO as oiio
+import pytest
+
+warnings.filterwarnings("ignore")
+
+REPO = Path(__file__).resolve().parents[2]
+BINARY = os.environ.get("METAMER_BINARY", str(REPO / "build" / "metamer"))
+SENSOR = REPO / "spectra" / "sensors" / "aps_c_rggb.json"
+H, C = 6.62607015e-34, 299792458.0
+
+
+def run(*args):
+    p = subprocess.run([BINARY, *map(str, args)], capture_output=True, text=True)
+    assert p.returncode == 0, p.stderr
+    return p.stdout
+
+
+def read(path, dtype=oiio.FLOAT):
+    buf = oiio.ImageBuf(str(path))
+    return buf.get_pixels(dtype)
+
+
+@pytest.fixture(scope="module")
+def cube(tmp_path_factory):
+    out = tmp_path_factory.mktemp("sensor")
+    run("render", REPO / "scenes" / "metamers.json", "--out", out, "--write", "cube",
+        "--set", "camera.width=64", "--set", "camera.height=32")
+    return out / "metamers.exr"
+
+
+def expected_electrons(cube_path, sensor, exposure):
+    """The camera equation in numpy: μe = t·A·π·T/(4N²)·Σ QE_c(λ)·λ/(hc)·Δλ·L(λ), the CFA's channel per pixel."""
+    buf = oiio.ImageBuf(str(cube_path))
+    spec = buf.spec()
+    names = [spec.channelnames[i] for i in range(spec.nchannels)]
+    nm = np.array([float(n.split(".", 1)[1][:-2].replace(",", ".")) for n in names])  # S0.380,000000nm
+    L = buf.get_pixels(oiio.FLOAT).astype(np.float64)          # rows × columns × bands
+    table = np.loadtxt(REPO / "spectra" / (sensor["quantum_efficiency"]["table"] + ".csv"), delimiter=",", skiprows=1)
+    qe = np.stack([np.interp(nm, table[:, 0], table[:, c], left=0, right=0) for c in (1, 2, 3)])
+    qe *= sensor["quantum_efficiency"]["peak"] / table[:, 1:].max()
+    optics = sensor["optics"]
+    area = (sensor["pixel"]["pitch_um"] * 1e-6) ** 2 * sensor["pixel"]["fill_factor"]
+    step = nm[1] - nm[0]
+    w = area * np.pi * optics["transmittance"] / (4 * optics["f_number"] ** 2) * qe * (nm * 1e-9) / (H * C) * step
+    rate = np.einsum("yxb,cb->yxc", L, w)                       # every channel at every pixel
+    rows, cols = np.indices(rate.shape[:2])
+    channel = np.array([[0, 1], [1, 2]])[rows % 2, cols % 2]    # RGGB
+    signal = np.take_along_axis(rate, channel[..., None], axis=2)[..., 0]
+    return exposure * (signal + sensor["dark_current_e_per_s"]), signal
+
+
+def test_without_noise_the_raw_is_the_rounded_camera_equation(cube, tmp_path):
+    run("capture", cube, "--sensor", SENSOR, "--out", tmp_path, "--no-noise")
+    meta = json.loads((tmp_path / "metamers.raw.json").read_text())
+    sensor = json.loads(SENSOR.read_text())
+    raw = read(tmp_path / "metamers.raw.png", oiio.UINT16)[..., 0].astype(np.int64)
+    mu, signal = expected_electrons(cube, sensor, meta["exposure_s"])
+    # Auto-exposure: the 99th-percentile (nearest rank) signal reaches 0.7 of the full well.
+    ranked = np.sort(signal.ravel())
+    p99 = ranked[int(np.ceil(0.99 * ranked.size)) - 1]
+    assert meta["exposure_s"] * p99 == pytest.approx(0.7 * sensor["full_well_e"], rel=1e-9)
+    want = np.clip(np.rint(sensor["conversion_gain_dn_per_e"] * np.minimum(mu, sensor["full_well_e"]))
+                   + sensor["black_level_dn"], 0, 2 ** sensor["adc_bits"] - 1)
+    assert np.abs(raw - want).max() <= 1
+    assert np.mean(raw == want) > 0.999
+    truth = read(tmp_path / "metamers.electrons.exr")[..., 0]
+    assert np.allclose(truth, mu, rtol=1e-6)
+
+
+def test_a_flat_field_mosaic_is_colour_demosaicings_bayer_mosaic(tmp_path):
+    from colour_demosaicing import mosaicing_CFA_Bayer
+    scene = {"grid": {"start_nm": 380, "end_nm": 780, "step_nm": 5},
+             "camera": {"projection": "orthographic", "position": [0, 0, 1], "target": [0, 0, 0],
+                        "height_m": 1, "width": 16, "height": 12},
+             "lights": [{"type": "ambient", "spectrum": "illuminants/D65", "scale": 0.05}],
+             "materials": {"chart": {"diffuse": "colorchecker/orange"}},
+             "objects": [{"shape": "quad", "center": [0, 0, 0], "normal": [0, 0, 1], "size": [4, 4], "material": "chart"}]}
+    (tmp_path / "flat.json").write_text(json.dumps(scene))
+    run("render", tmp_path / "flat.json", "--out", tmp_path, "--write", "cube")
+    run("capture", tmp_path / "flat.exr", "--sensor", SENSOR, "--out", tmp_path, "--no-noise")
+    raw = read(tmp_path / "flat.raw.png", oiio.UINT16)[..., 0].astype(np.float64)
+    rgb = np.empty(raw.shape + (3,))
+    rgb[..., 0], rgb[..., 1], rgb[..., 2] = raw[0, 0], raw[0, 1], raw[1, 1]
+    assert raw[0, 0] != raw[0, 1] != raw[1, 1]
+    np.testing.assert_array_equal(mosaicing_CFA_Bayer(rgb, pattern="RGGB"), raw)
+
+
+def test_frames_are_reproducible_and_differ_only_by_seed_and_frame(cube, tmp_path):
+    a, b = tmp_path / "a", tmp_path / "b"
+    run("capture", cube, "--sensor", SENSOR, "--out", a, "--seed", 7, "--frames", 2)
+    run("capture", cube, "--sensor", SENSOR, "--out", b, "--seed", 7, "--frame", 1)
+    f0, f1 = (read(a / f"metamers.raw.{i}.png", oiio.UINT16) for i in (0, 1))
+    again = read(b / "metamers.raw.png", oiio.UINT16)
+    np.testing.assert_array_equal(f1, again)          # frame 1 alone = frame 1 of a run of two
+    assert (f0 != f1).mean() > 0.5                    # another frame: other noise
+    meta = json.loads((a / "metamers.raw.1.json").read_text())
+    assert (meta["seed"], meta["frame"], meta["white_level_dn"], meta["cfa"]) == (7, 1, 16383, [["r", "g"], ["g", "b"]])
