@@ -1,0 +1,93 @@
+#include "sensor/sensor_spec.h"
+
+#include "core/error.h"
+#include "support/temp_folder.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <fstream>
+
+using namespace metamer;
+
+namespace {
+
+class SensorFile : public test::TempFolderTest {
+protected:
+    nlohmann::ordered_json base() const {
+        return nlohmann::ordered_json::parse(R"({
+          "optics": {"f_number": 4, "transmittance": 0.9},
+          "pixel": {"pitch_um": 4.78},
+          "quantum_efficiency": {"table": "cameras/nikon_d5100", "peak": 0.45},
+          "cfa": "RGGB", "exposure_s": 0.01, "full_well_e": 30000, "conversion_gain_dn_per_e": 0.5
+        })");
+    }
+    SensorSpec read(const nlohmann::ordered_json& j) {
+        const auto path = dir / "sensor.json";
+        std::ofstream(path) << j.dump(2);
+        return readSensor(path, library);
+    }
+    // The input error `j` raises: its key and text.
+    std::string error(const nlohmann::ordered_json& j) {
+        try {
+            read(j);
+        } catch (const Error& e) {
+            EXPECT_EQ(e.code(), ExitCode::BadInput);
+            return e.where().key + ": " + e.message();
+        }
+        return "(no error)";
+    }
+    const SpectrumLibrary library;
+};
+
+}  // namespace
+
+TEST_F(SensorFile, TheBundledSensorReads) {
+    const SensorSpec s = readSensor(library.root() / "sensors" / "aps_c_rggb.json", library);
+    EXPECT_EQ(s.channels, (std::vector<std::string>{"r", "g", "b"}));
+    EXPECT_EQ(s.cfa, (std::vector<std::vector<int>>{{0, 1}, {1, 2}}));
+    EXPECT_EQ(s.channelAt(0, 0), 0);
+    EXPECT_EQ(s.channelAt(3, 3), 2);
+    EXPECT_EQ(s.whiteLevel(), 16383u);
+    EXPECT_FALSE(s.exposure_s.has_value());  // "auto"
+    double peak = 0.0;
+    for (const Spectrum& q : s.quantumEfficiency)
+        for (double v : q.values) peak = std::max(peak, v);
+    EXPECT_NEAR(peak, 0.45, 1e-15);
+}
+
+TEST_F(SensorFile, PatternsByLettersRowsAndMono) {
+    auto j = base();
+    j["cfa"] = "GBRG";
+    EXPECT_EQ(read(j).cfa, (std::vector<std::vector<int>>{{1, 2}, {0, 1}}));
+    j["cfa"] = nlohmann::ordered_json::parse(R"([["g", "r", "g"], ["b", "g", "b"]])");
+    EXPECT_EQ(read(j).cfa, (std::vector<std::vector<int>>{{1, 0, 1}, {2, 1, 2}}));
+}
+
+TEST_F(SensorFile, MistakesNameTheKey) {
+    auto with = [&](const char* key, nlohmann::ordered_json v) {
+        auto j = base();
+        j[key] = std::move(v);
+        return error(j);
+    };
+    EXPECT_NE(with("cfa", "RGBG").find("cfa: 'RGBG' is not one of RGGB, BGGR, GRBG, GBRG, mono; did you mean 'RGGB'?"),
+              std::string::npos);
+    EXPECT_NE(with("cfa", "mono").find("cfa: a monochrome sensor has one channel; the quantum-efficiency table has 3"),
+              std::string::npos);
+    EXPECT_NE(with("cfa", nlohmann::ordered_json::parse(R"([["r", "x"]])")).find("cfa.0.1: unknown channel 'x'"),
+              std::string::npos);
+    EXPECT_NE(with("exposure_s", "long").find("exposure_s: expected an exposure time in seconds or \"auto\""),
+              std::string::npos);
+    EXPECT_NE(with("adc_bits", 17).find("adc_bits"), std::string::npos);
+    EXPECT_NE(with("fpn_seed", 1.5).find("fpn_seed: expected a whole number"), std::string::npos);
+    EXPECT_NE(with("exposure", 1).find("exposure: "), std::string::npos);  // a typo, with a suggestion
+    auto j = base();
+    j.erase("pixel");
+    EXPECT_NE(error(j).find("pixel: missing required key"), std::string::npos) << error(j);
+    j = base();
+    j["quantum_efficiency"]["table"] = "cameras/nikon";
+    EXPECT_NE(error(j).find("quantum_efficiency.table"), std::string::npos) << error(j);
+    j = base();
+    j["optics"]["transmittance"] = 1.5;
+    EXPECT_NE(error(j).find("optics.transmittance"), std::string::npos) << error(j);
+}
