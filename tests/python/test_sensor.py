@@ -112,3 +112,21 @@ def test_frames_are_reproducible_and_differ_only_by_seed_and_frame(cube, tmp_pat
     assert (f0 != f1).mean() > 0.5                    # another frame: other noise
     meta = json.loads((a / "metamers.raw.1.json").read_text())
     assert (meta["seed"], meta["frame"], meta["white_level_dn"], meta["cfa"]) == (7, 1, 16383, [["r", "g"], ["g", "b"]])
+
+
+def test_the_worked_example_measures_the_camera_mismatch_within_its_noise():
+    import importlib.util
+    spec = importlib.util.spec_from_file_location("sensor_metamers", REPO / "docs" / "examples" / "sensor_metamers.py")
+    example = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(example)
+    rows = example.analyse("illuminants/D65")
+    assert len(rows) == 9
+    for r in rows:
+        # The patch means' difference is the true Δ within 5 standard errors (n = 1600 per patch;
+        # demosaicing correlates neighbours, so σ·√(2/n) is a lower bound: allow 5× that, and 2×).
+        assert abs(r["measured_delta_e"] - r["delta_e"]) < 10 * r["sigma_e"] * np.sqrt(2 / 1600), r
+    full = [r for r in rows if r["fraction"] == 1]
+    dim = [r for r in rows if r["fraction"] == 1 / 1024]
+    assert all(r["snr_pixel"] > 5 for r in full)     # the camera sees the pair differ, pixel by pixel
+    assert all(r["snr_pixel"] < 1 for r in dim)      # at 1/1024 of the exposure, noise hides it per pixel
+    assert all(r["snr_patch"] > 3 for r in dim)      # but 1600-pixel means still resolve it
