@@ -17,24 +17,6 @@ namespace metamer {
 
 namespace fs = std::filesystem;
 
-namespace {
-
-// A library sensor (spectra/sensors/NAME.json) or a file.
-fs::path sensorPath(const std::string& given, const SpectrumLibrary& library) {
-    const fs::path asFile(given);
-    if (asFile.extension() == ".json" || asFile.has_parent_path()) return asFile;
-    const fs::path inLibrary = library.root() / "sensors" / (given + ".json");
-    if (fs::exists(inLibrary)) return inLibrary;
-    std::string names;
-    std::error_code ec;
-    for (const auto& e : fs::directory_iterator(library.root() / "sensors", ec))
-        if (e.path().extension() == ".json") names += (names.empty() ? "" : ", ") + e.path().stem().string();
-    failInput(Where{"--sensor"}, "'{}' is neither a .json file nor a library sensor (the library has {})", given,
-              names.empty() ? "none" : names);
-}
-
-}  // namespace
-
 CLI::App* addCaptureCommand(CLI::App& app, CaptureArgs& a) {
     CLI::App* c = app.add_subcommand("capture", "what a simulated camera sensor records from a rendered cube: a raw "
                                                 "mosaic with shot, read and fixed-pattern noise (docs/sensor.md)");
@@ -55,7 +37,7 @@ CLI::App* addCaptureCommand(CLI::App& app, CaptureArgs& a) {
 
 int runCapture(const CaptureArgs& a) {
     const SpectrumLibrary library;
-    const SensorSpec sensor = readSensor(sensorPath(a.sensor, library), library);
+    const SensorSpec sensor = readSensor(sensorFile(a.sensor, library), library);
     const SpectralImage image = readSpectralImage(a.cube);
     if (image.component != SpectralComponent::Emissive)
         failInput(Where{a.cube}, "the cube holds reflectance; a sensor captures spectral radiance (metamer render's cube)");

@@ -13,6 +13,7 @@
 #include "render/render_job.h"
 #include "render/render_settings.h"
 #include "render/render_setup.h"
+#include "sensor/capture.h"
 #include "spectral/kubelka_munk.h"
 #include "spectral/resampling.h"
 #include "vk/context.h"
@@ -308,6 +309,65 @@ py::dict loadCube(const py::object& path) {
     return d;
 }
 
+// metamer.capture: the simulated sensor (docs/sensor.md) on a Render's cube or a cube file.
+py::dict capture(const py::object& source, const py::object& sensorName, uint64_t seed, uint64_t frame, int frames,
+                 std::optional<double> exposure, bool noise) {
+    if (frames < 1 || frames > 100000) failInput(Where{"frames"}, "expected 1 … 100000 frames, got {}", frames);
+    if (exposure && !(*exposure > 0.0 && std::isfinite(*exposure)))
+        failInput(Where{"exposure"}, "expected an exposure time > 0 in seconds, got {:g}", *exposure);
+    const SpectrumLibrary library;
+    const SensorSpec sensor = readSensor(sensorFile(pathOf(sensorName).string(), library), library);
+    SpectralCube cube;
+    if (py::isinstance<Render>(source)) {
+        const Render& r = source.cast<const Render&>();
+        if (!r.spectral || r.captured.outputs.cube.empty())
+            failInput(Where{"source"}, "the render holds no spectral cube: render with write=\"cube\" in mode \"full\"");
+        cube.width = r.captured.outputs.width;
+        cube.height = r.captured.outputs.height;
+        cube.grid = r.captured.grid;
+        cube.data = r.captured.outputs.cube;
+    } else {
+        SpectralImage image = readSpectralImage(pathOf(source));
+        if (image.component != SpectralComponent::Emissive)
+            failInput(Where{pathOf(source).string()}, "the cube holds reflectance; a sensor captures spectral radiance");
+        cube = std::move(image.cube);
+    }
+    ExpectedElectrons e;
+    std::vector<std::vector<uint16_t>> raws;
+    {
+        py::gil_scoped_release release;
+        e = expectedElectrons(cube, sensor, exposure, noise);
+        for (int f = 0; f < frames; ++f)
+            raws.push_back(digitize(e.electrons, e.width, sensor, CaptureNoise{noise, seed, frame + uint64_t(f)}));
+    }
+    const py::ssize_t h = e.height, w = e.width;
+    py::array_t<uint16_t> raw = frames == 1 ? py::array_t<uint16_t>({h, w}) : py::array_t<uint16_t>({py::ssize_t(frames), h, w});
+    uint16_t* out = raw.mutable_data();
+    for (const auto& r : raws) out = std::copy(r.begin(), r.end(), out);
+    py::array_t<double> electrons({h, w});
+    std::copy(e.electrons.begin(), e.electrons.end(), electrons.mutable_data());
+    py::list cfa;
+    for (const auto& row : sensor.cfa) {
+        py::list names;
+        for (int c : row) names.append(sensor.channels[size_t(c)]);
+        cfa.append(names);
+    }
+    py::dict d;
+    d["raw"] = raw;
+    d["electrons"] = electrons;
+    d["channels"] = sensor.channels;
+    d["cfa"] = cfa;
+    d["black_level_dn"] = sensor.blackLevel_dn;
+    d["white_level_dn"] = sensor.whiteLevel();
+    d["conversion_gain_dn_per_e"] = sensor.gain_dn_per_e;
+    d["exposure_s"] = e.exposure_s;
+    d["auto_exposed"] = e.autoExposed;
+    d["seed"] = seed;
+    d["frame"] = frame;
+    d["sensor"] = sensor.file.string();
+    return d;
+}
+
 void translate(std::exception_ptr p) {
     try {
         if (p) std::rethrow_exception(p);
@@ -459,6 +519,11 @@ PYBIND11_MODULE(metamer, m) {
           "Reads a spectral cube (OpenEXR, HDF5 or ENVI): a dict with cube (rows × columns × bands float32), "
           "wavelengths_nm, grid, quantity and units");
 
+    m.def("capture", &capture, py::arg("source"), py::arg("sensor"), py::kw_only(), py::arg("seed") = 0,
+          py::arg("frame") = 0, py::arg("frames") = 1, py::arg("exposure") = py::none(), py::arg("noise") = true,
+          "What a simulated sensor records from a Render's cube or a cube file (docs/sensor.md): a dict with raw "
+          "(rows × columns uint16 digital numbers; frames × rows × columns when frames > 1), electrons (the "
+          "expected electrons, float64), channels, cfa, black and white levels, conversion gain, exposure");
     m.def("_context_count", [] { return contexts().size(); }, "Vulkan contexts made so far (tests)");
 
     // The Kubelka–Munk functions the paints use (spectral/kubelka_munk.h; docs/physics.md, "Paints

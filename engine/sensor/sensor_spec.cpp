@@ -89,6 +89,20 @@ std::vector<std::vector<int>> cfaFromLetters(const std::string& letters, const s
 
 }  // namespace
 
+fs::path sensorFile(const std::string& given, const SpectrumLibrary& library) {
+    const fs::path asFile(given);
+    if (asFile.extension() == ".json" || asFile.has_parent_path()) return asFile;
+    const fs::path inLibrary = library.root() / "sensors" / (given + ".json");
+    if (fs::exists(inLibrary)) return inLibrary;
+    std::vector<std::string> names;
+    std::error_code ec;
+    for (const auto& e : fs::directory_iterator(library.root() / "sensors", ec))
+        if (e.path().extension() == ".json") names.push_back(e.path().stem().string());
+    std::sort(names.begin(), names.end());
+    failInput(Where{"--sensor"}, "'{}' is neither a .json file nor a library sensor (the library has {})", given,
+              names.empty() ? std::string("none") : join(names));
+}
+
 SensorSpec readSensor(const fs::path& file, const SpectrumLibrary& library) {
     SensorSpec s;
     s.file = file;

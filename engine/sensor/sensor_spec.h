@@ -63,4 +63,8 @@ struct SensorSpec {
 // `library`, file names ending in .csv relative to the sensor file's folder.
 SensorSpec readSensor(const std::filesystem::path& file, const SpectrumLibrary& library);
 
+// The sensor file `given` names: itself when it ends in .json or has a folder, else the library
+// sensor spectra/sensors/<given>.json (an input error naming --sensor and listing them if none).
+std::filesystem::path sensorFile(const std::string& given, const SpectrumLibrary& library);
+
 }  // namespace metamer

@@ -130,3 +130,22 @@ def test_the_worked_example_measures_the_camera_mismatch_within_its_noise():
     assert all(r["snr_pixel"] > 5 for r in full)     # the camera sees the pair differ, pixel by pixel
     assert all(r["snr_pixel"] < 1 for r in dim)      # at 1/1024 of the exposure, noise hides it per pixel
     assert all(r["snr_patch"] > 3 for r in dim)      # but 1600-pixel means still resolve it
+
+
+def test_the_python_module_returns_the_same_arrays_as_the_files(cube, tmp_path):
+    import metamer
+    run("capture", cube, "--sensor", SENSOR, "--out", tmp_path, "--seed", 4, "--frame", 2)
+    from_files = read(tmp_path / "metamers.raw.png", oiio.UINT16)[..., 0]
+    c = metamer.capture(cube, str(SENSOR), seed=4, frame=2)
+    np.testing.assert_array_equal(c["raw"], from_files)
+    truth = read(tmp_path / "metamers.electrons.exr")[..., 0]
+    np.testing.assert_allclose(c["electrons"], truth, rtol=1e-7)   # the file holds float32
+    assert c["cfa"] == [["r", "g"], ["g", "b"]] and c["white_level_dn"] == 16383
+    # A Render's cube, several frames: frame 2 of a run from 0 is the frame above.
+    r = metamer.render(str(REPO / "scenes" / "metamers.json"), write="cube",
+                       overrides={"camera.width": 64, "camera.height": 32})
+    frames = metamer.capture(r, "aps_c_rggb", seed=4, frames=3)
+    assert frames["raw"].shape == (3, 32, 64)
+    np.testing.assert_array_equal(frames["raw"][2], from_files)
+    with pytest.raises(metamer.InputError, match="library sensor"):
+        metamer.capture(r, "no_such_sensor")
