@@ -11,7 +11,7 @@ packages=(
   libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers vulkan-tools
   glslang-tools spirv-tools
   libglm-dev libeigen3-dev libfmt-dev nlohmann-json3-dev libcli11-dev libtinygltf-dev
-  libopenexr-dev libpng-dev libopenimageio-dev openimageio-tools
+  libopenexr-dev libpng-dev libtiff-dev libopenimageio-dev openimageio-tools
   libglfw3-dev libimgui-dev xvfb fonts-dejavu-core
   libgtest-dev libssl-dev libhdf5-dev pybind11-dev
   slurmctld slurmd slurm-client munge
@@ -64,5 +64,9 @@ fi
 # colour-demosaicing: the oracle for the simulated sensor's Bayer mosaic (tests/python/test_sensor.py).
 if ! "$venv/bin/python" -c "import colour_demosaicing" 2>/dev/null; then
   "${pip_in_venv[@]}" "colour-demosaicing==0.2.7" "colour-science==0.4.7" "numpy==2.2.6"
+fi
+# rawpy (LibRaw): the reader that checks the simulated sensor's DNG files (tests/python/test_sensor.py).
+if ! "$venv/bin/python" -c "import rawpy" 2>/dev/null; then
+  "${pip_in_venv[@]}" "rawpy==0.28.0" "numpy==2.2.6"
 fi
 echo "metamer: set-up complete"

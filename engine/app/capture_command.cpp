@@ -4,9 +4,11 @@
 #include "core/error.h"
 #include "core/json.h"
 #include "io/atomic_file.h"
+#include "io/dng_file.h"
 #include "io/image_file.h"
 #include "io/spectral_image.h"
 #include "sensor/capture.h"
+#include "sensor/sensor_colour.h"
 #include "spectral/library.h"
 
 #include <fmt/format.h>
@@ -43,6 +45,8 @@ int runCapture(const CaptureArgs& a) {
         failInput(Where{a.cube}, "the cube holds reflectance; a sensor captures spectral radiance (metamer render's cube)");
     const SpectralCube& cube = image.cube;
     const ExpectedElectrons e = expectedElectrons(cube, sensor, a.exposure, !a.noNoise);
+    // An RGB Bayer sensor's frames are also DNGs, with the colour data a raw converter needs.
+    const std::optional<SensorColour> colour = sensorColour(sensor, library);
     const std::string stem = fs::path(a.cube).stem().string();
     const fs::path out(a.out);
 
@@ -61,8 +65,23 @@ int runCapture(const CaptureArgs& a) {
         const std::string name = a.frames == 1 ? stem + ".raw" : fmt::format("{}.raw.{}", stem, frame);
         std::vector<uint16_t> counts(raw.begin(), raw.end());
         writeImage(out / (name + ".png"), ImageFile{e.width, e.height, {"Y"}, {}}, counts, 16);
+        if (colour) {
+            DngRaw dng;
+            dng.width = e.width;
+            dng.height = e.height;
+            dng.pixels = raw.data();
+            dng.cfa = colour->cfa;
+            dng.blackLevel = sensor.blackLevel_dn;
+            dng.whiteLevel = sensor.whiteLevel();
+            dng.colorMatrix1 = colour->xyzToCamera;
+            dng.asShotNeutral = colour->asShotNeutral;
+            dng.model = "Metamer " + sensor.file.stem().string();
+            dng.description = sensor.description;
+            writeDng(out / (name + ".dng"), dng);
+        }
         nlohmann::ordered_json meta = {
             {"raw", name + ".png"},
+            {"dng", colour ? nlohmann::ordered_json(name + ".dng") : nlohmann::ordered_json(nullptr)},
             {"electrons", stem + ".electrons.exr"},
             {"cube", a.cube},
             {"sensor", sensor.file.string()},
@@ -87,6 +106,11 @@ int runCapture(const CaptureArgs& a) {
             {"fpn_seed", sensor.fpnSeed},
             {"quantum_efficiency", sensor.qeSource},
         };
+        if (colour) {
+            meta["xyz_to_camera_d65"] = colour->xyzToCamera;
+            meta["as_shot_neutral"] = colour->asShotNeutral;
+            meta["characterization_rms_delta_e2000"] = colour->rmsDeltaE2000;
+        }
         writeFileAtomically(out / (name + ".json"), meta.dump(2) + "\n");
         std::printf("wrote %s (%d×%d, %s, exposure %.6g s%s, %s)\n", (out / (name + ".png")).string().c_str(), e.width,
                     e.height, sensor.cfaName.c_str(), e.exposure_s, e.autoExposed ? " (auto)" : "",

@@ -149,3 +149,24 @@ def test_the_python_module_returns_the_same_arrays_as_the_files(cube, tmp_path):
     np.testing.assert_array_equal(frames["raw"][2], from_files)
     with pytest.raises(metamer.InputError, match="library sensor"):
         metamer.capture(r, "no_such_sensor")
+
+
+def test_the_dng_reads_back_through_rawpy_with_its_pattern_levels_and_colour(cube, tmp_path):
+    import rawpy
+    run("capture", cube, "--sensor", SENSOR, "--out", tmp_path, "--seed", 9)
+    meta = json.loads((tmp_path / "metamers.raw.json").read_text())
+    png = read(tmp_path / "metamers.raw.png", oiio.UINT16)[..., 0]
+    with rawpy.imread(str(tmp_path / meta["dng"])) as r:
+        np.testing.assert_array_equal(r.raw_image_visible, png)         # the same digital numbers
+        assert r.color_desc == b"RGBG" and r.raw_pattern.tolist() == [[0, 1], [3, 2]]   # RGGB
+        assert list(r.black_level_per_channel) == [0, 0, 0, 0] and r.white_level == 16383
+        # LibRaw's white balance multipliers are the inverse of the as-shot neutral, green = 1.
+        n = np.array(meta["as_shot_neutral"])
+        np.testing.assert_allclose(np.array(r.camera_whitebalance[:3]), n[1] / n, rtol=1e-6)
+        developed = r.postprocess(use_camera_wb=True, no_auto_bright=True, output_bps=16)
+        assert developed.shape == (32, 64, 3)
+    # The colour matrix maps the D65 white to the neutral.
+    m = np.array(meta["xyz_to_camera_d65"]).reshape(3, 3)
+    d65_white = np.array([0.95047, 1.0, 1.08883])
+    np.testing.assert_allclose(m @ d65_white, n, atol=2e-3)
+    assert meta["characterization_rms_delta_e2000"] < 5

@@ -1,0 +1,56 @@
+#include "sensor/sensor_colour.h"
+
+#include "color/camera_characterization.h"
+#include "spectral/resampling.h"
+
+#include <glm/glm.hpp>
+
+#include <algorithm>
+#include <cctype>
+
+namespace metamer {
+
+std::optional<SensorColour> sensorColour(const SensorSpec& sensor, const SpectrumLibrary& library) {
+    if (sensor.channels.size() != 3 || sensor.cfa.size() != 2 || sensor.cfa[0].size() != 2) return std::nullopt;
+    // Channel index → DNG colour code, by the channel's first letter.
+    std::array<int, 3> code{-1, -1, -1}, byCode{-1, -1, -1};
+    for (size_t c = 0; c < 3; ++c) {
+        const char first = char(std::tolower(static_cast<unsigned char>(sensor.channels[c].empty() ? ' ' : sensor.channels[c][0])));
+        const int k = first == 'r' ? 0 : first == 'g' ? 1 : first == 'b' ? 2 : -1;
+        if (k < 0 || byCode[size_t(k)] >= 0) return std::nullopt;
+        code[c] = k;
+        byCode[size_t(k)] = int(c);
+    }
+    SensorColour out;
+    for (int y = 0; y < 2; ++y)
+        for (int x = 0; x < 2; ++x) out.cfa[size_t(y * 2 + x)] = uint8_t(code[size_t(sensor.cfa[size_t(y)][size_t(x)])]);
+
+    // The camera as a detector of photons: weight QE·T·λ·Δλ per band, in R, G, B order.
+    const Grid grid{380, 780, 5};
+    const std::vector<double> nm = grid.wavelengths(), lens = resample(sensor.lensTransmittance, grid);
+    Detector camera;
+    camera.name = "sensor " + sensor.file.string();
+    camera.kind = DetectorKind::Camera;
+    camera.channels = {"R", "G", "B"};
+    camera.grid = grid;
+    for (int k = 0; k < 3; ++k) {
+        const std::vector<double> qe = resample(sensor.quantumEfficiency[size_t(byCode[size_t(k)])], grid);
+        std::vector<double> w(nm.size());
+        for (size_t b = 0; b < nm.size(); ++b) w[b] = qe[b] * lens[b] * nm[b] * grid.step_nm;
+        camera.weights.push_back(std::move(w));
+    }
+    const std::vector<double> d65 = resample(library.get("illuminants/D65", Where{"illuminants/D65"}), grid);
+    const CameraCharacterization c = characterizeCamera(camera, d65, library, grid, Integration::Riemann);
+    // raw → XYZ is rawToXyz·diag(whiteBalance); DNG wants its inverse, XYZ → raw, with the white's
+    // raw response scaled to a maximum of 1 (and that response as the as-shot neutral).
+    const glm::dmat3 xyzToRaw = glm::inverse(cameraResponseToXyz(c));
+    const glm::dvec3 white = xyzToRaw * c.whiteXyz;
+    const double peak = std::max({white.x, white.y, white.z});
+    for (int r = 0; r < 3; ++r)
+        for (int col = 0; col < 3; ++col) out.xyzToCamera[size_t(r * 3 + col)] = xyzToRaw[col][r] / peak;  // glm: [column][row]
+    out.asShotNeutral = {white.x / peak, white.y / peak, white.z / peak};
+    out.rmsDeltaE2000 = c.rmsDeltaE2000;
+    return out;
+}
+
+}  // namespace metamer
