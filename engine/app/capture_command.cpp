@@ -31,13 +31,14 @@ CLI::App* addCaptureCommand(CLI::App& app, CaptureArgs& a) {
         ->capture_default_str();
     c->add_option("--frames", a.frames, "frames to capture, numbered from --frame")->check(CLI::Range(1, 100000))
         ->capture_default_str();
-    c->add_option("--exposure", a.exposure, "exposure time in seconds, overriding the sensor file's")
-        ->check(CLI::PositiveNumber);
+    c->add_option("--exposure", a.exposure, "exposure time in seconds, overriding the sensor file's");
     c->add_flag("--no-noise", a.noNoise, "the expected values, rounded: no shot, read or fixed-pattern noise drawn");
     return c;
 }
 
 int runCapture(const CaptureArgs& a) {
+    if (a.exposure && !(*a.exposure > 0.0 && *a.exposure <= 1e6))
+        failInput(Where{"--exposure"}, "expected an exposure time in seconds, > 0 and at most 10⁶, got {:g}", *a.exposure);
     const SpectrumLibrary library;
     const SensorSpec sensor = readSensor(sensorFile(a.sensor, library), library);
     const SpectralImage image = readSpectralImage(a.cube);
