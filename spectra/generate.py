@@ -425,6 +425,27 @@ def metameric_paints() -> None:
 
 
 # --------------------------------------------------------------------------------------------
+# Sensors for `metamer capture` (docs/sensor.md). See README "Sensors". Models, not measurements.
+
+def silicon_qe(wl):
+    """A front-illuminated silicon photodiode's quantum efficiency: a broad hump (peak 0.62 near
+    560 nm) that falls towards the UV (absorption in the surface layers) and the near infrared
+    (photons passing through the thin epitaxial layer)."""
+    return 0.62 * np.exp(-0.5 * ((wl - 560.0) / 150.0) ** 2) * logistic(wl, 380.0, 12.0)
+
+
+def sensors() -> None:
+    wl = grid(300, 1000, 1)
+    si = silicon_qe(wl)
+    write_csv("sensors/silicon_qe.csv", wl, {"value": si}, sig=6, decimals=6)
+    # A four-band multispectral filter array on the same silicon: Gaussian filters (FWHM 40 nm).
+    bands = {"b460": 460.0, "g530": 530.0, "y600": 600.0, "r670": 670.0}
+    columns = {name: si * 0.85 * gaussian_nm(wl, centre, 40.0) for name, centre in bands.items()}
+    write_csv("sensors/msfa_4band_qe.csv", wl, columns, sig=6, decimals=6)
+    print(f"  sensors/silicon_qe: peak {si.max():.3f} at {peak_nm(wl, si):g} nm; msfa_4band_qe: 4 bands of FWHM 40 nm")
+
+
+# --------------------------------------------------------------------------------------------
 # Metals: Lorentz–Drude model of Rakić, Djurišić, Elazar & Majewski, Appl. Opt. 37(22), 5271
 # (1998), Table 1 (LD model). ωp, Γ, ω in eV.
 #   ε(ω) = 1 - f0 ωp² / (ω (ω + iΓ0)) + Σj fj ωp² / (ωj² - ω² - iωΓj)
@@ -502,6 +523,7 @@ def main() -> int:
     transparent()
     pigments()
     metameric_paints()
+    sensors()
     metals()
     observers()
     print(f"{len(written)} files")

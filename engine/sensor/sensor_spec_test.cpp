@@ -56,6 +56,23 @@ TEST_F(SensorFile, TheBundledSensorReads) {
     EXPECT_NEAR(peak, 0.45, 1e-15);
 }
 
+TEST_F(SensorFile, EveryBundledSensorReads) {
+    int n = 0;
+    for (const auto& e : std::filesystem::directory_iterator(library.root() / "sensors"))
+        if (e.path().extension() == ".json") {
+            const SensorSpec s = readSensor(e.path(), library);
+            EXPECT_FALSE(s.description.empty()) << e.path();
+            ++n;
+        }
+    EXPECT_EQ(n, 3);
+    const SensorSpec mono = readSensor(sensorFile("mono_silicon", library), library);
+    EXPECT_EQ(mono.cfaName, "mono");
+    EXPECT_EQ(mono.channelAt(5, 7), 0);
+    const SensorSpec msfa = readSensor(sensorFile("msfa_4band", library), library);
+    EXPECT_EQ(msfa.channels, (std::vector<std::string>{"b460", "g530", "y600", "r670"}));
+    EXPECT_EQ(msfa.channelAt(1, 1), 3);
+}
+
 TEST_F(SensorFile, PatternsByLettersRowsAndMono) {
     auto j = base();
     j["cfa"] = "GBRG";
