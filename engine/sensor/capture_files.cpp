@@ -1,0 +1,114 @@
+#include "sensor/capture_files.h"
+
+#include "core/error.h"
+#include "core/json.h"
+#include "io/atomic_file.h"
+#include "io/dng_file.h"
+#include "io/image_file.h"
+#include "io/spectral_image.h"
+#include "sensor/capture.h"
+#include "sensor/sensor_colour.h"
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+namespace metamer {
+
+namespace fs = std::filesystem;
+
+CaptureFiles captureToFiles(const CaptureRequest& a, const SpectrumLibrary& library,
+                            const std::function<void(const std::string&)>& log) {
+    if (a.exposure && !(*a.exposure > 0.0 && *a.exposure <= 1e6))
+        failInput(Where{"--exposure"}, "expected an exposure time in seconds, > 0 and at most 10⁶, got {:g}", *a.exposure);
+    if (a.frames < 1 || a.frames > 100000) failInput(Where{"--frames"}, "expected 1 … 100000 frames, got {}", a.frames);
+    const SensorSpec sensor = readSensor(sensorFile(a.sensor, library), library);
+    const SpectralImage image = readSpectralImage(a.cube);
+    if (image.component != SpectralComponent::Emissive)
+        failInput(Where{a.cube.string()}, "the cube holds reflectance; a sensor captures spectral radiance (metamer render's cube)");
+    const SpectralCube& cube = image.cube;
+    const ExpectedElectrons e = expectedElectrons(cube, sensor, a.exposure, a.noise);
+    CaptureFiles written;
+    written.exposure_s = e.exposure_s;
+    written.autoExposed = e.autoExposed;
+    // An RGB Bayer sensor's frames are also DNGs, with the colour data a raw converter needs.
+    const std::optional<SensorColour> colour = sensorColour(sensor, library);
+    const std::string stem = a.stem.empty() ? a.cube.stem().string() : a.stem;
+    const fs::path& out = a.out;
+
+    // The truth: expected electrons per pixel, float.
+    std::vector<float> electrons(e.electrons.begin(), e.electrons.end());
+    writeImage(out / (stem + ".electrons.exr"), ImageFile{e.width, e.height, {"electrons"}, {}}, electrons);
+    written.files.push_back(out / (stem + ".electrons.exr"));
+    nlohmann::ordered_json cfa = nlohmann::ordered_json::array();
+    for (const auto& row : sensor.cfa) {
+        nlohmann::ordered_json r = nlohmann::ordered_json::array();
+        for (int c : row) r.push_back(sensor.channels[size_t(c)]);
+        cfa.push_back(r);
+    }
+    for (int f = 0; f < a.frames; ++f) {
+        const uint64_t frame = a.frame + uint64_t(f);
+        const std::vector<uint16_t> raw = digitize(e.electrons, e.width, sensor, CaptureNoise{a.noise, a.seed, frame});
+        const std::string name = a.frames == 1 ? stem + ".raw" : fmt::format("{}.raw.{}", stem, frame);
+        std::vector<uint16_t> counts(raw.begin(), raw.end());
+        writeImage(out / (name + ".png"), ImageFile{e.width, e.height, {"Y"}, {}}, counts, 16);
+        written.files.push_back(out / (name + ".png"));
+        if (colour) {
+            DngRaw dng;
+            dng.width = e.width;
+            dng.height = e.height;
+            dng.pixels = raw.data();
+            dng.cfa = colour->cfa;
+            dng.blackLevel = sensor.blackLevel_dn;
+            dng.whiteLevel = sensor.whiteLevel();
+            dng.colorMatrix1 = colour->xyzToCamera;
+            dng.asShotNeutral = colour->asShotNeutral;
+            dng.model = "Metamer " + sensor.file.stem().string();
+            dng.description = sensor.description;
+            writeDng(out / (name + ".dng"), dng);
+            written.files.push_back(out / (name + ".dng"));
+        }
+        nlohmann::ordered_json meta = {
+            {"raw", name + ".png"},
+            {"dng", colour ? nlohmann::ordered_json(name + ".dng") : nlohmann::ordered_json(nullptr)},
+            {"electrons", stem + ".electrons.exr"},
+            {"cube", a.cube.string()},
+            {"sensor", sensor.file.string()},
+            {"sensor_description", sensor.description},
+            {"width", e.width},
+            {"height", e.height},
+            {"channels", sensor.channels},
+            {"cfa", cfa},
+            {"cfa_name", sensor.cfaName},
+            {"units", "digital numbers (DN); raw = round(K·electrons) + black, clipped to 0 … white"},
+            {"black_level_dn", sensor.blackLevel_dn},
+            {"white_level_dn", sensor.whiteLevel()},
+            {"adc_bits", sensor.adcBits},
+            {"conversion_gain_dn_per_e", sensor.gain_dn_per_e},
+            {"full_well_e", sensor.fullWell_e},
+            {"read_noise_e", sensor.readNoise_e},
+            {"exposure_s", jsonNumber(e.exposure_s)},
+            {"auto_exposed", e.autoExposed},
+            {"noise", a.noise},
+            {"seed", a.seed},
+            {"frame", frame},
+            {"fpn_seed", sensor.fpnSeed},
+            {"quantum_efficiency", sensor.qeSource},
+        };
+        if (colour) {
+            meta["xyz_to_camera_d65"] = colour->xyzToCamera;
+            meta["as_shot_neutral"] = colour->asShotNeutral;
+            meta["characterization_rms_delta_e2000"] = colour->rmsDeltaE2000;
+        }
+        writeFileAtomically(out / (name + ".json"), meta.dump(2) + "\n");
+        written.files.push_back(out / (name + ".json"));
+        if (log)
+            log(fmt::format("wrote {}{} ({}×{}, {}, exposure {:.6g} s{}, {})", (out / (name + ".png")).string(),
+                            colour ? " and .dng" : "", e.width, e.height, sensor.cfaName, e.exposure_s,
+                            e.autoExposed ? " (auto)" : "",
+                            a.noise ? fmt::format("seed {}, frame {}", a.seed, frame) : std::string("no noise")));
+    }
+    if (log) log(fmt::format("wrote {} (expected electrons per pixel, float)", (out / (stem + ".electrons.exr")).string()));
+    return written;
+}
+
+}  // namespace metamer

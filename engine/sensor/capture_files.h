@@ -1,0 +1,39 @@
+// `metamer capture`'s files (docs/sensor.md, "Outputs"), shared by the command and by `metamer
+// batch` jobs that name a sensor: a cube file in, per frame a raw PNG, a DNG (RGB Bayer sensors)
+// and the metadata, and once the expected electrons.
+// Tests: tests/python/test_sensor.py, tests/batch_test.cpp.
+#pragma once
+
+#include "spectral/library.h"
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace metamer {
+
+struct CaptureRequest {
+    std::filesystem::path cube;   // a spectral radiance cube file
+    std::string sensor;           // a sensor file, or a library sensor's name
+    std::filesystem::path out;    // the folder the files go to
+    std::string stem;             // the files' stem; empty: the cube's
+    uint64_t seed = 0, frame = 0;
+    int frames = 1;
+    std::optional<double> exposure;
+    bool noise = true;
+};
+
+struct CaptureFiles {
+    std::vector<std::filesystem::path> files;  // as written, in order
+    double exposure_s = 0.0;
+    bool autoExposed = false;
+};
+
+// Captures `request.frames` frames and writes their files; `log` hears one line per file set.
+CaptureFiles captureToFiles(const CaptureRequest& request, const SpectrumLibrary& library,
+                            const std::function<void(const std::string&)>& log = {});
+
+}  // namespace metamer
