@@ -219,3 +219,59 @@ TEST(BatchCli, ShardsUnderXargsGiveTheSameDatasetAsOneRun) {
         }
     }
 }
+
+// A sweep of seeds and exposures through a simulated sensor (docs/sensor.md): each job's folder
+// holds its cube and its raw frames; a second run skips them all; an edited sensor file captures
+// again (its digest is in the jobs'), and a job's raw equals `metamer capture` of its own cube.
+TEST(BatchCli, SweepsSeedsAndExposuresThroughASensor) {
+    const fs::path dir = freshDir("sensor");
+    fs::copy_file(fs::path(METAMER_SOURCE_DIR) / "spectra/sensors/aps_c_rggb.json", dir / "sensor.json");
+    std::ofstream(dir / "sweep.json") << fmt::format(R"({{
+  "scenes": ["{}/tests/data/cli/small.json"],
+  "render": {{"write": "png", "sensor": "sensor.json", "frames": 2}},
+  "axes": [{{"render": "seed", "values": [1, 2]}}, {{"render": "exposure", "values": [0.002, 0.0002]}}]
+}})",
+                                                     METAMER_SOURCE_DIR);
+    const std::string binary = METAMER_BINARY;
+    const std::string run = fmt::format("{} batch {} --out {}", binary, (dir / "sweep.json").string(), (dir / "out").string());
+    test::CliRun first = shell(run);
+    ASSERT_EQ(first.code, 0) << first.output;
+    EXPECT_NE(first.output.find("4 rendered"), std::string::npos) << first.output;
+    EXPECT_EQ(countFiles(dir / "out", ".raw.0.dng", true), 4u);
+    EXPECT_EQ(countFiles(dir / "out", ".raw.1.png", true), 4u);
+    EXPECT_EQ(countFiles(dir / "out", ".electrons.exr", true), 4u);
+    EXPECT_NE(shell(run).output.find("0 rendered, 4 skipped"), std::string::npos);
+    // The index has the sensor settings as columns.
+    const std::vector<std::string> index = lines(dir / "out/index.csv");
+    ASSERT_EQ(index.size(), 5u);
+    EXPECT_NE(index[0].find("exposure"), std::string::npos);
+    EXPECT_NE(index[0].find("seed"), std::string::npos);
+    // A job's frame 1 equals metamer capture of that job's cube with its seed and exposure.
+    fs::path job;
+    for (const auto& e : fs::directory_iterator(dir / "out"))
+        if (e.is_directory()) {
+            std::ifstream in(e.path() / "job.json");
+            std::stringstream s;
+            s << in.rdbuf();
+            if (s.str().find("\"seed\": 2") != std::string::npos && s.str().find("0.0002") != std::string::npos) job = e.path();
+        }
+    ASSERT_FALSE(job.empty());
+    const test::CliRun again = shell(fmt::format("{} capture {} --sensor {} --seed 2 --frame 1 --exposure 0.0002 --out {}", binary,
+                                                 (job / "small.exr").string(), (dir / "sensor.json").string(),
+                                                 (dir / "direct").string()));
+    ASSERT_EQ(again.code, 0) << again.output;
+    auto bytes = [](const fs::path& p) {
+        std::ifstream in(p, std::ios::binary);
+        return std::string(std::istreambuf_iterator<char>(in), {});
+    };
+    EXPECT_EQ(bytes(job / "small.raw.1.dng"), bytes(dir / "direct/small.raw.dng"));
+    // An edited sensor (more read noise) captures every job again.
+    std::ifstream in(dir / "sensor.json");
+    std::stringstream text;
+    text << in.rdbuf();
+    std::string edited = text.str();
+    edited.replace(edited.find("\"read_noise_e\": 3.0"), 19, "\"read_noise_e\": 4.0");
+    std::ofstream(dir / "sensor.json") << edited;
+    EXPECT_NE(shell(run).output.find("4 rendered"), std::string::npos);
+    fs::remove_all(dir);
+}

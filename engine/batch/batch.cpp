@@ -1,4 +1,7 @@
 #include "batch/batch.h"
+#include "spectral/library.h"
+#include "sensor/sensor_spec.h"
+#include "io/spectral_image.h"
 
 #include "core/csv_text.h"
 #include "core/file_reads.h"
@@ -178,12 +181,21 @@ ResolvedJob resolveJob(const Sweep& sweep, size_t position, const fs::path& out)
     r.settings = sj.settings();
     try {
         r.render = makeRenderJob(sweep, sj, {});
+        r.capture = makeCaptureRequest(sweep, sj);
         FileReadLog reads;
         const std::unique_ptr<LoadedScene> loaded = loadJobScene(r.render);
         OutputFiles files;
         const TonemapSettings settings = tonemapSettings(r.render, loaded->scene, &files);
         if (files.png || files.xyz || files.responses) makeJobTonemapPlan(r.render, *loaded, settings);
         r.inputs = reads.files();
+        if (r.capture) {
+            // The sensor is read now, so that a mistake in it stops the batch before any render, and
+            // its files join the job's inputs (an edited sensor re-captures the jobs that use it).
+            const SpectrumLibrary library;
+            const SensorSpec sensor = readSensor(sensorFile(r.capture->sensor, library), library);
+            for (const fs::path& p : sensor.inputs)
+                if (std::find(r.inputs.begin(), r.inputs.end(), p) == r.inputs.end()) r.inputs.push_back(p);
+        }
     } catch (const Error& e) {
         throw Error(e.code(), Where{sweep.file.string(), sj.where.key, sj.where.line},
                     fmt::format("job {} of {} ({}) cannot be rendered: {}", position + 1, sweep.jobs.size(),
@@ -275,6 +287,20 @@ BatchSummary runBatch(const Sweep& sweep, const BatchOptions& o, vk::Context& co
                 Json outputs = Json::array();
                 for (const WrittenFile& f : r.written)
                     outputs.push_back({{"file", f.path.lexically_relative(folder).generic_string()}, {"what", f.what}});
+                if (j.capture) {
+                    // The sensor reads the cube the render has just written (EXR, HDF5 or ENVI).
+                    CaptureRequest c = *j.capture;
+                    for (const WrittenFile& f : r.written)
+                        if (c.cube.empty() && cubeFormatOf(f.path) && f.path.stem().extension().empty()) c.cube = f.path;
+                    if (c.cube.empty()) failRuntime("the render wrote no spectral cube for the sensor to capture");
+                    c.out = folder;
+                    const SpectrumLibrary library;
+                    const CaptureFiles captured = captureToFiles(c, library);
+                    for (const fs::path& f : captured.files)
+                        outputs.push_back({{"file", f.lexically_relative(folder).generic_string()},
+                                           {"what", "simulated sensor capture (docs/sensor.md)"}});
+                    rec["capture"] = {{"exposure_s", captured.exposure_s}, {"auto_exposed", captured.autoExposed}};
+                }
                 rec["outputs"] = outputs;
                 rec["notes"] = r.notes;
                 Json stages = Json::object();

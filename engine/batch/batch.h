@@ -33,6 +33,7 @@ struct ResolvedJob {
     nlohmann::ordered_json settings;  // SweepJob::settings()
     std::vector<std::filesystem::path> inputs;  // the files it reads (scene, spectra, meshes, textures, …)
     RenderJob render;      // outDir = the job's folder
+    std::optional<CaptureRequest> capture;  // a simulated sensor's capture after the render (docs/sensor.md)
 };
 
 // Loads each job's scene and display plan as the render will (overrides, spectra, paths,

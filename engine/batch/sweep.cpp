@@ -6,6 +6,8 @@
 #include "io/exr_file.h"
 #include "scene/overrides.h"
 
+#include <algorithm>
+#include <optional>
 #include <fmt/ranges.h>
 
 #include <fstream>
@@ -18,7 +20,7 @@ namespace metamer {
 
 namespace {
 
-enum class KeyType { String, Int, Bool, StringList };
+enum class KeyType { String, Int, Bool, StringList, Number };
 
 struct RenderKey {
     const char* name;
@@ -33,6 +35,9 @@ const RenderKey kRenderKeys[] = {
     {"write", KeyType::StringList},   {"size", KeyType::String},        {"ssaa", KeyType::Int},
     {"half", KeyType::Bool},          {"compression", KeyType::String}, {"backend", KeyType::String},
     {"strict_coverage", KeyType::Bool},
+    // The simulated sensor (docs/sensor.md): a job that names one is captured after it renders.
+    {"sensor", KeyType::String},      {"seed", KeyType::Int},           {"frames", KeyType::Int},
+    {"exposure", KeyType::Number},
 };
 
 const RenderKey* findRenderKey(const std::string& name) {
@@ -62,6 +67,9 @@ Json renderValue(const std::string& key, const Json& v, const Where& where) {
             return v;
         case KeyType::Bool:
             if (!v.is_boolean()) failInput(where, "expected true or false, got {}", jsonTypeName(v));
+            return v;
+        case KeyType::Number:
+            if (!v.is_number()) failInput(where, "expected a number, got {}", jsonTypeName(v));
             return v;
         case KeyType::StringList: {
             Json list = Json::array();
@@ -449,9 +457,42 @@ RenderJob makeRenderJob(const Sweep& sweep, const SweepJob& j, const fs::path& o
             job.backend = v == "cpu" ? Backend::Cpu : Backend::Gpu;
         } else if (key == "strict_coverage") {
             job.coverage = v.get<bool>() ? CoveragePolicy::Error : CoveragePolicy::ZeroWithWarning;
+        } else if (key == "seed") {
+            if (v < 0) fail("a whole number ≥ 0");
+        } else if (key == "frames") {
+            if (v < 1 || v > 100000) fail("1 to 100000");
+        } else if (key == "exposure") {
+            if (!(v.get<double>() > 0.0 && v.get<double>() <= 1e6)) fail("an exposure time in seconds, > 0 and at most 10⁶");
         }
     }
+    if (j.render.contains("sensor")) {
+        // The capture reads the cube the render writes.
+        std::vector<std::string> write = job.write.value_or(std::vector<std::string>{"cube", "png"});
+        if (std::find(write.begin(), write.end(), "cube") == write.end()) write.push_back("cube");
+        job.write = write;
+    } else {
+        for (const char* k : {"seed", "frames", "exposure"})
+            if (j.render.contains(k))
+                failInput(Where{j.where.file, j.where.key.empty() ? std::string("render.") + k : j.where.key + ".render." + k,
+                                j.where.line},
+                          "{}: '{}' goes with 'sensor' (a simulated sensor's capture, docs/sensor.md)", j.origin, k);
+    }
     return job;
+}
+
+std::optional<CaptureRequest> makeCaptureRequest(const Sweep& sweep, const SweepJob& j) {
+    if (!j.render.contains("sensor")) return std::nullopt;
+    CaptureRequest c;
+    const std::string given = j.render["sensor"].get<std::string>();
+    const fs::path asFile(given);
+    // A file is relative to the sweep's folder, as scenes are; a bare name is a library sensor.
+    c.sensor = (asFile.extension() == ".json" || asFile.has_parent_path())
+                   ? (asFile.is_absolute() ? asFile : sweep.folder / asFile).string()
+                   : given;
+    if (j.render.contains("seed")) c.seed = j.render["seed"].get<uint64_t>();
+    if (j.render.contains("frames")) c.frames = j.render["frames"].get<int>();
+    if (j.render.contains("exposure")) c.exposure = j.render["exposure"].get<double>();
+    return c;
 }
 
 }  // namespace metamer

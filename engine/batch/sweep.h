@@ -7,6 +7,7 @@
 
 #include "core/error.h"
 #include "render/render_job.h"
+#include "sensor/capture_files.h"
 
 #include <nlohmann/json.hpp>
 
@@ -46,5 +47,10 @@ Sweep readSweep(const std::filesystem::path& file);
 // settings applied to RenderJob's fields (size "WxH" becomes camera.width/height overrides), the
 // outputs in `outDir`. Errors in a value name the job's origin and the key.
 RenderJob makeRenderJob(const Sweep& sweep, const SweepJob& job, const std::filesystem::path& outDir);
+
+// The capture a job asks for with its "sensor" setting (and "seed", "frames", "exposure"), if any:
+// the sensor resolved (a file against the sweep's folder; a bare name is a library sensor). The
+// cube, folder and stem are the batch's to fill in.
+std::optional<CaptureRequest> makeCaptureRequest(const Sweep& sweep, const SweepJob& job);
 
 }  // namespace metamer

@@ -163,3 +163,33 @@ TEST(Sweep, RenderJobsCarryEverySetting) {
     EXPECT_EQ(j.backend, Backend::Cpu);
     EXPECT_EQ(j.coverage, CoveragePolicy::Error);
 }
+
+TEST(Sweep, ASensorJobWritesItsCubeAndCarriesItsCapture) {
+    const Sweep s = readSweep(write("s12.json", R"({"scenes": ["a.json"], "render": {"write": "png",
+        "sensor": "sensors/mine.json", "seed": 7, "frames": 3, "exposure": 0.004}})"));
+    const RenderJob j = makeRenderJob(s, s.jobs[0], "out/x");
+    EXPECT_EQ(*j.write, (std::vector<std::string>{"png", "cube"}));  // the capture reads the cube
+    const std::optional<CaptureRequest> c = makeCaptureRequest(s, s.jobs[0]);
+    ASSERT_TRUE(c.has_value());
+    EXPECT_EQ(c->sensor, (s.folder / "sensors/mine.json").string());
+    EXPECT_EQ(c->seed, 7u);
+    EXPECT_EQ(c->frames, 3);
+    EXPECT_EQ(*c->exposure, 0.004);
+    const Sweep library = readSweep(write("s13.json", R"({"scenes": ["a.json"], "render": {"sensor": "aps_c_rggb"}})"));
+    EXPECT_EQ(makeCaptureRequest(library, library.jobs[0])->sensor, "aps_c_rggb");
+    const Sweep plain = readSweep(write("s14.json", R"({"scenes": ["a.json"]})"));
+    EXPECT_FALSE(makeCaptureRequest(plain, plain.jobs[0]).has_value());
+    // A seed without a sensor, or a bad value, names the key.
+    const Sweep lone = readSweep(write("s15.json", R"({"scenes": ["a.json"], "render": {"seed": 3}})"));
+    try {
+        makeRenderJob(lone, lone.jobs[0], "out");
+        ADD_FAILURE() << "no error";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("render.seed"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("'seed' goes with 'sensor'"), std::string::npos) << e.what();
+    }
+    const Sweep zero = readSweep(write("s16.json", R"({"scenes": ["a.json"], "render": {"sensor": "x", "frames": 0}})"));
+    EXPECT_THROW(makeRenderJob(zero, zero.jobs[0], "out"), Error);
+    EXPECT_NE(errorOf("s17.json", R"({"scenes": ["a.json"], "render": {"exposure": "long"}})").find("expected a number"),
+              std::string::npos);
+}

@@ -25,7 +25,8 @@ fs::path tablePath(const std::string& name, const fs::path& dir, const SpectrumL
 }
 
 // T(λ): a number, a table name or {"wavelengths_nm": [...], "values": [...]}; 0 … 1.
-Spectrum transmittance(const Json& v, const Where& w, const fs::path& dir, const SpectrumLibrary& library) {
+Spectrum transmittance(const Json& v, const Where& w, const fs::path& dir, const SpectrumLibrary& library,
+                       std::vector<fs::path>& inputs) {
     Spectrum s;
     if (v.is_number()) {
         s = Spectrum::makeConstant(numberIn(v, w, 0, 1, false, false));
@@ -34,6 +35,7 @@ Spectrum transmittance(const Json& v, const Where& w, const fs::path& dir, const
         if (endsWithCsv(name)) {
             const fs::path p = tablePath(name, dir, library);
             requireRegularFile(p, w, "transmittance file");
+            inputs.push_back(p);
             try {
                 s = readSpectrumCsv(p);
             } catch (const Error& e) {
@@ -106,6 +108,7 @@ fs::path sensorFile(const std::string& given, const SpectrumLibrary& library) {
 SensorSpec readSensor(const fs::path& file, const SpectrumLibrary& library) {
     SensorSpec s;
     s.file = file;
+    s.inputs.push_back(file);
     const Json doc = parseJson(readWholeFile(file, Where{file.string()}, "sensor file"), file.string());
     const Where root{file.string()};
     asObject(doc, root);
@@ -124,7 +127,7 @@ SensorSpec readSensor(const fs::path& file, const SpectrumLibrary& library) {
         checkKeys(*o, ow, {"f_number", "transmittance", "magnification", "cos4_focal_length_mm"}, "the optics");
         if (const Json* n = find(*o, "f_number")) s.fNumber = numberIn(*n, ow.child("f_number"), 0.5, 1000, false, false);
         if (const Json* t = find(*o, "transmittance"))
-            s.lensTransmittance = transmittance(*t, ow.child("transmittance"), dir, library);
+            s.lensTransmittance = transmittance(*t, ow.child("transmittance"), dir, library, s.inputs);
         if (const Json* m = find(*o, "magnification"))
             s.magnification = numberIn(*m, ow.child("magnification"), 0, 100, false, false);
         if (const Json* f = find(*o, "cos4_focal_length_mm")) {
@@ -152,6 +155,7 @@ SensorSpec readSensor(const fs::path& file, const SpectrumLibrary& library) {
                                  qw.child("peak"), 0, 1, true, false);
     const fs::path tp = tablePath(table, dir, library);
     requireRegularFile(tp, qw.child("table"), "quantum-efficiency table");
+    s.inputs.push_back(tp);
     SpectralTable t;
     try {
         t = readSpectralTable(tp, 1);

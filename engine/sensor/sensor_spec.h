@@ -50,6 +50,7 @@ struct SensorSpec {
     double blackLevel_dn = 0.0;
     int adcBits = 12;
     uint64_t fpnSeed = 1;            // the fixed-pattern maps' seed: one sensor, one pattern
+    std::vector<std::filesystem::path> inputs;  // the files it was read from (itself, its tables)
 
     double pixelArea_m2() const { return pitch_um * pitch_um * 1e-12 * fillFactor; }
     uint32_t whiteLevel() const { return (1u << adcBits) - 1u; }
