@@ -6,8 +6,10 @@
 #include "spectral/resampling.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <numbers>
+#include <thread>
 
 namespace metamer {
 
@@ -16,6 +18,21 @@ namespace {
 // Streams: the key is (seed, purpose), the counter (pixel, frame, 0), so a pixel's shot noise, read
 // noise, PRNU and DSNU never share words, whatever the seeds.
 constexpr uint64_t kPrnuStream = 1, kDsnuStream = 2, kShotStream = 3, kReadStream = 4;
+
+// f(i) for i in [0, n), in contiguous blocks on `threads` threads (0: one per CPU; at most one per
+// 16 384 pixels).
+template <typename F>
+void forEachPixel(size_t n, int threads, F&& f) {
+    size_t t = threads > 0 ? size_t(threads) : std::max(1u, std::thread::hardware_concurrency());
+    t = std::clamp<size_t>(std::min(t, n / 16384), 1, 256);
+    auto block = [&](size_t k) {
+        for (size_t i = n * k / t; i < n * (k + 1) / t; ++i) f(i);
+    };
+    std::vector<std::thread> pool;
+    for (size_t k = 1; k < t; ++k) pool.emplace_back(block, k);
+    block(0);
+    for (std::thread& th : pool) th.join();
+}
 
 }  // namespace
 
@@ -37,7 +54,7 @@ double dsnuOffset(const SensorSpec& sensor, uint64_t pixel) {
 }
 
 ExpectedElectrons expectedElectrons(const SpectralCube& cube, const SensorSpec& sensor, std::optional<double> exposure_s,
-                                    bool fixedPattern) {
+                                    bool fixedPattern, int threads) {
     const Grid& grid = cube.grid;
     const size_t bands = size_t(grid.bands());
     const std::vector<double> nm = grid.wavelengths(), lens = resample(sensor.lensTransmittance, grid);
@@ -61,27 +78,32 @@ ExpectedElectrons expectedElectrons(const SpectralCube& cube, const SensorSpec& 
     std::vector<double> rate(pixels);  // signal electrons per second, before PRNU
     out.channel.resize(pixels);
     const double cx = 0.5 * cube.width, cy = 0.5 * cube.height;
-    for (int y = 0; y < cube.height; ++y)
-        for (int x = 0; x < cube.width; ++x) {
-            const size_t i = size_t(y) * cube.width + x;
-            const int c = sensor.channelAt(x, y);
-            out.channel[i] = uint8_t(c);
-            const float* L = cube.pixel(x, y);
-            double r = 0.0;
-            for (size_t b = 0; b < bands; ++b) r += weights[size_t(c)][b] * double(L[b]);
-            if (sensor.cos4) {
-                // θ between the optical axis and the ray to the pixel's centre, the lens focal length
-                // away: tan θ = (distance on the sensor) / f.
-                const double dx = (x + 0.5 - cx) * sensor.pitch_um * 1e-3, dy = (y + 0.5 - cy) * sensor.pitch_um * 1e-3;
-                const double c2 = 1.0 / (1.0 + (dx * dx + dy * dy) / (sensor.focalLength_mm * sensor.focalLength_mm));
-                r *= c2 * c2;
-            }
-            if (!std::isfinite(r) || r < 0.0)
-                failInput(Where{sensor.file.string()}, "pixel ({}, {}) receives {:g} electrons per second; the cube must "
-                                                       "hold finite radiance ≥ 0",
-                          x, y, r);
-            rate[i] = r;
+    std::atomic<size_t> firstBad{pixels};  // the first pixel whose rate is not a number ≥ 0
+    forEachPixel(pixels, threads, [&](size_t i) {
+        const int x = int(i % size_t(cube.width)), y = int(i / size_t(cube.width));
+        const int c = sensor.channelAt(x, y);
+        out.channel[i] = uint8_t(c);
+        const float* L = cube.pixel(x, y);
+        double r = 0.0;
+        for (size_t b = 0; b < bands; ++b) r += weights[size_t(c)][b] * double(L[b]);
+        if (sensor.cos4) {
+            // θ between the optical axis and the ray to the pixel's centre, the lens focal length
+            // away: tan θ = (distance on the sensor) / f.
+            const double dx = (x + 0.5 - cx) * sensor.pitch_um * 1e-3, dy = (y + 0.5 - cy) * sensor.pitch_um * 1e-3;
+            const double c2 = 1.0 / (1.0 + (dx * dx + dy * dy) / (sensor.focalLength_mm * sensor.focalLength_mm));
+            r *= c2 * c2;
         }
+        if (!std::isfinite(r) || r < 0.0) {
+            size_t seen = firstBad.load();
+            while (i < seen && !firstBad.compare_exchange_weak(seen, i)) {
+            }
+        }
+        rate[i] = r;
+    });
+    if (const size_t bad = firstBad.load(); bad < pixels)
+        failInput(Where{sensor.file.string()},
+                  "pixel ({}, {}) receives {:g} electrons per second; the cube must hold finite radiance ≥ 0",
+                  bad % size_t(cube.width), bad / size_t(cube.width), rate[bad]);
     if (exposure_s) {
         out.exposure_s = *exposure_s;
     } else if (sensor.exposure_s) {
@@ -97,10 +119,10 @@ ExpectedElectrons expectedElectrons(const SpectralCube& cube, const SensorSpec& 
         out.autoExposed = true;
     }
     out.electrons.resize(pixels);
-    for (size_t i = 0; i < pixels; ++i) {
+    forEachPixel(pixels, threads, [&](size_t i) {
         const double gain = fixedPattern ? prnuGain(sensor, i) : 1.0, offset = fixedPattern ? dsnuOffset(sensor, i) : 0.0;
         out.electrons[i] = std::max(0.0, out.exposure_s * (rate[i] * gain + sensor.darkCurrent_e_per_s) + offset);
-    }
+    });
     return out;
 }
 
@@ -109,7 +131,9 @@ std::vector<uint16_t> digitize(const std::vector<double>& expected, int width, c
     std::vector<uint16_t> raw(expected.size());
     const double white = double(sensor.whiteLevel());
     (void)width;
-    for (size_t i = 0; i < expected.size(); ++i) {
+    // Each pixel draws from its own streams, so the pixels split between threads in any way give
+    // the same numbers.
+    forEachPixel(expected.size(), noise.threads, [&](size_t i) {
         double electrons;
         if (noise.enabled) {
             CounterStream shot({noise.seed, kShotStream}, i, noise.frame, 0), read({noise.seed, kReadStream}, i, noise.frame, 0);
@@ -121,7 +145,7 @@ std::vector<uint16_t> digitize(const std::vector<double>& expected, int width, c
         }
         const double dn = std::nearbyint(sensor.gain_dn_per_e * electrons) + sensor.blackLevel_dn;
         raw[i] = uint16_t(std::clamp(dn, 0.0, white));
-    }
+    });
     return raw;
 }
 

@@ -36,12 +36,14 @@ struct ExpectedElectrons {
 // `exposure_s` (the sensor's own when not given, auto-exposure when it has none); without
 // `fixedPattern`, every pixel has gain 1 and no dark offset (a noise-free capture).
 ExpectedElectrons expectedElectrons(const SpectralCube& cube, const SensorSpec& sensor,
-                                    std::optional<double> exposure_s = std::nullopt, bool fixedPattern = true);
+                                    std::optional<double> exposure_s = std::nullopt, bool fixedPattern = true,
+                                    int threads = 0);
 
 struct CaptureNoise {
     bool enabled = true;     // false: DN = round(K·min(μe, full well)) + black, nothing drawn
     uint64_t seed = 0;       // the temporal noise's seed …
     uint64_t frame = 0;      // … and frame: each (seed, frame) is one exposure's noise
+    int threads = 0;         // 0: one per CPU; the result is the same for any count
 };
 
 // The raw image: digital numbers per pixel, 0 … 2^bits − 1.

@@ -190,3 +190,23 @@ TEST(SensorCapture, FramesDifferOnlyInTemporalNoise) {
     for (double g : gain) m2 += (g - 1.0) * (g - 1.0);
     EXPECT_NEAR(std::sqrt(m2 / n), 0.05, 0.05 * 5.0 / std::sqrt(2.0 * n));
 }
+
+TEST(SensorCapture, AnyThreadCountGivesTheSameNumbers) {
+    const Grid grid{500, 600, 50};
+    SpectralCube cube(300, 200, grid);
+    for (size_t i = 0; i < cube.data.size(); ++i) cube.data[i] = float(i % 997) / 997.0f;
+    SensorSpec s = testSensor(3);
+    s.prnu = 0.01;
+    s.dsnu_e = 1.0;
+    s.readNoise_e = 2.0;
+    s.fullWell_e = 20000;
+    s.exposure_s.reset();
+    const ExpectedElectrons one = expectedElectrons(cube, s, std::nullopt, true, 1);
+    for (int threads : {2, 3, 7}) {
+        const ExpectedElectrons many = expectedElectrons(cube, s, std::nullopt, true, threads);
+        EXPECT_EQ(many.electrons, one.electrons) << threads;
+        EXPECT_EQ(digitize(many.electrons, 300, s, CaptureNoise{true, 5, 1, threads}),
+                  digitize(one.electrons, 300, s, CaptureNoise{true, 5, 1, 1}))
+            << threads;
+    }
+}
