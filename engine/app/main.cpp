@@ -4,6 +4,9 @@
 #include "app/bench_command.h"    // metamer bench
 #include "app/cli_checks.h"       // checks every command line gets
 #include "app/capture_command.h"  // metamer capture
+#include "io/spectral_image.h"
+#include "sensor/capture_files.h"
+#include "sensor/sensor_spec.h"
 #include "app/compare_command.h"  // metamer compare
 #include "app/preview_command.h"  // metamer preview
 #include "app/render_flags.h"     // the render flags, shared with preview, bench and batch
@@ -121,6 +124,14 @@ int main(int argc, char** argv) {
     render->add_option("--out,-o", outDir, "output folder (created if missing)")->check(outputFolder())->capture_default_str();
     addRenderFlags(render, settings, kAllRenderFlags);
     render->add_flag("--timings", timings, "print per-stage timings");
+    // A simulated sensor's capture of the rendered cube, as `metamer capture` (docs/sensor.md).
+    std::string sensor;
+    uint64_t sensorSeed = 0;
+    std::optional<double> sensorExposure;
+    render->add_option("--sensor", sensor, "capture the rendered cube with a simulated sensor (a .json file or a library "
+                                           "sensor; docs/sensor.md): raw PNG, DNG and metadata beside the cube");
+    render->add_option("--seed", sensorSeed, "--sensor: the temporal noise's seed")->capture_default_str();
+    render->add_option("--exposure", sensorExposure, "--sensor: exposure time in seconds (default: the sensor file's)");
 
     auto* devices = app.add_subcommand("devices", "list Vulkan devices and their scores");
 
@@ -179,6 +190,21 @@ int main(int argc, char** argv) {
         job.scene = scenePath;
         job.outDir = outDir;
         applyRenderSettings(settings, job, [](const std::string& name) { return "--" + name; });
+        std::optional<CaptureRequest> capture;
+        if (!sensor.empty()) {
+            const SpectrumLibrary library;
+            readSensor(sensorFile(sensor, library), library);  // its mistakes before the render
+            capture = CaptureRequest{};
+            capture->sensor = sensor;
+            capture->seed = sensorSeed;
+            capture->exposure = sensorExposure;
+            // The capture reads the cube the render writes.
+            std::vector<std::string> write = job.write.value_or(std::vector<std::string>{"cube", "png"});
+            if (std::find(write.begin(), write.end(), "cube") == write.end()) write.push_back("cube");
+            job.write = write;
+        } else if (sensorExposure || sensorSeed) {
+            failInput(Where{sensorExposure ? "--exposure" : "--seed"}, "goes with --sensor (a simulated sensor's capture)");
+        }
 
         RenderJobResult r = runRenderJob(job);
         if (job.verbose) std::printf("%s\n", r.backendDescription.c_str());
@@ -192,6 +218,13 @@ int main(int argc, char** argv) {
             std::printf("camera characterization: rms ΔE2000 %.2f over the 24 ColorChecker patches\n",
                         *r.cameraFitRmsDeltaE);
         for (const auto& n : r.notes) std::printf("note: %s\n", n.c_str());
+        if (capture) {
+            for (const auto& f : r.written)
+                if (capture->cube.empty() && cubeFormatOf(f.path) && f.path.stem().extension().empty()) capture->cube = f.path;
+            if (capture->cube.empty()) failRuntime("the render wrote no spectral cube for --sensor to capture");
+            capture->out = job.outDir;
+            captureToFiles(*capture, SpectrumLibrary(), [](const std::string& line) { std::printf("%s\n", line.c_str()); });
+        }
         if (timings) printTimings(r);
         if (r.validationErrors) {
             std::fprintf(stderr, "metamer: %u Vulkan validation error(s) (see above)\n", r.validationErrors);

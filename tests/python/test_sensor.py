@@ -170,3 +170,16 @@ def test_the_dng_reads_back_through_rawpy_with_its_pattern_levels_and_colour(cub
     d65_white = np.array([0.95047, 1.0, 1.08883])
     np.testing.assert_allclose(m @ d65_white, n, atol=2e-3)
     assert meta["characterization_rms_delta_e2000"] < 5
+
+
+def test_render_with_a_sensor_captures_its_cube_as_capture_does(tmp_path):
+    args = ["--set", "camera.width=64", "--set", "camera.height=32"]
+    run("render", REPO / "scenes" / "metamers.json", "--out", tmp_path / "one", "--write", "png",
+        "--sensor", "aps_c_rggb", "--seed", 5, *args)
+    assert (tmp_path / "one" / "metamers.exr").exists()            # the cube is written for the capture
+    run("capture", tmp_path / "one" / "metamers.exr", "--sensor", "aps_c_rggb", "--seed", 5, "--out", tmp_path / "two")
+    np.testing.assert_array_equal(read(tmp_path / "one" / "metamers.raw.png", oiio.UINT16),
+                                  read(tmp_path / "two" / "metamers.raw.png", oiio.UINT16))
+    p = subprocess.run([BINARY, "render", REPO / "scenes" / "metamers.json", "--out", tmp_path / "x", "--seed", "5"],
+                       capture_output=True, text=True)
+    assert p.returncode == 2 and "--seed: goes with --sensor" in p.stderr
