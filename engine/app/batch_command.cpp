@@ -73,6 +73,10 @@ int runBatchCommand(const BatchArgs& a) {
     if (!a.index.empty()) {
         if (!a.sweep.empty()) failInput(Where{"", "--index"}, "--index DIR gathers records; give it without a sweep file");
         const IndexSummary s = writeBatchIndex(a.index);
+        for (const std::string& id : s.unreadable)
+            std::printf("note: %s/job.json is not a job record (damaged, or not written by this version); left out of "
+                        "the index, and rendered again by the next batch run\n",
+                        id.c_str());
         std::printf("index: %zu job records (%zu done, %zu failed) → %s, %s\n", s.records, s.done, s.failed,
                     s.csv.c_str(), s.json.c_str());
         return 0;
@@ -159,6 +163,10 @@ int runBatchCommand(const BatchArgs& a) {
     for (const std::string& f : s.failures) std::printf("failed: %s\n", f.c_str());
     if (shards == 1 && s.jobs > 0) {
         const IndexSummary i = writeBatchIndex(o.out);
+        for (const std::string& id : i.unreadable)
+            std::printf("note: %s/job.json is not a job record (damaged, or not written by this version); left out of "
+                        "the index\n",
+                        id.c_str());
         std::printf("index: %zu job records → %s, %s\n", i.records, i.csv.c_str(), i.json.c_str());
     }
     return s.failed ? int(ExitCode::Failure) : 0;

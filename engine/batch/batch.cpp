@@ -1,4 +1,5 @@
 #include "batch/batch.h"
+#include "scene/json_values.h"
 #include "spectral/library.h"
 #include "sensor/sensor_spec.h"
 #include "io/spectral_image.h"
@@ -160,6 +161,11 @@ std::pair<int, int> parseShard(const std::string& text) {
     }
     const char* id = std::getenv("SLURM_ARRAY_TASK_ID");
     const char* count = std::getenv("SLURM_ARRAY_TASK_COUNT");
+    // One without the other would make every task render every job.
+    if (bool(id) != bool(count))
+        failInput(Where{"", id ? "SLURM_ARRAY_TASK_COUNT" : "SLURM_ARRAY_TASK_ID"},
+                  "is not set but {} is: a Slurm array task has both; give --shard I/N to choose a shard by hand",
+                  id ? "SLURM_ARRAY_TASK_ID" : "SLURM_ARRAY_TASK_COUNT");
     if (id && count) {
         const char* minText = std::getenv("SLURM_ARRAY_TASK_MIN");
         const int min = minText ? parse(minText, Where{"", "SLURM_ARRAY_TASK_MIN"}, "a task id") : 0;
@@ -217,16 +223,21 @@ ResolvedJob resolveJob(const Sweep& sweep, size_t position, const fs::path& out)
 }
 
 std::optional<JobRecord> readJobRecord(const fs::path& folder) {
-    std::ifstream in(folder / kRecordFile);
-    if (!in) return std::nullopt;
+    // A record is input like any other: only a regular file of sane size is read (a FIFO would
+    // block, a device never end), with the scene reader's parser (its depth cap), and typed. Anything
+    // else — not ours, damaged, of another version — is no record: the job is rendered again.
+    const fs::path file = folder / kRecordFile;
+    std::error_code ec;
+    if (!fs::is_regular_file(file, ec) || fs::file_size(file, ec) > (1u << 20) || ec) return std::nullopt;
     Json doc;
     try {
-        doc = Json::parse(in);
-    } catch (const nlohmann::json::parse_error&) {
-        return std::nullopt;  // not ours, or damaged: the job is rendered again
+        doc = json_read::parseJson(readWholeFile(file, Where{file.string()}, "job record"), file.string());
+    } catch (const Error&) {
+        return std::nullopt;
     }
-    if (!doc.is_object() || doc.value("metamer_batch_record", 0) != kRecordVersion || !doc.contains("id") ||
-        !doc.contains("digest") || !doc.contains("status"))
+    auto isString = [&](const char* key) { return doc.contains(key) && doc[key].is_string(); };
+    if (!doc.is_object() || doc.value("metamer_batch_record", 0) != kRecordVersion || !isString("id") ||
+        !isString("digest") || !isString("status") || (doc["status"] != "done" && doc["status"] != "failed"))
         return std::nullopt;
     JobRecord r;
     r.id = doc["id"].get<std::string>();
@@ -375,9 +386,16 @@ IndexSummary writeBatchIndex(const fs::path& dir) {
         if (e.is_directory()) folders.push_back(e.path());
     std::sort(folders.begin(), folders.end());
     std::vector<std::string> extra;  // settings and timing columns, in first-seen order
+    std::vector<std::string> unreadable;
     for (const fs::path& folder : folders) {
         const std::optional<JobRecord> rec = readJobRecord(folder);
-        if (!rec) continue;
+        if (!rec) {
+            // A job.json that is not a record (damaged, of another version, not a file) is said,
+            // not silently dropped; the next batch run renders that job again.
+            std::error_code e2;
+            if (fs::exists(fs::symlink_status(folder / kRecordFile, e2))) unreadable.push_back(folder.filename().string());
+            continue;
+        }
         const Json& j = rec->json;
         Json row = Json::object();
         row["id"] = rec->id;
@@ -419,6 +437,7 @@ IndexSummary writeBatchIndex(const fs::path& dir) {
     std::stable_sort(rows.begin(), rows.end(),
                      [](const Json& a, const Json& b) { return a["position"].get<size_t>() < b["position"].get<size_t>(); });
     IndexSummary s;
+    s.unreadable = unreadable;
     s.records = rows.size();
     std::string csv;
     for (size_t c = 0; c < columns.size(); ++c) csv += (c ? "," : "") + csvQuoted(columns[c]);

@@ -85,6 +85,7 @@ BatchSummary runBatch(const Sweep& sweep, const BatchOptions& options, vk::Conte
 
 struct IndexSummary {
     size_t records = 0, done = 0, failed = 0;
+    std::vector<std::string> unreadable;  // job folders whose job.json is not a record (left out)
     std::filesystem::path csv, json;
 };
 

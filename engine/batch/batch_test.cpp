@@ -9,6 +9,7 @@
 
 #include <fstream>
 #include <set>
+#include <sys/stat.h>
 #include <unistd.h>
 
 using namespace metamer;
@@ -111,7 +112,21 @@ TEST(Batch, ShardsPartitionTheJobsInBalancedDeterministicSubsets) {
     EXPECT_THROW(parseShard(""), Error);
     ::unsetenv("SLURM_ARRAY_TASK_ID");
     ::unsetenv("SLURM_ARRAY_TASK_MIN");
+    // A task id without a count (or a count without an id) would make every task render every
+    // job: an error naming the missing variable (issue 30, class 9).
+    try {
+        parseShard("");
+        ADD_FAILURE() << "no error";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("SLURM_ARRAY_TASK_ID: is not set but SLURM_ARRAY_TASK_COUNT is"),
+                  std::string::npos)
+            << e.what();
+    }
     ::unsetenv("SLURM_ARRAY_TASK_COUNT");
+    ::setenv("SLURM_ARRAY_TASK_ID", "3", 1);
+    EXPECT_THROW(parseShard(""), Error);
+    EXPECT_EQ(parseShard("1/2"), std::make_pair(1, 2));  // the flag still chooses
+    ::unsetenv("SLURM_ARRAY_TASK_ID");
     EXPECT_EQ(parseShard(""), std::make_pair(0, 1));
 }
 
@@ -265,4 +280,31 @@ TEST(Batch, ShardsRenderDisjointJobsWhoseUnionIsTheWholeBatchFileForFile) {
     EXPECT_EQ(csv.rfind("id,status,error,scene,set:lights.0.spectrum,write,", 0), 0u) << csv.substr(0, 200);
     EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 7);
     EXPECT_NO_VALIDATION_ERRORS(before);
+}
+
+// A job record is input like any other (issue 30, class 3): a FIFO, a record of the wrong types,
+// an unknown status or JSON nested past the cap is no record — the job renders again — and reading
+// it neither hangs nor throws the JSON library's raw exception.
+TEST(Batch, DamagedOrHostileRecordsAreNoRecords) {
+    const fs::path dir = fs::temp_directory_path() / ("metamer-records-" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    auto record = [&](const std::string& name, const std::string& text) {
+        fs::create_directories(dir / name);
+        std::ofstream(dir / name / "job.json") << text;
+        return dir / name;
+    };
+    const std::string good = R"({"metamer_batch_record": 1, "id": "a-1", "digest": "ff", "status": "done"})";
+    ASSERT_TRUE(readJobRecord(record("good", good)).has_value());
+    EXPECT_FALSE(readJobRecord(record("types", R"({"metamer_batch_record": 1, "id": 5, "digest": "ff", "status": "done"})")));
+    EXPECT_FALSE(readJobRecord(record("status", R"({"metamer_batch_record": 1, "id": "a", "digest": "ff", "status": "weird"})")));
+    EXPECT_FALSE(readJobRecord(record("deep", std::string(100000, '[') + std::string(100000, ']'))));
+    EXPECT_FALSE(readJobRecord(record("truncated", good.substr(0, 30))));
+    fs::create_directories(dir / "fifo");
+    ASSERT_EQ(::mkfifo((dir / "fifo" / "job.json").c_str(), 0600), 0);
+    EXPECT_FALSE(readJobRecord(dir / "fifo"));  // returns at once: never opened
+    // The index names what it leaves out.
+    const IndexSummary index = writeBatchIndex(dir);
+    EXPECT_EQ(index.records, 1u);
+    EXPECT_EQ(index.unreadable, (std::vector<std::string>{"deep", "fifo", "status", "truncated", "types"}));
+    fs::remove_all(dir);
 }

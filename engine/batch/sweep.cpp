@@ -1,9 +1,12 @@
 #include "batch/sweep.h"
+#include "core/file_reads.h"
+#include "scene/json_values.h"
 
 #include "core/csv_text.h"
 #include "core/file_reads.h"
 #include "core/json.h"
 #include "io/exr_file.h"
+#include "scene/json_values.h"
 #include "scene/overrides.h"
 
 #include <algorithm>
@@ -182,7 +185,9 @@ Axis readAxis(const Json& a, const Where& where) {
         x.renderKey = a["render"].get<std::string>();
         if (!findRenderKey(x.renderKey)) unknownKey(where.child("render"), x.renderKey, sweepRenderKeys(), "render setting");
     }
-    x.name = a.contains("name") && a["name"].is_string() ? a["name"].get<std::string>() : hasSet ? x.setKey : x.renderKey;
+    if (a.contains("name") && (!a["name"].is_string() || a["name"].get<std::string>().empty()))
+        failInput(where.child("name"), "expected the axis's name, a non-empty string; got {}", jsonTypeName(a["name"]));
+    x.name = a.contains("name") ? a["name"].get<std::string>() : hasSet ? x.setKey : x.renderKey;
     if (!a.contains("values") || !a["values"].is_array() || a["values"].empty())
         failInput(where.child("values"), "expected a non-empty array of values");
     for (size_t i = 0; i < a["values"].size(); ++i) {
@@ -203,14 +208,9 @@ std::string shortValue(const Json& v) {
 }
 
 Sweep readSweepJson(const fs::path& file, Sweep sweep) {
-    std::ifstream in(file);
-    if (!in) failInput(Where{file.string()}, "cannot open the sweep file");
-    Json doc;
-    try {
-        doc = Json::parse(in);
-    } catch (const nlohmann::json::parse_error& e) {
-        failInput(Where{file.string()}, "not valid JSON: {}", e.what());
-    }
+    // The scene reader's parser: duplicate keys, nesting beyond 64 levels and numbers beyond a
+    // double are errors naming the line and key, as in a scene.
+    const Json doc = json_read::parseJson(readWholeFile(file, Where{file.string()}, "sweep file"), file.string());
     const Where top{file.string()};
     if (!doc.is_object()) failInput(top, "expected a sweep object {{\"scenes\": [...], \"axes\": [...], ...}}");
     requireKeys(doc, top, {"scenes", "rows", "set", "render", "axes", "out"}, "sweep key");
@@ -286,9 +286,9 @@ Sweep readManifestJsonl(const fs::path& file, Sweep sweep) {
         const Where where{file.string(), "", n};
         Json row;
         try {
-            row = Json::parse(line);
-        } catch (const nlohmann::json::parse_error& e) {
-            failInput(where, "not a JSON object on one line: {}", e.what());
+            row = json_read::parseJson(line, file.string());
+        } catch (const Error& e) {
+            failInput(where, "not a JSON object on one line: {}", e.message());
         }
         SweepJob j = readRow(row, where);
         j.origin = fmt::format("line {}", n);
@@ -326,6 +326,8 @@ Sweep readManifestCsv(const fs::path& file, Sweep sweep) {
     int n = 0;
     while (header.empty() && std::getline(in, line)) {
         ++n;
+        // A UTF-8 byte-order mark (spreadsheets write one) is not part of the first column's name.
+        if (n == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);
         if (line.find_first_not_of(" \t\r") != std::string::npos) header = splitCsvRecord(line, Where{file.string(), "", n});
     }
     const Where headerWhere{file.string(), "", n};
@@ -335,6 +337,10 @@ Sweep readManifestCsv(const fs::path& file, Sweep sweep) {
     for (const std::string& k : sweepRenderKeys()) allowed.push_back(k);
     for (size_t c = 0; c < header.size(); ++c) {
         const std::string& h = header[c];
+        for (size_t d = 0; d < c; ++d)
+            if (header[d] == h)
+                failInput(Where{file.string(), fmt::format("column {}", c + 1), n},
+                          "'{}' is column {} too: each column once (a repeated one would silently win)", h, d + 1);
         if (h == "scene") {
             sceneColumn = int(c);
         } else if (h.rfind("set:", 0) == 0) {
@@ -438,11 +444,16 @@ RenderJob makeRenderJob(const Sweep& sweep, const SweepJob& j, const fs::path& o
         else if (key == "write") job.write = v.get<std::vector<std::string>>();
         else if (key == "size") {
             const std::string s = v.get<std::string>();
-            int w = 0, h = 0;
-            char x = 0, extra = 0;
-            if (std::sscanf(s.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X') || w < 1 ||
-                h < 1 || w > 65536 || h > 65536)
-                fail("WIDTHxHEIGHT in pixels, e.g. 64x64");
+            // Digits only, each side 1 … 65536: "4294967304x8" must not wrap around to 8×8.
+            auto side = [&](const std::string& t) {
+                if (t.empty() || t.size() > 6 || t.find_first_not_of("0123456789") != std::string::npos) return 0;
+                const int n = std::stoi(t);
+                return n >= 1 && n <= 65536 ? n : 0;
+            };
+            const size_t cross = s.find_first_of("xX");
+            const int w = cross == std::string::npos ? 0 : side(s.substr(0, cross));
+            const int h = cross == std::string::npos ? 0 : side(s.substr(cross + 1));
+            if (w == 0 || h == 0) fail("WIDTHxHEIGHT in pixels, each 1 to 65536, e.g. 64x64");
             job.overrides.push_back(fmt::format("camera.width={}", w));
             job.overrides.push_back(fmt::format("camera.height={}", h));
         } else if (key == "ssaa") {
