@@ -4,7 +4,6 @@
 #include "app/bench_command.h"    // metamer bench
 #include "app/cli_checks.h"       // checks every command line gets
 #include "app/capture_command.h"  // metamer capture
-#include "io/spectral_image.h"
 #include "sensor/capture_files.h"
 #include "sensor/sensor_spec.h"
 #include "app/compare_command.h"  // metamer compare
@@ -198,10 +197,7 @@ int main(int argc, char** argv) {
             capture->sensor = sensor;
             capture->seed = sensorSeed;
             capture->exposure = sensorExposure;
-            // The capture reads the cube the render writes.
-            std::vector<std::string> write = job.write.value_or(std::vector<std::string>{"cube", "png"});
-            if (std::find(write.begin(), write.end(), "cube") == write.end()) write.push_back("cube");
-            job.write = write;
+            job.write = writeListWithCube(job.write);
         } else if (sensorExposure || sensorSeed) {
             failInput(Where{sensorExposure ? "--exposure" : "--seed"}, "goes with --sensor (a simulated sensor's capture)");
         }
@@ -219,9 +215,9 @@ int main(int argc, char** argv) {
                         *r.cameraFitRmsDeltaE);
         for (const auto& n : r.notes) std::printf("note: %s\n", n.c_str());
         if (capture) {
-            for (const auto& f : r.written)
-                if (capture->cube.empty() && cubeFormatOf(f.path) && f.path.stem().extension().empty()) capture->cube = f.path;
-            if (capture->cube.empty()) failRuntime("the render wrote no spectral cube for --sensor to capture");
+            std::vector<std::filesystem::path> written;
+            for (const auto& f : r.written) written.push_back(f.path);
+            capture->cube = renderedCube(written);
             capture->out = job.outDir;
             captureToFiles(*capture, SpectrumLibrary(), [](const std::string& line) { std::printf("%s\n", line.c_str()); });
         }

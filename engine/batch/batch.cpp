@@ -2,7 +2,6 @@
 #include "scene/json_values.h"
 #include "spectral/library.h"
 #include "sensor/sensor_spec.h"
-#include "io/spectral_image.h"
 
 #include "core/csv_text.h"
 #include "core/file_reads.h"
@@ -301,9 +300,9 @@ BatchSummary runBatch(const Sweep& sweep, const BatchOptions& o, vk::Context& co
                 if (j.capture) {
                     // The sensor reads the cube the render has just written (EXR, HDF5 or ENVI).
                     CaptureRequest c = *j.capture;
-                    for (const WrittenFile& f : r.written)
-                        if (c.cube.empty() && cubeFormatOf(f.path) && f.path.stem().extension().empty()) c.cube = f.path;
-                    if (c.cube.empty()) failRuntime("the render wrote no spectral cube for the sensor to capture");
+                    std::vector<fs::path> written;
+                    for (const WrittenFile& f : r.written) written.push_back(f.path);
+                    c.cube = renderedCube(written);
                     c.out = folder;
                     const SpectrumLibrary library;
                     const CaptureFiles captured = captureToFiles(c, library);

@@ -8,6 +8,7 @@
 #include "io/exr_file.h"
 #include "scene/json_values.h"
 #include "scene/overrides.h"
+#include "sensor/sensor_spec.h"
 
 #include <algorithm>
 #include <optional>
@@ -477,10 +478,7 @@ RenderJob makeRenderJob(const Sweep& sweep, const SweepJob& j, const fs::path& o
         }
     }
     if (j.render.contains("sensor")) {
-        // The capture reads the cube the render writes.
-        std::vector<std::string> write = job.write.value_or(std::vector<std::string>{"cube", "png"});
-        if (std::find(write.begin(), write.end(), "cube") == write.end()) write.push_back("cube");
-        job.write = write;
+        job.write = writeListWithCube(job.write);
     } else {
         for (const char* k : {"seed", "frames", "exposure"})
             if (j.render.contains(k))
@@ -495,11 +493,9 @@ std::optional<CaptureRequest> makeCaptureRequest(const Sweep& sweep, const Sweep
     if (!j.render.contains("sensor")) return std::nullopt;
     CaptureRequest c;
     const std::string given = j.render["sensor"].get<std::string>();
-    const fs::path asFile(given);
     // A file is relative to the sweep's folder, as scenes are; a bare name is a library sensor.
-    c.sensor = (asFile.extension() == ".json" || asFile.has_parent_path())
-                   ? (asFile.is_absolute() ? asFile : sweep.folder / asFile).string()
-                   : given;
+    const fs::path asFile(given);
+    c.sensor = namesSensorFile(given) ? (asFile.is_absolute() ? asFile : sweep.folder / asFile).string() : given;
     if (j.render.contains("seed")) c.seed = j.render["seed"].get<uint64_t>();
     if (j.render.contains("frames")) c.frames = j.render["frames"].get<int>();
     if (j.render.contains("exposure")) c.exposure = j.render["exposure"].get<double>();

@@ -14,6 +14,7 @@
 #include "render/render_settings.h"
 #include "render/render_setup.h"
 #include "sensor/capture.h"
+#include "sensor/capture_files.h"
 #include "spectral/kubelka_munk.h"
 #include "spectral/resampling.h"
 #include "vk/context.h"
@@ -327,10 +328,7 @@ py::dict capture(const py::object& source, const py::object& sensorName, uint64_
         cube.grid = r.captured.grid;
         cube.data = r.captured.outputs.cube;
     } else {
-        SpectralImage image = readSpectralImage(pathOf(source));
-        if (image.component != SpectralComponent::Emissive)
-            failInput(Where{pathOf(source).string()}, "the cube holds reflectance; a sensor captures spectral radiance");
-        cube = std::move(image.cube);
+        cube = readRadianceCube(pathOf(source));
     }
     ExpectedElectrons e;
     std::vector<std::vector<uint16_t>> raws;

@@ -189,9 +189,22 @@ void photonBalance(const MaterialOnGrid& g, const std::vector<double>& nm, doubl
                                 worst, worstNm));
 }
 
-// n for a message: a Sellmeier formula past a pole gives n² < 0, whose root is not a number.
-std::string indexValue(double n) {
-    return std::isnan(n) ? std::string("not a real number (n² < 0: the formula is past a pole)") : fmt::format("{:g}", n);
+// n(λ) at each band centre `nm`, checked: a Sellmeier or Cauchy formula can pass through a pole
+// (n² < 0, whose root is not a number) or below 1 on the grid. Errors name `where` and how the
+// scene gave n (`source`).
+std::vector<double> indexOnGrid(const RefractiveIndex& ior, const std::string& source, const Where& where,
+                                const std::vector<double>& nm) {
+    std::vector<double> out;
+    for (double l : nm) {
+        const double n = ior.at(l);
+        if (!(n >= 1.0 && n <= 5.0))
+            failInput(where, "the refractive index ({}) is {} at {:g} nm; expected 1 … 5 over the grid", source,
+                      std::isnan(n) ? std::string("not a real number (n² < 0: the formula is past a pole)")
+                                    : fmt::format("{:g}", n),
+                      l);
+        out.push_back(n);
+    }
+    return out;
 }
 
 // A paint's films on the grid (Material::Paint): K and S per band for each layer (the layer's own
@@ -247,11 +260,7 @@ PaintOnGrid paintOnGrid(const Material::Paint& paint, const std::vector<Material
         const Material::Paint::Surface& s = *paint.surface;
         if (s.ior) {
             std::unordered_map<double, std::pair<double, double>> byIndex;  // k2 is an integral: once per n
-            for (double l : nm) {
-                const double n = s.ior->at(l);
-                if (!(n >= 1.0 && n <= 5.0))
-                    failInput(s.where.child("ior"), "the refractive index ({}) is {} at {:g} nm; expected 1 … 5 over the grid",
-                              s.iorSource, indexValue(n), l);
+            for (double n : indexOnGrid(*s.ior, s.iorSource, s.where.child("ior"), nm)) {
                 auto it = byIndex.find(n);
                 if (it == byIndex.end())
                     it = byIndex.emplace(n, std::pair{saundersonK1(n), internalDiffuseReflectance(n)}).first;
@@ -421,14 +430,7 @@ SceneOnGrid resampleScene(const Scene& scene, const Grid& grid, CoveragePolicy p
             g.slabThickness = m.slab->thickness_m;
             g.slabAbsorbance.assign(size_t(grid.bands()), 0.0);
             if (m.slab->absorbance) g.slabAbsorbance = onGrid(*m.slab->absorbance, grid, policy, gaps);
-            for (double nm : out.wavelengths_nm) {
-                const double n = m.slab->ior.at(nm);
-                // A Sellmeier or Cauchy formula can pass through a pole or below 1 on the grid.
-                if (!(n >= 1.0 && n <= 5.0))
-                    failInput(m.slab->iorWhere, "the refractive index ({}) is {} at {:g} nm; expected 1 … 5 over the grid",
-                              m.slab->iorSource, indexValue(n), nm);
-                g.ior.push_back(n);
-            }
+            g.ior = indexOnGrid(m.slab->ior, m.slab->iorSource, m.slab->iorWhere, out.wavelengths_nm);
         }
         if (m.isMedium()) {
             g.absorbance.assign(size_t(grid.bands()), 0.0);

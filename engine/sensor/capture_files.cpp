@@ -12,9 +12,30 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+
 namespace metamer {
 
 namespace fs = std::filesystem;
+
+SpectralCube readRadianceCube(const fs::path& file) {
+    SpectralImage image = readSpectralImage(file);
+    if (image.component != SpectralComponent::Emissive)
+        failInput(Where{file.string()}, "the cube holds reflectance; a sensor captures spectral radiance (metamer render's cube)");
+    return std::move(image.cube);
+}
+
+std::vector<std::string> writeListWithCube(const std::optional<std::vector<std::string>>& write) {
+    std::vector<std::string> out = write.value_or(std::vector<std::string>{"cube", "png"});
+    if (std::find(out.begin(), out.end(), "cube") == out.end()) out.push_back("cube");
+    return out;
+}
+
+fs::path renderedCube(const std::vector<fs::path>& written) {
+    for (const fs::path& f : written)
+        if (cubeFormatOf(f) && f.stem().extension().empty()) return f;
+    failRuntime("the render wrote no spectral cube for the sensor to capture");
+}
 
 CaptureFiles captureToFiles(const CaptureRequest& a, const SpectrumLibrary& library,
                             const std::function<void(const std::string&)>& log) {
@@ -22,10 +43,7 @@ CaptureFiles captureToFiles(const CaptureRequest& a, const SpectrumLibrary& libr
         failInput(Where{"--exposure"}, "expected an exposure time in seconds, > 0 and at most 10⁶, got {:g}", *a.exposure);
     if (a.frames < 1 || a.frames > 100000) failInput(Where{"--frames"}, "expected 1 … 100000 frames, got {}", a.frames);
     const SensorSpec sensor = readSensor(sensorFile(a.sensor, library), library);
-    const SpectralImage image = readSpectralImage(a.cube);
-    if (image.component != SpectralComponent::Emissive)
-        failInput(Where{a.cube.string()}, "the cube holds reflectance; a sensor captures spectral radiance (metamer render's cube)");
-    const SpectralCube& cube = image.cube;
+    const SpectralCube cube = readRadianceCube(a.cube);
     const ExpectedElectrons e = expectedElectrons(cube, sensor, a.exposure, a.noise);
     CaptureFiles written;
     written.exposure_s = e.exposure_s;

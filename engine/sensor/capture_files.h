@@ -4,6 +4,7 @@
 // Tests: tests/python/test_sensor.py, tests/batch_test.cpp.
 #pragma once
 
+#include "spectral/cube.h"
 #include "spectral/library.h"
 
 #include <cstdint>
@@ -31,6 +32,18 @@ struct CaptureFiles {
     double exposure_s = 0.0;
     bool autoExposed = false;
 };
+
+// A spectral radiance cube from a file (EXR, HDF5 or ENVI); a reflectance cube is an input error
+// naming the file: a sensor captures radiance.
+SpectralCube readRadianceCube(const std::filesystem::path& file);
+
+// A render's `write` list for a job that is captured: the capture reads the cube, so "cube" is
+// added (to the default {"cube", "png"} when none is given).
+std::vector<std::string> writeListWithCube(const std::optional<std::vector<std::string>>& write);
+
+// Among the files a render wrote, its spectral cube (EXR, HDF5 or ENVI, named <stem>.<ext>, not
+// <stem>.xyz.exr); a runtime error when there is none.
+std::filesystem::path renderedCube(const std::vector<std::filesystem::path>& written);
 
 // Captures `request.frames` frames and writes their files; `log` hears one line per file set.
 CaptureFiles captureToFiles(const CaptureRequest& request, const SpectrumLibrary& library,

@@ -91,9 +91,13 @@ std::vector<std::vector<int>> cfaFromLetters(const std::string& letters, const s
 
 }  // namespace
 
-fs::path sensorFile(const std::string& given, const SpectrumLibrary& library) {
+bool namesSensorFile(const std::string& given) {
     const fs::path asFile(given);
-    if (asFile.extension() == ".json" || asFile.has_parent_path()) return asFile;
+    return asFile.extension() == ".json" || asFile.has_parent_path();
+}
+
+fs::path sensorFile(const std::string& given, const SpectrumLibrary& library) {
+    if (namesSensorFile(given)) return given;
     const fs::path inLibrary = library.root() / "sensors" / (given + ".json");
     if (fs::exists(inLibrary)) return inLibrary;
     std::vector<std::string> names;

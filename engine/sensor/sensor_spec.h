@@ -64,6 +64,11 @@ struct SensorSpec {
 // `library`, file names ending in .csv relative to the sensor file's folder.
 SensorSpec readSensor(const std::filesystem::path& file, const SpectrumLibrary& library);
 
+// Whether `given` names a sensor file (it ends in .json or has a folder) rather than a library
+// sensor: a relative file resolves against the folder of what names it (the working folder, a
+// sweep's folder).
+bool namesSensorFile(const std::string& given);
+
 // The sensor file `given` names: itself when it ends in .json or has a folder, else the library
 // sensor spectra/sensors/<given>.json (an input error naming --sensor and listing them if none).
 std::filesystem::path sensorFile(const std::string& given, const SpectrumLibrary& library);
