@@ -119,7 +119,7 @@ Json recordBase(const Sweep& sweep, const ResolvedJob& j, const BatchOptions& o)
     r["id"] = j.id;
     r["digest"] = j.digest;
     r["position"] = j.position;
-    r["origin"] = sweep.jobs[j.position].origin;
+    r["origin"] = sweep.job(j.position).origin;
     r["sweep"] = sweep.file.string();
     r["settings"] = j.settings;
     Json inputs = Json::array();
@@ -180,7 +180,7 @@ std::pair<int, int> parseShard(const std::string& text) {
 }
 
 ResolvedJob resolveJob(const Sweep& sweep, size_t position, const fs::path& out) {
-    const SweepJob& sj = sweep.jobs.at(position);
+    const SweepJob sj = sweep.job(position);
     ResolvedJob r;
     r.position = position;
     r.settings = sj.settings();
@@ -203,7 +203,7 @@ ResolvedJob resolveJob(const Sweep& sweep, size_t position, const fs::path& out)
         }
     } catch (const Error& e) {
         throw Error(e.code(), Where{sweep.file.string(), sj.where.key, sj.where.line},
-                    fmt::format("job {} of {} ({}) cannot be rendered: {}", position + 1, sweep.jobs.size(),
+                    fmt::format("job {} of {} ({}) cannot be rendered: {}", position + 1, sweep.size(),
                                 sj.origin, e.text()));
     }
     // The digest: the settings, then the content of every input file, in an order that does not
@@ -253,15 +253,8 @@ BatchSummary runBatch(const Sweep& sweep, const BatchOptions& o, vk::Context& co
     BatchSummary s;
     // Every job of the shard is loaded and checked before the first render.
     std::vector<ResolvedJob> jobs;
-    std::map<std::string, size_t> seen;
-    for (size_t position : shardPositions(sweep.jobs.size(), o.shard, o.shards)) {
-        jobs.push_back(resolveJob(sweep, position, o.out));
-        const auto [it, fresh] = seen.emplace(jobs.back().id, position);
-        if (!fresh)
-            failInput(Where{sweep.file.string(), sweep.jobs[position].where.key, sweep.jobs[position].where.line},
-                      "jobs {} and {} render the same thing (same scene, settings and input files): {}", it->second + 1,
-                      position + 1, jobs.back().id);
-    }
+    for (size_t position : shardPositions(sweep.size(), o.shard, o.shards))
+        jobs.push_back(resolveJob(sweep, position, o.out));  // duplicates were refused when the sweep was read
     s.jobs = jobs.size();
     BatchProgress p;
     p.total = jobs.size();

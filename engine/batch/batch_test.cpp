@@ -72,7 +72,7 @@ BatchOptions options(const fs::path& out, int shard = 0, int shards = 1) {
 
 std::vector<std::string> ids(const Sweep& s, const fs::path& out) {
     std::vector<std::string> v;
-    for (size_t i = 0; i < s.jobs.size(); ++i) v.push_back(resolveJob(s, i, out).id);
+    for (size_t i = 0; i < s.size(); ++i) v.push_back(resolveJob(s, i, out).id);
     return v;
 }
 

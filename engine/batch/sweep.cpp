@@ -151,6 +151,7 @@ SweepJob readRow(const Json& row, const Where& where) {
     requireKeys(row, where, {"scene", "set", "render"}, "job key");
     SweepJob j;
     j.where = where;
+    j.origin = where.key;
     if (!row.contains("scene") || !row["scene"].is_string() || row["scene"].get<std::string>().empty())
         failInput(where.child("scene"), "every job needs \"scene\": the scene file (relative to the sweep's folder)");
     j.scene = row["scene"].get<std::string>();
@@ -159,19 +160,12 @@ SweepJob readRow(const Json& row, const Where& where) {
     return j;
 }
 
-struct Axis {
-    std::string name;
-    std::string setKey, renderKey;  // exactly one
-    std::vector<Json> values;
-    Where where;
-};
-
-Axis readAxis(const Json& a, const Where& where) {
+SweepAxis readAxis(const Json& a, const Where& where) {
     if (!a.is_object())
         failInput(where, "expected an axis {{\"set\": KEY or \"render\": NAME, \"values\": [...]}}, got {}",
                   jsonTypeName(a));
     requireKeys(a, where, {"name", "set", "render", "values"}, "axis key");
-    Axis x;
+    SweepAxis x;
     x.where = where;
     const bool hasSet = a.contains("set"), hasRender = a.contains("render");
     if (hasSet == hasRender)
@@ -215,17 +209,15 @@ Sweep readSweepJson(const fs::path& file, Sweep sweep) {
     const Where top{file.string()};
     if (!doc.is_object()) failInput(top, "expected a sweep object {{\"scenes\": [...], \"axes\": [...], ...}}");
     requireKeys(doc, top, {"scenes", "rows", "set", "render", "axes", "out"}, "sweep key");
-    std::vector<std::string> common;
-    Json commonRender = Json::object();
-    if (doc.contains("set")) common = readOverrides(doc["set"], top.child("set"));
-    if (doc.contains("render")) commonRender = readRender(doc["render"], top.child("render"));
+    if (doc.contains("set")) sweep.common = readOverrides(doc["set"], top.child("set"));
+    if (doc.contains("render")) sweep.commonRender = readRender(doc["render"], top.child("render"));
     if (doc.contains("out")) {
         if (!doc["out"].is_string() || doc["out"].get<std::string>().empty())
             failInput(top.child("out"), "expected the output folder (relative to the sweep's folder)");
         const fs::path out = doc["out"].get<std::string>();
         sweep.out = out.is_absolute() ? out : sweep.folder / out;
     }
-    std::vector<SweepJob> bases;
+    std::vector<SweepJob>& bases = sweep.bases;
     if (doc.contains("scenes")) {
         const Json& s = doc["scenes"];
         if (!s.is_array()) failInput(top.child("scenes"), "expected an array of scene files, got {}", jsonTypeName(s));
@@ -235,6 +227,7 @@ Sweep readSweepJson(const fs::path& file, Sweep sweep) {
             SweepJob j;
             j.scene = s[i].get<std::string>();
             j.where = top.child("scenes").index(i);
+            j.origin = j.where.key;
             bases.push_back(j);
         }
     }
@@ -244,38 +237,20 @@ Sweep readSweepJson(const fs::path& file, Sweep sweep) {
         for (size_t i = 0; i < r.size(); ++i) bases.push_back(readRow(r[i], top.child("rows").index(i)));
     }
     if (bases.empty()) failInput(top, "no jobs: give \"scenes\" (crossed with \"axes\") or \"rows\", or both");
-    std::vector<Axis> axes;
     if (doc.contains("axes")) {
         const Json& a = doc["axes"];
         if (!a.is_array()) failInput(top.child("axes"), "expected an array of axes, got {}", jsonTypeName(a));
-        for (size_t i = 0; i < a.size(); ++i) axes.push_back(readAxis(a[i], top.child("axes").index(i)));
-    }
-    // Every base × the cartesian product of the axes, the last axis varying fastest.
-    for (const SweepJob& base : bases) {
-        std::vector<size_t> at(axes.size(), 0);
-        while (true) {
-            SweepJob j = base;
-            j.overrides.insert(j.overrides.begin(), common.begin(), common.end());
-            Json render = commonRender;
-            merge(render, base.render);
-            std::vector<std::string> picked;
-            for (size_t a = 0; a < axes.size(); ++a) {
-                const Json& v = axes[a].values[at[a]];
-                if (!axes[a].setKey.empty())
-                    j.overrides.push_back(overrideText(axes[a].setKey, v));
-                else
-                    render[axes[a].renderKey] = v;
-                picked.push_back(axes[a].name + "=" + shortValue(v));
-            }
-            j.render = render;
-            j.origin = j.where.key + (picked.empty() ? "" : fmt::format(" × {}", fmt::join(picked, ", ")));
-            sweep.jobs.push_back(std::move(j));
-            size_t a = axes.size();
-            while (a > 0 && ++at[a - 1] == axes[a - 1].values.size()) at[--a] = 0;
-            if (a == 0) break;
-        }
+        for (size_t i = 0; i < a.size(); ++i) sweep.axes.push_back(readAxis(a[i], top.child("axes").index(i)));
     }
     return sweep;
+}
+
+// A manifest's line as a job; one line past kMaxSweepJobs is refused before it is kept.
+void addManifestJob(Sweep& sweep, SweepJob j) {
+    if (sweep.bases.size() == kMaxSweepJobs)
+        failInput(j.where, "more than {} jobs: a manifest this long would make more job folders than a dataset "
+                  "should have (docs/batch.md, \"Limits\"); split it into several datasets", kMaxSweepJobs);
+    sweep.bases.push_back(std::move(j));
 }
 
 Sweep readManifestJsonl(const fs::path& file, Sweep sweep) {
@@ -293,9 +268,9 @@ Sweep readManifestJsonl(const fs::path& file, Sweep sweep) {
         }
         SweepJob j = readRow(row, where);
         j.origin = fmt::format("line {}", n);
-        sweep.jobs.push_back(std::move(j));
+        addManifestJob(sweep, std::move(j));
     }
-    if (sweep.jobs.empty()) failInput(Where{file.string()}, "no jobs: the manifest has no lines");
+    if (sweep.bases.empty()) failInput(Where{file.string()}, "no jobs: the manifest has no lines");
     return sweep;
 }
 
@@ -375,13 +350,84 @@ Sweep readManifestCsv(const fs::path& file, Sweep sweep) {
             }
         }
         if (j.scene.empty()) failInput(Where{file.string(), "scene", n}, "every job needs a scene file");
-        sweep.jobs.push_back(std::move(j));
+        addManifestJob(sweep, std::move(j));
     }
-    if (sweep.jobs.empty()) failInput(Where{file.string()}, "no jobs: the manifest has a header and no rows");
+    if (sweep.bases.empty()) failInput(Where{file.string()}, "no jobs: the manifest has a header and no rows");
     return sweep;
 }
 
+// The sweep's job count, refused above kMaxSweepJobs with what makes it large (the product is
+// checked for overflow factor by factor, so 2⁶⁴ jobs are refused, not wrapped around).
+void checkJobCount(const Sweep& sweep) {
+    size_t n = sweep.bases.size();
+    double approx = double(n);
+    bool over = n > kMaxSweepJobs;
+    for (const SweepAxis& a : sweep.axes) {
+        approx *= double(a.values.size());
+        if (__builtin_mul_overflow(n, a.values.size(), &n) || n > kMaxSweepJobs) over = true;
+    }
+    if (!over) return;
+    std::vector<std::string> factors{fmt::format("{} base job(s)", sweep.bases.size())};
+    for (const SweepAxis& a : sweep.axes) factors.push_back(fmt::format("{} ({} values)", a.name, a.values.size()));
+    failInput(Where{sweep.file.string(), sweep.axes.empty() ? "" : "axes"},
+              "the sweep has {:.3g} jobs ({}), more than the limit of {} (docs/batch.md, \"Limits\"): split it "
+              "into several sweeps or list fewer values",
+              approx, fmt::join(factors, " × "), kMaxSweepJobs);
+}
+
+// Two jobs with the same settings would have the same id and folder: refused here, for every mode,
+// naming both. Hashes first (16 bytes a job, not the settings' text), then the text where two meet.
+void checkNoDuplicateJobs(const Sweep& sweep) {
+    std::vector<std::pair<size_t, size_t>> hashes(sweep.size());
+    for (size_t p = 0; p < hashes.size(); ++p) hashes[p] = {std::hash<std::string>{}(sweep.job(p).settings().dump()), p};
+    std::sort(hashes.begin(), hashes.end());
+    for (size_t i = 1; i < hashes.size(); ++i) {
+        if (hashes[i].first != hashes[i - 1].first) continue;
+        // Equal hashes: compare every earlier job of that hash with this one.
+        const SweepJob b = sweep.job(hashes[i].second);
+        for (size_t k = i; k-- > 0 && hashes[k].first == hashes[i].first;) {
+            const SweepJob a = sweep.job(hashes[k].second);
+            if (a.settings() != b.settings()) continue;
+            failInput(Where{sweep.file.string(), b.where.key, b.where.line},
+                      "jobs {} ({}) and {} ({}) render the same thing (same scene, overrides and render settings), "
+                      "so they would share one job folder; list each job once",
+                      hashes[k].second + 1, a.origin, hashes[i].second + 1, b.origin);
+        }
+    }
+}
+
 }  // namespace
+
+size_t Sweep::size() const {
+    size_t n = bases.size();
+    for (const SweepAxis& a : axes) n *= a.values.size();  // checked when read (checkJobCount)
+    return n;
+}
+
+SweepJob Sweep::job(size_t position) const {
+    size_t perBase = 1;
+    for (const SweepAxis& a : axes) perBase *= a.values.size();
+    if (position >= bases.size() * perBase) failRuntime("job {} of a sweep of {} jobs", position, bases.size() * perBase);
+    SweepJob j = bases[position / perBase];
+    j.overrides.insert(j.overrides.begin(), common.begin(), common.end());
+    Json render = commonRender;
+    merge(render, j.render);
+    std::vector<std::string> picked;
+    size_t rest = position % perBase;
+    for (const SweepAxis& a : axes) {
+        perBase /= a.values.size();
+        const Json& v = a.values[rest / perBase];
+        rest %= perBase;
+        if (!a.setKey.empty())
+            j.overrides.push_back(overrideText(a.setKey, v));
+        else
+            render[a.renderKey] = v;
+        picked.push_back(a.name + "=" + shortValue(v));
+    }
+    j.render = render;
+    if (!picked.empty()) j.origin += fmt::format(" × {}", fmt::join(picked, ", "));
+    return j;
+}
 
 const std::vector<std::string>& sweepRenderKeys() {
     static const std::vector<std::string> keys = [] {
@@ -413,10 +459,17 @@ Sweep readSweep(const fs::path& file) {
     sweep.file = file;
     sweep.folder = fs::absolute(file).parent_path();
     const std::string ext = file.extension().string();
-    if (ext == ".json") return readSweepJson(file, sweep);
-    if (ext == ".jsonl") return readManifestJsonl(file, sweep);
-    if (ext == ".csv") return readManifestCsv(file, sweep);
-    failInput(Where{file.string()}, "expected a sweep file (.json) or a manifest (.jsonl, .csv), not '{}'", ext);
+    if (ext == ".json")
+        sweep = readSweepJson(file, sweep);
+    else if (ext == ".jsonl")
+        sweep = readManifestJsonl(file, sweep);
+    else if (ext == ".csv")
+        sweep = readManifestCsv(file, sweep);
+    else
+        failInput(Where{file.string()}, "expected a sweep file (.json) or a manifest (.jsonl, .csv), not '{}'", ext);
+    checkJobCount(sweep);
+    checkNoDuplicateJobs(sweep);
+    return sweep;
 }
 
 RenderJob makeRenderJob(const Sweep& sweep, const SweepJob& j, const fs::path& outDir) {

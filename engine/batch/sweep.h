@@ -32,15 +32,41 @@ struct SweepJob {
     nlohmann::ordered_json settings() const;
 };
 
+// An axis of a sweep file: one scene key ("set") or render setting ("render") and its values.
+struct SweepAxis {
+    std::string name;
+    std::string setKey, renderKey;  // exactly one
+    std::vector<nlohmann::ordered_json> values;
+    Where where;
+};
+
+// The most jobs a sweep may have (docs/batch.md): a million job folders is already more than a
+// file system lists comfortably, and a product of axes can reach 2⁶⁴ from a few lines.
+constexpr size_t kMaxSweepJobs = 1000000;
+
+// A sweep is counted when it is read and its jobs are made one at a time, on demand: a shard
+// never builds the jobs of other shards, and a product of axes too large is refused before any
+// job exists. Every base (a scene, a row, a manifest line) × the product of the axes, the last
+// axis varying fastest.
 struct Sweep {
     std::filesystem::path file;    // the sweep or manifest as given
     std::filesystem::path folder;  // the folder its relative paths resolve against
     std::filesystem::path out;     // "out" in the sweep file, resolved; empty when not given
-    std::vector<SweepJob> jobs;
+
+    std::vector<SweepJob> bases;                  // "scenes" and "rows", or the manifest's lines
+    std::vector<std::string> common;              // "set": overrides before every job's own
+    nlohmann::ordered_json commonRender = nlohmann::ordered_json::object();  // "render"
+    std::vector<SweepAxis> axes;
+
+    size_t size() const;                  // the number of jobs
+    SweepJob job(size_t position) const;  // job `position` (0-based) of size()
 };
 
 // Reads a sweep (.json) or a manifest (.jsonl, .csv). Input errors name the file and the key
-// (rows.2.render.detector, axes.1.values) or the line and column.
+// (rows.2.render.detector, axes.1.values) or the line and column. A sweep of more than
+// kMaxSweepJobs jobs is refused, naming its axes; so are two jobs that render the same thing
+// (same scene, overrides and render settings), naming both — in every mode (--list, --dry-run,
+// --slurm, any shard), since under Slurm two tasks would otherwise write one job folder at once.
 Sweep readSweep(const std::filesystem::path& file);
 
 // The render job of a sweep job: the scene resolved against the sweep's folder, its overrides,

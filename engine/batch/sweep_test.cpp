@@ -52,19 +52,19 @@ const char* kSweep = R"({
 TEST(Sweep, ScenesAndRowsCrossedWithTheAxesLastAxisFastest) {
     const fs::path file = write("sweep.json", kSweep);
     const Sweep s = readSweep(file);
-    ASSERT_EQ(s.jobs.size(), 3u * 2 * 3);
+    ASSERT_EQ(s.size(), 3u * 2 * 3);
     EXPECT_EQ(s.out, fs::absolute(file).parent_path() / "dataset");
-    const SweepJob& first = s.jobs[0];
+    const SweepJob first = s.job(0);
     EXPECT_EQ(first.scene, "a.json");
     EXPECT_EQ(first.overrides, (std::vector<std::string>{"camera.width=32", "lights.0.spectrum=illuminants/D65"}));
     EXPECT_EQ(first.render["detector"], "cie1931");
     EXPECT_EQ(first.render["write"], Json::array({"png", "xyz"}));
     EXPECT_EQ(first.origin, "scenes.0 × light=illuminants/D65, detector=cie1931");
-    EXPECT_EQ(s.jobs[1].render["detector"], "cie1964");  // the last axis varies fastest
-    EXPECT_EQ(s.jobs[3].overrides.back(), "lights.0.spectrum=illuminants/A");
+    EXPECT_EQ(s.job(1).render["detector"], "cie1964");  // the last axis varies fastest
+    EXPECT_EQ(s.job(3).overrides.back(), "lights.0.spectrum=illuminants/A");
     // A row: the common overrides first, then its own, then the axes'; its render settings over
     // the common ones, the axes' over both.
-    const SweepJob& row = s.jobs[12];
+    const SweepJob row = s.job(12);
     EXPECT_EQ(row.scene, "c.json");
     EXPECT_EQ(row.overrides, (std::vector<std::string>{"camera.width=32", "lights.0.scale=2",
                                                        "lights.0.spectrum=illuminants/D65"}));
@@ -84,14 +84,14 @@ TEST(Sweep, ManifestsInJsonLinesAndCsvGiveTheSameJobs) {
     const Sweep csv = readSweep(write("m.csv", "scene,set:lights.0.spectrum,bits,size,write,half\n"
                                                "a.json,illuminants/A,16,64x48,,\n"
                                                "b.json,,,,\"png\",true\n"));
-    ASSERT_EQ(jsonl.jobs.size(), 2u);
-    ASSERT_EQ(csv.jobs.size(), 2u);
-    for (size_t i = 0; i < 2; ++i) EXPECT_EQ(jsonl.jobs[i].settings(), csv.jobs[i].settings()) << i;
-    EXPECT_EQ(jsonl.jobs[1].origin, "line 3");
-    EXPECT_EQ(csv.jobs[1].origin, "line 3");
+    ASSERT_EQ(jsonl.size(), 2u);
+    ASSERT_EQ(csv.size(), 2u);
+    for (size_t i = 0; i < 2; ++i) EXPECT_EQ(jsonl.job(i).settings(), csv.job(i).settings()) << i;
+    EXPECT_EQ(jsonl.job(1).origin, "line 3");
+    EXPECT_EQ(csv.job(1).origin, "line 3");
     // A quoted CSV field may hold commas: several outputs in one cell.
     const Sweep quoted = readSweep(write("q.csv", "scene,write\na.json,\"png,xyz\"\n"));
-    EXPECT_EQ(quoted.jobs[0].render["write"], Json::array({"png", "xyz"}));
+    EXPECT_EQ(quoted.job(0).render["write"], Json::array({"png", "xyz"}));
 }
 
 TEST(Sweep, MistakesNameTheFileTheKeyOrLineAndWhatWasExpected) {
@@ -127,9 +127,9 @@ TEST(Sweep, MistakesNameTheFileTheKeyOrLineAndWhatWasExpected) {
     EXPECT_NE(e.find("expected a sweep file (.json) or a manifest (.jsonl, .csv)"), std::string::npos) << e;
     // Values are checked when a job is made: the size, with the job's origin.
     const Sweep s = readSweep(write("s10.json", R"({"scenes": ["a.json"], "axes": [{"render": "size", "values": ["64x64", "64by64"]}]})"));
-    EXPECT_NO_THROW(makeRenderJob(s, s.jobs[0], "out"));
+    EXPECT_NO_THROW(makeRenderJob(s, s.job(0), "out"));
     try {
-        makeRenderJob(s, s.jobs[1], "out");
+        makeRenderJob(s, s.job(1), "out");
         ADD_FAILURE() << "no error";
     } catch (const Error& err) {
         EXPECT_NE(std::string(err.what()).find("s10.json: scenes.0.render.size: scenes.0 × size=64by64: '64by64' for size: "
@@ -144,7 +144,7 @@ TEST(Sweep, RenderJobsCarryEverySetting) {
         "detector": "camera:nikon_d5100", "adapt": "cat16", "display": "crt", "bits": 16, "integration": "trapezoid",
         "xyz": "absolute", "mode": "ac1c2:8", "grid": "380:780:10", "resample": "sprague", "write": "png,responses",
         "size": "40x30", "ssaa": 2, "half": true, "compression": "zip", "backend": "cpu", "strict_coverage": true}})"));
-    const RenderJob j = makeRenderJob(s, s.jobs[0], "out/x");
+    const RenderJob j = makeRenderJob(s, s.job(0), "out/x");
     EXPECT_EQ(j.scene, s.folder / "sub/a.json");
     EXPECT_EQ(j.outDir, "out/x");
     EXPECT_EQ(*j.detector, "camera:nikon_d5100");
@@ -168,29 +168,29 @@ TEST(Sweep, RenderJobsCarryEverySetting) {
 TEST(Sweep, ASensorJobWritesItsCubeAndCarriesItsCapture) {
     const Sweep s = readSweep(write("s12.json", R"({"scenes": ["a.json"], "render": {"write": "png",
         "sensor": "sensors/mine.json", "seed": 7, "frames": 3, "exposure": 0.004}})"));
-    const RenderJob j = makeRenderJob(s, s.jobs[0], "out/x");
+    const RenderJob j = makeRenderJob(s, s.job(0), "out/x");
     EXPECT_EQ(*j.write, (std::vector<std::string>{"png", "cube"}));  // the capture reads the cube
-    const std::optional<CaptureRequest> c = makeCaptureRequest(s, s.jobs[0]);
+    const std::optional<CaptureRequest> c = makeCaptureRequest(s, s.job(0));
     ASSERT_TRUE(c.has_value());
     EXPECT_EQ(c->sensor, (s.folder / "sensors/mine.json").string());
     EXPECT_EQ(c->seed, 7u);
     EXPECT_EQ(c->frames, 3);
     EXPECT_EQ(*c->exposure, 0.004);
     const Sweep library = readSweep(write("s13.json", R"({"scenes": ["a.json"], "render": {"sensor": "aps_c_rggb"}})"));
-    EXPECT_EQ(makeCaptureRequest(library, library.jobs[0])->sensor, "aps_c_rggb");
+    EXPECT_EQ(makeCaptureRequest(library, library.job(0))->sensor, "aps_c_rggb");
     const Sweep plain = readSweep(write("s14.json", R"({"scenes": ["a.json"]})"));
-    EXPECT_FALSE(makeCaptureRequest(plain, plain.jobs[0]).has_value());
+    EXPECT_FALSE(makeCaptureRequest(plain, plain.job(0)).has_value());
     // A seed without a sensor, or a bad value, names the key.
     const Sweep lone = readSweep(write("s15.json", R"({"scenes": ["a.json"], "render": {"seed": 3}})"));
     try {
-        makeRenderJob(lone, lone.jobs[0], "out");
+        makeRenderJob(lone, lone.job(0), "out");
         ADD_FAILURE() << "no error";
     } catch (const Error& e) {
         EXPECT_NE(std::string(e.what()).find("render.seed"), std::string::npos) << e.what();
         EXPECT_NE(std::string(e.what()).find("'seed' goes with 'sensor'"), std::string::npos) << e.what();
     }
     const Sweep zero = readSweep(write("s16.json", R"({"scenes": ["a.json"], "render": {"sensor": "x", "frames": 0}})"));
-    EXPECT_THROW(makeRenderJob(zero, zero.jobs[0], "out"), Error);
+    EXPECT_THROW(makeRenderJob(zero, zero.job(0), "out"), Error);
     EXPECT_NE(errorOf("s17.json", R"({"scenes": ["a.json"], "render": {"exposure": "long"}})").find("expected a number"),
               std::string::npos);
 }
@@ -205,15 +205,74 @@ TEST(Sweep, NothingIsAcceptedSilently) {
     e = errorOf("d3.csv", "scene,bits,bits\na.json,8,16\n");
     EXPECT_NE(e.find("d3.csv:1: column 3: 'bits' is column 2 too"), std::string::npos) << e;
     const Sweep bom = readSweep(write("d4.csv", "\xEF\xBB\xBFscene,bits\na.json,8\n"));
-    ASSERT_EQ(bom.jobs.size(), 1u);
-    EXPECT_EQ(bom.jobs[0].scene, "a.json");
+    ASSERT_EQ(bom.size(), 1u);
+    EXPECT_EQ(bom.job(0).scene, "a.json");
     for (const char* size : {"4294967304x8", "8x4294967304", "-8x8", "8x", "0x8", "65537x1", "8x8x8", " 8x8"}) {
         const Sweep s = readSweep(write("d5.json", fmt::format(R"({{"scenes": ["a.json"], "render": {{"size": "{}"}}}})", size)));
-        EXPECT_THROW(makeRenderJob(s, s.jobs[0], "out"), Error) << size;
+        EXPECT_THROW(makeRenderJob(s, s.job(0), "out"), Error) << size;
     }
     const Sweep ok = readSweep(write("d6.json", R"({"scenes": ["a.json"], "render": {"size": "65536X2"}})"));
-    EXPECT_EQ(makeRenderJob(ok, ok.jobs[0], "out").overrides, (std::vector<std::string>{"camera.width=65536", "camera.height=2"}));
+    EXPECT_EQ(makeRenderJob(ok, ok.job(0), "out").overrides, (std::vector<std::string>{"camera.width=65536", "camera.height=2"}));
     e = errorOf("d7.jsonl", "{\"scene\": \"a.json\", \"scene\": \"b.json\"}\n");
     EXPECT_NE(e.find("d7.jsonl:1: not a JSON object on one line"), std::string::npos) << e;
     EXPECT_NE(e.find("duplicate key"), std::string::npos) << e;
+}
+
+namespace {
+
+// An axis of `n` numeric values 1..n for a scene key.
+std::string numberAxis(const std::string& name, int n) {
+    std::vector<int> v(n);
+    for (int i = 0; i < n; ++i) v[i] = i + 1;
+    return fmt::format(R"({{"name": "{}", "set": "lights.0.scale", "values": [{}]}})", name, fmt::join(v, ","));
+}
+
+}  // namespace
+
+// Issue 30, class 1: a sweep is counted when it is read (with overflow checks) and refused above
+// kMaxSweepJobs, naming its axes; below that its jobs are made one at a time, so job k of a large
+// sweep is there without the others existing.
+TEST(Sweep, IsCountedBeforeAnyJobExistsAndMadeOneJobAtATime) {
+    std::string e = errorOf("n1.json", fmt::format(R"({{"scenes": ["a.json"], "axes": [{}, {}, {}]}})",
+                                                   numberAxis("x", 1000), numberAxis("y", 1000), numberAxis("z", 1000)));
+    EXPECT_NE(e.find("n1.json: axes: the sweep has 1e+09 jobs (1 base job(s) × x (1000 values) × y (1000 values) × z "
+                     "(1000 values)), more than the limit of 1000000"),
+              std::string::npos)
+        << e;
+    // 256⁸ = 2⁶⁴ wraps a 64-bit count around to 0: refused all the same.
+    std::vector<std::string> axes;
+    for (int a = 0; a < 8; ++a) axes.push_back(numberAxis(fmt::format("a{}", a), 256));
+    e = errorOf("n2.json", fmt::format(R"({{"scenes": ["a.json"], "axes": [{}]}})", fmt::join(axes, ", ")));
+    EXPECT_NE(e.find("the sweep has 1.84e+19 jobs"), std::string::npos) << e;
+
+    // 2 scenes × 200 × 200: 80 000 jobs, counted, and job k decoded from k alone (last axis fastest).
+    const Sweep s = readSweep(write("n3.json", fmt::format(R"({{"scenes": ["a.json", "b.json"], "axes": [{}, {}]}})",
+                                                          numberAxis("x", 200), numberAxis("y", 200))));
+    ASSERT_EQ(s.size(), 80000u);
+    const SweepJob last = s.job(79999);
+    EXPECT_EQ(last.scene, "b.json");
+    EXPECT_EQ(last.overrides, (std::vector<std::string>{"lights.0.scale=200", "lights.0.scale=200"}));
+    const SweepJob k = s.job(40000 + 3 * 200 + 7);
+    EXPECT_EQ(k.scene, "b.json");
+    EXPECT_EQ(k.overrides, (std::vector<std::string>{"lights.0.scale=4", "lights.0.scale=8"}));
+    EXPECT_EQ(k.origin, "scenes.1 × x=4, y=8");
+    EXPECT_THROW(s.job(80000), Error);
+}
+
+// Issue 30, class 5: two jobs that render the same thing are refused when the sweep is read — so
+// in every mode (--list, --dry-run, --slurm, each shard), not only by a run that reaches them.
+TEST(Sweep, TwoJobsThatRenderTheSameThingAreRefusedWhenTheSweepIsRead) {
+    std::string e = errorOf("u1.json", R"({"scenes": ["a.json"], "axes": [{"render": "bits", "values": [8, 10, 8]}]})");
+    EXPECT_NE(e.find("jobs 1 (scenes.0 × bits=8) and 3 (scenes.0 × bits=8) render the same thing"), std::string::npos)
+        << e;
+    // A row that repeats what "scenes" × the axes already make.
+    e = errorOf("u2.json", R"({"scenes": ["a.json"], "render": {"bits": 8},
+                               "rows": [{"scene": "./a.json", "render": {"bits": 8}}]})");
+    EXPECT_NE(e.find("jobs 1 (scenes.0) and 2 (rows.0) render the same thing"), std::string::npos) << e;
+    e = errorOf("u3.jsonl", "{\"scene\": \"a.json\"}\n{\"scene\": \"b.json\"}\n{\"scene\": \"a.json\"}\n");
+    EXPECT_NE(e.find("u3.jsonl:3: jobs 1 (line 1) and 3 (line 3) render the same thing"), std::string::npos) << e;
+    e = errorOf("u4.csv", "scene,bits\na.json,8\na.json,8\n");
+    EXPECT_NE(e.find("jobs 1 (line 2) and 2 (line 3)"), std::string::npos) << e;
+    // Different settings are different jobs, even when one is the default of the other.
+    EXPECT_NO_THROW(readSweep(write("u5.csv", "scene,bits\na.json,8\na.json,\n")));
 }
