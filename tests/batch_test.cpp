@@ -275,3 +275,40 @@ TEST(BatchCli, SweepsSeedsAndExposuresThroughASensor) {
     EXPECT_NE(shell(run).output.find("4 rendered"), std::string::npos);
     fs::remove_all(dir);
 }
+
+// Issue 30, classes 4 and 5: a sweep with a job given twice is refused by every mode — not only by
+// the run that reaches it — and --slurm refuses option values Slurm would read as something else
+// (a newline ends sbatch's directives and runs the rest as shell), before writing anything.
+TEST(BatchCli, EveryModeRefusesAJobGivenTwiceAndSlurmValuesAreCheckedBeforeAnythingIsWritten) {
+    const fs::path dir = freshDir("twice");
+    std::ofstream(dir / "twice.json") << fmt::format(
+        R"({{"scenes": ["{}/tests/data/cli/small.json"], "axes": [{{"render": "bits", "values": [8, 10, 8]}}]}})",
+        METAMER_SOURCE_DIR);
+    const std::string out = (dir / "out").string();
+    for (const char* mode : {"", "--list", "--dry-run", "--slurm", "--shard 1/2", "--shard 0/2"}) {
+        const test::CliRun r =
+            test::runMetamer(fmt::format("batch {} --out {} {}", (dir / "twice.json").string(), out, mode));
+        EXPECT_EQ(r.code, 2) << mode << r.output;
+        EXPECT_NE(r.output.find("twice.json: scenes.0: jobs 1 (scenes.0 × bits=8) and 3 (scenes.0 × bits=8) render "
+                                "the same thing"),
+                  std::string::npos)
+            << mode << r.output;
+        EXPECT_FALSE(fs::exists(out)) << mode;
+    }
+
+    const fs::path sweep = writeSweep(dir, R"({"size": "8x8"})");
+    test::CliRun r = test::runMetamer(fmt::format(
+        "batch {} --out {} --slurm --partition \"$(printf 'debug\\necho pwned')\"", sweep.string(), out));
+    EXPECT_EQ(r.code, 2) << r.output;
+    EXPECT_NE(r.output.find("--partition: expected a partition name"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(out));
+    r = test::runMetamer(fmt::format("batch {} --out {} --slurm --time '2 hours'", sweep.string(), out));
+    EXPECT_EQ(r.code, 2) << r.output;
+    EXPECT_NE(r.output.find("--time: expected a time limit as Slurm writes one"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(out));
+    // 50 tasks asked for 6 jobs: 6 tasks, none empty.
+    r = test::runMetamer(fmt::format("batch {} --out {} --slurm --tasks 50 --mem 2G", sweep.string(), out));
+    ASSERT_EQ(r.code, 0) << r.output;
+    EXPECT_NE(r.output.find("6 jobs, all valid, in 6 array tasks"), std::string::npos) << r.output;
+    EXPECT_EQ(lines(fs::path(out) / "slurm" / "array.sbatch")[4], "#SBATCH --array=0-5");
+}

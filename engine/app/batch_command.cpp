@@ -10,6 +10,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <mutex>
 #include <set>
@@ -92,14 +93,12 @@ int runBatchCommand(const BatchArgs& a) {
     o.retryFailed = a.retryFailed;
     o.validation = a.validation;
     o.device = a.device;
-    const std::vector<size_t> positions = shardPositions(sweep.jobs.size(), shard, shards);
+    const std::vector<size_t> positions = shardPositions(sweep.size(), shard, shards);
 
     if (a.slurm) {
         if (!a.shard.empty()) failInput(Where{"", "--shard"}, "--slurm writes every shard's task; give no --shard");
-        // Every job checked here, before anything is submitted.
-        for (size_t p = 0; p < sweep.jobs.size(); ++p) resolveJob(sweep, p, o.out);
         SlurmOptions so;
-        so.tasks = a.tasks;
+        so.tasks = int(std::min<size_t>(size_t(a.tasks), sweep.size()));  // no task without a job
         so.arrayLimit = a.arrayLimit;
         so.partition = a.partition;
         so.time = a.time;
@@ -110,9 +109,12 @@ int runBatchCommand(const BatchArgs& a) {
         so.out = fs::absolute(o.out);
         if (a.retryFailed) so.extraArgs.push_back("--retry-failed");
         if (a.validation) so.extraArgs.push_back("--validation");
+        checkSlurmOptions(so);
+        // Every job checked here, before anything is submitted.
+        for (size_t p = 0; p < sweep.size(); ++p) resolveJob(sweep, p, o.out);
         const SlurmScripts scripts = writeSlurmScripts(so);
         std::printf("%s: %zu jobs, all valid, in %d array tasks (%zu jobs each at most)\n", a.sweep.c_str(),
-                    sweep.jobs.size(), a.tasks, (sweep.jobs.size() + size_t(a.tasks) - 1) / size_t(a.tasks));
+                    sweep.size(), so.tasks, (sweep.size() + size_t(so.tasks) - 1) / size_t(so.tasks));
         std::printf("wrote %s (the array), %s (the index), %s\n", scripts.array.c_str(), scripts.index.c_str(),
                     scripts.submit.c_str());
         std::printf("submit with: sh %s   (again to resume; logs in %s)\n", scripts.submit.c_str(),
@@ -129,7 +131,7 @@ int runBatchCommand(const BatchArgs& a) {
             const bool isDone = !fresh && r->status == JobStatus::Done;
             const char* status = fresh ? "to render" : isDone ? "done" : "failed";
             (fresh ? todo : isDone ? done : failed)++;
-            if (a.list) std::printf("%s\t%s\t%s\n", j.id.c_str(), status, sweep.jobs[p].origin.c_str());
+            if (a.list) std::printf("%s\t%s\t%s\n", j.id.c_str(), status, sweep.job(p).origin.c_str());
         }
         std::fprintf(a.list ? stderr : stdout, "%s: %zu jobs%s, all valid: %zu done, %zu failed, %zu to render, in %s\n",
                      a.sweep.c_str(), positions.size(),

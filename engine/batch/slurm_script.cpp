@@ -6,6 +6,9 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <cctype>
+#include <regex>
+
 
 namespace fs = std::filesystem;
 
@@ -30,7 +33,50 @@ std::string header(const SlurmOptions& o, const std::string& name, const std::st
     return h;
 }
 
+// Each value that reaches an #SBATCH line must be exactly what Slurm accepts for that option: a
+// newline there would end sbatch's directive parsing (losing --array) and run the rest as a shell
+// command, a space would add an option. So each is matched against Slurm's own syntax (sbatch(1)).
+void checkValue(const std::string& value, const char* option, const std::regex& syntax, const char* expected) {
+    if (!value.empty() && !std::regex_match(value, syntax))
+        failInput(Where{"", option}, "expected {}, got '{}'", expected, value);
+}
+
+// A path on an #SBATCH --output line: whitespace or a quote would split or open the option, a '%'
+// is one of Slurm's filename patterns (%j, %A, …) and a backslash turns them all off.
+void checkSbatchPath(const fs::path& path, const char* option) {
+    for (const unsigned char c : path.string())
+        if (c < 0x21 || c == 0x7f || c == '%' || c == '"' || c == '\'' || c == '\\')
+            failInput(Where{"", option},
+                      "'{}' cannot go on an #SBATCH line (its log files are --output={}/slurm/logs/…): a path without "
+                      "whitespace, control characters, quotes, backslashes or '%' is needed for --slurm",
+                      path.string(), path.string());
+}
+
+// The job name from the sweep's name, in the characters every Slurm tool prints unquoted.
+std::string jobNameFrom(const std::string& stem) {
+    std::string name = "metamer-";
+    for (const char c : stem.substr(0, 64)) name += std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' || c == '.' ? c : '_';
+    return name;
+}
+
 }  // namespace
+
+void checkSlurmOptions(const SlurmOptions& o) {
+    if (o.tasks < 1) failInput(Where{"", "--tasks"}, "expected at least 1 array task, got {}", o.tasks);
+    if (o.arrayLimit < 0) failInput(Where{"", "--array-limit"}, "expected a positive limit, got {}", o.arrayLimit);
+    static const std::regex partition("[A-Za-z0-9_.-]+(,[A-Za-z0-9_.-]+)*");
+    static const std::regex time("[0-9]+(:[0-9]+){0,2}|[0-9]+-[0-9]+(:[0-9]+){0,2}|UNLIMITED|INFINITE");
+    static const std::regex mem("[0-9]+[KMGTkmgt]?");
+    static const std::regex name("[A-Za-z0-9_.-]+");
+    checkValue(o.partition, "--partition", partition,
+               "a partition name (letters, digits, '_', '.', '-'; several joined by commas)");
+    checkValue(o.time, "--time", time,
+               "a time limit as Slurm writes one: MINUTES, MINUTES:SECONDS, HOURS:MINUTES:SECONDS, DAYS-HOURS, "
+               "DAYS-HOURS:MINUTES, DAYS-HOURS:MINUTES:SECONDS or UNLIMITED");
+    checkValue(o.mem, "--mem", mem, "a memory size: digits and an optional unit K, M, G or T (e.g. 8G)");
+    checkValue(o.jobName, "--job-name", name, "a job name (letters, digits, '_', '.', '-')");
+    checkSbatchPath(o.out, "--out");
+}
 
 std::string shellQuote(const std::string& text) {
     std::string q = "'";
@@ -39,14 +85,13 @@ std::string shellQuote(const std::string& text) {
 }
 
 SlurmScripts writeSlurmScripts(const SlurmOptions& o) {
-    if (o.tasks < 1) failInput(Where{"", "--tasks"}, "expected at least 1 array task, got {}", o.tasks);
-    if (o.arrayLimit < 0) failInput(Where{"", "--array-limit"}, "expected a positive limit, got {}", o.arrayLimit);
+    checkSlurmOptions(o);  // before anything is written
     const fs::path dir = o.out / "slurm";
     SlurmScripts s{dir / "array.sbatch", dir / "index.sbatch", dir / "submit.sh", dir / "logs"};
     std::error_code ec;
     fs::create_directories(s.logs, ec);
     if (ec) failRuntime("cannot create {}: {}", s.logs.string(), ec.message());
-    const std::string name = o.jobName.empty() ? "metamer-" + o.sweep.stem().string() : o.jobName;
+    const std::string name = o.jobName.empty() ? jobNameFrom(o.sweep.stem().string()) : o.jobName;
     std::vector<std::string> extra;
     for (const std::string& a : o.extraArgs) extra.push_back(shellQuote(a));
     const std::string extraText = extra.empty() ? "" : " " + fmt::format("{}", fmt::join(extra, " "));

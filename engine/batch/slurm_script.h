@@ -19,7 +19,7 @@ struct SlurmOptions {
     std::string time;          // -t per task, e.g. "02:00:00"; empty: the partition's default
     int cpusPerTask = 0;       // -c; 0: Slurm's default
     std::string mem;           // --mem per task, e.g. "8G"; empty: the default
-    std::string jobName;       // -J
+    std::string jobName;       // -J; empty: metamer-<the sweep's name>, other characters as '_' 
     std::filesystem::path metamer;  // the metamer binary, absolute
     std::filesystem::path sweep;    // the sweep file, absolute
     std::filesystem::path out;      // the dataset folder, absolute
@@ -29,6 +29,12 @@ struct SlurmOptions {
 struct SlurmScripts {
     std::filesystem::path array, index, submit, logs;
 };
+
+// Input errors for values Slurm would not accept as they are, before anything is written: the
+// partition, time, memory and job name against sbatch(1)'s syntax, and `out` (the logs go on
+// #SBATCH --output lines) without whitespace, control characters, quotes, backslashes or '%'.
+// Values that reach a shell line (the binary, the sweep, the folder) are quoted (shellQuote).
+void checkSlurmOptions(const SlurmOptions& options);
 
 // Writes out/slurm/{array.sbatch, index.sbatch, submit.sh} (atomically) and creates out/slurm/logs.
 SlurmScripts writeSlurmScripts(const SlurmOptions& options);
