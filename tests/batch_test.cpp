@@ -312,3 +312,37 @@ TEST(BatchCli, EveryModeRefusesAJobGivenTwiceAndSlurmValuesAreCheckedBeforeAnyth
     EXPECT_NE(r.output.find("6 jobs, all valid, in 6 array tasks"), std::string::npos) << r.output;
     EXPECT_EQ(lines(fs::path(out) / "slurm" / "array.sbatch")[4], "#SBATCH --array=0-5");
 }
+
+// Issue 30 class 8 (issue 31 item 2): two runs of one sweep into one folder at once — a
+// resubmitted array while its tasks still run — share the work through the jobs' claims: no job
+// fails, none is rendered twice, no temporary is removed from under the other run, and each run
+// says which jobs it left to the other.
+TEST(BatchCli, TwoRunsIntoOneFolderAtOnceRenderEachJobOnceAndFailNone) {
+    const fs::path dir = freshDir("two-runs");
+    const fs::path sweep = writeSweep(dir, R"({"write": "png,cube", "size": "96x64"})", 4);
+    const std::string out = (dir / "out").string();
+    const std::string run = fmt::format("{} batch {} --out {} -q", METAMER_BINARY, sweep.string(), out);
+    const test::CliRun r = shell(fmt::format("({0} > {1}/a.log 2>&1; echo $? > {1}/a.code) & "
+                                             "({0} > {1}/b.log 2>&1; echo $? > {1}/b.code); wait",
+                                             run, dir.string()));
+    size_t rendered = 0;
+    for (const char* name : {"a", "b"}) {
+        const std::vector<std::string> log = lines(dir / fmt::format("{}.log", name));
+        std::string text;
+        for (const std::string& l : log) text += l + "\n";
+        EXPECT_EQ(lines(dir / fmt::format("{}.code", name)), std::vector<std::string>{"0"}) << name << text;
+        EXPECT_EQ(text.find("failed:"), std::string::npos) << name << text;
+        EXPECT_EQ(text.find("missing"), std::string::npos) << name << text;
+        const size_t at = text.find(" rendered, ");
+        ASSERT_NE(at, std::string::npos) << text;
+        rendered += std::stoul(text.substr(text.rfind(' ', at - 1) + 1));
+    }
+    EXPECT_EQ(rendered, 8u);  // 4 lights × 2 detectors, each by one of the two runs
+    EXPECT_EQ(countFiles(dir / "out", "job.json"), 8u);
+    EXPECT_EQ(countFiles(dir / "out", ".tmp-", true), 0u);
+    EXPECT_EQ(countFiles(dir / "out", ".claim", true), 0u);
+    // Afterwards a third run finds everything done.
+    const test::CliRun again = test::runMetamer(fmt::format("batch {} --out {} -q", sweep.string(), out));
+    EXPECT_NE(again.output.find("0 rendered, 8 skipped"), std::string::npos) << again.output;
+    (void)r;
+}

@@ -53,6 +53,8 @@ CLI::App* addBatchCommand(CLI::App& app, BatchArgs& a) {
     c->add_option("--shard", a.shard,
                   "render shard I of N (0 ≤ I < N; default: SLURM_ARRAY_TASK_ID of SLURM_ARRAY_TASK_COUNT, else all)");
     c->add_flag("--retry-failed", a.retryFailed, "render again the jobs whose record says they failed");
+    c->add_flag("--break-claims", a.breakClaims,
+                "take over jobs claimed by another run (another host's run that is gone: a crashed node)");
     c->add_option("--index", a.index, "gather every job record under DIR into DIR/index.csv and index.json");
     addRenderFlag(c, "validation", a.validation);
     addRenderFlag(c, "device", a.device);
@@ -91,6 +93,7 @@ int runBatchCommand(const BatchArgs& a) {
     o.shard = shard;
     o.shards = shards;
     o.retryFailed = a.retryFailed;
+    o.breakClaims = a.breakClaims;
     o.validation = a.validation;
     o.device = a.device;
     const std::vector<size_t> positions = shardPositions(sweep.size(), shard, shards);
@@ -150,8 +153,9 @@ int runBatchCommand(const BatchArgs& a) {
         const double rate = p.elapsedSeconds > 0 ? p.done / p.elapsedSeconds : 0;
         const std::string eta = rate > 0 ? duration((p.total - p.done) / rate) : "?";
         if (terminal)
-            std::fprintf(stderr, "\r\033[K[%zu/%zu] %zu rendered, %zu skipped, %zu failed; %.1f jobs/s, ETA %s",
-                         p.done, p.total, p.rendered, p.skipped, p.failed, rate, eta.c_str());
+            std::fprintf(stderr, "\r\033[K[%zu/%zu] %zu rendered, %zu skipped, %zu failed%s; %.1f jobs/s, ETA %s",
+                         p.done, p.total, p.rendered, p.skipped, p.failed,
+                         p.held ? fmt::format(", {} held by other runs", p.held).c_str() : "", rate, eta.c_str());
         else
             std::fprintf(stderr, "[%zu/%zu] %s\n", p.done, p.total, p.line.c_str());
         std::fflush(stderr);
@@ -163,6 +167,11 @@ int runBatchCommand(const BatchArgs& a) {
                 a.sweep.c_str(), s.jobs, shards > 1 ? fmt::format(" in shard {}/{}", shard, shards).c_str() : "",
                 s.rendered, s.skipped, s.failed, s.seconds, s.renderSecondsMedian, o.out.c_str());
     for (const std::string& f : s.failures) std::printf("failed: %s\n", f.c_str());
+    for (const std::string& h : s.heldBy) std::printf("held: %s (left to that run)\n", h.c_str());
+    if (s.held)
+        std::printf("%zu job(s) claimed by other runs were left to them; run again when they end (or with "
+                    "--break-claims if a run on another host is gone)\n",
+                    s.held);
     if (shards == 1 && s.jobs > 0) {
         const IndexSummary i = writeBatchIndex(o.out);
         for (const std::string& id : i.unreadable)

@@ -16,6 +16,7 @@ struct BatchArgs {
     std::string shard;      // --shard I/N; empty: from SLURM_ARRAY_TASK_ID/COUNT, else 0/1
     std::string index;      // --index DIR: only gather the records under DIR
     bool list = false, dryRun = false, retryFailed = false, validation = false, quiet = false;
+    bool breakClaims = false;
     std::string device;
     // --slurm: write the job array's scripts instead of rendering (batch/slurm_script.h).
     bool slurm = false;

@@ -1,4 +1,5 @@
 #include "batch/batch.h"
+#include "batch/job_claim.h"
 #include "scene/json_values.h"
 #include "spectral/library.h"
 #include "sensor/sensor_spec.h"
@@ -22,6 +23,7 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include <thread>
 #include <tuple>
 
 namespace fs = std::filesystem;
@@ -261,10 +263,26 @@ BatchSummary runBatch(const Sweep& sweep, const BatchOptions& o, vk::Context& co
     std::vector<double> renderSeconds;
     for (ResolvedJob& j : jobs) {
         const fs::path folder = j.render.outDir;
-        const std::optional<JobRecord> record = readJobRecord(folder);
-        if (record && record->digest == j.digest &&
-            ((record->status == JobStatus::Done && outputsExist(*record, folder)) ||
-             (record->status == JobStatus::Failed && !o.retryFailed))) {
+        auto finished = [&](const std::optional<JobRecord>& record) {
+            return record && record->digest == j.digest &&
+                   ((record->status == JobStatus::Done && outputsExist(*record, folder)) ||
+                    (record->status == JobStatus::Failed && !o.retryFailed));
+        };
+        std::optional<JobRecord> record = readJobRecord(folder);
+        // One writer per job: claimed before its folder's temporaries are cleared or it renders;
+        // the record is read again under the claim (another run may have finished it meanwhile).
+        std::optional<JobClaim> claim;
+        std::string heldBy;
+        if (!finished(record)) {
+            claim = JobClaim::tryClaim(folder, o.breakClaims, heldBy);
+            if (claim) record = readJobRecord(folder);
+        }
+        if (!finished(record) && !claim) {
+            ++s.held;
+            ++p.held;
+            s.heldBy.push_back(fmt::format("{}: {}", j.id, heldBy));
+            p.line = fmt::format("{}: being rendered by {}; left to it", j.id, heldBy);
+        } else if (finished(record)) {
             if (record->status == JobStatus::Done) {
                 ++s.skipped;
                 ++p.skipped;
@@ -330,13 +348,16 @@ BatchSummary runBatch(const Sweep& sweep, const BatchOptions& o, vk::Context& co
                 writeFileAtomically(folder / kRecordFile, rec.dump(2) + "\n");
             } catch (const std::exception& e) {
                 // Without a record the job is rendered again next time; the batch goes on.
+                const std::string why = fmt::format("its record could not be written: {}", e.what());
                 if (rec["status"] == "done") {
                     --s.rendered;
                     --p.rendered;
                     ++s.failed;
                     ++p.failed;
+                    s.failures.push_back(fmt::format("{}: {}", j.id, why));
+                } else {
+                    s.failures.back() += "; and " + why;  // one line per failed job, with both reasons
                 }
-                s.failures.push_back(fmt::format("{}: its record could not be written: {}", j.id, e.what()));
                 p.line = s.failures.back();
             }
         }
@@ -448,6 +469,19 @@ IndexSummary writeBatchIndex(const fs::path& dir) {
     }
     s.csv = dir / "index.csv";
     s.json = dir / "index.json";
+    // Under the dataset's claim (DIR/.claim; another run's index takes milliseconds, so it is
+    // waited for, up to 10 s) no other process writes the index, so the temporaries a killed run
+    // left (.index.csv.tmp-…) are stale and removed. Without the claim the index is still written
+    // (atomically) and the temporaries are left for the next run.
+    std::optional<JobClaim> claim;
+    std::string heldBy;
+    for (int i = 0; i < 100 && !(claim = JobClaim::tryClaim(dir, false, heldBy)); ++i)
+        std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    if (claim)
+        for (const auto& e : fs::directory_iterator(dir, ec)) {
+            const std::string name = e.path().filename().string();
+            if (name.rfind(".index.csv.tmp-", 0) == 0 || name.rfind(".index.json.tmp-", 0) == 0) fs::remove(e.path(), ec);
+        }
     writeFileAtomically(s.csv, csv);
     writeFileAtomically(s.json, json.dump(2) + "\n");
     return s;

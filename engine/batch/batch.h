@@ -59,27 +59,31 @@ struct BatchOptions {
     int shard = 0, shards = 1;
     bool retryFailed = false;    // render jobs whose record says they failed (else they are skipped)
     bool validation = false;     // Vulkan validation layers; a validation error fails the job
+    bool breakClaims = false;    // take over jobs claimed by other runs (the user says they are gone)
     std::string device;
 };
 
 struct BatchProgress {
     size_t done = 0, total = 0;  // jobs of this shard handled so far (rendered, skipped or failed)
-    size_t rendered = 0, skipped = 0, failed = 0;
+    size_t rendered = 0, skipped = 0, failed = 0, held = 0;
     double elapsedSeconds = 0;
     std::string line;            // what happened to the last job, one line
 };
 
 struct BatchSummary {
     size_t jobs = 0, rendered = 0, skipped = 0, failed = 0;
+    size_t held = 0;                    // claimed by another live run (batch/job_claim.h): left to it
     double seconds = 0;
     double renderSecondsMedian = 0;  // per rendered job, load to record
     std::vector<std::string> failures;  // "id: error", one per failed job
+    std::vector<std::string> heldBy;    // "id: host pid N", one per held job
 };
 
 // Resolves this shard's jobs (all of them before the first render), then renders each one that
 // has no record saying it is done (or failed, unless retryFailed) with `context` (one device for
-// all), writing its outputs atomically and then its record. A job that fails while rendering is
-// recorded with its error and the batch goes on.
+// all), writing its outputs atomically and then its record. A job is claimed first (one writer per
+// job, batch/job_claim.h); one claimed by another live run is left to it (`held`). A job that fails
+// while rendering is recorded with its error and the batch goes on.
 BatchSummary runBatch(const Sweep& sweep, const BatchOptions& options, vk::Context& context,
                       const std::function<void(const BatchProgress&)>& progress = {});
 

@@ -34,7 +34,9 @@ static_assert(std::atomic<int>::is_always_lock_free);
 Slot g_slots[kSlots];
 std::atomic<unsigned> g_counter{0};
 
-int registerTemp(const std::string& path) {
+}  // namespace
+
+int registerRemoveOnSignal(const std::string& path) {
     if (path.size() + 1 > kPathBytes) return -1;
     for (int i = 0; i < kSlots; ++i) {
         int expected = Free;
@@ -46,11 +48,9 @@ int registerTemp(const std::string& path) {
     return -1;
 }
 
-void unregisterTemp(int slot) {
+void unregisterRemoveOnSignal(int slot) {
     if (slot >= 0) g_slots[slot].state.store(Free, std::memory_order_release);
 }
-
-}  // namespace
 
 AtomicOutput::AtomicOutput(fs::path finalPath) : final_(std::move(finalPath)) {
     if (final_.filename().empty())
@@ -77,11 +77,11 @@ AtomicOutput::AtomicOutput(fs::path finalPath) : final_(std::move(finalPath)) {
     std::string name = fmt::format(".{}.tmp-{}-{}{}", final_.filename().string(), ::getpid(),
                                    g_counter.fetch_add(1), final_.extension().string());
     temp_ = dir / name;
-    slot_ = registerTemp(temp_.string());
+    slot_ = registerRemoveOnSignal(temp_.string());
     const int fd = ::open(temp_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
     if (fd < 0) {
         const int err = errno;
-        unregisterTemp(slot_);
+        unregisterRemoveOnSignal(slot_);
         slot_ = -1;
         failRuntime("cannot write '{}': cannot create a file in '{}': {}", final_.string(),
                     dir.empty() ? std::string(".") : dir.string(), std::strerror(err));
@@ -91,7 +91,7 @@ AtomicOutput::AtomicOutput(fs::path finalPath) : final_(std::move(finalPath)) {
 
 AtomicOutput::~AtomicOutput() {
     if (!committed_) ::unlink(temp_.c_str());  // may not exist yet: ignore ENOENT
-    unregisterTemp(slot_);
+    unregisterRemoveOnSignal(slot_);
 }
 
 void AtomicOutput::sync() const {
@@ -142,7 +142,7 @@ void commitTogether(const std::vector<AtomicOutput*>& all) {
     auto dropKept = [&] {
         for (size_t i = 0; i < kept.size(); ++i) {
             if (!kept[i].empty()) ::unlink(kept[i].c_str()), kept[i].clear();
-            unregisterTemp(keptSlots[i]);
+            unregisterRemoveOnSignal(keptSlots[i]);
             keptSlots[i] = -1;
         }
     };
@@ -154,11 +154,11 @@ void commitTogether(const std::vector<AtomicOutput*>& all) {
         // opened: its rename fails below and the set is put back).
         if (!fs::exists(st) || (!fs::is_regular_file(st) && !fs::is_symlink(st))) continue;
         const fs::path k = keptName(target);
-        keptSlots[i] = registerTemp(k.string());
+        keptSlots[i] = registerRemoveOnSignal(k.string());
         if (::link(target.c_str(), k.c_str()) != 0) {  // no hard links here (e.g. FAT): a copy
             fs::copy(target, k, fs::copy_options::copy_symlinks, ec);
             if (ec) {
-                unregisterTemp(keptSlots[i]);
+                unregisterRemoveOnSignal(keptSlots[i]);
                 keptSlots[i] = -1;
                 dropKept();
                 failRuntime("cannot write '{}': cannot keep the previous file as '{}' while the new set is put in "
@@ -192,7 +192,7 @@ void commitTogether(const std::vector<AtomicOutput*>& all) {
     std::vector<fs::path> folders;
     for (AtomicOutput* o : outs) {
         o->committed_ = true;
-        unregisterTemp(o->slot_);  // after the rename: a signal in between finds no file, harmless
+        unregisterRemoveOnSignal(o->slot_);  // after the rename: a signal in between finds no file, harmless
         o->slot_ = -1;
         const fs::path dir = folderOf(o->final_);
         if (std::find(folders.begin(), folders.end(), dir) == folders.end()) folders.push_back(dir);

@@ -76,6 +76,12 @@ void writeFileAtomically(const std::filesystem::path& path, const std::string& b
 // registry and calls only unlink()), for SIGINT/SIGTERM handlers; the process should exit next.
 void removeLiveTempFiles() noexcept;
 
+// Puts another file (a batch job's claim, batch/job_claim.h) in the same registry, so that a
+// signal removes it too. Returns the slot for unregisterRemoveOnSignal, or -1 when the registry is
+// full (the file then stays after a signal; its owner's death is still detectable).
+int registerRemoveOnSignal(const std::string& path);
+void unregisterRemoveOnSignal(int slot);
+
 // Number of temporary files currently registered (tests).
 int liveTempFileCount() noexcept;
 
