@@ -341,8 +341,11 @@ TEST(BatchCli, TwoRunsIntoOneFolderAtOnceRenderEachJobOnceAndFailNone) {
     EXPECT_EQ(countFiles(dir / "out", "job.json"), 8u);
     EXPECT_EQ(countFiles(dir / "out", ".tmp-", true), 0u);
     EXPECT_EQ(countFiles(dir / "out", ".claim", true), 0u);
-    // Afterwards a third run finds everything done.
+    // Afterwards a third run finds everything done, and clears the index temporary a killed run left.
+    std::ofstream(dir / "out" / ".index.csv.tmp-999999-0.csv") << "half an index";
     const test::CliRun again = test::runMetamer(fmt::format("batch {} --out {} -q", sweep.string(), out));
     EXPECT_NE(again.output.find("0 rendered, 8 skipped"), std::string::npos) << again.output;
+    EXPECT_FALSE(fs::exists(dir / "out" / ".index.csv.tmp-999999-0.csv"));
+    EXPECT_FALSE(fs::exists(dir / "out" / ".claim"));
     (void)r;
 }
