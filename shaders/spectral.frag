@@ -240,6 +240,49 @@ void addFluorescence(int l, float g) {
         fluorescence += g * coupling(l);
 }
 
+// Each kind of light's loop is unrolled for its first UNROLLED_LIGHTS lights and a plain loop after
+// that: a scene of a few lights keeps the unrolled shader (the tail loop has no iterations and is
+// compiled away), and one of 128 lights compiles one loop body instead of 128 copies — its cold
+// compile went from minutes to seconds (docs/performance.md, "Many lights"). The light counts stay
+// specialization constants: a loop bound read from a uniform made lavapipe recompile per frame.
+const int UNROLLED_LIGHTS = 4;
+
+// Ambient: irradiance on every surface, no cosine, no specular.
+void ambientLight(int i) {
+    int l = i;
+    addLight(l, INV_PI, 0.0);
+    addFluorescence(l, 1.0);
+}
+
+void directionalLight(int i, vec3 n, vec3 v, vec3 ng) {
+    int l = AMBIENT_COUNT + i;
+    vec3 w = L.lights[l].vector.xyz;
+    float g = max(dot(n, w), 0.0);
+    shadowLayer = -1;
+    if (i < SHADOWED_DIRECTIONAL && g > 0.0) g *= visibility(l, worldPosition, ng, w, false);
+    if (FILTERED_SHADOWS) filterLight();
+    addLight(l, g * INV_PI, specularWeight(n, w, v, g));
+    addFluorescence(l, g);
+}
+
+// Point: E = I·cosθ/d², d in the frame's units (vector.w turns 1/d² into m⁻²). A light on the
+// surface (d = 0, or d² below float32's normal range) has no direction and contributes nothing,
+// as in the reference (docs/physics.md); the clamp keeps g finite beside it, so that a lobe of
+// 0 never meets an infinite g (Inf × 0 = NaN).
+void pointLight(int i, vec3 n, vec3 v, vec3 ng) {
+    int l = AMBIENT_COUNT + DIRECTIONAL_COUNT + i;
+    vec3 d = L.lights[l].vector.xyz - worldPosition;
+    float d2 = dot(d, d);
+    bool apart = d2 >= FLT_MIN_NORMAL;
+    vec3 w = apart ? d * inversesqrt(d2) : n;
+    float g = apart ? min(max(dot(n, w), 0.0) / d2 * L.lights[l].vector.w, FLT_MAX_FINITE) : 0.0;
+    shadowLayer = -1;
+    if (i < SHADOWED_POINT && g > 0.0) g *= visibility(l, worldPosition, ng, w, true);
+    if (FILTERED_SHADOWS) filterLight();
+    addLight(l, g * INV_PI, specularWeight(n, w, v, g));
+    addFluorescence(l, g);
+}
+
 void main() {
     // The face normal, from the position's screen-space derivatives: taken here, in uniform
     // control flow, because derivatives are undefined inside a branch.
@@ -273,42 +316,15 @@ void main() {
     fluorescence = 0.0;
     if (HAS_TEXTURES) sampleTextures();
 
-    // Ambient: irradiance on every surface, no cosine, no specular.
     filtered = false;
-    [[unroll]] for (int i = 0; i < AMBIENT_COUNT; ++i) {
-        int l = i;
-        addLight(l, INV_PI, 0.0);
-        addFluorescence(l, 1.0);
-    }
+    [[unroll]] for (int i = 0; i < min(AMBIENT_COUNT, UNROLLED_LIGHTS); ++i) ambientLight(i);
+    [[dont_unroll]] for (int i = UNROLLED_LIGHTS; i < AMBIENT_COUNT; ++i) ambientLight(i);
     vec3 ng = dot(faceNormal, faceNormal) > 0.0 ? normalize(faceNormal) : n;
     filtered = false;
-    [[unroll]] for (int i = 0; i < DIRECTIONAL_COUNT; ++i) {
-        int l = AMBIENT_COUNT + i;
-        vec3 w = L.lights[l].vector.xyz;
-        float g = max(dot(n, w), 0.0);
-        shadowLayer = -1;
-        if (i < SHADOWED_DIRECTIONAL && g > 0.0) g *= visibility(l, worldPosition, ng, w, false);
-        if (FILTERED_SHADOWS) filterLight();
-        addLight(l, g * INV_PI, specularWeight(n, w, v, g));
-        addFluorescence(l, g);
-    }
-    // Point: E = I·cosθ/d², d in the frame's units (vector.w turns 1/d² into m⁻²). A light on the
-    // surface (d = 0, or d² below float32's normal range) has no direction and contributes nothing,
-    // as in the reference (docs/physics.md); the clamp keeps g finite beside it, so that a lobe of
-    // 0 never meets an infinite g (Inf × 0 = NaN).
-    [[unroll]] for (int i = 0; i < POINT_COUNT; ++i) {
-        int l = AMBIENT_COUNT + DIRECTIONAL_COUNT + i;
-        vec3 d = L.lights[l].vector.xyz - worldPosition;
-        float d2 = dot(d, d);
-        bool apart = d2 >= FLT_MIN_NORMAL;
-        vec3 w = apart ? d * inversesqrt(d2) : n;
-        float g = apart ? min(max(dot(n, w), 0.0) / d2 * L.lights[l].vector.w, FLT_MAX_FINITE) : 0.0;
-        shadowLayer = -1;
-        if (i < SHADOWED_POINT && g > 0.0) g *= visibility(l, worldPosition, ng, w, true);
-        if (FILTERED_SHADOWS) filterLight();
-        addLight(l, g * INV_PI, specularWeight(n, w, v, g));
-        addFluorescence(l, g);
-    }
+    [[unroll]] for (int i = 0; i < min(DIRECTIONAL_COUNT, UNROLLED_LIGHTS); ++i) directionalLight(i, n, v, ng);
+    [[dont_unroll]] for (int i = UNROLLED_LIGHTS; i < DIRECTIONAL_COUNT; ++i) directionalLight(i, n, v, ng);
+    [[unroll]] for (int i = 0; i < min(POINT_COUNT, UNROLLED_LIGHTS); ++i) pointLight(i, n, v, ng);
+    [[dont_unroll]] for (int i = UNROLLED_LIGHTS; i < POINT_COUNT; ++i) pointLight(i, n, v, ng);
     filtered = false;  // the hemisphere lights are not shadowed, nor filtered
     // Hemisphere: radiance L from every ω with ω·u > 0, not occluded. Irradiance π·L·(1 + n·u)/2
     // exactly; the lobe's integral over the lune from the material's lobe table (lobe_lookup.h).

@@ -115,6 +115,26 @@ TEST(GpuVsReference, SixteenLightsOnGlossyMetal) {
     expectGpuMatchesReference(s, 1500);
 }
 
+// 128 lights, the most a scene may have, of every kind: beyond the first 4 of a kind the shader
+// loops instead of unrolling (spectral.frag, UNROLLED_LIGHTS), which must not change the sum.
+TEST(GpuVsReference, TheMostLightsASceneMayHaveOfEveryKind) {
+    Scene s = emptyScene(Grid{400, 700, 10}, perspectiveCamera({0, 0, 4}, {0, 0, 0}, {0, 1, 0}, 30, 40, 40));
+    s.materials.push_back(glossy(constantSpectrum(0.3), constantSpectrum(0.2), 20, "glossy"));
+    s.meshes.push_back(sphere({0, 0, 0}, 1.0, 48, 24, 0));
+    for (int i = 0; i < 128; ++i) {
+        const double a = 2 * M_PI * i / 128;
+        const Spectrum e = gaussianSpectrum(400 + 2 * i, 40, 1, 300, 800, 5);
+        if (i % 16 == 0)
+            s.lights.push_back(ambientLight(e, 0.001, "ambient" + std::to_string(i)));
+        else if (i % 2)
+            s.lights.push_back(directionalLight({std::cos(a), std::sin(a), -1}, e, 0.01));
+        else
+            s.lights.push_back(pointLight({3 * std::cos(a), 3 * std::sin(a), 3}, e, 0.1, "point" + std::to_string(i)));
+        s.lights.back().shadows = i < 12;  // a few shadowing lights of each kind (they go first in the shader)
+    }
+    expectGpuMatchesReference(s, 700);
+}
+
 TEST(GpuVsReference, FineGridOfManyPasses) {
     // 0.5 nm over 400–700 nm: 601 bands, 151 layers, 19 passes of up to 8 attachments.
     Scene s = emptyScene(Grid{400, 700, 0.5}, perspectiveCamera({0, 0, 3}, {0, 0, 0}, {0, 1, 0}, 40, 32, 32));
