@@ -176,10 +176,14 @@ std::string readInChild(const fs::path& file, int seconds = 20) {
     std::string text;
     pollfd p{fds[0], POLLIN, 0};
     char buffer[4096];
-    for (ssize_t n; ::poll(&p, 1, seconds * 1000) > 0 && (n = ::read(fds[0], buffer, sizeof buffer)) > 0;)
-        text.append(buffer, size_t(n));
+    bool ended = false;  // the child closed its end: it has finished
+    while (!ended && ::poll(&p, 1, seconds * 1000) > 0) {
+        const ssize_t n = ::read(fds[0], buffer, sizeof buffer);
+        if (n > 0) text.append(buffer, size_t(n));
+        ended = n <= 0;
+    }
     ::close(fds[0]);
-    if (::waitpid(pid, nullptr, WNOHANG) == 0) {
+    if (!ended) {
         ::kill(pid, SIGKILL);
         text = "TIMEOUT";
     }
