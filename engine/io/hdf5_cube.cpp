@@ -331,9 +331,10 @@ void requireStoredHere(hid_t set, const Where& where) {
         hsize_t size = 0;
         if (H5Pget_external(dcpl.get(), 0, sizeof name, name, &offset, &size) < 0) name[0] = '\0';
         hdf5Detail();
+        const std::string first = name[0] ? fmt::format(" ('{}'{})", name, external > 1 ? ", ..." : "") : "";
         failInput(where, "keeps its values in {} external file{}{}: refused, Metamer reads no file an HDF5 file "
                          "names (store the values in this file)",
-                  external, external == 1 ? "" : "s", name[0] ? fmt::format(" ('{}'{})", name, external > 1 ? ", ..." : "") : "");
+                  external, external == 1 ? "" : "s", first);
     }
     if (H5Pget_layout(dcpl.get()) == H5D_VIRTUAL) {
         size_t sources = 0;
