@@ -6,6 +6,7 @@
 #include "support/cli.h"
 
 #include <gtest/gtest.h>
+#include <hdf5.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -97,5 +98,36 @@ TEST_F(SpecialFiles, EveryFileCompareReads) {
 }
 
 TEST_F(SpecialFiles, ASweepFile) { expectRefused("batch fifo.json --out o", "fifo.json", kFifo); }
+
+// A regular HDF5 file whose /cube keeps its values in a FIFO (external storage, issue 30 class 6):
+// HDF5 would open the FIFO when the values are read and block for ever. Every reader of a cube
+// refuses it from the dataset's properties, under the timeout.
+TEST_F(SpecialFiles, AnHdf5CubeWhoseValuesAreInAFifo) {
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+    hid_t f = H5Fcreate((dir_ / "external.h5").c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    ASSERT_GE(f, 0);
+    const hsize_t dims[3] = {2, 2, 31}, bands = 31;
+    hid_t space = H5Screate_simple(3, dims, nullptr), wlSpace = H5Screate_simple(1, &bands, nullptr);
+    hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
+    ASSERT_GE(H5Pset_external(dcpl, (dir_ / "fifo.exr").c_str(), 0, 2 * 2 * 31 * 4), 0);
+    hid_t cube = H5Dcreate2(f, "cube", H5T_IEEE_F32LE, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
+    hid_t wl = H5Dcreate2(f, "wavelength_nm", H5T_IEEE_F64LE, wlSpace, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    ASSERT_GE(cube, 0);
+    ASSERT_GE(wl, 0);
+    std::vector<double> nm;
+    for (int i = 0; i < 31; ++i) nm.push_back(400 + 10 * i);
+    ASSERT_GE(H5Dwrite(wl, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, nm.data()), 0);
+    for (hid_t d : {cube, wl}) H5Dclose(d);
+    for (hid_t s : {space, wlSpace}) H5Sclose(s);
+    H5Pclose(dcpl);
+    H5Fclose(f);
+
+    const std::string what = "external.h5: /cube: keeps its values in 1 external file";
+    expectRefused("compare external.h5 ref/valid.exr", "fifo.exr", what);
+    expectRefused("compare ref/valid.exr external.h5", "fifo.exr", what);
+    expectRefused("capture external.h5 --sensor mono_silicon --out o", "fifo.exr", what);
+    write("external-texture.json", scene(R"("textures": {"diffuse": "external.h5"})"));
+    expectRefused("render external-texture.json --out o", "materials.m.textures.diffuse", what);
+}
 
 }  // namespace

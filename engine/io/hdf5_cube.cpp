@@ -80,9 +80,12 @@ std::string withDetail(const std::string& detail) { return detail.empty() ? "" :
 
 // File access without HDF5's file locks: our temporary file has no other writer and a reader needs
 // none, and where the file system has no locks (some cluster mounts) HDF5 1.10 would refuse to
-// open anything. Invalid (the default properties) if it cannot be made.
+// open anything. The one-file POSIX driver, whatever HDF5_DRIVER says: the family, multi and split
+// drivers would open further files beside the one named. Invalid (the default properties) if it
+// cannot be made.
 Handle fileAccess() {
     Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
+    if (fapl.valid()) H5Pset_fapl_sec2(fapl.get());
 #if H5_VERSION_GE(1, 10, 7)
     if (fapl.valid()) H5Pset_file_locking(fapl.get(), false, true);
 #endif
@@ -240,14 +243,11 @@ void writeHdf5Cube(const fs::path& path, const SpectralCube& cube, const Hdf5Wri
 
 // --- Reading -----------------------------------------------------------------------------------
 
-namespace {
-
-// HDF5 looks for its signature at 0, 512, 1024, 2048, ... (after a user block): so do we, to tell
-// "not HDF5" from "damaged HDF5".
 bool hasHdf5Signature(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
     std::error_code ec;
+    if (!fs::is_regular_file(fs::status(path, ec))) return false;  // a FIFO would block the read
     const uintmax_t size = fs::file_size(path, ec);
+    std::ifstream in(path, std::ios::binary);
     if (!in || ec) return false;
     for (uintmax_t offset = 0; offset + sizeof kSignature <= size; offset = offset ? offset * 2 : 512) {
         char bytes[sizeof kSignature] = {};
@@ -257,6 +257,8 @@ bool hasHdf5Signature(const fs::path& path) {
     }
     return false;
 }
+
+namespace {
 
 const char* typeClassName(H5T_class_t c) {
     switch (c) {
@@ -278,14 +280,104 @@ struct Dataset {
     H5T_class_t typeClass = H5T_NO_CLASS;
 };
 
+// --- What HDF5 would read besides the file -----------------------------------------------------
+// An HDF5 file can make the library read other files: an external link opens another HDF5 file, a
+// dataset with external storage reads its values from raw files by name (a FIFO blocks for ever,
+// /dev/zero never ends), a virtual dataset maps datasets of other files. None of those files would
+// pass requireRegularFile, a scene's folder rule (--allow-outside-paths) or the batch digest
+// (noteFileRead), so we refuse them, naming what was found (docs/io.md, "Reading cubes"). Soft
+// links are refused too: /cube and /wavelength_nm must be the datasets themselves.
+
+// A link's target as text, for messages ("" if unreadable).
+std::string linkTarget(hid_t file, const char* name, const H5L_info_t& info, hid_t lapl) {
+    const size_t size = info.u.val_size;
+    if (size == 0 || size > (size_t(1) << 16)) return "";
+    std::vector<char> value(size + 1, '\0');
+    if (H5Lget_val(file, name, value.data(), size, lapl) < 0) return "";
+    if (info.type == H5L_TYPE_SOFT) return std::string(value.data());
+    const char* targetFile = nullptr;
+    const char* targetObject = nullptr;
+    if (H5Lunpack_elink_val(value.data(), size, nullptr, &targetFile, &targetObject) < 0) return "";
+    return fmt::format("{}:{}", targetFile ? targetFile : "?", targetObject ? targetObject : "?");
+}
+
+// The link `name` in the root group must be a hard link.
+void requireHardLink(hid_t file, const char* name, const Where& where, hid_t lapl) {
+    H5L_info_t info;
+    if (H5Lget_info(file, name, &info, lapl) < 0)
+        failInput(where, "is not a readable link{}", withDetail(hdf5Detail()));
+    if (info.type == H5L_TYPE_HARD) return;
+    const std::string target = linkTarget(file, name, info, lapl);
+    hdf5Detail();
+    const std::string to = target.empty() ? "" : fmt::format(" to '{}'", target);
+    if (info.type == H5L_TYPE_EXTERNAL)
+        failInput(where, "is an external link{}: refused, Metamer reads no file an HDF5 file names (store the "
+                         "dataset itself in this file)", to);
+    if (info.type == H5L_TYPE_SOFT)
+        failInput(where, "is a soft link{}: refused, the dataset must be stored under this name (a hard link)", to);
+    failInput(where, "is a user-defined link (type {}): refused, the dataset must be stored under this name",
+              int(info.type));
+}
+
+// The dataset's values must be stored in this file: no external storage, no virtual layout.
+void requireStoredHere(hid_t set, const Where& where) {
+    Handle dcpl(H5Dget_create_plist(set), H5Pclose);
+    if (!dcpl.valid()) failInput(where, "has unreadable storage properties{}", withDetail(hdf5Detail()));
+    const int external = H5Pget_external_count(dcpl.get());
+    if (external < 0) failInput(where, "has unreadable storage properties{}", withDetail(hdf5Detail()));
+    if (external > 0) {
+        char name[1024] = {};
+        off_t offset = 0;
+        hsize_t size = 0;
+        if (H5Pget_external(dcpl.get(), 0, sizeof name, name, &offset, &size) < 0) name[0] = '\0';
+        hdf5Detail();
+        const std::string first = name[0] ? fmt::format(" ('{}'{})", name, external > 1 ? ", ..." : "") : "";
+        failInput(where, "keeps its values in {} external file{}{}: refused, Metamer reads no file an HDF5 file "
+                         "names (store the values in this file)",
+                  external, external == 1 ? "" : "s", first);
+    }
+    if (H5Pget_layout(dcpl.get()) == H5D_VIRTUAL) {
+        size_t sources = 0;
+        std::string first;
+        if (H5Pget_virtual_count(dcpl.get(), &sources) >= 0 && sources > 0) {
+            const ssize_t n = H5Pget_virtual_filename(dcpl.get(), 0, nullptr, 0);
+            if (n > 0 && n < (1 << 16)) {
+                std::vector<char> text(size_t(n) + 1, '\0');
+                if (H5Pget_virtual_filename(dcpl.get(), 0, text.data(), text.size()) >= 0) first = text.data();
+            }
+        }
+        hdf5Detail();
+        failInput(where, "is a virtual dataset ({} source{}{}): refused, Metamer reads no file an HDF5 file names "
+                         "(store the values in this file)",
+                  sources, sources == 1 ? "" : "s", first.empty() ? "" : fmt::format(", the first in '{}'", first));
+    }
+}
+
+// Link access that refuses to follow external links: what requireHardLink checks, should any
+// call still meet one.
+Handle noExternalLinks() {
+    Handle dapl(H5Pcreate(H5P_DATASET_ACCESS), H5Pclose);
+    if (dapl.valid())
+        H5Pset_elink_cb(
+            dapl.get(),
+            [](const char*, const char*, const char*, const char*, unsigned*, hid_t, void*) -> herr_t { return -1; },
+            nullptr);
+    return dapl;
+}
+
+// Opens a dataset of the root group after the checks above.
 Dataset openDataset(hid_t file, const char* name, const Where& where) {
-    if (H5Lexists(file, name, H5P_DEFAULT) <= 0) {
+    const Handle dapl = noExternalLinks();
+    const hid_t access = orDefault(dapl);
+    if (H5Lexists(file, name, access) <= 0) {
         hdf5Detail();
         failInput(where, "missing: the file has no dataset {}", name);
     }
+    requireHardLink(file, name, where, access);
     Dataset d;
-    d.set = Handle(H5Dopen2(file, name, H5P_DEFAULT), H5Dclose);
+    d.set = Handle(H5Dopen2(file, name, access), H5Dclose);
     if (!d.set.valid()) failInput(where, "is not a readable dataset{}", withDetail(hdf5Detail()));
+    requireStoredHere(d.set.get(), where);
     Handle space(H5Dget_space(d.set.get()), H5Sclose);
     Handle type(H5Dget_type(d.set.get()), H5Tclose);
     const int rank = space.valid() ? H5Sget_simple_extent_ndims(space.get()) : -1;

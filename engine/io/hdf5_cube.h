@@ -57,7 +57,13 @@ void writeHdf5Cube(const std::filesystem::path& path, const SpectralCube& cube, 
 // attribute agrees). The `quantity` attribute says reflectance or radiance (absent: radiance).
 // Input errors name the file and the dataset or attribute ("/cube", "/wavelength_nm",
 // "/cube.quantity"): not HDF5, truncated, missing, wrong rank or type, sizes that disagree, more
-// than 2^34 values.
+// than 2^34 values. The file must be a regular file (requireRegularFile), and HDF5 reads no other
+// file on its behalf: an external or soft link, external storage or a virtual dataset for /cube or
+// /wavelength_nm is an input error naming what was found (docs/io.md, "Reading cubes").
 SpectralImage readHdf5Cube(const std::filesystem::path& path, const CubeHeaderCheck& check = {});
+
+// That `path` is a regular file with the HDF5 signature where HDF5 looks for it: at offset 0, or
+// after a user block at 512, 1024, 2048, ...
+bool hasHdf5Signature(const std::filesystem::path& path);
 
 }  // namespace metamer

@@ -1,6 +1,7 @@
 #include "io/hdf5_cube.h"
 
 #include "io/atomic_file.h"
+#include "io/spectral_image.h"
 
 #include "support/cubes.h"
 #include "support/temp_folder.h"
@@ -14,6 +15,10 @@
 #include <functional>
 #include <limits>
 #include <random>
+#include <poll.h>
+#include <signal.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 using namespace metamer;
@@ -109,6 +114,81 @@ std::string readStringAttribute(hid_t object, const char* name) {
     H5Tclose(type);
     H5Aclose(a);
     return value;
+}
+
+// A cube file whose /cube is made by `makeCube(file, dims)` (values unwritten) beside a plain
+// /wavelength_nm; `userBlock` bytes before HDF5's superblock (0: none).
+void writeWith(const fs::path& path, const std::function<void(hid_t, const std::vector<hsize_t>&)>& makeCube,
+               hsize_t userBlock = 0) {
+    hid_t fcpl = H5Pcreate(H5P_FILE_CREATE);
+    if (userBlock) H5Pset_userblock(fcpl, userBlock);
+    hid_t f = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, fcpl, H5P_DEFAULT);
+    ASSERT_GE(f, 0) << path;
+    makeCube(f, {2, 2, 3});
+    const std::vector<double> three = {400, 410, 420};
+    dataset(f, "wavelength_nm", H5T_IEEE_F64LE, {3}, H5T_NATIVE_DOUBLE, three.data());
+    H5Fclose(f);
+    H5Pclose(fcpl);
+}
+
+// /cube with its values in an external raw file (HDF5 opens it only when the values are read).
+void externalCube(hid_t f, const std::vector<hsize_t>& dims, const fs::path& raw) {
+    hid_t space = H5Screate_simple(int(dims.size()), dims.data(), nullptr);
+    hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
+    ASSERT_GE(H5Pset_external(dcpl, raw.c_str(), 0, 12 * sizeof(float)), 0);
+    hid_t set = H5Dcreate2(f, "cube", H5T_IEEE_F32LE, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
+    ASSERT_GE(set, 0);
+    H5Dclose(set);
+    H5Pclose(dcpl);
+    H5Sclose(space);
+}
+
+// /cube as a virtual dataset mapping /data of `source` (which need not exist).
+void virtualCube(hid_t f, const std::vector<hsize_t>& dims, const fs::path& source) {
+    hid_t space = H5Screate_simple(int(dims.size()), dims.data(), nullptr);
+    hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
+    ASSERT_GE(H5Pset_virtual(dcpl, space, source.c_str(), "/data", space), 0);
+    hid_t set = H5Dcreate2(f, "cube", H5T_IEEE_F32LE, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
+    ASSERT_GE(set, 0);
+    H5Dclose(set);
+    H5Pclose(dcpl);
+    H5Sclose(space);
+}
+
+// readHdf5Cube in a child process, killed after `seconds`: a reader that opens a FIFO fails the
+// test instead of hanging it. The error's "file: key: message" text, or "TIMEOUT", or "READ".
+std::string readInChild(const fs::path& file, int seconds = 20) {
+    int fds[2];
+    if (::pipe(fds) != 0) return "PIPE";
+    const pid_t pid = ::fork();
+    if (pid == 0) {
+        ::close(fds[0]);
+        std::string text = "READ";
+        try {
+            readHdf5Cube(file);
+        } catch (const Error& e) {
+            text = e.code() == ExitCode::BadInput ? e.text() : "NOT AN INPUT ERROR: " + e.text();
+        }
+        (void)!::write(fds[1], text.data(), text.size());
+        ::_exit(0);
+    }
+    ::close(fds[1]);
+    std::string text;
+    pollfd p{fds[0], POLLIN, 0};
+    char buffer[4096];
+    bool ended = false;  // the child closed its end: it has finished
+    while (!ended && ::poll(&p, 1, seconds * 1000) > 0) {
+        const ssize_t n = ::read(fds[0], buffer, sizeof buffer);
+        if (n > 0) text.append(buffer, size_t(n));
+        ended = n <= 0;
+    }
+    ::close(fds[0]);
+    if (!ended) {
+        ::kill(pid, SIGKILL);
+        text = "TIMEOUT";
+    }
+    ::waitpid(pid, nullptr, 0);
+    return text;
 }
 
 }  // namespace
@@ -364,4 +444,88 @@ TEST_F(Hdf5Cube, HugeShapeIsRefusedBeforeAllocating) {
     H5Fclose(f);
     ASSERT_LT(fs::file_size(file), 1u << 20);
     expectInputError([&] { readHdf5Cube(file); }, file, "/cube", "more than 2^34 values");
+}
+
+// Issue 30, class 6: HDF5 reads no file on a cube's behalf. External storage (a FIFO hung the
+// reader; /dev/zero), external, soft and user-defined links, virtual datasets: each an input error
+// naming the file, the dataset and what it found, before HDF5 opens anything else.
+TEST_F(Hdf5Cube, IndirectionToOtherFilesIsRefusedNamingWhatWasFound) {
+    const std::string outside = (dir / "outside.h5").string();
+    writeForeign(outside, {2, 2, 3}, nullptr);
+    auto expectRefused = [&](const fs::path& file, const char* key, const std::string& found) {
+        SCOPED_TRACE(file.string());
+        const std::string text = readInChild(file);
+        EXPECT_NE(text.find(file.string() + ": " + key + ": " + found), std::string::npos) << text;
+        EXPECT_NE(text.find("refused"), std::string::npos) << text;
+    };
+
+    // External storage in a FIFO: refused from the dataset's properties, never opened.
+    const fs::path fifo = dir / "values.fifo";
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    writeWith(dir / "fifo.h5", [&](hid_t f, const std::vector<hsize_t>& d) { externalCube(f, d, fifo); });
+    expectRefused(dir / "fifo.h5", "/cube", "keeps its values in 1 external file ('" + fifo.string() + "')");
+    writeWith(dir / "zero.h5", [&](hid_t f, const std::vector<hsize_t>& d) { externalCube(f, d, "/dev/zero"); });
+    expectRefused(dir / "zero.h5", "/cube", "keeps its values in 1 external file ('/dev/zero')");
+
+    writeWith(dir / "elink.h5", [&](hid_t f, const std::vector<hsize_t>&) {
+        ASSERT_GE(H5Lcreate_external(outside.c_str(), "/cube", f, "cube", H5P_DEFAULT, H5P_DEFAULT), 0);
+    });
+    expectRefused(dir / "elink.h5", "/cube", "is an external link to '" + outside + ":/cube'");
+    // The external link to a FIFO: HDF5 would open it as a file.
+    writeWith(dir / "elink-fifo.h5", [&](hid_t f, const std::vector<hsize_t>&) {
+        ASSERT_GE(H5Lcreate_external(fifo.c_str(), "/cube", f, "cube", H5P_DEFAULT, H5P_DEFAULT), 0);
+    });
+    expectRefused(dir / "elink-fifo.h5", "/cube", "is an external link to '" + fifo.string() + ":/cube'");
+
+    writeWith(dir / "soft.h5", [&](hid_t f, const std::vector<hsize_t>& d) {
+        std::vector<float> zeros(12, 0.0f);
+        dataset(f, "data", H5T_IEEE_F32LE, d, H5T_NATIVE_FLOAT, zeros.data());
+        ASSERT_GE(H5Lcreate_soft("/data", f, "cube", H5P_DEFAULT, H5P_DEFAULT), 0);
+    });
+    expectRefused(dir / "soft.h5", "/cube", "is a soft link to '/data'");
+
+    writeWith(dir / "virtual.h5", [&](hid_t f, const std::vector<hsize_t>& d) { virtualCube(f, d, fifo); });
+    expectRefused(dir / "virtual.h5", "/cube", "is a virtual dataset (1 source, the first in '" + fifo.string() + "')");
+
+    // /wavelength_nm is checked the same way.
+    {
+        hid_t f = create(dir / "wl-link.h5");
+        std::vector<float> zeros(12, 0.0f);
+        dataset(f, "cube", H5T_IEEE_F32LE, {2, 2, 3}, H5T_NATIVE_FLOAT, zeros.data());
+        ASSERT_GE(H5Lcreate_external(outside.c_str(), "/wavelength_nm", f, "wavelength_nm", H5P_DEFAULT, H5P_DEFAULT), 0);
+        H5Fclose(f);
+    }
+    expectRefused(dir / "wl-link.h5", "/wavelength_nm", "is an external link");
+
+    // The cube file itself a FIFO: refused before HDF5 opens it.
+    const std::string text = readInChild(fifo);
+    EXPECT_NE(text.find("is not a regular file (a FIFO)"), std::string::npos) << text;
+}
+
+// HDF5 puts its signature after a user block (512, 1024, 2048, ... bytes): such a file is HDF5.
+TEST_F(Hdf5Cube, AUserBlockBeforeTheSignatureReads) {
+    for (hsize_t block : {512, 2048}) {
+        const fs::path file = dir / fmt::format("user-block-{}.h5", block);
+        writeWith(
+            file,
+            [](hid_t f, const std::vector<hsize_t>& d) {
+                const std::vector<float> values(12, 0.25f);
+                dataset(f, "cube", H5T_IEEE_F32LE, d, H5T_NATIVE_FLOAT, values.data());
+            },
+            block);
+        {
+            std::ifstream in(file, std::ios::binary);
+            char head[4] = {};
+            in.read(head, 4);
+            ASSERT_NE(std::string(head, 4), "\x89HDF") << "the signature should not be at offset 0";
+        }
+        EXPECT_TRUE(hasHdf5Signature(file));
+        EXPECT_EQ(cubeFormatOf(file), CubeFormat::Hdf5);
+        const SpectralImage image = readSpectralImage(file);
+        EXPECT_EQ(image.cube.grid, (Grid{400, 420, 10}));
+        EXPECT_EQ(image.cube.at(1, 1, 2), 0.25f);
+    }
+    std::ofstream(dir / "text.h5") << std::string(4096, 'x');
+    EXPECT_FALSE(hasHdf5Signature(dir / "text.h5"));
+    EXPECT_FALSE(hasHdf5Signature(dir));
 }

@@ -47,9 +47,8 @@ std::optional<CubeFormat> cubeFormatOf(const fs::path& path) {
         in.read(reinterpret_cast<char*>(head), sizeof head);
         const std::streamsize got = in ? std::streamsize(sizeof head) : in.gcount();
         static const unsigned char kExr[4] = {0x76, 0x2f, 0x31, 0x01};
-        static const unsigned char kHdf5[8] = {0x89, 'H', 'D', 'F', '\r', '\n', 0x1a, '\n'};
         if (got >= 4 && std::memcmp(head, kExr, 4) == 0) return CubeFormat::Exr;
-        if (got >= 8 && std::memcmp(head, kHdf5, 8) == 0) return CubeFormat::Hdf5;
+        if (hasHdf5Signature(path)) return CubeFormat::Hdf5;  // also after a user block
         if (isEnviHeaderFile(path)) return CubeFormat::Envi;
         const std::string ext = lowerExtension(path);
         if (ext == ".img" || ext == ".raw" || ext == ".dat") {

@@ -14,7 +14,7 @@ enum class CubeFormat { Exr, Hdf5, Envi };
 const char* cubeFormatName(CubeFormat format);  // "OpenEXR", "HDF5", "ENVI"
 
 // The format by signature: the OpenEXR magic number 0x762f3101, the HDF5 signature
-// "\x89HDF\r\n\x1a\n" at offset 0, an ENVI header (a file starting with "ENVI"), or ENVI data (a
+// "\x89HDF\r\n\x1a\n" at offset 0 or after a user block (512, 1024, 2048, ...), an ENVI header (a file starting with "ENVI"), or ENVI data (a
 // .img, .raw or .dat whose <stem>.hdr or <name>.hdr starts with "ENVI"). Nothing for anything else,
 // including a path that is missing or not a regular file. Never throws.
 std::optional<CubeFormat> cubeFormatOf(const std::filesystem::path& path);

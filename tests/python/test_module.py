@@ -11,6 +11,7 @@ import math
 import os
 import resource
 import subprocess
+import sys
 import threading
 import warnings
 from pathlib import Path
@@ -302,6 +303,65 @@ def test_special_files_are_refused_by_load_cube_and_compare(tmp_path):
         metamer.compare(fifo, fifo)
     with pytest.raises(metamer.InputError, match="not a regular file"):
         metamer.load_cube("/dev/zero")
+
+
+def hostile_hdf5(tmp_path, name):
+    """An HDF5 cube that would make HDF5 read another file (issue 30, class 6)."""
+    import h5py
+
+    path = tmp_path / (name + ".h5")
+    fifo = tmp_path / "values.fifo"
+    if not fifo.exists():
+        os.mkfifo(fifo)
+    with h5py.File(path, "w") as f:
+        if name == "external-fifo":
+            f.create_dataset("cube", shape=(2, 2, 7), dtype="<f4", external=[(str(fifo), 0, 2 * 2 * 7 * 4)])
+        elif name == "external-link":
+            f["cube"] = h5py.ExternalLink(str(fifo), "/cube")
+        elif name == "soft-link":
+            f["data"] = np.full((2, 2, 7), 0.5, np.float32)
+            f["cube"] = h5py.SoftLink("/data")
+        elif name == "virtual":
+            layout = h5py.VirtualLayout(shape=(2, 2, 7), dtype="<f4")
+            layout[:] = h5py.VirtualSource(str(fifo), "data", shape=(2, 2, 7))
+            f.create_virtual_dataset("cube", layout)
+        f["wavelength_nm"] = np.arange(400.0, 701.0, 50.0)
+    return path
+
+
+@pytest.mark.parametrize("name, message", [
+    ("external-fifo", "/cube: keeps its values in 1 external file ('{fifo}')"),
+    ("external-link", "/cube: is an external link to '{fifo}:/cube'"),
+    ("soft-link", "/cube: is a soft link to '/data'"),
+    ("virtual", "/cube: is a virtual dataset (1 source, the first in '{fifo}')"),
+])
+def test_hdf5_that_would_read_other_files_is_refused_at_once(tmp_path, name, message):
+    # In child processes under a timeout: a reader that opens the FIFO fails instead of hanging.
+    path = hostile_hdf5(tmp_path, name)
+    message = message.format(fifo=tmp_path / "values.fifo")
+    code = ("import metamer, sys\ntry:\n    metamer.load_cube(sys.argv[1])\nexcept metamer.InputError as e:\n"
+            "    print(e)\n    sys.exit(2)\n")
+    module = subprocess.run([sys.executable, "-c", code, str(path)], capture_output=True, text=True, timeout=60)
+    assert module.returncode == 2 and str(path) in module.stdout and message in module.stdout, module
+    assert "refused" in module.stdout
+    cli = subprocess.run([BINARY, "compare", str(path), str(path)], capture_output=True, text=True, timeout=60)
+    assert cli.returncode == 2 and message in cli.stderr and len(cli.stderr.strip().splitlines()) == 1, cli
+
+
+def test_hdf5_with_a_user_block_reads_everywhere(tmp_path):
+    import h5py
+
+    wavelengths = np.arange(400.0, 701.0, 50.0)
+    cube = np.broadcast_to(np.linspace(0.1, 0.7, len(wavelengths)), (4, 4, len(wavelengths))).astype(np.float32)
+    with h5py.File(tmp_path / "block.h5", "w", userblock_size=512) as f:
+        f["cube"] = cube
+        f["wavelength_nm"] = wavelengths
+        f["cube"].attrs["quantity"] = "reflectance"
+    assert (tmp_path / "block.h5").read_bytes()[512:516] == b"\x89HDF"
+    np.testing.assert_array_equal(metamer.load_cube(tmp_path / "block.h5")["cube"], cube)
+    assert metamer.compare(tmp_path / "block.h5", tmp_path / "block.h5")["max_abs"] == 0
+    r = metamer.render(textured_quad("block.h5"), base_dir=tmp_path, backend="cpu")
+    np.testing.assert_allclose(r.cube[3, 3], cube[0, 0] * 2.0 / math.pi, rtol=1e-6)
 
 
 def test_the_examples_in_docs_python_md_run(tmp_path, monkeypatch):

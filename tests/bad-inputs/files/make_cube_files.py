@@ -4,7 +4,9 @@ other tools write them (h5py; ENVI headers by hand), each damaged in one way: a 
 over-long .img, a header without `byte order`, `data type = 12`, a wavelength list one short, an
 unterminated `{`, a header without its data file, radiance where a reflectance is needed, a NaN
 texel, a file in UTF-16; HDF5 without /wavelength_nm, a rank-2 /cube, a truncated file, a radiance
-cube. Needs numpy and h5py (the venv): .venv/bin/python tests/bad-inputs/files/make_cube_files.py"""
+cube, and HDF5 that would have the library read other files (issue 30, class 6): /cube's values in
+external storage (/dev/zero), an external link to a file outside the scene's folder, a soft link, a
+virtual dataset. Needs numpy and h5py (the venv): .venv/bin/python tests/bad-inputs/files/make_cube_files.py"""
 
 import os
 
@@ -73,6 +75,28 @@ def main():
     with open(os.path.join(HERE, "truncated.h5"), "wb") as f:
         f.write(whole[: len(whole) // 2])
     os.remove(os.path.join(HERE, "whole.h5"))
+    hostile()
+
+
+def hostile():
+    """HDF5 indirection: each of these is refused before HDF5 opens any other file."""
+    nm = np.array(NM)
+    with h5py.File(os.path.join(HERE, "external-dev-zero.h5"), "w") as f:
+        f.create_dataset("cube", shape=(2, 2, 4), dtype="<f4", external=[("/dev/zero", 0, 2 * 2 * 4 * 4)])
+        f["wavelength_nm"] = nm
+        f["cube"].attrs["quantity"] = "reflectance"
+    with h5py.File(os.path.join(HERE, "external-link.h5"), "w") as f:
+        f["cube"] = h5py.ExternalLink("../../../outside.h5", "/cube")
+        f["wavelength_nm"] = nm
+    with h5py.File(os.path.join(HERE, "soft-link.h5"), "w") as f:
+        f["data"] = np.full((2, 2, 4), 0.5, np.float32)
+        f["cube"] = h5py.SoftLink("/data")
+        f["wavelength_nm"] = nm
+    with h5py.File(os.path.join(HERE, "virtual.h5"), "w") as f:
+        layout = h5py.VirtualLayout(shape=(2, 2, 4), dtype="<f4")
+        layout[:] = h5py.VirtualSource("../../../outside.h5", "data", shape=(2, 2, 4))
+        f.create_virtual_dataset("cube", layout)
+        f["wavelength_nm"] = nm
 
 
 if __name__ == "__main__":
