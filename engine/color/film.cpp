@@ -1,6 +1,7 @@
 #include "color/film.h"
 #include "color/cie_xyz.h"
 #include "core/file_reads.h"
+#include "core/json.h"
 #include "spectral/resampling.h"
 
 #include "spectral/csv.h"
@@ -20,7 +21,7 @@ namespace metamer {
 
 namespace {
 
-using Json = nlohmann::json;
+using Json = nlohmann::ordered_json;
 
 // The description file spectra/film/<name>.json: which library tables hold the film's spectra,
 // the light it is balanced for, and one characteristic curve per layer.
@@ -55,19 +56,15 @@ FilmDescription readDescription(const std::string& name, const SpectrumLibrary& 
     FilmDescription d;
     d.path = descriptionPath(library, name);
     noteFileRead(d.path);
-    std::ifstream in(d.path);
-    if (!in) {
+    std::error_code ec;
+    if (!fs::exists(d.path, ec)) {
         std::string s = closestMatch(name, filmNames(library));
         if (!s.empty()) failInput(where, "no film '{}'; did you mean '{}'?", name, s);
         failInput(where, "no film '{}' ({} not found)", name, d.path.string());
     }
     const Where file{d.path.string()};
-    Json j;
-    try {
-        j = Json::parse(in);
-    } catch (const Json::parse_error& e) {
-        failInput(file, "not valid JSON: {}", e.what());
-    }
+    // The one JSON reader (core/json.h): a regular file of sane size, depth-capped, duplicate keys refused.
+    const Json j = parseJson(readWholeFile(d.path, file, "film description"), d.path.string());
     if (!j.is_object()) failInput(file, "expected a JSON object");
     d.sensitivity = requireString(j, "sensitivity", file);
     d.dyeDensity = requireString(j, "dye_density", file);

@@ -20,7 +20,7 @@ namespace metamer {
 
 namespace {
 
-using Json = nlohmann::json;
+using Json = nlohmann::ordered_json;
 
 // 1-based line of a byte offset.
 int lineAt(const std::string& text, size_t offset) {
@@ -68,31 +68,9 @@ Tolerance readTolerance(const fs::path& path) {
     // A tolerance file is a few lines of JSON: 1 MiB is generous.
     const std::string text = readWholeFile(path, Where{file}, "tolerance file", std::uintmax_t(1) << 20);
 
-    // nlohmann keeps the last of two equal keys; a tolerance file with two max_rel entries is a
-    // mistake whichever one was meant, so the parser callback rejects it.
-    std::set<std::string> seen;
-    int depth = 0;
-    auto callback = [&](int d, Json::parse_event_t event, Json& parsed) {
-        depth = d;
-        if (event == Json::parse_event_t::key && depth == 1) {
-            std::string key = parsed.get<std::string>();
-            if (!seen.insert(key).second) failInput(Where{file, key}, "duplicate key");
-        }
-        return true;
-    };
-    Json j;
-    try {
-        j = Json::parse(text, callback, /*allow_exceptions=*/true, /*ignore_comments=*/false);
-    } catch (const Json::parse_error& e) {
-        // nlohmann's message starts "[json.exception.parse_error.101] parse error at line L, column C: ";
-        // keep what follows and count the line ourselves.
-        std::string what = e.what();
-        if (size_t c = what.find("column "); c != std::string::npos)
-            if (size_t colon = what.find(": ", c); colon != std::string::npos) what = what.substr(colon + 2);
-        failInput(Where{file, "", lineAt(text, e.byte == 0 ? 0 : e.byte - 1)}, "JSON syntax error: {}", what);
-    } catch (const Json::out_of_range&) {
-        failInput(Where{file}, "a number is out of the range of a double");
-    }
+    // The one JSON reader (core/json.h): duplicate keys (two max_rel entries are a mistake whichever
+    // was meant), numbers beyond a double and deep nesting are errors naming the line and key.
+    const Json j = parseJson(text, file);
     if (!j.is_object()) failInput(Where{file}, "must be a JSON object of criteria, not {}", jsonTypeName(j));
 
     std::vector<std::string> known = {"description"};

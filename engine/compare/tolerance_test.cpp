@@ -70,6 +70,12 @@ TEST_F(CompareTolerance, NegativeStringAndDuplicateValuesAreErrorsNamingTheKey) 
     EXPECT_NE(m.find("description: must be a string"), std::string::npos) << m;
     m = errorFor("{\"max_rel\": 1, \"max_rel\": 2}");
     EXPECT_NE(m.find("max_rel: duplicate key"), std::string::npos) << m;
+    // A value beyond a double names its key and line (issue 30: it used to name only the file), and
+    // a file nested 100 000 deep is refused, not a crash: the one JSON reader (core/json.h).
+    m = errorFor("{\n  \"max_rel\": 1e-3,\n  \"max_abs\": 1e400\n}");
+    EXPECT_NE(m.find("tolerance.json:3: max_abs: number 1e400 is out of the range of a double"), std::string::npos) << m;
+    m = errorFor(std::string(100000, '[') + std::string(100000, ']'));
+    EXPECT_NE(m.find("nests more than 64 levels"), std::string::npos) << m;
 }
 
 TEST_F(CompareTolerance, SyntaxErrorsAndNonObjectsNameTheFile) {

@@ -1,5 +1,6 @@
 #include "represent/representation.h"
 #include "core/file_reads.h"
+#include "core/json.h"
 
 #include "spectral/csv.h"
 #include "spectral/resampling.h"
@@ -259,13 +260,18 @@ Representation makeRepresentation(const Mode& mode, const Grid& grid, const Spec
     if (mode.kind == ModeKind::Rgb) {
         r.reflectanceAnalysis = weightsOnGrid(readSpectralTable(root / "quadrature" / "rgb_weights.csv", 3), grid, true);
         r.lightAnalysis = weightsOnGrid(readSpectralTable(root / "quadrature" / "rgb_light_weights.csv", 3), grid, false);
-        noteFileRead(root / "quadrature" / "rgb.json");
-        std::ifstream in(root / "quadrature" / "rgb.json");
-        if (!in) failInput(Where{(root / "quadrature" / "rgb.json").string()}, "cannot open the rgb mode's matrices");
-        nlohmann::json j = nlohmann::json::parse(in);
+        const std::filesystem::path file = root / "quadrature" / "rgb.json";
+        noteFileRead(file);
+        const nlohmann::ordered_json j = parseJson(readWholeFile(file, Where{file.string()}, "rgb mode's matrices"), file.string());
         r.toXyz.assign(3, std::vector<double>(3));
+        const auto* m = j.is_object() && j.contains("linear_sRGB_to_XYZ") ? &j["linear_sRGB_to_XYZ"] : nullptr;
         for (int i = 0; i < 3; ++i)
-            for (int k = 0; k < 3; ++k) r.toXyz[i][k] = j.at("linear_sRGB_to_XYZ").at(i).at(k).get<double>();
+            for (int k = 0; k < 3; ++k) {
+                if (!m || !m->is_array() || m->size() != 3 || !(*m)[i].is_array() || (*m)[i].size() != 3 ||
+                    !(*m)[i][k].is_number())
+                    failInput(Where{file.string(), "linear_sRGB_to_XYZ"}, "expected a 3×3 array of numbers");
+                r.toXyz[i][k] = (*m)[i][k].get<double>();
+            }
         r.channelNames = {"R", "G", "B"};
         r.description = "rgb: linear sRGB per light and per reflectance (D65 white = 1), multiplied per channel";
         return r;

@@ -4,6 +4,7 @@
 // scene/scene_json.cpp. Tests: scene/scene_json_test.cpp, tests/bad_inputs_test.cpp.
 #pragma once
 
+#include "core/json.h"
 #include "core/error.h"
 
 #include <glm/glm.hpp>
@@ -17,9 +18,8 @@ namespace metamer::json_read {
 
 using Json = nlohmann::ordered_json;
 
-// The document in `text`; syntax errors, duplicate keys, numbers beyond a double, nesting beyond
-// 64 levels and UTF-16 text are input errors naming `file`, the line and the key path.
-Json parseJson(const std::string& text, const std::string& file);
+// The one JSON parser (core/json.h), under the name the scene readers have always used.
+using metamer::parseJson;
 
 // "an array of 3", "a string", … for messages.
 std::string describe(const Json& v);

@@ -3,6 +3,7 @@
 // Tests: engine/scene/scene_json_test.cpp (--set), tests/cli_test.cpp.
 #pragma once
 
+#include "core/json.h"
 #include <nlohmann/json.hpp>
 
 #include <string>
@@ -10,10 +11,7 @@
 
 namespace metamer {
 
-// How deeply a scene's JSON (and a --set value) may nest. Scenes nest 5 levels; copying or
-// destroying a JSON value recurses once per level, so a file of 100 000 '[' would overflow the
-// stack instead of being refused.
-constexpr int kMaxJsonDepth = 64;
+// How deeply a --set value may nest: kMaxJsonDepth (core/json.h), as a scene.
 
 struct Override {
     std::string text;  // as given: "lights.0.scale=0.5"
