@@ -14,10 +14,34 @@ Where Where::child(const std::string& k) const {
 
 Where Where::index(size_t i) const { return child(std::to_string(i)); }
 
+// A key path as a message shows it: a part over 80 bytes (a 3 000-character material name) keeps
+// its first 40 and says how long it was, so the line stays readable whatever a file names things.
+static std::string shownKeyPath(const std::string& key) {
+    constexpr size_t kLongPart = 80, kKept = 40;
+    std::string out;
+    size_t start = 0;
+    while (start <= key.size()) {
+        size_t dot = key.find('.', start);
+        if (dot == std::string::npos) dot = key.size();
+        const size_t length = dot - start;
+        if (length > kLongPart) {
+            size_t cut = kKept;
+            while (cut > 0 && (static_cast<unsigned char>(key[start + cut]) & 0xc0) == 0x80) --cut;  // whole characters
+            out += key.substr(start, cut) + fmt::format("…({} bytes)", length);
+        } else {
+            out.append(key, start, length);
+        }
+        if (dot == key.size()) break;
+        out += '.';
+        start = dot + 1;
+    }
+    return out;
+}
+
 std::string Where::str() const {
     std::string s = file;
     if (line > 0) s += (s.empty() ? "line " : ":") + std::to_string(line);
-    if (!key.empty()) s += (s.empty() ? "" : ": ") + key;
+    if (!key.empty()) s += (s.empty() ? "" : ": ") + shownKeyPath(key);
     return s;
 }
 
