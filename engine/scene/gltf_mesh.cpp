@@ -26,6 +26,19 @@ namespace metamer {
 
 namespace {
 
+// glTF's component types (glTF 2.0, "Accessor"), for messages.
+const char* componentTypeName(int type) {
+    switch (type) {
+        case TINYGLTF_COMPONENT_TYPE_BYTE: return "byte";
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return "unsigned byte";
+        case TINYGLTF_COMPONENT_TYPE_SHORT: return "short";
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return "unsigned short";
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: return "unsigned int";
+        case TINYGLTF_COMPONENT_TYPE_FLOAT: return "float";
+        default: return "not a glTF component type";
+    }
+}
+
 constexpr int kMaxNodeDepth = 1000;  // far beyond any modelled hierarchy
 
 struct Reader {
@@ -49,10 +62,17 @@ struct Reader {
         int componentType = 0;
     };
 
-    View view(int index, int type, const std::string& what) const {
+    // `componentTypes`: the component types this use of the accessor reads, checked before the layout,
+    // so that indices of floats (or of a type glTF does not define) are named as such rather than
+    // as reading past their buffer.
+    View view(int index, int type, const std::string& what, std::initializer_list<int> componentTypes,
+              const char* expected) const {
         if (index < 0 || static_cast<size_t>(index) >= model.accessors.size())
             fail("{}: accessor {} does not exist", what, index);
         const tinygltf::Accessor& a = model.accessors[index];
+        if (std::find(componentTypes.begin(), componentTypes.end(), a.componentType) == componentTypes.end())
+            fail("{}: accessor {} has component type {} ({}); expected {}", what, index, a.componentType,
+                 componentTypeName(a.componentType), expected);
         if (a.sparse.isSparse) fail("{}: sparse accessors are not supported", what);
         if (a.bufferView < 0) fail("{}: accessor {} has no buffer view", what, index);
         if (a.type != type) fail("{}: accessor {} has the wrong element type", what, index);
@@ -89,9 +109,8 @@ struct Reader {
     }
 
     std::vector<glm::dvec3> vec3s(int index, const std::string& what) const {
-        View v = view(index, TINYGLTF_TYPE_VEC3, what);
-        if (v.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT)
-            fail("{}: expected 32-bit float components (quantized meshes are not supported)", what);
+        View v = view(index, TINYGLTF_TYPE_VEC3, what, {TINYGLTF_COMPONENT_TYPE_FLOAT},
+                      "32-bit float components (quantized meshes are not supported)");
         std::vector<glm::dvec3> out(v.count);
         for (size_t i = 0; i < v.count; ++i) {
             float f[3];
@@ -105,7 +124,10 @@ struct Reader {
 
     // TEXCOORD_n: float, or unsigned byte/short normalized to [0, 1] (glTF allows all three).
     std::vector<glm::dvec2> vec2s(int index, const std::string& what) const {
-        View v = view(index, TINYGLTF_TYPE_VEC2, what);
+        View v = view(index, TINYGLTF_TYPE_VEC2, what,
+                      {TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE,
+                       TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT},
+                      "texture coordinates of float or normalized unsigned byte/short");
         std::vector<glm::dvec2> out(v.count);
         for (size_t i = 0; i < v.count; ++i) {
             const unsigned char* p = v.data + i * v.stride;
@@ -131,8 +153,7 @@ struct Reader {
     }
 
     std::vector<glm::dvec4> vec4s(int index, const std::string& what) const {
-        View v = view(index, TINYGLTF_TYPE_VEC4, what);
-        if (v.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT) fail("{}: expected 32-bit float components", what);
+        View v = view(index, TINYGLTF_TYPE_VEC4, what, {TINYGLTF_COMPONENT_TYPE_FLOAT}, "32-bit float components");
         std::vector<glm::dvec4> out(v.count);
         for (size_t i = 0; i < v.count; ++i) {
             float f[4];
@@ -145,7 +166,10 @@ struct Reader {
     }
 
     std::vector<uint32_t> indices(int index, const std::string& what) const {
-        View v = view(index, TINYGLTF_TYPE_SCALAR, what);
+        View v = view(index, TINYGLTF_TYPE_SCALAR, what,
+                      {TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT,
+                       TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT},
+                      "indices of unsigned byte, short or int");
         std::vector<uint32_t> out(v.count);
         for (size_t i = 0; i < v.count; ++i) {
             const unsigned char* p = v.data + i * v.stride;

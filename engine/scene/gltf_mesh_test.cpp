@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
+#include <unistd.h>
 
 using namespace metamer;
 namespace fs = std::filesystem;
@@ -100,5 +102,31 @@ TEST(GltfMesh, ErrorsNameTheKeyAndThePath) {
         std::string what = errorOf(kData / c.file);
         EXPECT_NE(what.find("scene.json: objects.7.mesh: "), std::string::npos) << what;
         EXPECT_NE(what.find(c.message), std::string::npos) << what;
+    }
+}
+
+// Indices of floats, or of a component type glTF does not define, are named as such — not as an
+// accessor reading past its buffer (issue 30, second-round leftover).
+TEST(GltfMesh, AnAccessorOfTheWrongComponentTypeIsNamedAsSuch) {
+    const fs::path dir = fs::temp_directory_path() / fmt::format("metamer-gltf-types-{}", ::getpid());
+    fs::create_directories(dir);
+    // Three float positions (36 bytes) then three indices as 4-byte floats, base64 in a data URI.
+    const std::string buffer =
+        "AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAAAAAAAAgD8AAABA";
+    for (const auto& [type, message] : std::vector<std::pair<int, std::string>>{
+             {5126, "accessor 1 has component type 5126 (float); expected indices of unsigned byte, short or int"},
+             {5130, "accessor 1 has component type 5130 (not a glTF component type); expected indices of"}}) {
+        const fs::path p = dir / fmt::format("indices-{}.gltf", type);
+        std::ofstream(p) << fmt::format(
+            R"({{"asset": {{"version": "2.0"}},
+  "buffers": [{{"byteLength": 48, "uri": "data:application/octet-stream;base64,{}"}}],
+  "bufferViews": [{{"buffer": 0, "byteOffset": 0, "byteLength": 36}}, {{"buffer": 0, "byteOffset": 36, "byteLength": 12}}],
+  "accessors": [{{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]}},
+                {{"bufferView": 1, "componentType": {}, "count": 3, "type": "SCALAR"}}],
+  "meshes": [{{"primitives": [{{"attributes": {{"POSITION": 0}}, "indices": 1}}]}}],
+  "nodes": [{{"mesh": 0}}], "scenes": [{{"nodes": [0]}}], "scene": 0}})",
+            buffer, type);
+        const std::string what = errorOf(p);
+        EXPECT_NE(what.find("mesh 0 primitive 0 indices: " + message), std::string::npos) << what;
     }
 }
