@@ -1,5 +1,6 @@
 #include "scene/gltf_mesh.h"
 #include "core/file_reads.h"
+#include "core/memory_limits.h"
 
 #include "scene/shapes.h"
 
@@ -48,6 +49,7 @@ struct Reader {
     // The decoded bytes of images given as data: URIs, by image index (tinygltf hands them only to
     // its image callback; buffer-view images are read from the model, bounds-checked).
     const std::map<int, std::vector<unsigned char>>& dataUriImages;
+    mutable std::map<std::pair<int, int>, Mesh> decoded;  // (mesh, primitive) → its triangles
 
     template <typename... Args>
     [[noreturn]] void fail(fmt::format_string<Args...> f, Args&&... args) const {
@@ -349,14 +351,44 @@ struct Reader {
         return m;
     }
 
-    void visit(int nodeIndex, const glm::dmat4& parent, int depth, std::vector<Mesh>& out) const {
+    // What the default scene expands to, counted from the accessors before any vertex is decoded.
+    struct Expansion {
+        size_t instances = 0, vertices = 0, indices = 0;
+        std::vector<bool> reached;  // by node: each node once (glTF nodes have at most one parent)
+    };
+
+    void count(int nodeIndex, int depth, Expansion& e) const {
         if (nodeIndex < 0 || static_cast<size_t>(nodeIndex) >= model.nodes.size())
             fail("node {} does not exist", nodeIndex);
-        // glTF node graphs are trees; a deeper walk than there are nodes means a cycle.
-        if (depth > static_cast<int>(model.nodes.size())) fail("the node hierarchy has a cycle");
         // Each level is a stack frame here: a chain of a million nodes would overflow the stack.
         if (depth > kMaxNodeDepth) fail("the node hierarchy is deeper than {} levels", kMaxNodeDepth);
+        // glTF node graphs are a forest: a node reached twice is a cycle, or a child listed twice —
+        // which would otherwise multiply the instances below it at every level.
+        if (e.reached[nodeIndex])
+            fail("node {} is reached twice (a cycle, or a node listed as a child more than once: glTF nodes have "
+                 "one parent)",
+                 nodeIndex);
+        e.reached[nodeIndex] = true;
         const tinygltf::Node& node = model.nodes[nodeIndex];
+        if (node.mesh >= 0 && static_cast<size_t>(node.mesh) < model.meshes.size())
+            for (const tinygltf::Primitive& prim : model.meshes[node.mesh].primitives) {
+                ++e.instances;
+                const auto position = prim.attributes.find("POSITION");
+                size_t v = 0;
+                if (position != prim.attributes.end() && position->second >= 0 &&
+                    static_cast<size_t>(position->second) < model.accessors.size())
+                    v = model.accessors[position->second].count;
+                size_t i = v;
+                if (prim.indices >= 0 && static_cast<size_t>(prim.indices) < model.accessors.size())
+                    i = model.accessors[prim.indices].count;
+                e.vertices += std::min(v, size_t(1) << 40);  // counts are the file's: kept from wrapping
+                e.indices += std::min(i, size_t(1) << 40);
+            }
+        for (int child : node.children) count(child, depth + 1, e);
+    }
+
+    void visit(int nodeIndex, const glm::dmat4& parent, int depth, std::vector<Mesh>& out) const {
+        const tinygltf::Node& node = model.nodes[nodeIndex];  // checked by count()
         glm::dmat4 world = parent * localMatrix(node);
         if (node.mesh >= 0) {
             if (static_cast<size_t>(node.mesh) >= model.meshes.size())
@@ -365,7 +397,10 @@ struct Reader {
             if (!std::isfinite(det) || std::fabs(det) < 1e-300)
                 fail("node {}: its transform is singular", nodeIndex);
             for (size_t p = 0; p < model.meshes[node.mesh].primitives.size(); ++p) {
-                Mesh m = primitive(node.mesh, static_cast<int>(p));
+                // Decoded once per primitive, however many nodes instance it.
+                auto [at, fresh] = decoded.try_emplace({node.mesh, int(p)});
+                if (fresh) at->second = primitive(node.mesh, static_cast<int>(p));
+                Mesh m = at->second;
                 transformMesh(m, world);
                 out.push_back(std::move(m));
             }
@@ -555,6 +590,24 @@ GltfModel loadGltf(const fs::path& path, const Where& where, const ReadablePaths
         for (size_t i = 0; i < model.nodes.size(); ++i)
             if (!isChild[i]) roots.push_back(static_cast<int>(i));
     }
+    // Counted before anything is expanded: instancing makes a small file into any number of
+    // triangles (300 000 nodes of one mesh), so what the expansion would take is compared with the
+    // memory an input may take (a quarter of the machine's, core/memory_limits.h), and refused above.
+    Reader::Expansion expansion;
+    expansion.reached.assign(model.nodes.size(), false);
+    for (int r : roots) reader.count(r, 0, expansion);
+    // Per expanded vertex: position, normal, uv, tangent in double (96 bytes), twice (the parts,
+    // then the merged mesh); per index 4 bytes, twice.
+    const double expandedBytes = 2.0 * (96.0 * double(expansion.vertices) + 4.0 * double(expansion.indices));
+    if (expandedBytes > double(decodedImageLimitBytes()))
+        reader.fail("its default scene expands to {} triangles in {} mesh instances, about {} once expanded, more "
+                    "than the {} an input may take on this machine (a quarter of its memory); instance fewer nodes",
+                    expansion.indices / 3, expansion.instances, memorySize(uint64_t(std::min(expandedBytes, 1.8e19))),
+                    memorySize(decodedImageLimitBytes()));
+    if (expansion.indices / 3 > 10'000'000)
+        warn(where, fmt::format("mesh file '{}' expands to {} triangles in {} mesh instances (about {}): loading and "
+                                "drawing them takes a while",
+                                shown, expansion.indices / 3, expansion.instances, memorySize(uint64_t(expandedBytes))));
     GltfModel out;
     for (int r : roots) reader.visit(r, glm::dmat4(1.0), 0, out.meshes);
     size_t triangles = 0;

@@ -1,5 +1,7 @@
 #include "scene/gltf_mesh.h"
 
+#include "core/memory_limits.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -129,4 +131,66 @@ TEST(GltfMesh, AnAccessorOfTheWrongComponentTypeIsNamedAsSuch) {
         const std::string what = errorOf(p);
         EXPECT_NE(what.find("mesh 0 primitive 0 indices: " + message), std::string::npos) << what;
     }
+}
+
+namespace {
+
+// A glTF whose default scene is `nodes` nodes instancing one mesh of `vertices` vertices (a fan
+// of triangles in z = 0), its buffer in a .bin beside it; `childrenOfFirst` lists node 1 that many
+// times under node 0 (a hostile file).
+fs::path instancedGltf(const fs::path& dir, const std::string& name, size_t nodes, size_t vertices,
+                       int childrenOfFirst = 0) {
+    fs::create_directories(dir);
+    std::vector<float> xyz(3 * vertices);
+    for (size_t i = 0; i < vertices; ++i) {
+        xyz[3 * i] = i == 0 ? 0.0f : float(std::cos(i * 0.001));
+        xyz[3 * i + 1] = i == 0 ? 0.0f : float(std::sin(i * 0.001));
+    }
+    std::ofstream(dir / (name + ".bin"), std::ios::binary)
+        .write(reinterpret_cast<const char*>(xyz.data()), std::streamsize(xyz.size() * sizeof(float)));
+    std::string nodeList, sceneNodes;
+    for (size_t n = 0; n < nodes; ++n) {
+        std::string children;
+        if (n == 0 && childrenOfFirst > 0)
+            for (int c = 0; c < childrenOfFirst; ++c) children += c ? ", 1" : "1";
+        nodeList += fmt::format("{}{{\"mesh\": 0, \"translation\": [{}, 0, 0]{}}}", n ? ", " : "", n,
+                                children.empty() ? "" : ", \"children\": [" + children + "]");
+        if (childrenOfFirst == 0 || n == 0) sceneNodes += fmt::format("{}{}", sceneNodes.empty() ? "" : ", ", n);
+    }
+    const fs::path p = dir / (name + ".gltf");
+    std::ofstream(p) << fmt::format(
+        R"({{"asset": {{"version": "2.0"}},
+  "buffers": [{{"byteLength": {0}, "uri": "{1}.bin"}}],
+  "bufferViews": [{{"buffer": 0, "byteOffset": 0, "byteLength": {0}}}],
+  "accessors": [{{"bufferView": 0, "componentType": 5126, "count": {2}, "type": "VEC3", "min": [-1, -1, 0], "max": [1, 1, 0]}}],
+  "meshes": [{{"primitives": [{{"attributes": {{"POSITION": 0}}, "mode": 4}}]}}],
+  "nodes": [{3}], "scenes": [{{"nodes": [{4}]}}], "scene": 0}})",
+        xyz.size() * sizeof(float), name, vertices - vertices % 3, nodeList, sceneNodes);
+    return p;
+}
+
+}  // namespace
+
+// Instancing makes a small file into any number of triangles: what the default scene expands to
+// is counted before anything is decoded and refused above the memory an input may take; a child
+// listed many times (which multiplied the instances at every level) is refused; and many
+// instances of one mesh decode it once (issue 30, second-round leftover: 300 000 instances took
+// minutes and 2.6 GB).
+TEST(GltfMesh, InstancingIsCountedBeforeItIsExpanded) {
+    const fs::path dir = fs::temp_directory_path() / fmt::format("metamer-gltf-instances-{}", ::getpid());
+    // 3 000 instances of 30 vertices: loads, each instance in place.
+    const GltfModel ok = loadGltf(instancedGltf(dir, "ok", 3000, 30), kWhere);
+    ASSERT_EQ(ok.meshes.size(), 3000u);
+    EXPECT_DOUBLE_EQ(ok.meshes[2999].positions[0].x, 2999.0);
+    // Enough instances of 9 999 vertices to pass this machine's limit, whatever its memory.
+    const size_t vertices = 9999;
+    const size_t nodes = size_t(double(decodedImageLimitBytes()) / (2.0 * 100.0 * vertices)) + 100;
+    std::string what = errorOf(instancedGltf(dir, "big", nodes, vertices));
+    EXPECT_NE(what.find(fmt::format("its default scene expands to {} triangles in {} mesh instances", nodes * vertices / 3,
+                                    nodes)),
+              std::string::npos)
+        << what;
+    EXPECT_NE(what.find("a quarter of its memory"), std::string::npos) << what;
+    what = errorOf(instancedGltf(dir, "twice", 2, 3, 1000));
+    EXPECT_NE(what.find("node 1 is reached twice"), std::string::npos) << what;
 }
