@@ -357,6 +357,16 @@ struct Reader {
         std::vector<bool> reached;  // by node: each node once (glTF nodes have at most one parent)
     };
 
+    // An accessor's count, at most what its buffer view can hold: a count the file cannot back
+    // (2⁶²) is left to view() to name, and cannot wrap the sums around.
+    size_t storable(int index) const {
+        if (index < 0 || static_cast<size_t>(index) >= model.accessors.size()) return 0;
+        const tinygltf::Accessor& a = model.accessors[index];
+        if (a.bufferView < 0 || static_cast<size_t>(a.bufferView) >= model.bufferViews.size()) return 0;
+        const int size = tinygltf::GetComponentSizeInBytes(a.componentType) * tinygltf::GetNumComponentsInType(a.type);
+        return size > 0 ? std::min(a.count, model.bufferViews[a.bufferView].byteLength / size_t(size)) : 0;
+    }
+
     void count(int nodeIndex, int depth, Expansion& e) const {
         if (nodeIndex < 0 || static_cast<size_t>(nodeIndex) >= model.nodes.size())
             fail("node {} does not exist", nodeIndex);
@@ -365,8 +375,8 @@ struct Reader {
         // glTF node graphs are a forest: a node reached twice is a cycle, or a child listed twice —
         // which would otherwise multiply the instances below it at every level.
         if (e.reached[nodeIndex])
-            fail("node {} is reached twice (a cycle, or a node listed as a child more than once: glTF nodes have "
-                 "one parent)",
+            fail("the node hierarchy has a cycle or a shared node: node {} is reached twice (glTF nodes have one "
+                 "parent)",
                  nodeIndex);
         e.reached[nodeIndex] = true;
         const tinygltf::Node& node = model.nodes[nodeIndex];
@@ -374,15 +384,9 @@ struct Reader {
             for (const tinygltf::Primitive& prim : model.meshes[node.mesh].primitives) {
                 ++e.instances;
                 const auto position = prim.attributes.find("POSITION");
-                size_t v = 0;
-                if (position != prim.attributes.end() && position->second >= 0 &&
-                    static_cast<size_t>(position->second) < model.accessors.size())
-                    v = model.accessors[position->second].count;
-                size_t i = v;
-                if (prim.indices >= 0 && static_cast<size_t>(prim.indices) < model.accessors.size())
-                    i = model.accessors[prim.indices].count;
-                e.vertices += std::min(v, size_t(1) << 40);  // counts are the file's: kept from wrapping
-                e.indices += std::min(i, size_t(1) << 40);
+                const size_t v = position == prim.attributes.end() ? 0 : storable(position->second);
+                e.vertices += v;
+                e.indices += prim.indices >= 0 ? storable(prim.indices) : v;
             }
         for (int child : node.children) count(child, depth + 1, e);
     }

@@ -104,6 +104,15 @@ def main():
     write("index-out-of-range.gltf", json.dumps(gltf(None, index_values=(0, 1, 7)), indent=1))
     write("node-cycle.gltf", json.dumps(gltf(None, nodes=[{"mesh": 0, "children": [1]}, {"children": [0]}]),
                                         indent=1))
+    # A child listed 1000 times under one node, itself with a child listed 1000 times: 10^6
+    # instances from a file of a few KB, unless a node reached twice is refused.
+    write("node-shared.gltf", json.dumps(gltf(None, nodes=[{"mesh": 0, "children": [1] * 1000},
+                                                          {"mesh": 0, "children": [2] * 1000}, {"mesh": 0}]),
+                                         indent=1))
+    # Indices stored as floats: named as such, not as a buffer overrun.
+    doc = gltf(None)
+    doc["accessors"][1]["componentType"] = 5126
+    write("float-indices.gltf", json.dumps(doc, indent=1))
     doc = gltf(None)
     doc["extensionsRequired"] = ["KHR_draco_mesh_compression"]
     doc["extensionsUsed"] = ["KHR_draco_mesh_compression"]
