@@ -201,7 +201,14 @@ std::string text(const py::handle& x, const char* name) {
     }
 }
 
-std::string optionalText(const py::handle& x, const char* name) { return x.is_none() ? std::string() : text(x, name); }
+// An optional text argument: None for the scene's or the default choice; '' is refused, as the
+// CLI refuses an empty flag value (`--grid ''`), rather than read as "not given".
+std::string optionalText(const py::handle& x, const char* name) {
+    if (x.is_none()) return {};
+    std::string s = text(x, name);
+    if (s.empty()) failInput(Where{"", name}, "empty; give a value, or None for the default");
+    return s;
+}
 
 // A scene (or an override's value) given as Python objects, as JSON for the scene parser: dicts
 // with str keys, lists, tuples and numpy arrays (a spectrum's values), str, bool, int, float,
@@ -341,7 +348,7 @@ std::shared_ptr<Render> render(const py::object& scene, const py::object& grid, 
     // The keyword arguments the CLI shares, through the one conversion (render/render_settings.h);
     // errors name the keyword.
     RenderSettings settings;
-    if (!grid.is_none()) settings.grid = py::str(grid).cast<std::string>();
+    settings.grid = optionalText(grid, "grid");
     settings.resample = optionalText(resample, "resample");
     settings.overrides = overrideList(overrides);
     settings.backend = text(backend, "backend");

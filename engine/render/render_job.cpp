@@ -440,8 +440,9 @@ RenderJobResult runRenderJob(const RenderJob& job) {
         estimateRenderMemory(W, H, loaded->grid.bands(), job.ssaa, job.backend, display, drawsBands);
     const RenderMemory perRow = estimateRenderMemory(W, 1, channels, job.ssaa, job.backend, display, drawsBands);
     uint64_t budget = job.memoryBudget ? job.memoryBudget : defaultMemoryBudget();
+    uint64_t held = 0;
     if (job.capture) {
-        const uint64_t held = capturedBytes(W, H, files, loaded->representation, planPtr);
+        held = capturedBytes(W, H, files, loaded->representation, planPtr);
         refuseCaptureOverBudget(job, scene, loaded->grid, budget, held, memory, perRow,
                                 job.backend == Backend::Gpu && !files.edges && !quickLook && job.frames == 1);
         budget -= held;
@@ -503,8 +504,11 @@ RenderJobResult runRenderJob(const RenderJob& job) {
     int strips = 1;
     if (stripRows > 0) {
         strips = renderStripsInto(job, *loaded, planPtr, stripRows, out, r);
-        r.notes.push_back(why + fmt::format("; rendered in {} strips of {} rows and streamed to the files", strips,
-                                            stripRows));
+        r.notes.push_back(job.capture ? why + fmt::format(" (what is left after {} for the arrays kept); rendered in {} "
+                                                          "strips of {} rows into the arrays", memorySize(held), strips,
+                                                          stripRows)
+                                      : why + fmt::format("; rendered in {} strips of {} rows and streamed to the files",
+                                                          strips, stripRows));
     } else if (job.backend == Backend::Gpu && !out.needsCube() && planPtr) {
         renderDisplayFrames(job, *loaded, *planPtr, out, r);
     } else if (job.backend == Backend::Gpu) {
