@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include <stdexcept>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -46,6 +47,13 @@ private:
     Where where_;
     std::string message_;
     std::string text_;
+};
+
+// A file the user named that does not exist: bad input (exit code 2) like any other, told apart
+// so that the Python module can raise it as FileNotFoundError too (requireRegularFile throws it).
+class NotFoundError : public Error {
+public:
+    NotFoundError(Where where, const std::string& message) : Error(ExitCode::BadInput, std::move(where), message) {}
 };
 
 // Bad user input: exit code 2.

@@ -47,7 +47,7 @@ void requireRegularFile(const std::filesystem::path& path, const Where& where, s
         // A dangling link or a folder that cannot be searched: "not found" either way, with why.
         if (ec && ec != std::errc::no_such_file_or_directory)
             failInput(where, "{} cannot be looked at: {}", named(path, where, what), ec.message());
-        failInput(where, "{} not found", named(path, where, what));
+        throw NotFoundError(where, fmt::format("{} not found", named(path, where, what)));
     }
     if (fs::is_regular_file(st)) return;
     if (fs::is_directory(st)) failInput(where, "{} is a folder, not a file", named(path, where, what));

@@ -9,7 +9,9 @@
 #include "compare/compare.h"
 #include "compare/tolerance.h"
 #include "core/error.h"
+#include "core/json.h"
 #include "io/spectral_image.h"
+#include "render/outputs.h"
 #include "render/render_job.h"
 #include "render/render_settings.h"
 #include "render/render_setup.h"
@@ -26,6 +28,8 @@
 
 #include <fmt/format.h>
 
+#include <climits>
+#include <cmath>
 #include <cstdio>
 #include <map>
 #include <memory>
@@ -39,6 +43,7 @@ namespace {
 
 PyObject* errorType = nullptr;       // metamer.Error (RuntimeError)
 PyObject* inputErrorType = nullptr;  // metamer.InputError (metamer.Error, ValueError)
+PyObject* notFoundType = nullptr;    // metamer.NotFoundError (metamer.InputError, FileNotFoundError)
 PyObject* warningType = nullptr;     // metamer.Warning (UserWarning)
 
 // The engine's warnings (core/error.h) as Python warnings of category metamer.Warning, so a
@@ -55,13 +60,25 @@ void warnInPython(const std::string& line) {
 }
 
 // Renders are serialized: a Vulkan queue takes one submitter at a time, and the GIL is released
-// while a render runs.
-std::mutex renderMutex;
+// while a render runs. A pointer, so that a forked child can take a fresh one (forgetAtFork).
+std::mutex* renderMutex = new std::mutex;
 
 // One context per (validation, device) asked for, kept until the interpreter exits.
 std::map<std::pair<bool, std::string>, std::unique_ptr<vk::Context>>& contexts() {
     static std::map<std::pair<bool, std::string>, std::unique_ptr<vk::Context>> c;
     return c;
+}
+
+// fork() copies the process's memory but only the thread that called it: a Vulkan device made
+// before the fork (lavapipe's queue and rasterizer threads, a GPU driver's mappings) is a husk in
+// the child, and a render on it waits forever for threads that are not there. So the child
+// forgets the inherited contexts, without destroying them (that would wait too), and makes a
+// fresh one on its first render; the lock is new as well, since another thread may have held it
+// at the fork. Run by os.register_at_fork(after_in_child=...); `spawn` needs none of this.
+void forgetAtFork() {
+    for (auto& [choice, context] : contexts()) (void)context.release();  // leaked on purpose
+    contexts().clear();
+    renderMutex = new std::mutex;  // the parent's may be locked; leaked with it
 }
 
 vk::Context& contextFor(const RenderJob& job) {
@@ -113,8 +130,134 @@ struct Render {
     int bits = 8;
 };
 
-// A str or os.PathLike as a path.
-fs::path pathOf(const py::handle& x) { return py::str(py::module_::import("os").attr("fspath")(x)).cast<std::string>(); }
+const char* typeName(const py::handle& x) { return Py_TYPE(x.ptr())->tp_name; }
+
+bool isPath(const py::handle& x) {
+    return py::isinstance<py::str>(x) || py::isinstance<py::bytes>(x) ||
+           py::isinstance(x, py::module_::import("os").attr("PathLike"));
+}
+
+// A path argument: str, bytes or os.PathLike, read as os.fsencode reads it (a str in the file
+// system's encoding, undecodable bytes kept as they were); anything else is a TypeError naming
+// the argument. (py::str would have read b'x.json' as the text "b'x.json'".)
+fs::path pathOf(const py::handle& x, const char* name) {
+    if (!isPath(x))
+        throw py::type_error(fmt::format("{}: expected a path (str, bytes or os.PathLike), got {}", name, typeName(x)));
+    const std::string bytes = py::module_::import("os").attr("fsencode")(x).cast<py::bytes>();
+    // The OS would read the path only up to the NUL: another file than the one named.
+    if (bytes.find('\0') != std::string::npos) failInput(Where{"", name}, "the path holds a NUL byte");
+    return fs::path(bytes);
+}
+
+// An integer argument: an int or a numpy integer (not a bool, not a float), within [lo, hi];
+// else a TypeError or an InputError naming it, not pybind11's list of signatures.
+long long integer(const py::handle& x, const char* name, long long lo, long long hi) {
+    if (py::isinstance<py::bool_>(x) || !py::hasattr(x, "__index__"))
+        throw py::type_error(fmt::format("{}: expected an integer, got {}", name, typeName(x)));
+    const py::int_ i = py::module_::import("operator").attr("index")(x);
+    int overflow = 0;
+    const long long v = PyLong_AsLongLongAndOverflow(i.ptr(), &overflow);
+    if (overflow || v < lo || v > hi)
+        failInput(Where{"", name}, "{} is out of range; expected {} … {}", py::str(py::handle(i)).cast<std::string>(), lo, hi);
+    return v;
+}
+
+uint64_t unsignedInteger(const py::handle& x, const char* name) {
+    if (py::isinstance<py::bool_>(x) || !py::hasattr(x, "__index__"))
+        throw py::type_error(fmt::format("{}: expected an integer, got {}", name, typeName(x)));
+    const py::int_ i = py::module_::import("operator").attr("index")(x);
+    const unsigned long long v = PyLong_AsUnsignedLongLong(i.ptr());
+    if (PyErr_Occurred()) {
+        PyErr_Clear();
+        failInput(Where{"", name}, "{} is out of range; expected 0 … 2⁶⁴ − 1", py::str(py::handle(i)).cast<std::string>());
+    }
+    return v;
+}
+
+// A number argument (int, float or a numpy number; not a bool), finite; else a TypeError or an
+// InputError naming it.
+double number(const py::handle& x, const char* name) {
+    if (py::isinstance<py::bool_>(x) || py::isinstance<py::str>(x) || !py::hasattr(x, "__float__"))
+        throw py::type_error(fmt::format("{}: expected a number, got {}", name, typeName(x)));
+    const double v = PyFloat_AsDouble(x.ptr());
+    if (PyErr_Occurred()) throw py::error_already_set();
+    if (!std::isfinite(v)) failInput(Where{"", name}, "expected a finite number, got {}", v);
+    return v;
+}
+
+std::optional<double> optionalNumber(const py::handle& x, const char* name) {
+    if (x.is_none()) return std::nullopt;
+    return number(x, name);
+}
+
+// A text argument (a str; None for "not given" where allowed); else a TypeError naming it.
+std::string text(const py::handle& x, const char* name) {
+    if (!py::isinstance<py::str>(x)) throw py::type_error(fmt::format("{}: expected a str, got {}", name, typeName(x)));
+    try {
+        return x.cast<std::string>();
+    } catch (const py::cast_error&) {
+        PyErr_Clear();
+        failInput(Where{"", name}, "the text is not valid Unicode (a lone surrogate)");
+    }
+}
+
+// An optional text argument: None for the scene's or the default choice; '' is refused, as the
+// CLI refuses an empty flag value (`--grid ''`), rather than read as "not given".
+std::string optionalText(const py::handle& x, const char* name) {
+    if (x.is_none()) return {};
+    std::string s = text(x, name);
+    if (s.empty()) failInput(Where{"", name}, "empty; give a value, or None for the default");
+    return s;
+}
+
+// A scene (or an override's value) given as Python objects, as JSON for the scene parser: dicts
+// with str keys, lists, tuples and numpy arrays (a spectrum's values), str, bool, int, float,
+// None and numpy scalars. What JSON cannot hold is refused at its key path: NaN and infinities
+// (json.dumps would write NaN, which the parser refuses without saying where), other types, and
+// nesting deeper than the parser takes (a dict that holds itself).
+nlohmann::json toJson(const py::handle& v, const std::string& at, int depth = 0) {
+    constexpr int kDeepest = 64;
+    if (depth > kDeepest)
+        failInput(Where{"", at}, "nested deeper than {} levels (a dict or list that holds itself?)", kDeepest);
+    // Kept for the process (a static py::object would be released after the interpreter is gone).
+    static const py::handle numpyGeneric = py::object(py::module_::import("numpy").attr("generic")).release();
+    static const py::handle numpyArray = py::object(py::module_::import("numpy").attr("ndarray")).release();
+    if (v.is_none()) return nullptr;
+    if (py::isinstance<py::bool_>(v)) return v.cast<bool>();
+    if (py::isinstance(v, numpyArray) || py::isinstance(v, numpyGeneric))
+        return toJson(v.attr("tolist")(), at, depth);  // Python numbers, lists of them
+    if (py::isinstance<py::int_>(v)) {
+        int overflow = 0;
+        const long long i = PyLong_AsLongLongAndOverflow(v.ptr(), &overflow);
+        if (!overflow) return i;
+        failInput(Where{"", at}, "{} is out of range for a scene's numbers", py::str(v).cast<std::string>());
+    }
+    if (py::isinstance<py::float_>(v)) {
+        const double d = v.cast<double>();
+        if (!std::isfinite(d)) failInput(Where{"", at}, "{} is not a number a scene holds (JSON has no NaN or infinity)", d);
+        return d;
+    }
+    if (py::isinstance<py::str>(v)) return text(v, at.c_str());
+    if (py::isinstance<py::dict>(v)) {
+        nlohmann::json o = nlohmann::json::object();
+        for (auto [key, value] : v.cast<py::dict>()) {
+            if (!py::isinstance<py::str>(key))
+                throw py::type_error(fmt::format("{}: a key must be a str, got {} {}", at, typeName(key),
+                                                 py::repr(key).cast<std::string>()));
+            const std::string k = text(key, at.c_str());
+            o[k] = toJson(value, at + "." + k, depth + 1);
+        }
+        return o;
+    }
+    if (py::isinstance<py::list>(v) || py::isinstance<py::tuple>(v)) {
+        nlohmann::json a = nlohmann::json::array();
+        size_t i = 0;
+        for (const py::handle& item : v) a.push_back(toJson(item, at + "." + std::to_string(i++), depth + 1));
+        return a;
+    }
+    throw py::type_error(fmt::format("{}: a {} is not something a scene holds (dict, list, str, number, bool or None)",
+                                     at, typeName(v)));
+}
 
 std::vector<std::string> stringList(const py::handle& value, const char* name) {
     if (value.is_none()) return {};
@@ -132,12 +275,11 @@ std::vector<std::string> stringList(const py::handle& value, const char* name) {
         }
         return out;
     }
+    // A sequence of str; not bytes, whose items would be read as numbers.
+    if (py::isinstance<py::bytes>(value) || !py::hasattr(value, "__iter__"))
+        throw py::type_error(fmt::format("{}: expected a str or a sequence of str, got {}", name, typeName(value)));
     std::vector<std::string> out;
-    try {
-        for (const py::handle& item : value) out.push_back(py::str(item).cast<std::string>());
-    } catch (const py::error_already_set&) {
-        failInput(Where{"", name}, "expected a string or a sequence of strings");
-    }
+    for (const py::handle& item : value) out.push_back(text(item, name));
     return out;
 }
 
@@ -145,12 +287,12 @@ std::vector<std::string> stringList(const py::handle& value, const char* name) {
 std::vector<std::string> overrideList(const py::handle& value) {
     if (value.is_none()) return {};
     if (py::isinstance<py::dict>(value)) {
-        py::module_ json = py::module_::import("json");
         std::vector<std::string> out;
         for (auto [k, v] : value.cast<py::dict>()) {
-            std::string text = py::isinstance<py::str>(v) ? v.cast<std::string>()
-                                                          : json.attr("dumps")(v).cast<std::string>();
-            out.push_back(py::str(k).cast<std::string>() + "=" + text);
+            const std::string key = text(k, "overrides");
+            const std::string value = py::isinstance<py::str>(v) ? text(v, ("overrides." + key).c_str())
+                                                                 : toJson(v, "overrides." + key).dump();
+            out.push_back(key + "=" + value);
         }
         return out;
     }
@@ -171,7 +313,8 @@ const std::string& renderDoc() {
             {"adapt", "adapt"},     {"display", "display"},     {"bits", "bits"},         {"integration", "integration"},
             {"xyz", "xyz"},         {"mode", "mode"},           {"write", "write"},       {"resample", "resample"},
             {"ssaa", "ssaa"},       {"validation", "validation"}, {"device", "device"},
-            {"allow_outside_paths", "allow-outside-paths"},     {"format", "format"}};
+            {"allow_outside_paths", "allow-outside-paths"},     {"format", "format"},
+            {"memory_budget", "memory-budget"}};
         for (const auto& [keyword, flag] : shared)
             d += std::string("  ") + keyword + " (--" + flag + "): " + renderSettingHelp(flag) + "\n";
         return d;
@@ -180,46 +323,59 @@ const std::string& renderDoc() {
 }
 
 std::shared_ptr<Render> render(const py::object& scene, const py::object& grid, const py::object& overrides,
-                               const std::string& backend, const std::optional<std::string>& detector,
-                               const std::optional<std::string>& adapt, const std::optional<std::string>& display,
-                               std::optional<int> bits, const std::optional<std::string>& integration,
-                               const std::optional<std::string>& xyz, const std::string& mode, const py::object& write,
-                               const std::optional<std::string>& resample, int ssaa, bool validation,
-                               const std::string& device, bool allowOutsidePaths, const std::string& name,
-                               const py::object& baseDir, const py::object& format) {
+                               const py::object& backend, const py::object& detector, const py::object& adapt,
+                               const py::object& display, const py::object& bits, const py::object& integration,
+                               const py::object& xyz, const py::object& mode, const py::object& write,
+                               const py::object& resample, const py::object& ssaa, bool validation,
+                               const py::object& device, bool allowOutsidePaths, const py::object& nameArg,
+                               const py::object& baseDir, const py::object& format, const py::object& memoryBudget) {
     RenderJob job;
     if (py::isinstance<py::dict>(scene)) {
         // A scene given as a dict: its relative paths resolve against base_dir (default: the
-        // current folder), and `name` is its stem for messages and Render.save().
-        fs::path base = baseDir.is_none() ? fs::current_path() : fs::path(py::str(baseDir).cast<std::string>());
+        // current folder), and `name` is its stem for messages and Render.save() — the rule every
+        // output name follows (render/outputs.h), so that no hidden or outside file is written.
+        const std::string name = text(nameArg, "name");
+        requireOutputStem(name, Where{"", "name"});
+        fs::path base = baseDir.is_none() ? fs::current_path() : pathOf(baseDir, "base_dir");
         job.scene = base / (name + ".json");
-        job.sceneText = py::module_::import("json").attr("dumps")(scene).cast<std::string>();
+        job.sceneText = toJson(scene, "scene").dump();
+    } else if (isPath(scene)) {
+        job.scene = pathOf(scene, "scene");
     } else {
-        job.scene = pathOf(scene);
+        throw py::type_error(fmt::format("scene: expected a path (str, bytes or os.PathLike) or a dict in the scene "
+                                         "format, got {}", typeName(scene)));
     }
     // The keyword arguments the CLI shares, through the one conversion (render/render_settings.h);
     // errors name the keyword.
     RenderSettings settings;
-    if (!grid.is_none()) settings.grid = py::str(grid).cast<std::string>();
-    if (resample) settings.resample = *resample;
+    settings.grid = optionalText(grid, "grid");
+    settings.resample = optionalText(resample, "resample");
     settings.overrides = overrideList(overrides);
-    settings.backend = backend;
-    settings.ssaa = ssaa;
-    settings.detector = detector.value_or("");
-    settings.adapt = adapt.value_or("");
-    settings.display = display.value_or("");
-    settings.bits = bits.value_or(0);
-    settings.integration = integration.value_or("");
-    settings.xyz = xyz.value_or("");
-    settings.mode = mode;
+    settings.backend = text(backend, "backend");
+    settings.ssaa = int(integer(ssaa, "ssaa", INT_MIN, INT_MAX));
+    settings.detector = optionalText(detector, "detector");
+    settings.adapt = optionalText(adapt, "adapt");
+    settings.display = optionalText(display, "display");
+    settings.bits = bits.is_none() ? 0 : int(integer(bits, "bits", INT_MIN, INT_MAX));
+    if (!bits.is_none() && settings.bits == 0) failInput(Where{"", "bits"}, "0 bits; expected 8 or 16");
+    settings.integration = optionalText(integration, "integration");
+    settings.xyz = optionalText(xyz, "xyz");
+    settings.mode = text(mode, "mode");
     settings.write = write.is_none() ? std::vector<std::string>{"cube"} : stringList(write, "write");
     for (auto& o : settings.write)
         if (o == "display") o = "png";  // the display image is the CLI's PNG
     if (!format.is_none()) settings.format = stringList(format, "format");
     settings.validation = validation;
-    settings.device = device;
+    settings.device = text(device, "device");
     settings.allowOutsidePaths = allowOutsidePaths;
-    applyRenderSettings(settings, job, [](const std::string& name) { return name == "allow-outside-paths" ? "allow_outside_paths" : name; });
+    if (!memoryBudget.is_none()) {
+        settings.memoryBudgetMiB = number(memoryBudget, "memory_budget");
+        if (!(settings.memoryBudgetMiB > 0))
+            failInput(Where{"", "memory_budget"}, "{:g} MiB; expected a budget > 0 in MiB", settings.memoryBudgetMiB);
+    }
+    applyRenderSettings(settings, job, [](const std::string& name) {
+        return name == "allow-outside-paths" ? "allow_outside_paths" : name == "memory-budget" ? "memory_budget" : name;
+    });
     // Given lists are the job's even when empty (refused there, as an empty --write is).
     job.write = settings.write;
     if (!format.is_none()) job.format = settings.format;
@@ -228,7 +384,7 @@ std::shared_ptr<Render> render(const py::object& scene, const py::object& grid, 
     job.capture = &r->captured;
     {
         py::gil_scoped_release release;
-        std::lock_guard<std::mutex> lock(renderMutex);
+        std::lock_guard<std::mutex> lock(*renderMutex);
         if (job.backend == Backend::Gpu) job.context = &contextFor(job);
         r->result = runRenderJob(job);
     }
@@ -258,26 +414,29 @@ ImageData comparable(const py::object& x, const char* which) {
         d.source = which;
         return d;
     }
-    return readComparable(pathOf(x));
+    if (!isPath(x))
+        throw py::type_error(fmt::format("{}: expected a path (str, bytes or os.PathLike) or a metamer.Render, got {}",
+                                         which, typeName(x)));
+    return readComparable(pathOf(x, which));
 }
 
 py::dict compare(const py::object& a, const py::object& b, const py::object& mask, const py::object& tolerance,
-                 bool resample, const std::string& detector, const std::string& adapt, const std::string& display,
-                 std::optional<double> pixelThreshold, std::optional<double> relativeFloor, bool deltaE) {
+                 bool resample, const py::object& detector, const py::object& adapt, const py::object& display,
+                 const py::object& pixelThreshold, const py::object& relativeFloor, bool deltaE) {
     // In `metamer compare`'s order: everything named is checked before the comparison.
     std::optional<Tolerance> limits;
-    if (!tolerance.is_none()) limits = readTolerance(pathOf(tolerance));
+    if (!tolerance.is_none()) limits = readTolerance(pathOf(tolerance, "tolerance"));
     ImageData A = comparable(a, "a"), B = comparable(b, "b");
     CompareRequest request;
-    request.pixelThreshold = pixelThreshold;
-    request.relativeFloor = relativeFloor;
+    request.pixelThreshold = optionalNumber(pixelThreshold, "pixel_threshold");
+    request.relativeFloor = optionalNumber(relativeFloor, "relative_floor");
     request.resample = resample;
-    request.detector = detector;
-    request.adapt = adapt;
-    request.display = display;
+    request.detector = text(detector, "detector");
+    request.adapt = text(adapt, "adapt");
+    request.display = text(display, "display");
     request.noDeltaE = !deltaE;
     CompareOptions o = makeCompareOptions(request, B, limits ? &*limits : nullptr);
-    if (!mask.is_none()) o.mask = readMask(pathOf(mask), B.width, B.height);
+    if (!mask.is_none()) o.mask = readMask(pathOf(mask, "mask"), B.width, B.height);
     CompareStats stats;
     {
         py::gil_scoped_release release;
@@ -294,7 +453,7 @@ py::dict compare(const py::object& a, const py::object& b, const py::object& mas
 
 // metamer.load_cube: a spectral cube from EXR, HDF5 or ENVI, as a dict of numpy arrays.
 py::dict loadCube(const py::object& path) {
-    const fs::path file = pathOf(path);
+    const fs::path file = pathOf(path, "path");
     auto image = std::make_shared<SpectralImage>(readSpectralImage(file));
     const SpectralCube& c = image->cube;
     // The array owns the cube through a capsule: no copy of a cube that may be GiBs.
@@ -311,13 +470,16 @@ py::dict loadCube(const py::object& path) {
 }
 
 // metamer.capture: the simulated sensor (docs/sensor.md) on a Render's cube or a cube file.
-py::dict capture(const py::object& source, const py::object& sensorName, uint64_t seed, uint64_t frame, int frames,
-                 std::optional<double> exposure, bool noise) {
+py::dict capture(const py::object& source, const py::object& sensorName, const py::object& seedArg,
+                 const py::object& frameArg, const py::object& framesArg, const py::object& exposureArg, bool noise) {
+    const uint64_t seed = unsignedInteger(seedArg, "seed"), frame = unsignedInteger(frameArg, "frame");
+    const int frames = int(integer(framesArg, "frames", INT_MIN, INT_MAX));
+    const std::optional<double> exposure = optionalNumber(exposureArg, "exposure");
     if (frames < 1 || frames > 100000) failInput(Where{"frames"}, "expected 1 … 100000 frames, got {}", frames);
-    if (exposure && !(*exposure > 0.0 && std::isfinite(*exposure)))
-        failInput(Where{"exposure"}, "expected an exposure time > 0 in seconds, got {:g}", *exposure);
+    if (exposure && !(*exposure > 0.0 && *exposure <= 1e6))  // the CLI's bounds (sensor/capture_files.cpp)
+        failInput(Where{"exposure"}, "expected an exposure time in seconds, > 0 and at most 10⁶, got {:g}", *exposure);
     const SpectrumLibrary library;
-    const SensorSpec sensor = readSensor(sensorFile(pathOf(sensorName).string(), library), library);
+    const SensorSpec sensor = readSensor(sensorFile(pathOf(sensorName, "sensor").string(), library), library);
     SpectralCube cube;
     if (py::isinstance<Render>(source)) {
         const Render& r = source.cast<const Render&>();
@@ -328,7 +490,10 @@ py::dict capture(const py::object& source, const py::object& sensorName, uint64_
         cube.grid = r.captured.grid;
         cube.data = r.captured.outputs.cube;
     } else {
-        cube = readRadianceCube(pathOf(source));
+        if (!isPath(source))
+            throw py::type_error(fmt::format("source: expected a path (str, bytes or os.PathLike) or a metamer.Render, "
+                                             "got {}", typeName(source)));
+        cube = readRadianceCube(pathOf(source, "source"));
     }
     ExpectedElectrons e;
     std::vector<std::vector<uint16_t>> raws;
@@ -369,6 +534,8 @@ py::dict capture(const py::object& source, const py::object& sensorName, uint64_
 void translate(std::exception_ptr p) {
     try {
         if (p) std::rethrow_exception(p);
+    } catch (const NotFoundError& e) {
+        PyErr_SetString(notFoundType, printableMessage(e.text()).c_str());
     } catch (const Error& e) {
         PyErr_SetString(e.code() == ExitCode::BadInput ? inputErrorType : errorType,
                         printableMessage(e.text()).c_str());
@@ -386,6 +553,10 @@ PYBIND11_MODULE(metamer, m) {
     inputErrorType = PyErr_NewException("metamer.InputError", bases.ptr(), nullptr);
     m.attr("Error") = py::handle(errorType);
     m.attr("InputError") = py::handle(inputErrorType);
+    // A named file that does not exist: `except FileNotFoundError` catches it as for open().
+    py::object notFoundBases = py::make_tuple(py::handle(inputErrorType), py::handle(PyExc_FileNotFoundError));
+    notFoundType = PyErr_NewException("metamer.NotFoundError", notFoundBases.ptr(), nullptr);
+    m.attr("NotFoundError") = py::handle(notFoundType);
     warningType = PyErr_NewException("metamer.Warning", PyExc_UserWarning, nullptr);
     m.attr("Warning") = py::handle(warningType);
     setWarningSink(&warnInPython);
@@ -482,7 +653,7 @@ PYBIND11_MODULE(metamer, m) {
         .def(
             "save",
             [](const Render& r, const py::object& dir) {
-                const fs::path out = pathOf(dir);
+                const fs::path out = pathOf(dir, "dir");
                 std::vector<WrittenFile> written;
                 {
                     py::gil_scoped_release release;
@@ -506,6 +677,7 @@ PYBIND11_MODULE(metamer, m) {
           py::arg("write") = py::none(), py::arg("resample") = py::none(), py::arg("ssaa") = 1,
           py::arg("validation") = false, py::arg("device") = "", py::arg("allow_outside_paths") = false,
           py::arg("name") = "scene", py::arg("base_dir") = py::none(), py::arg("format") = py::none(),
+          py::arg("memory_budget") = py::none(),
           renderDoc().c_str());
     m.def("compare", &compare, py::arg("a"), py::arg("b"), py::kw_only(), py::arg("mask") = py::none(),
           py::arg("tolerance") = py::none(), py::arg("resample") = false, py::arg("detector") = "",
@@ -552,6 +724,8 @@ PYBIND11_MODULE(metamer, m) {
     km.def("k1", py::vectorize([](double n) { return saundersonK1(n); }), py::arg("n"), "((n − 1)/(n + 1))²");
     km.def("k2", py::vectorize([](double n) { return internalDiffuseReflectance(n); }), py::arg("n"),
            "the internal diffuse reflectance of a surface of index n (Fresnel integrated over the hemisphere)");
+
+    py::module_::import("os").attr("register_at_fork")(py::arg("after_in_child") = py::cpp_function(&forgetAtFork));
 
     // The contexts go before the interpreter does: destroying a Vulkan device from a static
     // destructor after Python has finalized would race the driver's threads.

@@ -44,6 +44,20 @@ OutputTargets renderTargets(const std::filesystem::path& dir, const std::string&
     return t;
 }
 
+void requireOutputStem(const std::string& stem, const Where& where) {
+    const char* why = nullptr;
+    if (stem.empty()) why = "is empty";
+    else if (stem.front() == '.') why = "starts with '.' (a hidden file, or a path out of the folder)";
+    else if (stem.find('/') != std::string::npos) why = "holds a '/' (a path into another folder)";
+    else if (std::any_of(stem.begin(), stem.end(), [](char c) { return (unsigned char)c < 0x20 || c == 0x7f; }))
+        why = "holds a NUL or control character";
+    else if (stem.size() > kMaxOutputStemBytes) why = "is too long";
+    if (!why) return;
+    failInput(where, "'{}' {}: the output files are named by it; expected a file name without its extension: "
+              "not empty, no leading '.', no '/', NUL or control characters, at most {} bytes",
+              stem, why, kMaxOutputStemBytes);
+}
+
 Attributes renderProvenance(const std::string& scene, const std::string& backend, const Grid& grid,
                             const Representation& representation) {
     return {{"metamer:scene", scene},

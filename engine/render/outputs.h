@@ -60,6 +60,13 @@ OutputTargets renderTargets(const std::filesystem::path& dir, const std::string&
                             const Representation& representation, const TonemapPlan* plan,
                             const std::vector<ChosenCubeFormat>& formats = defaultCubeFormats());
 
+// The one rule for the stem a render's files are named by (the scene file's stem, Python's
+// `name`): not empty, no leading '.' (a hidden file, or "..": another folder), no '/' (another
+// folder), no NUL or control character, at most kMaxOutputStemBytes (the file system's 255 less
+// the longest suffix and the temporary name's). Otherwise an input error at `where`.
+constexpr size_t kMaxOutputStemBytes = 200;
+void requireOutputStem(const std::string& stem, const Where& where);
+
 // What every file of a render carries: the scene, the backend, the grid and its resampling rule,
 // the mode.
 Attributes renderProvenance(const std::string& scene, const std::string& backend, const Grid& grid,

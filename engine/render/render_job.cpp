@@ -1,5 +1,6 @@
 #include "render/render_job.h"
 
+#include "core/memory_limits.h"
 #include "core/statistics.h"
 #include "core/timing.h"
 #include "reference/cpu_renderer.h"
@@ -190,10 +191,43 @@ private:
     uint32_t before_;
 };
 
+// The whole-image arrays a render held in memory keeps (RenderJob::capture; the sizes
+// RenderOutputs::captureInto allocates), in bytes.
+uint64_t capturedBytes(int width, int height, const OutputFiles& files, const Representation& representation,
+                       const TonemapPlan* plan) {
+    const uint64_t pixels = uint64_t(width) * uint64_t(height);
+    const bool colorimetric = plan && plan->mode != TonemapMode::ResponsesOnly;
+    uint64_t perPixel = 0;
+    if (files.cube) perPixel += uint64_t(representation.channels()) * sizeof(float);
+    if (files.png && colorimetric) perPixel += 3 * sizeof(uint16_t);
+    if (files.xyz && colorimetric) perPixel += 3 * sizeof(float);
+    if (files.responses && plan) perPixel += plan->detector.channels.size() * sizeof(float);
+    if (files.edges) perPixel += sizeof(uint16_t);
+    return pixels * perPixel;
+}
+
+// A render held in memory cannot stream its arrays to files: they stay whole for as long as the
+// caller keeps them, so they count against the memory budget first, and the render gets what is
+// left (in strips on the GPU, which need at least two 16-row strips' worth). Refused before
+// anything is allocated when that does not fit, with the estimate — rather than a bare
+// MemoryError, or growing past the budget.
+void refuseCaptureOverBudget(const RenderJob& job, const Scene& scene, const Grid& grid, uint64_t budget,
+                             uint64_t held, const RenderMemory& memory, const RenderMemory& perRow, bool strippable) {
+    const uint64_t rows = std::min<uint64_t>(16, uint64_t(std::max(scene.camera.height, 1)));
+    const uint64_t rendering = strippable ? std::min(memory.total(), 2 * rows * perRow.total()) : memory.total();
+    if (held + rendering <= budget) return;
+    failInput(Where{scene.file.string(), "camera"},
+              "a {}×{} render on {} bands{} kept in memory would need about {} ({} for the arrays kept, {} to render "
+              "them), over the memory budget of {}; reduce camera.width and camera.height, use a coarser grid, keep "
+              "fewer outputs (write) or raise memory_budget (MiB; default a quarter of the machine's memory)",
+              scene.camera.width, scene.camera.height, grid.bands(),
+              job.ssaa > 1 ? fmt::format(" with ssaa {}", job.ssaa) : "", memorySize(held + rendering),
+              memorySize(held), memorySize(rendering), memorySize(budget));
+}
+
 // Strip rows when the render is over the memory budget (GPU), else 0; the reason in `why`.
-int stripRowsFor(const RenderJob& job, const Scene& scene, const RenderMemory& memory, const RenderMemory& perRow,
-                 bool quickLookOrEdges, std::string& why) {
-    const size_t budget = job.memoryBudget ? job.memoryBudget : defaultMemoryBudget();
+int stripRowsFor(const RenderJob& job, const Scene& scene, uint64_t budget, const RenderMemory& memory,
+                 const RenderMemory& perRow, bool quickLookOrEdges, std::string& why) {
     if (memory.total() <= budget) return 0;
     auto mib = [](uint64_t b) { return double(b) / (1 << 20); };
     why = fmt::format("the render needs about {:.0f} MiB at once, over the budget of {:.0f} MiB", mib(memory.total()),
@@ -370,6 +404,7 @@ RenderJobResult runRenderJob(const RenderJob& job) {
 
     // 1. The scene with the job's overrides and grid, on the grid, in the job's representation,
     //    and the display plan when an output needs one.
+    requireOutputStem(job.scene.stem().string(), Where{job.scene.string()});
     auto t = Clock::now();
     std::unique_ptr<LoadedScene> loaded = loadJobScene(job);
     const Scene& scene = loaded->scene;
@@ -403,6 +438,15 @@ RenderJobResult runRenderJob(const RenderJob& job) {
     const bool drawsBands = needsBands || scene.hasTransparency();
     const RenderMemory memory =
         estimateRenderMemory(W, H, loaded->grid.bands(), job.ssaa, job.backend, display, drawsBands);
+    const RenderMemory perRow = estimateRenderMemory(W, 1, channels, job.ssaa, job.backend, display, drawsBands);
+    uint64_t budget = job.memoryBudget ? job.memoryBudget : defaultMemoryBudget();
+    uint64_t held = 0;
+    if (job.capture) {
+        held = capturedBytes(W, H, files, loaded->representation, planPtr);
+        refuseCaptureOverBudget(job, scene, loaded->grid, budget, held, memory, perRow,
+                                job.backend == Backend::Gpu && !files.edges && !quickLook && job.frames == 1);
+        budget -= held;
+    }
     refuseAbsurdSizes(job, scene, loaded->grid, memory);
     r.timings.load_ms = msSince(t);
     r.grid = loaded->grid;
@@ -411,9 +455,7 @@ RenderJobResult runRenderJob(const RenderJob& job) {
 
     // 3. Every output opened at once (temporary files), whatever renders the pixels.
     std::string why;
-    const int stripRows = stripRowsFor(job, scene, memory,
-                                       estimateRenderMemory(W, 1, channels, job.ssaa, job.backend, display, drawsBands),
-                                       files.edges || quickLook, why);
+    const int stripRows = stripRowsFor(job, scene, budget, memory, perRow, files.edges || quickLook, why);
     OutputOptions oo;
     oo.half = job.half;
     oo.compression = job.compression;
@@ -462,8 +504,11 @@ RenderJobResult runRenderJob(const RenderJob& job) {
     int strips = 1;
     if (stripRows > 0) {
         strips = renderStripsInto(job, *loaded, planPtr, stripRows, out, r);
-        r.notes.push_back(why + fmt::format("; rendered in {} strips of {} rows and streamed to the files", strips,
-                                            stripRows));
+        r.notes.push_back(job.capture ? why + fmt::format(" (what is left after {} for the arrays kept); rendered in {} "
+                                                          "strips of {} rows into the arrays", memorySize(held), strips,
+                                                          stripRows)
+                                      : why + fmt::format("; rendered in {} strips of {} rows and streamed to the files",
+                                                          strips, stripRows));
     } else if (job.backend == Backend::Gpu && !out.needsCube() && planPtr) {
         renderDisplayFrames(job, *loaded, *planPtr, out, r);
     } else if (job.backend == Backend::Gpu) {

@@ -68,7 +68,8 @@ void applyRenderSettings(const RenderSettings& s, RenderJob& job,
     job.half = s.half;
     job.compression = s.compression;
     job.coverage = s.strictCoverage ? CoveragePolicy::Error : CoveragePolicy::ZeroWithWarning;
-    if (s.memoryBudgetMiB > 0) job.memoryBudget = size_t(s.memoryBudgetMiB * (1 << 20));
+    // Capped at 2⁴⁰ MiB (an exabyte): a larger number means "no limit" and would overflow the bytes.
+    if (s.memoryBudgetMiB > 0) job.memoryBudget = size_t(std::min(s.memoryBudgetMiB, 1099511627776.0) * (1 << 20));
     if (!s.write.empty()) job.write = s.write;
     if (!s.format.empty()) job.format = s.format;
     if (s.noPng) {

@@ -386,3 +386,193 @@ def test_render_keywords_carry_the_cli_help():
     assert "overrides (--set): override a scene value" in doc
     cli = subprocess.run([os.environ["METAMER_BINARY"], "render", "--help"], capture_output=True, text=True).stdout
     assert "csv:<path> (default: the scene's output" in " ".join(cli.split())
+
+
+# --- Hostile input (issue 30, class 7): memory, fork, paths, names, argument types.
+
+
+def test_in_memory_outputs_are_refused_over_the_memory_budget_with_the_estimate():
+    # 16384² on 89 bands: an 89 GiB cube kept in memory, over any default budget; refused before
+    # anything is allocated (not a bare MemoryError).
+    with pytest.raises(metamer.InputError) as e:
+        metamer.render(white_quad(16384, 16384))
+    message = str(e.value)
+    assert "16384×16384" in message and "89 bands" in message and "memory budget" in message
+    assert "memory_budget" in message and "camera.width" in message and "GiB" in message
+    # Every kind of in-memory output counts: the display image alone over a tiny budget.
+    with pytest.raises(metamer.InputError, match=r"over the memory budget of 0\.1 MiB"):
+        metamer.render(white_quad(256, 256), write="xyz,display", memory_budget=0.0625)
+    # The CLI's option, as a keyword: checked like the flag.
+    for bad in [0, -1, math.nan, math.inf]:
+        with pytest.raises(metamer.InputError, match="memory_budget"):
+            metamer.render(white_quad(), memory_budget=bad)
+    with pytest.raises(TypeError, match="memory_budget"):
+        metamer.render(white_quad(), memory_budget="1G")
+
+
+def test_a_render_over_the_budget_that_fits_in_strips_equals_the_whole_render():
+    # The kept arrays fit, the render does not: it runs in strips into the arrays (GPU).
+    whole = metamer.render(white_quad(64, 64, albedo=0.6), write="cube,xyz")
+    strips = metamer.render(white_quad(64, 64, albedo=0.6), write="cube,xyz", memory_budget=4)
+    assert any("strips" in note for note in strips.notes), strips.notes
+    np.testing.assert_array_equal(strips.cube, whole.cube)
+    np.testing.assert_array_equal(strips.xyz, whole.xyz)
+
+
+def _render_mean(albedo):
+    return float(metamer.render(white_quad(8, 8, albedo=albedo)).cube.mean())
+
+
+def test_a_child_forked_after_a_render_renders_and_does_not_hang():
+    import multiprocessing
+    import signal
+    import time
+
+    expected = _render_mean(0.5)  # the parent has a device now
+    # os.fork: the child renders on a fresh device and reports through a pipe; killed (and the
+    # test failed) rather than waited for if it hangs.
+    read_end, write_end = os.pipe()
+    pid = os.fork()
+    if pid == 0:
+        code = 1
+        try:
+            os.close(read_end)
+            os.write(write_end, repr((_render_mean(0.5), metamer._context_count())).encode())
+            code = 0
+        finally:
+            os._exit(code)
+    os.close(write_end)
+    deadline = time.monotonic() + 120
+    while time.monotonic() < deadline:
+        done, status = os.waitpid(pid, os.WNOHANG)
+        if done:
+            break
+        time.sleep(0.1)
+    else:
+        os.kill(pid, signal.SIGKILL)
+        os.waitpid(pid, 0)
+        pytest.fail("a render in a child forked after a render hung")
+    reply = os.read(read_end, 1000).decode()
+    os.close(read_end)
+    assert os.waitstatus_to_exitcode(status) == 0, reply
+    mean, contexts = eval(reply)
+    assert mean == expected and contexts == 1
+    # multiprocessing's default start method on Linux, a pool of two.
+    with multiprocessing.get_context("fork").Pool(2) as pool:
+        means = pool.map_async(_render_mean, [0.25, 0.5, 0.75]).get(timeout=120)
+    assert means[1] == expected and means[0] < means[1] < means[2]
+    assert _render_mean(0.5) == expected  # and the parent's device still works
+
+
+def test_paths_may_be_str_bytes_or_path_like_and_nothing_else(tmp_path):
+    scene = REPO / "scenes" / "spheres.json"
+    small = {"camera.width": 8, "camera.height": 6}
+    by_bytes = metamer.render(os.fsencode(scene), grid="400:700:50", overrides=small)
+    by_path = metamer.render(scene, grid="400:700:50", overrides=small)
+    np.testing.assert_array_equal(by_bytes.cube, by_path.cube)
+    saved = by_bytes.save(os.fsencode(tmp_path))
+    assert saved == [str(tmp_path / "spheres.exr")]
+    np.testing.assert_array_equal(metamer.load_cube(os.fsencode(saved[0]))["cube"], by_path.cube)
+    assert metamer.compare(os.fsencode(saved[0]), Path(saved[0]))["max_abs"] == 0
+    r = metamer.render(white_quad(), base_dir=os.fsencode(tmp_path), name="quad")
+    assert [Path(p).name for p in r.save(tmp_path)] == ["quad.exr"]
+    for call, argument in [(lambda: metamer.render(42), "scene"), (lambda: metamer.load_cube(3.5), "path"),
+                           (lambda: metamer.compare(by_path, 7), "b"), (lambda: by_path.save(None), "dir"),
+                           (lambda: metamer.render(white_quad(), base_dir=1), "base_dir"),
+                           (lambda: metamer.compare(by_path, by_path, mask=[1]), "mask"),
+                           (lambda: metamer.capture(7, "aps_c_rggb"), "source")]:
+        with pytest.raises(TypeError, match=rf"^{argument}: expected a path \(str, bytes or os.PathLike\)"):
+            call()
+    with pytest.raises(metamer.InputError, match="path: the path holds a NUL byte"):
+        metamer.load_cube(str(tmp_path / "x.exr") + "\0.h5")
+
+
+def test_a_missing_file_is_a_file_not_found_error_with_the_cli_message(tmp_path):
+    assert issubclass(metamer.NotFoundError, FileNotFoundError) and issubclass(metamer.NotFoundError, metamer.InputError)
+    for call in [lambda: metamer.render(tmp_path / "no-such.json"), lambda: metamer.load_cube(tmp_path / "no.exr"),
+                 lambda: metamer.compare(tmp_path / "no.exr", tmp_path / "no.exr")]:
+        with pytest.raises(FileNotFoundError, match="not found"):
+            call()
+    cli = subprocess.run([BINARY, "render", str(tmp_path / "no-such.json"), "--out", str(tmp_path)],
+                         capture_output=True, text=True)
+    with pytest.raises(metamer.NotFoundError) as e:
+        metamer.render(tmp_path / "no-such.json")
+    assert cli.returncode == 2 and cli.stderr.strip() == "metamer: " + str(e.value)
+    # A folder is there: an InputError, not "not found".
+    with pytest.raises(metamer.InputError) as e:
+        metamer.load_cube(tmp_path)
+    assert not isinstance(e.value, FileNotFoundError)
+
+
+@pytest.mark.parametrize("name", ["", ".hidden", "..", "../up", "a/b", "/abs", "nul\0byte", "line\nbreak", "x" * 201])
+def test_names_that_would_make_hidden_or_outside_files_are_refused(tmp_path, name):
+    with pytest.raises(metamer.InputError, match=r"^name: .*expected a file name without its extension"):
+        metamer.render(white_quad(), name=name, base_dir=tmp_path)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_output_names_follow_one_rule_in_the_cli_too(tmp_path):
+    ok = metamer.render(white_quad(), name="quad 2 (a)")
+    assert [Path(p).name for p in ok.save(tmp_path / "ok")] == ["quad 2 (a).exr"]
+    hidden = tmp_path / ".json"
+    hidden.write_text(json.dumps(white_quad()))
+    cli = subprocess.run([BINARY, "render", str(hidden), "--out", str(tmp_path / "cli")], capture_output=True, text=True)
+    assert cli.returncode == 2 and "'.json' starts with '.'" in cli.stderr
+    assert not (tmp_path / "cli").exists() or list((tmp_path / "cli").iterdir()) == []
+    with pytest.raises(metamer.InputError, match="'.json' starts with '.'"):
+        metamer.render(hidden)
+
+
+def test_hostile_arguments_are_errors_that_name_the_argument():
+    r = metamer.render(white_quad())
+    for call, kind, argument in [
+            (lambda: metamer.render(white_quad(), ssaa="2"), TypeError, "ssaa"),
+            (lambda: metamer.render(white_quad(), ssaa=2.0), TypeError, "ssaa"),
+            (lambda: metamer.render(white_quad(), ssaa=2**70), metamer.InputError, "ssaa"),
+            (lambda: metamer.render(white_quad(), ssaa=-3), metamer.InputError, "ssaa"),
+            (lambda: metamer.render(white_quad(), bits=True), TypeError, "bits"),
+            (lambda: metamer.render(white_quad(), bits=0), metamer.InputError, "bits"),
+            (lambda: metamer.render(white_quad(), backend=3), TypeError, "backend"),
+            (lambda: metamer.render(white_quad(), detector=b"cie1931"), TypeError, "detector"),
+            (lambda: metamer.render(white_quad(), name=5), TypeError, "name"),
+            (lambda: metamer.render(white_quad(), grid=b"400:700:10"), TypeError, "grid"),
+            (lambda: metamer.render(white_quad(), grid=""), metamer.InputError, "grid"),
+            (lambda: metamer.render(white_quad(), write=b"cube"), TypeError, "write"),
+            (lambda: metamer.render(white_quad(), overrides={"camera.width": math.nan}), metamer.InputError,
+             r"overrides\.camera\.width"),
+            (lambda: metamer.compare(r, r, pixel_threshold="x"), TypeError, "pixel_threshold"),
+            (lambda: metamer.compare(r, r, relative_floor=math.nan), metamer.InputError, "relative_floor"),
+            (lambda: metamer.capture(r, "aps_c_rggb", seed=-1), metamer.InputError, "seed"),
+            (lambda: metamer.capture(r, "aps_c_rggb", frames=1.5), TypeError, "frames"),
+            (lambda: metamer.capture(r, "aps_c_rggb", exposure="1"), TypeError, "exposure"),
+            (lambda: metamer.capture(r, "aps_c_rggb", exposure=math.inf), metamer.InputError, "exposure")]:
+        with pytest.raises(kind, match=rf"^{argument}: "):
+            call()
+    # numpy integers are integers.
+    assert metamer.render(white_quad(), ssaa=np.int64(2)).cube.shape == (6, 8, 89)
+
+
+def test_scene_dicts_take_numpy_values_and_refuse_what_json_cannot_hold():
+    wavelengths = np.arange(300.0, 741.0, 20.0)
+    scene = white_quad()
+    scene["materials"]["white"]["diffuse"] = {"wavelengths_nm": wavelengths, "values": np.full(len(wavelengths), 0.8,
+                                                                                             np.float32)}
+    scene["lights"][0]["scale"] = np.float64(2.0)
+    scene["camera"]["width"] = np.int32(8)
+    np.testing.assert_allclose(metamer.render(scene).cube, 0.8 * 2.0 / math.pi, rtol=1e-6)
+    nan = white_quad()
+    nan["materials"]["white"]["diffuse"] = {"wavelengths_nm": wavelengths, "values": np.full(len(wavelengths), np.nan)}
+    with pytest.raises(metamer.InputError, match=r"^scene\.materials\.white\.diffuse\.values\.0: nan is not a number"):
+        metamer.render(nan)
+    odd = white_quad()
+    odd["materials"]["white"]["diffuse"] = {0.8}
+    with pytest.raises(TypeError, match=r"^scene\.materials\.white\.diffuse: a set is not something a scene holds"):
+        metamer.render(odd)
+    keyed = white_quad()
+    keyed["materials"][1] = {"diffuse": 0.5}
+    with pytest.raises(TypeError, match=r"^scene\.materials: a key must be a str"):
+        metamer.render(keyed)
+    looped = white_quad()
+    looped["materials"]["white"]["self"] = looped
+    with pytest.raises(metamer.InputError, match="nested deeper than 64 levels"):
+        metamer.render(looped)
