@@ -6,6 +6,7 @@
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
 #include "interface.h"
+#include "runtime_value.glsl"
 
 // OUTPUT_COUNT (colour attachments of this pass, 1..8) is a compile-time define: the build makes
 // one SPIR-V variant per count, so no variant declares an output its render pass lacks.
@@ -157,21 +158,21 @@ Bilinear diffuseTexel, specularTexel;
 
 void sampleTextures() {
     if (RESPONSES) {
-        diffuseResponseTexture = (M.switches.x & MATERIAL_DIFFUSE_TEXTURE) != 0u;
-        specularResponseTexture = HAS_SPECULAR && (M.switches.x & MATERIAL_SPECULAR_TEXTURE) != 0u;
+        diffuseResponseTexture = (runtimeValue(M.switches.x) & MATERIAL_DIFFUSE_TEXTURE) != 0u;
+        specularResponseTexture = HAS_SPECULAR && (runtimeValue(M.switches.x) & MATERIAL_SPECULAR_TEXTURE) != 0u;
         if (diffuseResponseTexture) diffuseTexel = bilinearAt(vec2(textureSize(diffuseTexture, 0).xy));
         if (specularResponseTexture) specularTexel = bilinearAt(vec2(textureSize(specularTexture, 0).xy));
         return;
     }
     int layer0 = int(M.params.y);
-    if ((M.switches.x & MATERIAL_DIFFUSE_TEXTURE) != 0u) {
+    if ((runtimeValue(M.switches.x) & MATERIAL_DIFFUSE_TEXTURE) != 0u) {
         Bilinear b = bilinearAt(vec2(textureSize(diffuseTexture, 0).xy));
         [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k)
             texturedDiffuse[k] = M.diffuse[k] * fetchBilinear(diffuseTexture, b, layer0 + k);
     } else {
         [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) texturedDiffuse[k] = M.diffuse[k];
     }
-    if (HAS_SPECULAR && (M.switches.x & MATERIAL_SPECULAR_TEXTURE) != 0u) {
+    if (HAS_SPECULAR && (runtimeValue(M.switches.x) & MATERIAL_SPECULAR_TEXTURE) != 0u) {
         Bilinear b = bilinearAt(vec2(textureSize(specularTexture, 0).xy));
         [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k)
             texturedSpecular[k] = M.specular[k] * fetchBilinear(specularTexture, b, layer0 + k);
@@ -230,11 +231,11 @@ void addFluorescence(int l, float g) {
         [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) acc[k] += g * R.fluorescence[l * RESPONSE_VEC4 + k];
         return;
     }
-    if (FLUORESCENCE_SPECTRA && FILTERED_SHADOWS && filtered && g > 0.0 && M.params.z >= 0.0)
+    if (FLUORESCENCE_SPECTRA && FILTERED_SHADOWS && filtered && g > 0.0 && runtimeValue(M.params.z) >= 0.0)
         addFilteredEmission(l, g);
     else if (FLUORESCENCE_SPECTRA)
         [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) acc[k] += g * F.emitted[l * MAX_OUTPUTS + k];
-    else if (FILTERED_SHADOWS && filtered && g > 0.0 && M.params.z >= 0.0)
+    else if (FILTERED_SHADOWS && filtered && g > 0.0 && runtimeValue(M.params.z) >= 0.0)
         fluorescence += g * filteredCoupling(l);
     else
         fluorescence += g * coupling(l);
@@ -293,7 +294,7 @@ void main() {
     if (dot(worldNormal, worldNormal) > 1e-24) {
         n = normalize(worldNormal);
         // The map perturbs the front side's normal; a back face then sees it mirrored, whole.
-        if (HAS_NORMAL_MAPS && (M.switches.x & MATERIAL_NORMAL_TEXTURE) != 0u) n = normalMapped(n);
+        if (HAS_NORMAL_MAPS && (runtimeValue(M.switches.x) & MATERIAL_NORMAL_TEXTURE) != 0u) n = normalMapped(n);
         if (!gl_FrontFacing) n = -n;  // two-sided: a back face is shaded as seen from its front
     } else {
         // The vertex normals cancel here (opposite ones, or a zero-length one at its corner;

@@ -115,10 +115,10 @@ float visibility(int l, vec3 p, vec3 ng, vec3 w, bool point) {
 // sky takes the rest of the whole lobe. `previous` carries the last light's.
 float hemisphereIntegral(int i, vec3 n, vec3 v, inout vec2 previous) {
     int l = AMBIENT_COUNT + DIRECTIONAL_COUNT + POINT_COUNT + i;
-    float gloss = M.params.x;
+    float gloss = runtimeValue(M.params.x);
     vec3 up = L.lights[l].vector.xyz;
     vec2 integrals = vec2(0.0);
-    if (HAS_SPECULAR && (M.switches.x & MATERIAL_SPECULAR) != 0u) {
+    if (HAS_SPECULAR && (runtimeValue(M.switches.x) & MATERIAL_SPECULAR) != 0u) {
         if (LOBE_MODE == LOBE_READ)
             integrals.x = texelFetch(lobeWeights, ivec2(gl_FragCoord.xy), 0)[i];
         else if (((HEMISPHERE_PAIRED >> uint(i)) & 1u) != 0u)
@@ -137,5 +137,5 @@ float specularWeight(vec3 n, vec3 w, vec3 v, float g) {
     if (!HAS_SPECULAR || g <= 0.0) return 0.0;
     float gloss = M.params.x;
     float lobe = g * (gloss + 8.0) * (INV_PI / 8.0) * blinnPhongLobe(n, w + v, gloss);
-    return (M.switches.x & MATERIAL_SPECULAR) != 0u ? lobe : 0.0;
+    return (runtimeValue(M.switches.x) & MATERIAL_SPECULAR) != 0u ? lobe : 0.0;
 }

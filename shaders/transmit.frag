@@ -20,6 +20,7 @@
 //   bounds stays below ENTRY_LIMIT·log10(2) ≈ 19 (docs/physics.md); deeper rays come out darker.
 #extension GL_GOOGLE_include_directive : require
 #include "interface.h"
+#include "runtime_value.glsl"
 
 #ifndef OUTPUT_COUNT
 #define OUTPUT_COUNT MAX_OUTPUTS
@@ -84,7 +85,7 @@ void main() {
     const vec3 p = worldPosition, c = pc.cameraPosition.xyz;
     const float t = perspective ? length(p - c) : dot(p - c, pc.cameraForward.xyz);
     const float tO = texelFetch(opaqueDistance, ivec2(gl_FragCoord.xy), 0).r;
-    if ((M.switches.x & MATERIAL_SLAB) != 0u) {
+    if ((runtimeValue(M.switches.x) & MATERIAL_SLAB) != 0u) {
         // A slab (docs/physics.md, "Transparent objects"): Fresnel at both faces for n(λ) at this angle, the glass's
         // absorption along the refracted path, the reflections inside summed incoherently, s and p
         // averaged — spectral/dielectric.cpp's slab(), in float. Hidden behind the opaque surface.
@@ -118,7 +119,7 @@ void main() {
             }
             factor[k] = R * environment;
         }
-    } else if ((M.switches.x & MATERIAL_MEDIUM) == 0u) {
+    } else if ((runtimeValue(M.switches.x) & MATERIAL_MEDIUM) == 0u) {
         // A sheet on or behind the opaque surface is hidden by it.
         if (t >= tO) discard;
         // log2 of a black band is −∞, and −∞ × a zero interpolation weight NaN: 2⁻¹⁴⁹ is 0 in float.
