@@ -306,11 +306,26 @@ TEST(BatchCli, EveryModeRefusesAJobGivenTwiceAndSlurmValuesAreCheckedBeforeAnyth
     EXPECT_EQ(r.code, 2) << r.output;
     EXPECT_NE(r.output.find("--time: expected a time limit as Slurm writes one"), std::string::npos) << r.output;
     EXPECT_FALSE(fs::exists(out));
-    // 50 tasks asked for 6 jobs: 6 tasks, none empty.
-    r = test::runMetamer(fmt::format("batch {} --out {} --slurm --tasks 50 --mem 2G", sweep.string(), out));
+    // 50 tasks asked for 6 jobs: 6 tasks, none empty; other sbatch options passed through; the
+    // spectra library that the ids were made with exported by the script itself (issue 31 item 5).
+    test::CliOptions env;
+    env.env = fmt::format("METAMER_SPECTRA={}/spectra", METAMER_SOURCE_DIR);
+    r = test::runMetamer(fmt::format("batch {} --out {} --slurm --tasks 50 --mem 2G --sbatch gres=gpu:1 "
+                                     "--sbatch=--account=lab",
+                                     sweep.string(), out),
+                         env);
     ASSERT_EQ(r.code, 0) << r.output;
     EXPECT_NE(r.output.find("6 jobs, all valid, in 6 array tasks"), std::string::npos) << r.output;
-    EXPECT_EQ(lines(fs::path(out) / "slurm" / "array.sbatch")[4], "#SBATCH --array=0-5");
+    const std::vector<std::string> script = lines(fs::path(out) / "slurm" / "array.sbatch");
+    ASSERT_GE(script.size(), 12u);
+    EXPECT_EQ(script[4], "#SBATCH --gres=gpu:1");
+    EXPECT_EQ(script[5], "#SBATCH --account=lab");
+    EXPECT_EQ(script[6], "#SBATCH --array=0-5");
+    EXPECT_NE(std::find(script.begin(), script.end(), fmt::format("export METAMER_SPECTRA='{}/spectra'", METAMER_SOURCE_DIR)),
+              script.end());
+    r = test::runMetamer(fmt::format("batch {} --out {} --slurm --sbatch array=0-9", sweep.string(), out));
+    EXPECT_EQ(r.code, 2) << r.output;
+    EXPECT_NE(r.output.find("--sbatch: 'array=0-9' is set by the scripts themselves"), std::string::npos) << r.output;
 }
 
 // Issue 30 class 8 (issue 31 item 2): two runs of one sweep into one folder at once — a

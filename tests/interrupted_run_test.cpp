@@ -130,6 +130,8 @@ TEST(InterruptedRun, SigtermWhileTheCubeIsBeingWrittenRemovesTheTemporary) {
     EXPECT_EQ(wait(pid), 128 + SIGTERM) << log(out);
     EXPECT_FALSE(hasTemporary(out));
     EXPECT_TRUE(snapshot(out) == before) << "the previous files changed";
+    // One line says why it ended (a Slurm task's log shows it).
+    EXPECT_NE(log(out).find("metamer: stopped by SIGTERM (a time limit, scancel or kill)"), std::string::npos) << log(out);
 }
 
 TEST(InterruptedRun, SigintWhileStripsStreamToTheFilesRemovesEveryTemporary) {

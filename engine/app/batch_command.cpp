@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <mutex>
 #include <set>
 
@@ -69,6 +70,9 @@ CLI::App* addBatchCommand(CLI::App& app, BatchArgs& a) {
     c->add_option("--time", a.time, "--slurm: time limit per task (sbatch -t), e.g. 02:00:00");
     c->add_option("--cpus-per-task", a.cpusPerTask, "--slurm: CPUs per task (sbatch -c)")->check(CLI::Range(1, 1024));
     c->add_option("--mem", a.mem, "--slurm: memory per task (sbatch --mem), e.g. 8G");
+    c->add_option("--sbatch", a.sbatchOptions,
+                  "--slurm: any other sbatch option for every task, repeatable: --sbatch gres=gpu:1 (or "
+                  "--sbatch=--gres=gpu:1), --sbatch account=lab, --sbatch qos=long");
     return c;
 }
 
@@ -112,6 +116,11 @@ int runBatchCommand(const BatchArgs& a) {
         so.out = fs::absolute(o.out);
         if (a.retryFailed) so.extraArgs.push_back("--retry-failed");
         if (a.validation) so.extraArgs.push_back("--validation");
+        if (!a.device.empty()) so.extraArgs.insert(so.extraArgs.end(), {"--device", a.device});
+        so.sbatchOptions = a.sbatchOptions;
+        // What changes a job's ids goes into the scripts, not left to sbatch's --export=ALL.
+        for (const char* v : {"METAMER_SPECTRA", "METAMER_DEVICE"})
+            if (const char* value = std::getenv(v)) so.environment.push_back({v, value});
         checkSlurmOptions(so);
         // Every job checked here, before anything is submitted.
         for (size_t p = 0; p < sweep.size(); ++p) resolveJob(sweep, p, o.out);

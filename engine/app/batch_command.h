@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 
 #include <string>
+#include <vector>
 
 namespace metamer {
 
@@ -17,6 +18,7 @@ struct BatchArgs {
     std::string index;      // --index DIR: only gather the records under DIR
     bool list = false, dryRun = false, retryFailed = false, validation = false, quiet = false;
     bool breakClaims = false;
+    std::vector<std::string> sbatchOptions;
     std::string device;
     // --slurm: write the job array's scripts instead of rendering (batch/slurm_script.h).
     bool slurm = false;

@@ -41,6 +41,17 @@ extern "C" void onSignal(int sig) {
         ::syscall(SYS_tgkill, ::getpid(), gMainThread, sig);
         return;
     }
+    // One line in the log (a Slurm task's shows why it ended), written with write(): the only
+    // output a signal handler may do.
+    static const char term[] =
+        "metamer: stopped by SIGTERM (a time limit, scancel or kill): files being written were removed; what "
+        "finished is kept, and a rerun does the rest\n";
+    static const char other[] =
+        "metamer: interrupted: files being written were removed; what finished is kept, and a rerun does the rest\n";
+    if (sig == SIGTERM)
+        (void)!::write(STDERR_FILENO, term, sizeof term - 1);
+    else
+        (void)!::write(STDERR_FILENO, other, sizeof other - 1);
     removeLiveTempFiles();
     _exit(128 + sig);
 }

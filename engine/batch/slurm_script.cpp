@@ -30,7 +30,15 @@ std::string header(const SlurmOptions& o, const std::string& name, const std::st
     if (!o.partition.empty()) h += fmt::format("#SBATCH --partition={}\n", o.partition);
     if (!o.time.empty()) h += fmt::format("#SBATCH --time={}\n", o.time);
     if (!o.mem.empty()) h += fmt::format("#SBATCH --mem={}\n", o.mem);
+    for (const std::string& opt : o.sbatchOptions) h += fmt::format("#SBATCH {}{}\n", opt.rfind("--", 0) == 0 ? "" : "--", opt);
     return h;
+}
+
+// The variables that change what a job renders, as they were when the scripts were written.
+std::string exports(const SlurmOptions& o) {
+    std::string e;
+    for (const auto& [k, v] : o.environment) e += fmt::format("export {}={}\n", k, shellQuote(v));
+    return e;
 }
 
 // Each value that reaches an #SBATCH line must be exactly what Slurm accepts for that option: a
@@ -76,6 +84,28 @@ void checkSlurmOptions(const SlurmOptions& o) {
     checkValue(o.mem, "--mem", mem, "a memory size: digits and an optional unit K, M, G or T (e.g. 8G)");
     checkValue(o.jobName, "--job-name", name, "a job name (letters, digits, '_', '.', '-')");
     checkSbatchPath(o.out, "--out");
+    static const std::regex option("--[a-z][a-z-]*(=[A-Za-z0-9_.,:=/@+%*-]+)?");
+    static const std::vector<std::pair<std::string, std::string>> ours = {
+        {"--array", "--tasks and --array-limit"}, {"--output", "the logs' folder under --out"},
+        {"--error", "the logs' folder under --out"}, {"--job-name", "the sweep's name"},
+        {"--partition", "--partition"}, {"--time", "--time"}, {"--mem", "--mem"},
+        {"--cpus-per-task", "--cpus-per-task"}, {"--wrap", "the task script"}, {"--parsable", "submit.sh"},
+        {"--dependency", "submit.sh (the index runs after the array)"}};
+    for (const std::string& raw : o.sbatchOptions) {
+        const std::string opt = raw.rfind("--", 0) == 0 ? raw : "--" + raw;
+        if (!std::regex_match(opt, option))
+            failInput(Where{"", "--sbatch"},
+                      "expected an sbatch option as --NAME or --NAME=VALUE (e.g. --gres=gpu:1, --account=lab), with no "
+                      "whitespace, quotes or control characters; got '{}'",
+                      raw);
+        const std::string optName = opt.substr(0, opt.find('='));
+        for (const auto& [n, by] : ours)
+            if (optName == n) failInput(Where{"", "--sbatch"}, "'{}' is set by the scripts themselves (from {})", raw, by);
+    }
+    static const std::regex variable("[A-Z_][A-Z0-9_]*");
+    for (const auto& [k, v] : o.environment)
+        if (!std::regex_match(k, variable) || v.find('\0') != std::string::npos)
+            failInput(Where{"", k}, "cannot be written into the task script");
 }
 
 std::string shellQuote(const std::string& text) {
@@ -103,15 +133,17 @@ SlurmScripts writeSlurmScripts(const SlurmOptions& o) {
         "# Written by metamer batch --slurm (docs/batch.md). Each task renders the shard\n"
         "# SLURM_ARRAY_TASK_ID of SLURM_ARRAY_TASK_COUNT; a resubmission skips what is done.\n"
         "set -euo pipefail\n"
+        "{}"
         "echo \"metamer batch: array task $SLURM_ARRAY_TASK_ID of $SLURM_ARRAY_TASK_COUNT on $(hostname)\"\n"
         "exec {} batch {} --out {}{}\n",
-        shellQuote(o.metamer.string()), shellQuote(o.sweep.string()), shellQuote(o.out.string()), extraText);
+        exports(o), shellQuote(o.metamer.string()), shellQuote(o.sweep.string()), shellQuote(o.out.string()), extraText);
     std::string index = header(o, name + "-index", (s.logs / "index-%j.log").string());
     index += fmt::format(
         "# Written by metamer batch --slurm: the dataset index from every task's records.\n"
         "set -euo pipefail\n"
+        "{}"
         "exec {} batch --index {}\n",
-        shellQuote(o.metamer.string()), shellQuote(o.out.string()));
+        exports(o), shellQuote(o.metamer.string()), shellQuote(o.out.string()));
     std::string submit = fmt::format(
         "#!/bin/sh\n"
         "# Written by metamer batch --slurm (docs/batch.md): submits the array, then the index to run\n"

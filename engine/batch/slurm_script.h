@@ -24,6 +24,11 @@ struct SlurmOptions {
     std::filesystem::path sweep;    // the sweep file, absolute
     std::filesystem::path out;      // the dataset folder, absolute
     std::vector<std::string> extraArgs;  // passed to every task's metamer batch (--retry-failed, …)
+    // Any other sbatch option, as "--gres=gpu:1" or "gres=gpu:1" (checked: checkSlurmOptions).
+    std::vector<std::string> sbatchOptions;
+    // Variables that change what a job renders (METAMER_SPECTRA, METAMER_DEVICE), exported by the
+    // task script itself rather than left to sbatch's --export=ALL.
+    std::vector<std::pair<std::string, std::string>> environment;
 };
 
 struct SlurmScripts {
@@ -31,8 +36,10 @@ struct SlurmScripts {
 };
 
 // Input errors for values Slurm would not accept as they are, before anything is written: the
-// partition, time, memory and job name against sbatch(1)'s syntax, and `out` (the logs go on
-// #SBATCH --output lines) without whitespace, control characters, quotes, backslashes or '%'.
+// partition, time, memory and job name against sbatch(1)'s syntax, `out` (the logs go on #SBATCH
+// --output lines) without whitespace, control characters, quotes, backslashes or '%', and each
+// passed-through sbatch option as --NAME[=VALUE] with no whitespace, quotes or control characters,
+// not one the scripts set themselves (--array, --output, …: those have their own flags).
 // Values that reach a shell line (the binary, the sweep, the folder) are quoted (shellQuote).
 void checkSlurmOptions(const SlurmOptions& options);
 

@@ -43,6 +43,8 @@ SlurmOptions options(const fs::path& out) {
     o.sweep = "/data/it's a sweep.json";
     o.out = out;
     o.extraArgs = {"--retry-failed"};
+    o.sbatchOptions = {"gres=gpu:1", "--account=lab"};
+    o.environment = {{"METAMER_SPECTRA", "/data/my spectra"}};
     return o;
 }
 
@@ -59,11 +61,14 @@ TEST(SlurmScript, TheScriptsAreExactlyTheseLines) {
               "#SBATCH --partition=gpu,cpu\n"
               "#SBATCH --time=1-02:30:00\n"
               "#SBATCH --mem=8G\n"
+              "#SBATCH --gres=gpu:1\n"
+              "#SBATCH --account=lab\n"
               "#SBATCH --array=0-2%2\n"
               "#SBATCH --cpus-per-task=4\n"
               "# Written by metamer batch --slurm (docs/batch.md). Each task renders the shard\n"
               "# SLURM_ARRAY_TASK_ID of SLURM_ARRAY_TASK_COUNT; a resubmission skips what is done.\n"
               "set -euo pipefail\n"
+              "export METAMER_SPECTRA='/data/my spectra'\n"
               "echo \"metamer batch: array task $SLURM_ARRAY_TASK_ID of $SLURM_ARRAY_TASK_COUNT on $(hostname)\"\n"
               "exec '/opt/metamer/bin/metamer' batch '/data/it'\\''s a sweep.json' --out '" + out.string() +
                   "' '--retry-failed'\n");
@@ -74,8 +79,11 @@ TEST(SlurmScript, TheScriptsAreExactlyTheseLines) {
               "#SBATCH --partition=gpu,cpu\n"
               "#SBATCH --time=1-02:30:00\n"
               "#SBATCH --mem=8G\n"
+              "#SBATCH --gres=gpu:1\n"
+              "#SBATCH --account=lab\n"
               "# Written by metamer batch --slurm: the dataset index from every task's records.\n"
               "set -euo pipefail\n"
+              "export METAMER_SPECTRA='/data/my spectra'\n"
               "exec '/opt/metamer/bin/metamer' batch --index '" + out.string() + "'\n");
     EXPECT_EQ(textOf(s.submit),
               "#!/bin/sh\n"
@@ -109,6 +117,11 @@ TEST(SlurmScript, ValuesSlurmWouldNotTakeAsTheyAreAreRefusedBeforeAnythingIsWrit
         {"--out", [out](SlurmOptions& o) { o.out = out / "a b"; }},
         {"--out", [out](SlurmOptions& o) { o.out = out / "100%done"; }},
         {"--tasks", [](SlurmOptions& o) { o.tasks = 0; }},
+        {"--sbatch", [](SlurmOptions& o) { o.sbatchOptions = {"gres=gpu:1\necho pwned"}; }},
+        {"--sbatch", [](SlurmOptions& o) { o.sbatchOptions = {"--account lab"}; }},
+        {"--sbatch", [](SlurmOptions& o) { o.sbatchOptions = {"--comment='x'"}; }},
+        {"--sbatch", [](SlurmOptions& o) { o.sbatchOptions = {"--array=0-999"}; }},
+        {"--sbatch", [](SlurmOptions& o) { o.sbatchOptions = {"output=/tmp/x"}; }},
     };
     for (const Case& c : cases) {
         SlurmOptions o = options(out);
