@@ -413,3 +413,54 @@ TEST(BatchCli, AJobGivesTheSameBytesFirstLaterAloneOrInAShard) {
         EXPECT_TRUE(bytes == bytesOf(dir / "alone" / file)) << file << ": in a batch vs alone";
     }
 }
+
+// Issue 31, item 4: after an edit the index says which records are current; given the sweep it
+// lists exactly the sweep's jobs, a job without a record as missing; settings a job left alone
+// show the value used, axes are columns, and every record carries the Metamer version.
+TEST(BatchCli, TheIndexMarksWhatIsCurrentAndListsTheSweepsJobsMissingOrNot) {
+    const fs::path dir = freshDir("index");
+    const std::string out = (dir / "out").string();
+    const fs::path sweep = writeSweep(dir, R"({"size": "8x8", "write": "png"})", 2);  // 2 lights × 2 detectors
+    ASSERT_EQ(test::runMetamer(fmt::format("batch {} --out {} -q", sweep.string(), out)).code, 0);
+    // The edit: every job gets a new id (a setting changed), the old records stay on disk.
+    writeSweep(dir, R"({"size": "8x8", "write": "png", "bits": 16})", 2);
+    test::CliRun r = test::runMetamer(fmt::format("batch {} --out {} -q", sweep.string(), out));
+    ASSERT_EQ(r.code, 0) << r.output;
+    EXPECT_NE(r.output.find("note: 4 records of jobs that are not this sweep's"), std::string::npos) << r.output;
+    std::vector<std::string> index = lines(dir / "out" / "index.csv");
+    EXPECT_EQ(index.size(), 5u);  // the sweep's 4 jobs, not 8 records
+    const std::string header = index[0];
+    for (const char* column : {",current,", ",bits,", ",adapt,", ",display,", ",grid,", ",axis:light,",
+                               ",axis:detector,", ",metamer_version,"})
+        EXPECT_NE(header.find(column), std::string::npos) << column << " in " << header;
+    EXPECT_NE(index[1].find(",done,true,"), std::string::npos) << index[1];
+    EXPECT_NE(index[1].find(",bradford,"), std::string::npos) << index[1];  // adaptation: not set, the default used
+    // Without the sweep: all 8 records, the 4 older ones not current.
+    r = test::runMetamer(fmt::format("batch --index {}", out));
+    ASSERT_EQ(r.code, 0) << r.output;
+    EXPECT_NE(r.output.find("note: 4 records are superseded by a later one at the same sweep position"),
+              std::string::npos)
+        << r.output;
+    index = lines(dir / "out" / "index.csv");
+    EXPECT_EQ(index.size(), 9u);
+    EXPECT_EQ(std::count_if(index.begin(), index.end(),
+                            [](const std::string& l) { return l.find(",false,") != std::string::npos; }),
+              4);
+    // A job whose record is gone (a task that died): missing, not absent.
+    for (const auto& e : fs::directory_iterator(dir / "out")) {
+        const std::string j = bytesOf(e.path() / "job.json");
+        if (j.find("\"bits\": 16") != std::string::npos && j.find("\"position\": 3") != std::string::npos) {
+            fs::remove_all(e.path());
+            break;
+        }
+    }
+    r = test::runMetamer(fmt::format("batch {} --index {}", sweep.string(), out));
+    ASSERT_EQ(r.code, 0) << r.output;
+    EXPECT_NE(r.output.find("index: 3 job records (3 done, 0 failed), 1 jobs without a record (status missing)"),
+              std::string::npos)
+        << r.output;
+    index = lines(dir / "out" / "index.csv");
+    ASSERT_EQ(index.size(), 5u);
+    EXPECT_NE(index[4].find(",missing,true,"), std::string::npos) << index[4];
+    EXPECT_NE(index[4].find("illuminants/A"), std::string::npos) << index[4];  // what it would render
+}

@@ -6,6 +6,7 @@
 #include "batch/batch.h"
 #include "batch/slurm_script.h"
 #include "core/error.h"
+#include "render/render_job.h"
 #include "render/render_setup.h"
 
 #include <unistd.h>
@@ -43,6 +44,26 @@ std::string duration(double seconds) {
     return fmt::format("{:.1f} h", seconds / 3600);
 }
 
+void printIndexSummary(const IndexSummary& s, bool counts) {
+    for (const std::string& id : s.unreadable)
+        std::printf("note: %s/job.json is not a job record (damaged, or not written by this version); left out of "
+                    "the index, and rendered again by the next batch run\n",
+                    id.c_str());
+    if (s.otherRecords)
+        std::printf("note: %zu records of jobs that are not this sweep's (an earlier version of it) are left out\n",
+                    s.otherRecords);
+    if (s.superseded)
+        std::printf("note: %zu records are superseded by a later one at the same sweep position (column current = "
+                    "false)\n",
+                    s.superseded);
+    if (counts)
+        std::printf("index: %zu job records (%zu done, %zu failed)%s → %s, %s\n", s.records, s.done, s.failed,
+                    s.missing ? fmt::format(", {} jobs without a record (status missing)", s.missing).c_str() : "",
+                    s.csv.c_str(), s.json.c_str());
+    else
+        std::printf("index: %zu job records → %s, %s\n", s.records, s.csv.c_str(), s.json.c_str());
+}
+
 }  // namespace
 
 CLI::App* addBatchCommand(CLI::App& app, BatchArgs& a) {
@@ -56,7 +77,9 @@ CLI::App* addBatchCommand(CLI::App& app, BatchArgs& a) {
     c->add_flag("--retry-failed", a.retryFailed, "render again the jobs whose record says they failed");
     c->add_flag("--break-claims", a.breakClaims,
                 "take over jobs claimed by another run (another host's run that is gone: a crashed node)");
-    c->add_option("--index", a.index, "gather every job record under DIR into DIR/index.csv and index.json");
+    c->add_option("--index", a.index,
+                  "gather the job records under DIR into DIR/index.csv and index.json (with a sweep: exactly its jobs, "
+                  "those without a record as missing)");
     addRenderFlag(c, "validation", a.validation);
     addRenderFlag(c, "device", a.device);
     c->add_flag("--quiet,-q", a.quiet, "no progress output");
@@ -78,14 +101,15 @@ CLI::App* addBatchCommand(CLI::App& app, BatchArgs& a) {
 
 int runBatchCommand(const BatchArgs& a) {
     if (!a.index.empty()) {
-        if (!a.sweep.empty()) failInput(Where{"", "--index"}, "--index DIR gathers records; give it without a sweep file");
-        const IndexSummary s = writeBatchIndex(a.index);
-        for (const std::string& id : s.unreadable)
-            std::printf("note: %s/job.json is not a job record (damaged, or not written by this version); left out of "
-                        "the index, and rendered again by the next batch run\n",
-                        id.c_str());
-        std::printf("index: %zu job records (%zu done, %zu failed) → %s, %s\n", s.records, s.done, s.failed,
-                    s.csv.c_str(), s.json.c_str());
+        // With a sweep: exactly its jobs (each resolved for its id), those without a record as
+        // missing. Without: every record, the superseded ones marked.
+        std::vector<IndexedJob> jobs;
+        if (!a.sweep.empty()) {
+            const Sweep sweep = readSweep(a.sweep);
+            for (size_t p = 0; p < sweep.size(); ++p) jobs.push_back(indexedJob(sweep, resolveJob(sweep, p, a.index)));
+        }
+        const IndexSummary s = writeBatchIndex(a.index, a.sweep.empty() ? nullptr : &jobs);
+        printIndexSummary(s, true);
         return 0;
     }
     if (a.sweep.empty()) failInput(Where{"", "sweep"}, "give a sweep file (or --index DIR)");
@@ -181,14 +205,11 @@ int runBatchCommand(const BatchArgs& a) {
         std::printf("%zu job(s) claimed by other runs were left to them; run again when they end (or with "
                     "--break-claims if a run on another host is gone)\n",
                     s.held);
-    if (shards == 1 && s.jobs > 0) {
-        const IndexSummary i = writeBatchIndex(o.out);
-        for (const std::string& id : i.unreadable)
-            std::printf("note: %s/job.json is not a job record (damaged, or not written by this version); left out of "
-                        "the index\n",
-                        id.c_str());
-        std::printf("index: %zu job records → %s, %s\n", i.records, i.csv.c_str(), i.json.c_str());
-    }
+    if (s.otherVersion)
+        std::printf("note: %zu of the skipped jobs were rendered by Metamer %s (this is %s): same scene, settings and "
+                    "input files, but the renderer differs; remove their folders to render them again\n",
+                    s.otherVersion, s.otherVersions.c_str(), metamerVersion());
+    if (shards == 1 && s.jobs > 0) printIndexSummary(writeBatchIndex(o.out, &s.indexed), false);
     return s.failed ? int(ExitCode::Failure) : 0;
 }
 

@@ -1,5 +1,7 @@
 #include "batch/batch.h"
 #include "batch/job_claim.h"
+#include "color/adaptation.h"
+#include "color/detector.h"
 #include "scene/json_values.h"
 #include "spectral/library.h"
 #include "sensor/sensor_spec.h"
@@ -124,6 +126,9 @@ Json recordBase(const Sweep& sweep, const ResolvedJob& j, const BatchOptions& o)
     r["origin"] = sweep.job(j.position).origin;
     r["sweep"] = sweep.file.string();
     r["settings"] = j.settings;
+    r["axes"] = j.axes;
+    r["used"] = j.used;
+    r["metamer_version"] = metamerVersion();
     Json inputs = Json::array();
     for (const fs::path& p : j.inputs) inputs.push_back(p.string());
     r["inputs"] = inputs;
@@ -186,6 +191,7 @@ ResolvedJob resolveJob(const Sweep& sweep, size_t position, const fs::path& out)
     ResolvedJob r;
     r.position = position;
     r.settings = sj.settings();
+    r.axes = sj.axes;
     try {
         r.render = makeRenderJob(sweep, sj, {});
         r.capture = makeCaptureRequest(sweep, sj);
@@ -194,6 +200,18 @@ ResolvedJob resolveJob(const Sweep& sweep, size_t position, const fs::path& out)
         OutputFiles files;
         const TonemapSettings settings = tonemapSettings(r.render, loaded->scene, &files);
         if (files.png || files.xyz || files.responses) makeJobTonemapPlan(r.render, *loaded, settings);
+        // What the job renders with, whether the sweep set it or a default did: the index shows
+        // these, not blanks, for settings a job left alone.
+        const Camera& camera = loaded->scene.camera;
+        r.used = {{"detector", settings.detector},
+                  {"adapt", adaptationName(settings.adaptation)},
+                  {"integration", integrationName(settings.integration)},
+                  {"display", settings.display},
+                  {"bits", settings.bits},
+                  {"grid", r.render.grid ? r.render.grid->str() : loaded->scene.grid.str()},
+                  {"size", fmt::format("{}x{}", camera.width, camera.height)},
+                  {"mode", r.render.mode},
+                  {"ssaa", r.render.ssaa}};
         r.inputs = reads.files();
         if (r.capture) {
             // The sensor is read now, so that a mistake in it stops the batch before any render, and
@@ -255,9 +273,12 @@ BatchSummary runBatch(const Sweep& sweep, const BatchOptions& o, vk::Context& co
     BatchSummary s;
     // Every job of the shard is loaded and checked before the first render.
     std::vector<ResolvedJob> jobs;
-    for (size_t position : shardPositions(sweep.size(), o.shard, o.shards))
+    for (size_t position : shardPositions(sweep.size(), o.shard, o.shards)) {
         jobs.push_back(resolveJob(sweep, position, o.out));  // duplicates were refused when the sweep was read
+        s.indexed.push_back(indexedJob(sweep, jobs.back()));
+    }
     s.jobs = jobs.size();
+    std::set<std::string> otherVersions;
     BatchProgress p;
     p.total = jobs.size();
     std::vector<double> renderSeconds;
@@ -287,6 +308,13 @@ BatchSummary runBatch(const Sweep& sweep, const BatchOptions& o, vk::Context& co
                 ++s.skipped;
                 ++p.skipped;
                 p.line = fmt::format("{}: done before, skipped", j.id);
+                // Same inputs and settings, but rendered by another Metamer: said, not silently mixed.
+                const std::string version = record->json.value("metamer_version", "(before 0.1.0)");
+                if (version != metamerVersion()) {
+                    ++s.otherVersion;
+                    otherVersions.insert(version);
+                    p.line += fmt::format(" (rendered by Metamer {})", version);
+                }
             } else {
                 ++s.failed;
                 ++p.failed;
@@ -367,6 +395,7 @@ BatchSummary runBatch(const Sweep& sweep, const BatchOptions& o, vk::Context& co
     }
     s.seconds = msSince(start) / 1000.0;
     if (!renderSeconds.empty()) s.renderSecondsMedian = median(renderSeconds);
+    s.otherVersions = fmt::format("{}", fmt::join(otherVersions, ", "));
     return s;
 }
 
@@ -385,42 +414,26 @@ std::string cellText(const Json& v) {
 
 }  // namespace
 
-IndexSummary writeBatchIndex(const fs::path& dir) {
+IndexedJob indexedJob(const Sweep& sweep, const ResolvedJob& j) {
+    return {j.position, j.id, sweep.job(j.position).origin, j.settings, j.axes, j.used};
+}
+
+IndexSummary writeBatchIndex(const fs::path& dir, const std::vector<IndexedJob>* sweepJobs) {
     std::error_code ec;
     if (!fs::is_directory(dir, ec)) failInput(Where{dir.string()}, "not a folder of batch results");
     std::vector<Json> rows;
-    std::vector<std::string> columns = {"id", "status", "error", "scene"};
+    std::vector<std::string> columns = {"id", "status", "current", "error", "scene"};
     std::set<std::string> known(columns.begin(), columns.end());
     auto addColumn = [&](const std::string& c) {
         if (known.insert(c).second) columns.push_back(c);
     };
-    std::vector<fs::path> folders;
-    for (const auto& e : fs::directory_iterator(dir, ec))
-        if (e.is_directory()) folders.push_back(e.path());
-    std::sort(folders.begin(), folders.end());
-    std::vector<std::string> extra;  // settings and timing columns, in first-seen order
-    std::vector<std::string> unreadable;
-    for (const fs::path& folder : folders) {
-        const std::optional<JobRecord> rec = readJobRecord(folder);
-        if (!rec) {
-            // A job.json that is not a record (damaged, of another version, not a file) is said,
-            // not silently dropped; the next batch run renders that job again.
-            std::error_code e2;
-            if (fs::exists(fs::symlink_status(folder / kRecordFile, e2))) unreadable.push_back(folder.filename().string());
-            continue;
-        }
-        const Json& j = rec->json;
-        Json row = Json::object();
-        row["id"] = rec->id;
-        row["status"] = j["status"];
-        row["error"] = rec->error.empty() ? Json(nullptr) : Json(rec->error);
-        // value() returns copies: kept in locals, since items() refers to its object.
-        const Json settings = j.value("settings", Json::object());
+    std::vector<std::string> extra;  // settings, axes and timing columns, in first-seen order
+    // A row from what a job renders (a record's, or a sweep job's without one).
+    auto settingsRow = [&](Json& row, const Json& settings, const Json& axes, const Json& used) {
         const Json render = settings.value("render", Json::object());
-        const Json timings = j.value("timings_ms", Json::object());
         row["scene"] = settings.value("scene", "");
         for (const Json& o : settings.value("set", Json::array())) {
-            const std::string text = o.get<std::string>();
+            const std::string text = o.is_string() ? o.get<std::string>() : "";
             const size_t eq = text.find('=');
             const std::string key = "set:" + text.substr(0, eq);
             row[key] = eq == std::string::npos ? "" : text.substr(eq + 1);
@@ -430,28 +443,111 @@ IndexSummary writeBatchIndex(const fs::path& dir) {
             row[k] = v.is_array() ? Json(cellText(v)) : v;
             extra.push_back(k);
         }
+        // Settings the job left alone: the value it used (a default, the scene's own), not a blank.
+        if (used.is_object())
+            for (const auto& [k, v] : used.items()) {
+                if (!row.contains(k)) row[k] = v;
+                extra.push_back(k);
+            }
+        if (axes.is_object())
+            for (const auto& [k, v] : axes.items()) {
+                row["axis:" + k] = v.is_array() || v.is_object() ? Json(v.dump()) : v;
+                extra.push_back("axis:" + k);
+            }
+    };
+    auto recordRow = [&](const JobRecord& rec) {
+        const Json& j = rec.json;
+        Json row = Json::object();
+        row["id"] = rec.id;
+        row["status"] = j["status"];
+        row["current"] = true;
+        row["error"] = rec.error.empty() ? Json(nullptr) : Json(rec.error);
+        // value() returns copies: kept in locals, since items() refers to its object.
+        const Json settings = j.value("settings", Json::object());
+        const Json timings = j.value("timings_ms", Json::object());
+        settingsRow(row, settings, j.value("axes", Json::object()), j.value("used", Json::object()));
         std::vector<std::string> outputs;
         for (const Json& o : j.value("outputs", Json::array()))
-            outputs.push_back((fs::path(rec->id) / o.value("file", "")).generic_string());
+            outputs.push_back((fs::path(rec.id) / o.value("file", "")).generic_string());
         row["outputs"] = fmt::format("{}", fmt::join(outputs, ";"));
         for (const auto& [k, v] : timings.items()) {
             row["ms_" + k] = v;
             extra.push_back("ms_" + k);
         }
         row["position"] = j.value("position", 0);
+        row["origin"] = j.value("origin", "");
+        row["sweep"] = j.value("sweep", "");
         row["host"] = j.value("host", "");
         row["shard"] = j.value("shard", "");
         row["finished"] = j.value("finished", "");
-        row["digest"] = rec->digest;
-        rows.push_back(std::move(row));
+        row["metamer_version"] = j.value("metamer_version", "");
+        row["digest"] = rec.digest;
+        return row;
+    };
+    std::vector<std::string> unreadable;
+    size_t missing = 0, superseded = 0, otherRecords = 0;
+    auto readOrNote = [&](const fs::path& folder) {
+        const std::optional<JobRecord> rec = readJobRecord(folder);
+        // A job.json that is not a record (damaged, of another version, not a file) is said, not
+        // silently dropped; the next batch run renders that job again.
+        std::error_code e2;
+        if (!rec && fs::exists(fs::symlink_status(folder / kRecordFile, e2))) unreadable.push_back(folder.filename().string());
+        return rec;
+    };
+    if (sweepJobs) {
+        std::set<std::string> ids;
+        for (const IndexedJob& job : *sweepJobs) {
+            ids.insert(job.id);
+            const std::optional<JobRecord> rec = readOrNote(dir / job.id);
+            if (rec && rec->id == job.id) {
+                rows.push_back(recordRow(*rec));
+                continue;
+            }
+            // No record: a task that died or has not run yet. Listed, not left out.
+            Json row = Json::object();
+            row["id"] = job.id;
+            row["status"] = "missing";
+            row["current"] = true;
+            row["error"] = nullptr;
+            settingsRow(row, job.settings, job.axes, job.used);
+            row["position"] = job.position;
+            row["origin"] = job.origin;
+            rows.push_back(std::move(row));
+            ++missing;
+        }
+        for (const auto& e : fs::directory_iterator(dir, ec))
+            if (e.is_directory() && !ids.count(e.path().filename().string()) && readJobRecord(e.path())) ++otherRecords;
+    } else {
+        std::vector<fs::path> folders;
+        for (const auto& e : fs::directory_iterator(dir, ec))
+            if (e.is_directory()) folders.push_back(e.path());
+        std::sort(folders.begin(), folders.end());
+        for (const fs::path& folder : folders)
+            if (const std::optional<JobRecord> rec = readOrNote(folder)) rows.push_back(recordRow(*rec));
+        // The latest record of each sweep position is current; an earlier one (the sweep or a
+        // file it reads was edited since, so the job got a new id) is superseded.
+        std::map<std::pair<std::string, size_t>, std::string> latest;
+        for (const Json& r : rows) {
+            std::string& f = latest[{r["sweep"].get<std::string>(), r["position"].get<size_t>()}];
+            f = std::max(f, r["finished"].get<std::string>());
+        }
+        for (Json& r : rows)
+            if (r["finished"].get<std::string>() < latest[{r["sweep"].get<std::string>(), r["position"].get<size_t>()}]) {
+                r["current"] = false;
+                ++superseded;
+            }
     }
     for (const std::string& k : extra) addColumn(k);
-    for (const char* c : {"outputs", "position", "host", "shard", "finished", "digest"}) addColumn(c);
+    for (const char* c : {"outputs", "position", "origin", "sweep", "host", "shard", "finished", "metamer_version", "digest"})
+        addColumn(c);
     std::stable_sort(rows.begin(), rows.end(),
                      [](const Json& a, const Json& b) { return a["position"].get<size_t>() < b["position"].get<size_t>(); });
     IndexSummary s;
     s.unreadable = unreadable;
-    s.records = rows.size();
+    s.records = rows.size() - missing;
+    s.missing = missing;
+    s.superseded = superseded;
+    s.otherRecords = otherRecords;
     std::string csv;
     for (size_t c = 0; c < columns.size(); ++c) csv += (c ? "," : "") + csvQuoted(columns[c]);
     csv += "\n";
@@ -465,7 +561,8 @@ IndexSummary writeBatchIndex(const fs::path& dir) {
         }
         csv += "\n";
         json.push_back(flat);
-        (row["status"] == "done" ? s.done : s.failed)++;
+        if (row["status"] == "done") ++s.done;
+        if (row["status"] == "failed") ++s.failed;
     }
     s.csv = dir / "index.csv";
     s.json = dir / "index.json";

@@ -31,6 +31,8 @@ struct ResolvedJob {
     std::string id;        // <scene stem>-<first 16 hex digits of the digest>: the job's folder name
     std::string digest;    // SHA-256 (hex) of the settings and the content of every file the job reads
     nlohmann::ordered_json settings;  // SweepJob::settings()
+    nlohmann::ordered_json used;      // the render settings in effect, set or not (detector, grid, size, …)
+    nlohmann::ordered_json axes;      // SweepJob::axes: axis name → value
     std::vector<std::filesystem::path> inputs;  // the files it reads (scene, spectra, meshes, textures, …)
     RenderJob render;      // outDir = the job's folder
     std::optional<CaptureRequest> capture;  // a simulated sensor's capture after the render (docs/sensor.md)
@@ -70,6 +72,14 @@ struct BatchProgress {
     std::string line;            // what happened to the last job, one line
 };
 
+// A sweep's job as the index lists it (from ResolvedJob), record or no record.
+struct IndexedJob {
+    size_t position = 0;
+    std::string id, origin;
+    nlohmann::ordered_json settings, axes, used;
+};
+IndexedJob indexedJob(const Sweep& sweep, const ResolvedJob& job);
+
 struct BatchSummary {
     size_t jobs = 0, rendered = 0, skipped = 0, failed = 0;
     size_t held = 0;                    // claimed by another live run (batch/job_claim.h): left to it
@@ -77,6 +87,9 @@ struct BatchSummary {
     double renderSecondsMedian = 0;  // per rendered job, load to record
     std::vector<std::string> failures;  // "id: error", one per failed job
     std::vector<std::string> heldBy;    // "id: host pid N", one per held job
+    std::vector<IndexedJob> indexed;    // this shard's jobs, in order (for writeBatchIndex)
+    size_t otherVersion = 0;            // skipped as done, but rendered by another Metamer version
+    std::string otherVersions;          // which ("0.0.9, 0.1.0")
 };
 
 // Resolves this shard's jobs (all of them before the first render), then renders each one that
@@ -89,13 +102,21 @@ BatchSummary runBatch(const Sweep& sweep, const BatchOptions& options, vk::Conte
 
 struct IndexSummary {
     size_t records = 0, done = 0, failed = 0;
+    size_t missing = 0;          // with a sweep: its jobs without a record (a task that died, not run yet)
+    size_t superseded = 0;       // without a sweep: records that are not their job's latest
+    size_t otherRecords = 0;     // with a sweep: records of jobs that are not the sweep's (left out)
     std::vector<std::string> unreadable;  // job folders whose job.json is not a record (left out)
     std::filesystem::path csv, json;
 };
 
-// Every job record under `dir` (dir/*/job.json) gathered into dir/index.csv and dir/index.json
-// (written atomically): job id, status, error, settings (one column per scene override key and
-// render setting), outputs, timings. Rebuilt from what is on disk each time.
-IndexSummary writeBatchIndex(const std::filesystem::path& dir);
+// The job records under `dir` (dir/*/job.json) gathered into dir/index.csv and dir/index.json
+// (written atomically), one row per job: id, status, error, the scene, one column per scene
+// override key and render setting (the value the job used where the sweep left it unset), one
+// "axis:NAME" column per axis, outputs, timings, where and when it ran, the Metamer version.
+// With `sweepJobs` (a sweep's jobs, resolved): exactly those, in order, a job without a record as
+// status "missing"; records of other jobs are left out. Without: every record, and a "current"
+// column that is false for a record a later one of the same sweep position supersedes (the sweep
+// was edited since). Rebuilt from what is on disk each time.
+IndexSummary writeBatchIndex(const std::filesystem::path& dir, const std::vector<IndexedJob>* sweepJobs = nullptr);
 
 }  // namespace metamer

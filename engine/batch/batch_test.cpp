@@ -277,7 +277,7 @@ TEST(Batch, ShardsRenderDisjointJobsWhoseUnionIsTheWholeBatchFileForFile) {
     }
     // The index lists every job in sweep order, one settings column per varied key.
     const std::string csv = bytes(sharded / "index.csv");
-    EXPECT_EQ(csv.rfind("id,status,error,scene,set:lights.0.spectrum,write,", 0), 0u) << csv.substr(0, 200);
+    EXPECT_EQ(csv.rfind("id,status,current,error,scene,set:lights.0.spectrum,write,", 0), 0u) << csv.substr(0, 200);
     EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 7);
     EXPECT_NO_VALIDATION_ERRORS(before);
 }

@@ -423,6 +423,7 @@ SweepJob Sweep::job(size_t position) const {
         else
             render[a.renderKey] = v;
         picked.push_back(a.name + "=" + shortValue(v));
+        j.axes[a.name] = v;
     }
     j.render = render;
     if (!picked.empty()) j.origin += fmt::format(" × {}", fmt::join(picked, ", "));

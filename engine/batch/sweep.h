@@ -25,6 +25,7 @@ struct SweepJob {
     std::vector<std::string> overrides;        // KEY=VALUE, applied in order
     nlohmann::ordered_json render = nlohmann::ordered_json::object();  // key → value, sweepRenderKeys()
     std::string origin;  // "rows[2] × axes illuminant=illuminants/A", "line 7": for messages
+    nlohmann::ordered_json axes = nlohmann::ordered_json::object();  // axis name → this job's value
     Where where;         // the sweep file and the row's key or line
 
     // What the job renders, as one canonical JSON object (sorted render keys): what its id hashes,

@@ -23,6 +23,8 @@
 
 namespace metamer {
 
+const char* metamerVersion() { return METAMER_VERSION; }
+
 namespace {
 OutputFiles parseWrite(const std::vector<std::string>& names, const Where& where) {
     OutputFiles f{false, false, false, false, false};
@@ -464,7 +466,7 @@ RenderJobResult runRenderJob(const RenderJob& job) {
     // What else a file needs to be remade: the overrides, the display path, the software.
     if (!job.overrides.empty()) provenance.push_back({"metamer:overrides", fmt::format("{}", fmt::join(job.overrides, " "))});
     if (planPtr) provenance.push_back({"metamer:display", planPtr->description});
-    provenance.push_back({"metamer:version", METAMER_VERSION});
+    provenance.push_back({"metamer:version", metamerVersion()});
     {
         const Where sceneOut = scene.output.where.file.empty() ? Where{scene.file.string(), "output"} : scene.output.where;
         if (job.format) oo.formats = parseCubeFormats(*job.format, Where{"", "--format"});

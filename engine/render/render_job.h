@@ -41,6 +41,9 @@ struct StageTimings {
     }
 };
 
+// The Metamer version ("0.1.0"), as `metamer --version` and the files' metadata say it.
+const char* metamerVersion();
+
 struct RenderJobResult {
     std::vector<WrittenFile> written;
     Grid grid;
