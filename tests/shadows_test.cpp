@@ -80,6 +80,37 @@ TEST(Shadows, UmbraReceivesExactlyTheAmbientAndEnvironmentTerms) {
     EXPECT_GT(lit, 2000);
 }
 
+// Shadow maps are kept on the device for later renders of the same geometry and lights (a batch's
+// next job; issue 31): a render that changes only a material gets the known answer with them, and
+// one whose occluder moved gets new maps — its umbra where the new occluder puts it, not the old.
+TEST(Shadows, MapsAreReusedOnlyForTheSameGeometryAndLights) {
+    auto expectUmbraAt = [](const UmbraScene& u, double cy, const char* what) {
+        const SpectralCube c = renderGpu(u.scene, onGrid(u.scene));
+        int umbra = 0, lit = 0;
+        for (int y = 0; y < 64; ++y)
+            for (int x = 0; x < 64; ++x) {
+                const double wx = worldX(x, 64), wy = worldY(y, 64) - cy;
+                const bool inUmbra = std::fabs(wx) < 0.12 && std::fabs(wy) < 0.12;
+                const bool outside = std::fabs(wx) > 0.18 && std::fabs(wx) < 0.3 && std::fabs(wy) < 0.1;
+                if (!inUmbra && !outside) continue;
+                const double expected = inUmbra ? u.umbra() : u.lit();
+                (inUmbra ? umbra : lit)++;
+                ASSERT_NEAR(c.at(x, y, 5), expected, 1e-5 * expected) << what << ", pixel " << x << "," << y;
+            }
+        EXPECT_GE(umbra, 100) << what;
+        EXPECT_GE(lit, 50) << what;
+    };
+    UmbraScene u;
+    expectUmbraAt(u, 0.0, "first");
+    u.rho = 0.4;  // a material change: the same maps serve
+    u.scene.materials[0] = lambertian(u.rho, "floor");
+    expectUmbraAt(u, 0.0, "another floor");
+    u.scene.meshes[1] = quad({-0.5, 0.3, 0.5}, {0, 0, 1}, 0.3, 0.3, 1);  // the occluder moved: new maps
+    expectUmbraAt(u, 0.3, "the occluder moved");
+    u.scene.meshes[1] = quad({-0.5, 0, 0.5}, {0, 0, 1}, 0.3, 0.3, 1);
+    expectUmbraAt(u, 0.0, "moved back");
+}
+
 TEST(Shadows, WithoutOccludersNothingChangesAndShadowsFalseTurnsThemOff) {
     // Lit surfaces — the floor under a grazing light and a sphere's curved side — are what they
     // are with shadows off, to 1e-6: no surface shadows itself (no acne).

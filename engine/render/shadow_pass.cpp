@@ -25,33 +25,35 @@ constexpr float kDepthBiasSlope = 2.0f;
 
 }  // namespace
 
-void SpectralResources::createShadowMaps() {
-    auto t0 = Clock::now();
+namespace {
+
+template <typename T>
+void appendBytes(std::string& key, const T* data, size_t count) {
+    key.append(reinterpret_cast<const char*>(data), count * sizeof(T));
+}
+
+// Everything the shadow maps are drawn from, byte for byte: the map size and layers, each layer's
+// matrix, the positions, the indices and the opaque draws. Not the camera, the materials or the
+// image size: a batch's jobs that change only those reuse the maps (issue 31).
+std::string shadowMapKey(const PackedScene& packed, uint32_t size, uint32_t layers) {
+    std::string key = fmt::format("shadow maps v1 {} {}\n", size, layers);
+    appendBytes(key, packed.shadowBlock.layers, std::min<size_t>(layers, MAX_SHADOW_LAYERS));
+    for (const gpu::SpectralVertex& v : packed.vertices) appendBytes(key, v.position, 3);
+    appendBytes(key, packed.indices.data(), packed.indices.size());
+    for (const PackedDraw& d : packed.draws)
+        if (!d.transparent) {
+            appendBytes(key, &d.firstIndex, 1);
+            appendBytes(key, &d.indexCount, 1);
+            appendBytes(key, &d.vertexOffset, 1);
+        }
+    return key;
+}
+
+}  // namespace
+
+void SpectralResources::drawShadowMaps(vk::Image& shadowImage, uint32_t size, uint32_t layers) {
     VkDevice d = ctx.device();
     const ShadowMaps& maps = packed.shadowMaps;
-    const uint32_t size = maps.any() ? SHADOW_MAP_SIZE : 1, layers = uint32_t(std::max<size_t>(1, maps.layers.size()));
-    vk::ImageDesc desc;
-    desc.format = VK_FORMAT_D32_SFLOAT;
-    desc.width = desc.height = size;
-    desc.layers = layers;
-    desc.usage = VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
-    desc.name = "shadow maps";
-    shadowMap = vk::Image(ctx, desc);
-    shadowBuffer = uniforms(&packed.shadowBlock, sizeof(gpu::GpuShadowBlock), 1, sizeof(gpu::GpuShadowBlock), "shadow matrices");
-
-    // Depth compare, no filtering: a texel is lit when the fragment's depth is at most the map's.
-    // Outside the map the border (depth 1) lights it.
-    VkSamplerCreateInfo sci{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
-    sci.magFilter = sci.minFilter = VK_FILTER_NEAREST;
-    sci.mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
-    sci.addressModeU = sci.addressModeV = sci.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_BORDER;
-    sci.borderColor = VK_BORDER_COLOR_FLOAT_OPAQUE_WHITE;
-    sci.compareEnable = VK_TRUE;
-    sci.compareOp = VK_COMPARE_OP_LESS_OR_EQUAL;
-    VkSampler sampler = VK_NULL_HANDLE;
-    VK_CHECK(vkCreateSampler(d, &sci, nullptr, &sampler));
-    shadowSampler = vk::OwnedSampler(d, sampler);
-
     // One render pass: clear, draw, leave the layer for the fragment shader.
     vk::RenderPassDesc passDesc;
     passDesc.depth = vk::AttachmentDesc{VK_FORMAT_D32_SFLOAT, VK_ATTACHMENT_LOAD_OP_CLEAR, VK_ATTACHMENT_STORE_OP_STORE,
@@ -72,7 +74,7 @@ void SpectralResources::createShadowMaps() {
 
     std::vector<vk::OwnedFramebuffer> framebuffers;
     for (uint32_t l = 0; l < layers; ++l)
-        framebuffers.push_back(vk::createFramebuffer(d, renderPass, {shadowMap.layerView(l)}, size, size));
+        framebuffers.push_back(vk::createFramebuffer(d, renderPass, {shadowImage.layerView(l)}, size, size));
 
     vk::OwnedPipeline pipeline;
     const bool draws = maps.any() && !packed.draws.empty();
@@ -117,6 +119,41 @@ void SpectralResources::createShadowMaps() {
     ctx.submitAndWait([&](VkCommandBuffer cmd) {
         for (const FramePass& pass : shadowPasses) recordFramePass(cmd, pass);
     });
+}
+
+void SpectralResources::createShadowMaps() {
+    auto t0 = Clock::now();
+    VkDevice d = ctx.device();
+    const ShadowMaps& maps = packed.shadowMaps;
+    const uint32_t size = maps.any() ? SHADOW_MAP_SIZE : 1, layers = uint32_t(std::max<size_t>(1, maps.layers.size()));
+    shadowBuffer = uniforms(&packed.shadowBlock, sizeof(gpu::GpuShadowBlock), 1, sizeof(gpu::GpuShadowBlock), "shadow matrices");
+
+    // Depth compare, no filtering: a texel is lit when the fragment's depth is at most the map's.
+    // Outside the map the border (depth 1) lights it.
+    VkSamplerCreateInfo sci{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+    sci.magFilter = sci.minFilter = VK_FILTER_NEAREST;
+    sci.mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
+    sci.addressModeU = sci.addressModeV = sci.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_BORDER;
+    sci.borderColor = VK_BORDER_COLOR_FLOAT_OPAQUE_WHITE;
+    sci.compareEnable = VK_TRUE;
+    sci.compareOp = VK_COMPARE_OP_LESS_OR_EQUAL;
+    VkSampler sampler = VK_NULL_HANDLE;
+    VK_CHECK(vkCreateSampler(d, &sci, nullptr, &sampler));
+    shadowSampler = vk::OwnedSampler(d, sampler);
+
+    // Drawn once per scene and device: a later render of the same geometry and lights (a batch's
+    // next job, the preview after a material change) takes the maps as they are. Two are kept.
+    shadowMap = std::static_pointer_cast<vk::Image>(ctx.objects().reusable(shadowMapKey(packed, size, layers), [&] {
+        vk::ImageDesc desc;
+        desc.format = VK_FORMAT_D32_SFLOAT;
+        desc.width = desc.height = size;
+        desc.layers = layers;
+        desc.usage = VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
+        desc.name = "shadow maps";
+        auto image = std::make_shared<vk::Image>(ctx, desc);
+        drawShadowMaps(*image, size, layers);
+        return std::static_pointer_cast<void>(image);
+    }, 2));
     shadowMs = msSince(t0);
 }
 

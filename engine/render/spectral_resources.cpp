@@ -376,7 +376,7 @@ void SpectralResources::createLayouts() {
         {},
         {}};
     const VkBufferView view = lobeTableView.get();
-    const VkDescriptorImageInfo shadowInfo{shadowSampler.get(), shadowMap.layerView(~0u),
+    const VkDescriptorImageInfo shadowInfo{shadowSampler.get(), shadowMap->layerView(~0u),
                                            VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL};
     // The lobe weights, where a lobe pass writes them; else (and in the lobe pass's own set) the
     // placeholder texture, never read. Sampled with the textures' sampler (texelFetch only).

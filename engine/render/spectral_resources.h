@@ -24,6 +24,7 @@
 
 #include <array>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -88,7 +89,7 @@ struct SpectralResources {
     // The shadow maps (render/shadow_maps.h), drawn once when the resources are made — they depend
     // on the scene, not the camera — and read by the spectral passes through a depth-compare
     // sampler; a 1×1 placeholder when no light casts shadows. render/shadow_pass.cpp.
-    vk::Image shadowMap;
+    std::shared_ptr<vk::Image> shadowMap;  // shared with later renders of the same geometry and lights
     vk::Buffer shadowBuffer;  // GpuShadowBlock
     vk::OwnedSampler shadowSampler;
     double shadowMs = 0.0;    // the depth passes' time
@@ -152,6 +153,7 @@ private:
     vk::Buffer uniforms(const void* data, size_t size, size_t count, VkDeviceSize stride, const char* name);
     void createBuffers();
     void createShadowMaps();
+    void drawShadowMaps(vk::Image& image, uint32_t size, uint32_t layers);  // the depth passes into `image`
     void createTextures(std::vector<const TextureOnGrid*> list);
     void createTargets(Readback mode, bool sampled, SpectralPassPlan& plan);
     void createLayouts();

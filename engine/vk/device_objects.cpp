@@ -12,6 +12,7 @@ DeviceObjects::~DeviceObjects() { clear(); }
 
 void DeviceObjects::clear() {
     std::lock_guard<std::mutex> lock(mutex_);
+    reusables_.clear();
     // Pipelines first: they hold their layouts and render passes.
     pipelines_ = {};
     pipelineLayouts_ = {};
@@ -61,6 +62,25 @@ SharedHandle<VkPipelineLayout> DeviceObjects::pipelineLayout(const std::string& 
 SharedHandle<VkPipeline> DeviceObjects::pipeline(const std::string& key, const std::function<VkPipeline()>& make,
                                                  std::vector<std::shared_ptr<void>> uses) {
     return get(pipelines_, key, make, vkDestroyPipeline, std::move(uses));
+}
+
+std::shared_ptr<void> DeviceObjects::reusable(const std::string& key, const std::function<std::shared_ptr<void>()>& make,
+                                              size_t keep) {
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        for (auto it = reusables_.begin(); it != reusables_.end(); ++it)
+            if (it->first == key) {
+                reusables_.splice(reusables_.begin(), reusables_, it);
+                ++reused_;
+                return it->second;
+            }
+    }
+    std::shared_ptr<void> made = make();  // unlocked: making it may use this cache too (pipelines)
+    std::lock_guard<std::mutex> lock(mutex_);
+    ++made_;
+    reusables_.emplace_front(key, made);
+    while (reusables_.size() > keep) reusables_.pop_back();
+    return made;
 }
 
 SharedHandle<VkRenderPass> DeviceObjects::renderPass(const std::string& key, const VkRenderPassCreateInfo& info) {

@@ -45,6 +45,12 @@ public:
     SharedHandle<VkPipeline> pipeline(const std::string& key, const std::function<VkPipeline()>& make,
                                       std::vector<std::shared_ptr<void>> uses);
 
+    // What an earlier render on this device made that a later one may reuse as it is (a scene's
+    // shadow maps: drawn from the geometry and the lights, not the camera): under a key that holds
+    // everything it was made from, byte for byte, so a hit is never a near miss. The `keep` most
+    // recently used are kept (they may be large); a holder keeps its own alive.
+    std::shared_ptr<void> reusable(const std::string& key, const std::function<std::shared_ptr<void>()>& make, size_t keep);
+
     size_t made() const { return made_; }
     size_t reused() const { return reused_; }
     // Lets go of every cached handle (those still held by passes stay alive with them).
@@ -67,6 +73,7 @@ private:
     Kind<VkDescriptorSetLayout> setLayouts_;
     Kind<VkPipelineLayout> pipelineLayouts_;
     Kind<VkPipeline> pipelines_;
+    std::list<std::pair<std::string, std::shared_ptr<void>>> reusables_;  // most recently used first
     size_t made_ = 0, reused_ = 0;
 };
 

@@ -85,3 +85,27 @@ TEST(DeviceObjects, KeysOfSpecializationBytesAreHex) {
     const uint32_t v[2] = {1, 0xabcdef00};
     EXPECT_EQ(vk::keyBytes(v, sizeof v), "0100000000efcdab");
 }
+
+// What a render may reuse from an earlier one (a scene's shadow maps): made once per key, the
+// same object returned while it is among the `keep` most recent, made again after, and a holder's
+// copy stays alive when the cache lets it go.
+TEST(DeviceObjects, ReusablesAreMadeOncePerKeyAndTheMostRecentAreKept) {
+    vk::DeviceObjects objects(gpu().device());
+    int made = 0;
+    auto make = [&] { return std::static_pointer_cast<void>(std::make_shared<int>(++made)); };
+    const std::shared_ptr<void> a = objects.reusable("a", make, 2);
+    EXPECT_EQ(objects.reusable("a", make, 2), a);
+    const std::shared_ptr<void> b = objects.reusable("b", make, 2);
+    EXPECT_NE(b, a);
+    EXPECT_EQ(objects.reusable("a", make, 2), a);  // a is now the most recent, b the other kept
+    objects.reusable("c", make, 2);                // b falls out
+    EXPECT_EQ(made, 3);
+    EXPECT_EQ(objects.reusable("a", make, 2), a);
+    EXPECT_NE(objects.reusable("b", make, 2), b);  // made again
+    EXPECT_EQ(made, 4);
+    EXPECT_EQ(*std::static_pointer_cast<int>(b), 2);  // the holder's copy lives on
+    // Keys are compared whole: a key that differs in its last byte is another object.
+    std::string k1(1 << 20, 'x'), k2 = k1;
+    k2.back() = 'y';
+    EXPECT_NE(objects.reusable(k1, make, 4), objects.reusable(k2, make, 4));
+}
