@@ -431,7 +431,7 @@ TEST(BatchCli, TheIndexMarksWhatIsCurrentAndListsTheSweepsJobsMissingOrNot) {
     EXPECT_EQ(index.size(), 5u);  // the sweep's 4 jobs, not 8 records
     const std::string header = index[0];
     for (const char* column : {",current,", ",bits,", ",adapt,", ",display,", ",grid,", ",axis:light,",
-                               ",axis:detector,", ",metamer_version,"})
+                               ",axis:detector,", ",metamer_version,", ",spectra_digest,"})
         EXPECT_NE(header.find(column), std::string::npos) << column << " in " << header;
     EXPECT_NE(index[1].find(",done,true,"), std::string::npos) << index[1];
     EXPECT_NE(index[1].find(",bradford,"), std::string::npos) << index[1];  // adaptation: not set, the default used

@@ -88,14 +88,34 @@ std::string fileDigest(const fs::path& path) {
     return std::get<2>(entry);
 }
 
+// The spectra library as a whole (every regular file under its root, by relative path and
+// content), once per process: a record says which library its job saw, beyond the files it read.
+const std::string& spectraDigest() {
+    static const std::string digest = [] {
+        const fs::path root = SpectrumLibrary::defaultRoot();
+        std::vector<fs::path> files;
+        std::error_code ec;
+        for (fs::recursive_directory_iterator it(root, ec), end; !ec && it != end; it.increment(ec))
+            if (it->is_regular_file(ec)) files.push_back(it->path());
+        std::sort(files.begin(), files.end());
+        Sha256 h;
+        for (const fs::path& f : files) h.add(f.lexically_relative(root).generic_string() + "\n" + fileDigest(f) + "\n");
+        return h.hex();
+    }();
+    return digest;
+}
+
 std::string hostName() {
     char h[256] = {};
     return ::gethostname(h, sizeof h - 1) == 0 ? std::string(h) : std::string("?");
 }
 
+// UTC to the millisecond: which of two records of one sweep position is later must be decidable
+// when both finished within the same second (the index's "current").
 std::string utcNow() {
     const auto now = std::chrono::system_clock::now();
-    return fmt::format("{:%Y-%m-%dT%H:%M:%SZ}", fmt::gmtime(std::chrono::system_clock::to_time_t(now)));
+    const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(now.time_since_epoch()).count() % 1000;
+    return fmt::format("{:%Y-%m-%dT%H:%M:%S}.{:03d}Z", fmt::gmtime(std::chrono::system_clock::to_time_t(now)), int(ms));
 }
 
 // Temporary files a killed process left in a job's folder (io/atomic_file's ".NAME.tmp-PID-N").
@@ -129,6 +149,7 @@ Json recordBase(const Sweep& sweep, const ResolvedJob& j, const BatchOptions& o)
     r["axes"] = j.axes;
     r["used"] = j.used;
     r["metamer_version"] = metamerVersion();
+    r["spectra_digest"] = spectraDigest();
     Json inputs = Json::array();
     for (const fs::path& p : j.inputs) inputs.push_back(p.string());
     r["inputs"] = inputs;
@@ -481,6 +502,7 @@ IndexSummary writeBatchIndex(const fs::path& dir, const std::vector<IndexedJob>*
         row["shard"] = j.value("shard", "");
         row["finished"] = j.value("finished", "");
         row["metamer_version"] = j.value("metamer_version", "");
+        row["spectra_digest"] = j.value("spectra_digest", "");
         row["digest"] = rec.digest;
         return row;
     };
@@ -538,7 +560,8 @@ IndexSummary writeBatchIndex(const fs::path& dir, const std::vector<IndexedJob>*
             }
     }
     for (const std::string& k : extra) addColumn(k);
-    for (const char* c : {"outputs", "position", "origin", "sweep", "host", "shard", "finished", "metamer_version", "digest"})
+    for (const char* c : {"outputs", "position", "origin", "sweep", "host", "shard", "finished", "metamer_version", "spectra_digest",
+                          "digest"})
         addColumn(c);
     std::stable_sort(rows.begin(), rows.end(),
                      [](const Json& a, const Json& b) { return a["position"].get<size_t>() < b["position"].get<size_t>(); });
