@@ -106,7 +106,7 @@ int runBatchCommand(const BatchArgs& a) {
         std::vector<IndexedJob> jobs;
         if (!a.sweep.empty()) {
             const Sweep sweep = readSweep(a.sweep);
-            for (size_t p = 0; p < sweep.size(); ++p) jobs.push_back(indexedJob(sweep, resolveJob(sweep, p, a.index)));
+            for (size_t p = 0; p < sweep.size(); ++p) jobs.push_back(indexedJob(resolveJob(sweep, p, a.index)));
         }
         const IndexSummary s = writeBatchIndex(a.index, a.sweep.empty() ? nullptr : &jobs);
         printIndexSummary(s, true);

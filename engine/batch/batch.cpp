@@ -143,7 +143,7 @@ Json recordBase(const Sweep& sweep, const ResolvedJob& j, const BatchOptions& o)
     r["id"] = j.id;
     r["digest"] = j.digest;
     r["position"] = j.position;
-    r["origin"] = sweep.job(j.position).origin;
+    r["origin"] = j.origin;
     r["sweep"] = sweep.file.string();
     r["settings"] = j.settings;
     r["axes"] = j.axes;
@@ -213,6 +213,7 @@ ResolvedJob resolveJob(const Sweep& sweep, size_t position, const fs::path& out)
     r.position = position;
     r.settings = sj.settings();
     r.axes = sj.axes;
+    r.origin = sj.origin;
     try {
         r.render = makeRenderJob(sweep, sj, {});
         r.capture = makeCaptureRequest(sweep, sj);
@@ -296,7 +297,7 @@ BatchSummary runBatch(const Sweep& sweep, const BatchOptions& o, vk::Context& co
     std::vector<ResolvedJob> jobs;
     for (size_t position : shardPositions(sweep.size(), o.shard, o.shards)) {
         jobs.push_back(resolveJob(sweep, position, o.out));  // duplicates were refused when the sweep was read
-        s.indexed.push_back(indexedJob(sweep, jobs.back()));
+        s.indexed.push_back(indexedJob(jobs.back()));
     }
     s.jobs = jobs.size();
     std::set<std::string> otherVersions;
@@ -435,8 +436,8 @@ std::string cellText(const Json& v) {
 
 }  // namespace
 
-IndexedJob indexedJob(const Sweep& sweep, const ResolvedJob& j) {
-    return {j.position, j.id, sweep.job(j.position).origin, j.settings, j.axes, j.used};
+IndexedJob indexedJob(const ResolvedJob& j) {
+    return {j.position, j.id, j.origin, j.settings, j.axes, j.used};
 }
 
 IndexSummary writeBatchIndex(const fs::path& dir, const std::vector<IndexedJob>* sweepJobs) {

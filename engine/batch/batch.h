@@ -33,6 +33,7 @@ struct ResolvedJob {
     nlohmann::ordered_json settings;  // SweepJob::settings()
     nlohmann::ordered_json used;      // the render settings in effect, set or not (detector, grid, size, …)
     nlohmann::ordered_json axes;      // SweepJob::axes: axis name → value
+    std::string origin;               // SweepJob::origin, for the record and the index
     std::vector<std::filesystem::path> inputs;  // the files it reads (scene, spectra, meshes, textures, …)
     RenderJob render;      // outDir = the job's folder
     std::optional<CaptureRequest> capture;  // a simulated sensor's capture after the render (docs/sensor.md)
@@ -78,7 +79,7 @@ struct IndexedJob {
     std::string id, origin;
     nlohmann::ordered_json settings, axes, used;
 };
-IndexedJob indexedJob(const Sweep& sweep, const ResolvedJob& job);
+IndexedJob indexedJob(const ResolvedJob& job);
 
 struct BatchSummary {
     size_t jobs = 0, rendered = 0, skipped = 0, failed = 0;

@@ -14,6 +14,13 @@ Where Where::child(const std::string& k) const {
 
 Where Where::index(size_t i) const { return child(std::to_string(i)); }
 
+// The first `n` bytes of s from `start`, or fewer so as not to split a UTF-8 character.
+static std::string wholeCharacters(const std::string& s, size_t start, size_t n) {
+    size_t cut = n;
+    while (cut > 0 && (static_cast<unsigned char>(s[start + cut]) & 0xc0) == 0x80) --cut;
+    return s.substr(start, cut);
+}
+
 // A key path as a message shows it: a part over 80 bytes (a 3 000-character material name) keeps
 // its first 40 and says how long it was, so the line stays readable whatever a file names things.
 static std::string shownKeyPath(const std::string& key) {
@@ -25,9 +32,7 @@ static std::string shownKeyPath(const std::string& key) {
         if (dot == std::string::npos) dot = key.size();
         const size_t length = dot - start;
         if (length > kLongPart) {
-            size_t cut = kKept;
-            while (cut > 0 && (static_cast<unsigned char>(key[start + cut]) & 0xc0) == 0x80) --cut;  // whole characters
-            out += key.substr(start, cut) + fmt::format("…({} bytes)", length);
+            out += wholeCharacters(key, start, kKept) + fmt::format("…({} bytes)", length);
         } else {
             out.append(key, start, length);
         }
@@ -126,10 +131,7 @@ std::string shortened(const std::string& s) {
         const size_t length = close - open - 1;
         out.append(s, i, open + 1 - i);
         if (length > kLongQuote) {
-            size_t cut = kKept;
-            while (cut > 0 && (static_cast<unsigned char>(s[open + 1 + cut]) & 0xc0) == 0x80) --cut;  // whole characters
-            out.append(s, open + 1, cut);
-            out += fmt::format("…' ({} bytes)", length);
+            out += wholeCharacters(s, open + 1, kKept) + fmt::format("…' ({} bytes)", length);
         } else {
             out.append(s, open + 1, length + 1);
         }
