@@ -125,6 +125,8 @@ int main(int argc, char** argv) {
 
     CLI::App app{"metamer: full-spectral rendering for color-imaging research"};
     app.require_subcommand(1);
+    // The same string as the Python module's metamer.__version__ (one CMake project version).
+    app.set_version_flag("--version", std::string("metamer ") + metamerVersion());
 
     RenderSettings settings;
     bool timings = false;
