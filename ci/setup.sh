@@ -69,4 +69,9 @@ fi
 if ! "$venv/bin/python" -c "import rawpy" 2>/dev/null; then
   "${pip_in_venv[@]}" "rawpy==0.28.0" "numpy==2.2.6"
 fi
+# scikit-build-core: the build backend of pyproject.toml, which ci/build.sh runs without build
+# isolation (the wheel is made from build/, and pip would otherwise fetch it for every build).
+if ! "$venv/bin/python" -c "import scikit_build_core; assert scikit_build_core.__version__ == '1.1.2'" 2>/dev/null; then
+  "${pip_in_venv[@]}" "scikit-build-core==1.1.2"
+fi
 echo "metamer: set-up complete"

@@ -21,7 +21,8 @@ fs::path modulePath() {
     if (dladdr(reinterpret_cast<void*>(&modulePath), &info) && info.dli_fname) {
         std::error_code ec;
         fs::path self = fs::canonical(info.dli_fname, ec);
-        // Beside it, or one folder up: the Python module is built into build/python/.
+        // Beside it, or one folder up: the Python package's CLI is metamer/bin/metamer, the module
+        // beside it in metamer/ (build/python/metamer/ has a link to build/libmetamer_oiio.so).
         if (!ec && !fs::exists(self.parent_path() / "libmetamer_oiio.so", ec) &&
             fs::exists(self.parent_path().parent_path() / "libmetamer_oiio.so", ec))
             return self.parent_path().parent_path() / "libmetamer_oiio.so";

@@ -18,7 +18,9 @@
 #include "sensor/capture.h"
 #include "sensor/capture_files.h"
 #include "spectral/kubelka_munk.h"
+#include "spectral/library.h"
 #include "spectral/resampling.h"
+#include "vk/check.h"
 #include "vk/context.h"
 
 #include <pybind11/numpy.h>
@@ -546,7 +548,7 @@ void translate(std::exception_ptr p) {
 
 }  // namespace
 
-PYBIND11_MODULE(metamer, m) {
+PYBIND11_MODULE(_metamer, m) {
     m.doc() = "Metamer: full-spectral rendering of spectral radiance cubes (docs/python.md)";
     errorType = PyErr_NewException("metamer.Error", PyExc_RuntimeError, nullptr);
     py::object bases = py::make_tuple(py::handle(errorType), py::handle(PyExc_ValueError));
@@ -695,6 +697,27 @@ PYBIND11_MODULE(metamer, m) {
           "(rows × columns uint16 digital numbers; frames × rows × columns when frames > 1), electrons (the "
           "expected electrons, float64), channels, cfa, black and white levels, conversion gain, exposure");
     m.def("_context_count", [] { return contexts().size(); }, "Vulkan contexts made so far (tests)");
+    m.def("_spectra_root", [] { return SpectrumLibrary::defaultRoot().string(); },
+          "The spectra library a render reads when METAMER_SPECTRA is not set: the package's own copy "
+          "when installed (tests)");
+    // What keeps this machine from rendering ("" when a usable Vulkan device exists), for the
+    // package's check at import (engine/python/metamer/__init__.py): no driver, or no device.
+    m.def("_vulkan_problem", []() -> std::string {
+        py::gil_scoped_release release;
+        VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
+        app.apiVersion = VK_API_VERSION_1_1;
+        VkInstanceCreateInfo ici{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
+        ici.pApplicationInfo = &app;
+        VkInstance instance = VK_NULL_HANDLE;
+        if (VkResult r = vkCreateInstance(&ici, nullptr, &instance); r != VK_SUCCESS)
+            return fmt::format("the Vulkan loader found no driver (vkCreateInstance returned {})", vk::resultName(r));
+        const auto devices = vk::Context::listDevices(instance);
+        vkDestroyInstance(instance, nullptr);
+        if (devices.empty()) return "the Vulkan loader found no device";
+        for (const auto& d : devices)
+            if (d.score > 0) return "";
+        return fmt::format("no Vulkan device is usable ({} found; `metamer devices` lists them)", devices.size());
+    });
 
     // The Kubelka–Munk functions the paints use (spectral/kubelka_munk.h; docs/physics.md, "Paints
     // and coatings"), element-wise over numpy arrays: to turn measured reflectances into K/S and

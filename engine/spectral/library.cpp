@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <dlfcn.h>
 #include <unistd.h>
 
 #ifndef METAMER_SOURCE_SPECTRA_DIR
@@ -16,14 +17,21 @@ namespace metamer {
 
 fs::path SpectrumLibrary::defaultRoot() {
     if (const char* env = std::getenv("METAMER_SPECTRA"); env && *env) return fs::path(env);
-    fs::path source = METAMER_SOURCE_SPECTRA_DIR;
-    if (!source.empty() && fs::is_directory(source)) return source;
+    // Beside the code that runs, first: an installed copy (the Python package, a prefix install)
+    // must read its own spectra even when the checkout it was built from is still there.
+    Dl_info info{};
     std::error_code ec;
-    fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-    if (!ec) {
-        fs::path installed = exe.parent_path().parent_path() / "share" / "metamer" / "spectra";
-        if (fs::is_directory(installed)) return installed;
+    if (dladdr(reinterpret_cast<void*>(&SpectrumLibrary::defaultRoot), &info) && info.dli_fname) {
+        const fs::path self = fs::canonical(info.dli_fname, ec);
+        if (!ec) {
+            const fs::path dir = self.parent_path();
+            for (const fs::path& candidate : {dir / "spectra",                       // metamer/_metamer*.so
+                                              dir.parent_path() / "spectra",         // metamer/bin/metamer, build/metamer
+                                              dir.parent_path() / "share" / "metamer" / "spectra"})  // PREFIX/bin/metamer
+                if (fs::is_directory(candidate, ec)) return candidate;
+        }
     }
+    fs::path source = METAMER_SOURCE_SPECTRA_DIR;
     return source;
 }
 

@@ -13,8 +13,10 @@ namespace metamer {
 
 class SpectrumLibrary {
 public:
-    // The library root: $METAMER_SPECTRA if set, else the source tree's spectra/ (compiled in),
-    // else <executable dir>/../share/metamer/spectra.
+    // The library root: $METAMER_SPECTRA if set, else the first folder found beside the binary or
+    // shared object this code is linked into (D = its folder): D/spectra (the Python package),
+    // D/../spectra (the package's bin/metamer; build/metamer finds the source tree's), or
+    // D/../share/metamer/spectra (an installed prefix); else the source tree's spectra/ (compiled in).
     static std::filesystem::path defaultRoot();
 
     explicit SpectrumLibrary(std::filesystem::path root = defaultRoot());

@@ -368,7 +368,7 @@ def test_the_examples_in_docs_python_md_run(tmp_path, monkeypatch):
     import re
 
     blocks = re.findall(r"```python\n(.*?)```", (REPO / "docs" / "python.md").read_text(), re.S)
-    assert len(blocks) == 3
+    assert len(blocks) == 4
     (tmp_path / "scenes").symlink_to(REPO / "scenes")
     monkeypatch.chdir(tmp_path)
     namespace = {}
@@ -576,3 +576,39 @@ def test_scene_dicts_take_numpy_values_and_refuse_what_json_cannot_hold():
     looped["materials"]["white"]["self"] = looped
     with pytest.raises(metamer.InputError, match="nested deeper than 64 levels"):
         metamer.render(looped)
+
+
+def test_a_render_shows_itself_in_a_notebook_as_its_display_image(tmp_path):
+    """Jupyter calls _repr_png_: the PNG it gets, read by OpenImageIO, is the render's display counts."""
+    oiio = pytest.importorskip("OpenImageIO")  # Debian's python3-openimageio, through the venv's system site
+    r = metamer.render(REPO / "scenes" / "spheres.json", overrides={"camera.width": 48, "camera.height": 48},
+                       write="cube,display")
+    png = r._repr_png_()
+    assert png[:8] == b"\x89PNG\r\n\x1a\n"
+    (tmp_path / "shown.png").write_bytes(png)
+    shown = oiio.ImageBuf(str(tmp_path / "shown.png")).get_pixels(oiio.UINT8 if r.display.dtype == np.uint8 else oiio.UINT16)
+    assert shown.shape == r.display.shape and np.array_equal(shown, r.display)
+    assert len(np.unique(r.display.reshape(-1, 3), axis=0)) > 2  # an image, not a flat colour
+    assert metamer.render(white_quad())._repr_png_() is None  # no display kept: the text repr
+
+
+def test_a_pixel_is_a_colour_science_spectral_distribution():
+    r = metamer.render(white_quad(albedo=0.5), grid="400:700:10")
+    sd = r.sd(3, 2)
+    assert isinstance(sd, colour.SpectralDistribution)
+    assert np.array_equal(sd.wavelengths, r.wavelengths_nm) and np.array_equal(sd.values, r.cube[2, 3])
+    assert sd.name == "pixel (3, 2)" and r.sd(np.int64(0), 0, name="corner").name == "corner"
+    with pytest.raises(IndexError, match="x = 8 is outside the image"):
+        r.sd(8, 0)
+    with pytest.raises(TypeError, match="integer pixel index"):
+        r.sd(1.5, 0)
+
+
+def test_the_cube_is_an_xarray_data_array_with_its_wavelengths():
+    xarray = pytest.importorskip("xarray")
+    r = metamer.render(white_quad(albedo=0.5), grid="400:700:10")
+    a = r.to_xarray()
+    assert isinstance(a, xarray.DataArray) and a.dims == ("y", "x", "wavelength")
+    assert np.array_equal(a.wavelength.values, r.wavelengths_nm) and a.wavelength.attrs["units"] == "nm"
+    assert a.attrs["units"] == "W sr-1 m-2 nm-1"
+    assert float(a.sel(wavelength=550, x=3, y=2)) == float(r.cube[2, 3, list(r.wavelengths_nm).index(550)])
