@@ -74,4 +74,9 @@ fi
 if ! "$venv/bin/python" -c "import scikit_build_core; assert scikit_build_core.__version__ == '1.1.2'" 2>/dev/null; then
   "${pip_in_venv[@]}" "scikit-build-core==1.1.2"
 fi
+# xarray (with h5netcdf) opens the HDF5 cubes and Render.to_xarray's arrays; mypy checks a user's
+# script against the package's types (tests/python/test_typing.py).
+if ! "$venv/bin/python" -c "import xarray, h5netcdf, mypy" 2>/dev/null; then
+  "${pip_in_venv[@]}" "xarray==2025.6.1" "h5netcdf==1.6.4" "mypy==1.15.0" "numpy==2.2.6"
+fi
 echo "metamer: set-up complete"

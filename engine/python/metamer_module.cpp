@@ -33,6 +33,7 @@
 #include <climits>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -48,17 +49,35 @@ PyObject* inputErrorType = nullptr;  // metamer.InputError (metamer.Error, Value
 PyObject* notFoundType = nullptr;    // metamer.NotFoundError (metamer.InputError, FileNotFoundError)
 PyObject* warningType = nullptr;     // metamer.Warning (UserWarning)
 
+// A warning the filters turned into an exception (warnings.simplefilter("error", metamer.Warning)),
+// held until the call that warned returns, then raised in its place (raisePendingWarning). Guarded
+// by the GIL. The engine warns from inside work that cannot unwind at that point (a worker thread,
+// a parser mid-scene), so the call finishes and its result is dropped: nothing is half-made, and
+// Python renders write no files.
+PyObject *pendingType = nullptr, *pendingValue = nullptr, *pendingTraceback = nullptr;
+
 // The engine's warnings (core/error.h) as Python warnings of category metamer.Warning, so a
 // notebook shows them under the cell and `warnings` filters them. Called from whatever thread
 // warns, usually with the GIL released by a render: it takes the GIL itself.
 void warnInPython(const std::string& line) {
     py::gil_scoped_acquire gil;
     const std::string text = printableMessage(line.rfind("warning: ", 0) == 0 ? line.substr(9) : line);
-    // With warnings turned into errors the warning cannot stop a render from here: it is printed.
     if (PyErr_WarnEx(warningType, text.c_str(), 1) < 0) {
-        PyErr_Clear();
-        std::fprintf(stderr, "metamer: warning: %s\n", text.c_str());
+        if (pendingType) {
+            PyErr_Clear();  // the first one is raised
+        } else {
+            PyErr_Fetch(&pendingType, &pendingValue, &pendingTraceback);
+        }
     }
+}
+
+// After a call into the engine, with the GIL: the warning an "error" filter turned into an
+// exception, raised now.
+void raisePendingWarning() {
+    if (!pendingType) return;
+    PyErr_Restore(pendingType, pendingValue, pendingTraceback);
+    pendingType = pendingValue = pendingTraceback = nullptr;
+    throw py::error_already_set();
 }
 
 // Renders are serialized: a Vulkan queue takes one submitter at a time, and the GIL is released
@@ -130,6 +149,9 @@ struct Render {
     bool spectral = true;
     std::vector<std::string> channelNames;  // non-spectral modes: the mode's channels
     int bits = 8;
+    std::optional<std::vector<std::string>> responseChannels;  // the detector's, when there is a display path
+    std::optional<std::string> responseUnits;
+    bool unpickled = false;  // made by pickle from another Render: its arrays and report, not its scene
 };
 
 const char* typeName(const py::handle& x) { return Py_TYPE(x.ptr())->tp_name; }
@@ -316,7 +338,8 @@ const std::string& renderDoc() {
             {"xyz", "xyz"},         {"mode", "mode"},           {"write", "write"},       {"resample", "resample"},
             {"ssaa", "ssaa"},       {"validation", "validation"}, {"device", "device"},
             {"allow_outside_paths", "allow-outside-paths"},     {"format", "format"},
-            {"memory_budget", "memory-budget"}};
+            {"memory_budget", "memory-budget"}, {"half", "half"}, {"compression", "compression"},
+            {"strict_coverage", "strict-coverage"}, {"readback", "readback"}};
         for (const auto& [keyword, flag] : shared)
             d += std::string("  ") + keyword + " (--" + flag + "): " + renderSettingHelp(flag) + "\n";
         return d;
@@ -330,7 +353,8 @@ std::shared_ptr<Render> render(const py::object& scene, const py::object& grid, 
                                const py::object& xyz, const py::object& mode, const py::object& write,
                                const py::object& resample, const py::object& ssaa, bool validation,
                                const py::object& device, bool allowOutsidePaths, const py::object& nameArg,
-                               const py::object& baseDir, const py::object& format, const py::object& memoryBudget) {
+                               const py::object& baseDir, const py::object& format, const py::object& memoryBudget,
+                               bool half, const py::object& compression, bool strictCoverage, const py::object& readback) {
     RenderJob job;
     if (py::isinstance<py::dict>(scene)) {
         // A scene given as a dict: its relative paths resolve against base_dir (default: the
@@ -368,6 +392,10 @@ std::shared_ptr<Render> render(const py::object& scene, const py::object& grid, 
         if (o == "display") o = "png";  // the display image is the CLI's PNG
     if (!format.is_none()) settings.format = stringList(format, "format");
     settings.validation = validation;
+    settings.half = half;
+    settings.compression = text(compression, "compression");
+    settings.strictCoverage = strictCoverage;
+    settings.readback = text(readback, "readback");
     settings.device = text(device, "device");
     settings.allowOutsidePaths = allowOutsidePaths;
     if (!memoryBudget.is_none()) {
@@ -376,7 +404,10 @@ std::shared_ptr<Render> render(const py::object& scene, const py::object& grid, 
             failInput(Where{"", "memory_budget"}, "{:g} MiB; expected a budget > 0 in MiB", settings.memoryBudgetMiB);
     }
     applyRenderSettings(settings, job, [](const std::string& name) {
-        return name == "allow-outside-paths" ? "allow_outside_paths" : name == "memory-budget" ? "memory_budget" : name;
+        return name == "allow-outside-paths"   ? "allow_outside_paths"
+               : name == "memory-budget"     ? "memory_budget"
+               : name == "strict-coverage" ? "strict_coverage"
+                                             : name;
     });
     // Given lists are the job's even when empty (refused there, as an empty --write is).
     job.write = settings.write;
@@ -390,10 +421,110 @@ std::shared_ptr<Render> render(const py::object& scene, const py::object& grid, 
         if (job.backend == Backend::Gpu) job.context = &contextFor(job);
         r->result = runRenderJob(job);
     }
+    raisePendingWarning();
     const Representation& rep = r->captured.loaded->representation;
     r->spectral = rep.mode.spectral();
     if (!r->spectral) r->channelNames = rep.channelNames;
-    if (r->captured.plan) r->bits = r->captured.plan->display.bits;
+    if (r->captured.plan) {
+        r->bits = r->captured.plan->display.bits;
+        r->responseChannels = r->captured.plan->detector.channels;
+        r->responseUnits = r->captured.plan->detector.units;
+    }
+    return r;
+}
+
+// --- Pickling (concurrent.futures, multiprocessing, dask): a Render's arrays and report, so a
+// worker can return one. The loaded scene and its textures stay behind: an unpickled Render has
+// every attribute but cannot save() (which writes the scene's provenance and display path).
+
+template <typename T>
+py::bytes rawBytes(const std::vector<T>& v) {
+    return py::bytes(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
+}
+
+template <typename T>
+std::vector<T> fromRawBytes(const py::handle& b, const char* what) {
+    const std::string s = b.cast<std::string>();
+    if (s.size() % sizeof(T)) failInput(Where{"", "pickle"}, "{}: {} bytes is not a whole number of values", what, s.size());
+    std::vector<T> v(s.size() / sizeof(T));
+    std::memcpy(v.data(), s.data(), s.size());
+    return v;
+}
+
+constexpr int kPickleVersion = 1;
+
+py::tuple renderState(const Render& r) {
+    const CapturedOutputs& c = r.captured.outputs;
+    py::dict timings;
+    for (const auto& [stage, ms] : r.result.timings.stages()) timings[py::str(stage)] = ms;
+    py::dict d;
+    d["width"] = c.width;
+    d["height"] = c.height;
+    d["cube"] = rawBytes(c.cube);
+    d["cube_channels"] = c.cubeChannels;
+    d["counts"] = rawBytes(c.counts);
+    d["xyz"] = rawBytes(c.xyz);
+    d["responses"] = rawBytes(c.responses);
+    d["response_channels_count"] = c.responseChannels;
+    d["edges"] = rawBytes(c.edges);
+    d["grid"] = r.captured.grid.str();
+    d["spectral"] = r.spectral;
+    d["channel_names"] = r.channelNames;
+    d["bits"] = r.bits;
+    d["response_channels"] = r.responseChannels ? py::cast(*r.responseChannels) : py::none();
+    d["response_units"] = r.responseUnits ? py::cast(*r.responseUnits) : py::none();
+    d["xyz_units"] = r.result.xyzUnits;
+    d["display_description"] = r.result.displayDescription;
+    d["clipped_pixels"] = r.result.clippedPixels;
+    d["camera_fit"] = r.result.cameraFitRmsDeltaE ? py::cast(*r.result.cameraFitRmsDeltaE) : py::none();
+    d["backend"] = r.result.backendDescription;
+    d["notes"] = r.result.notes;
+    d["validation_errors"] = r.result.validationErrors;
+    d["timings_ms"] = timings;
+    return py::make_tuple(kPickleVersion, d);
+}
+
+std::shared_ptr<Render> renderFromState(const py::tuple& t) {
+    if (t.size() != 2 || t[0].cast<int>() != kPickleVersion)
+        failInput(Where{"", "pickle"}, "a metamer.Render pickled by another version of metamer (expected state version {})",
+                  kPickleVersion);
+    const py::dict d = t[1].cast<py::dict>();
+    auto r = std::make_shared<Render>();
+    CapturedOutputs& c = r->captured.outputs;
+    c.width = d["width"].cast<int>();
+    c.height = d["height"].cast<int>();
+    c.cube = fromRawBytes<float>(d["cube"], "cube");
+    c.cubeChannels = d["cube_channels"].cast<size_t>();
+    c.counts = fromRawBytes<uint16_t>(d["counts"], "display");
+    c.xyz = fromRawBytes<float>(d["xyz"], "xyz");
+    c.responses = fromRawBytes<float>(d["responses"], "responses");
+    c.responseChannels = d["response_channels_count"].cast<size_t>();
+    c.edges = fromRawBytes<uint16_t>(d["edges"], "edges");
+    const size_t pixels = size_t(c.width) * size_t(c.height);
+    if (c.cube.size() != pixels * c.cubeChannels || c.xyz.size() % 3 || c.counts.size() % 3 ||
+        c.responses.size() != (c.responses.empty() ? 0 : pixels * c.responseChannels))
+        failInput(Where{"", "pickle"}, "a metamer.Render whose arrays do not match its {}×{} size", c.width, c.height);
+    r->captured.grid = Grid::parse(d["grid"].cast<std::string>(), Where{"", "pickle"});
+    r->spectral = d["spectral"].cast<bool>();
+    r->channelNames = d["channel_names"].cast<std::vector<std::string>>();
+    r->bits = d["bits"].cast<int>();
+    if (!d["response_channels"].is_none()) r->responseChannels = d["response_channels"].cast<std::vector<std::string>>();
+    if (!d["response_units"].is_none()) r->responseUnits = d["response_units"].cast<std::string>();
+    r->result.xyzUnits = d["xyz_units"].cast<std::string>();
+    r->result.displayDescription = d["display_description"].cast<std::string>();
+    r->result.clippedPixels = d["clipped_pixels"].cast<size_t>();
+    if (!d["camera_fit"].is_none()) r->result.cameraFitRmsDeltaE = d["camera_fit"].cast<double>();
+    r->result.backendDescription = d["backend"].cast<std::string>();
+    r->result.notes = d["notes"].cast<std::vector<std::string>>();
+    r->result.validationErrors = d["validation_errors"].cast<uint32_t>();
+    StageTimings& times = r->result.timings;
+    const std::map<std::string, double*> stages{{"load", &times.load_ms},       {"upload", &times.upload_ms},
+                                                {"shading", &times.shading_ms}, {"readback", &times.readback_ms},
+                                                {"tonemap", &times.tonemap_ms}, {"write", &times.write_ms},
+                                                {"total", &times.total_ms}};
+    for (auto [stage, ms] : d["timings_ms"].cast<py::dict>())
+        if (auto it = stages.find(stage.cast<std::string>()); it != stages.end()) *it->second = ms.cast<double>();
+    r->unpickled = true;
     return r;
 }
 
@@ -416,9 +547,29 @@ ImageData comparable(const py::object& x, const char* which) {
         d.source = which;
         return d;
     }
+    // (cube, grid): a rows × columns × bands array of spectral radiance on the grid "start:end:step"
+    // (the package's compare() makes this pair from arrays with wavelengths, xarray and load_cube).
+    if (py::isinstance<py::tuple>(x) && py::len(x) == 2) {
+        const py::tuple pair = x.cast<py::tuple>();
+        const Grid grid = Grid::parse(text(pair[1], which), Where{"", which});
+        const auto a = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(pair[0]);
+        if (!a || a.ndim() != 3)
+            throw py::type_error(fmt::format("{}: expected a rows × columns × bands array of numbers", which));
+        if (a.shape(2) != grid.bands() || a.shape(0) < 1 || a.shape(1) < 1)
+            failInput(Where{"", which}, "a {}×{}×{} array on the grid {} ({} bands); expected rows × columns × bands",
+                      a.shape(0), a.shape(1), a.shape(2), grid.str(), grid.bands());
+        SpectralCube cube;
+        cube.height = int(a.shape(0));
+        cube.width = int(a.shape(1));
+        cube.grid = grid;
+        cube.data.assign(a.data(), a.data() + a.size());
+        ImageData d = fromCube(cube);
+        d.source = which;
+        return d;
+    }
     if (!isPath(x))
-        throw py::type_error(fmt::format("{}: expected a path (str, bytes or os.PathLike) or a metamer.Render, got {}",
-                                         which, typeName(x)));
+        throw py::type_error(fmt::format("{}: expected a path (str, bytes or os.PathLike), a metamer.Render or a (cube, "
+                                         "grid) pair, got {}", which, typeName(x)));
     return readComparable(pathOf(x, which));
 }
 
@@ -444,6 +595,7 @@ py::dict compare(const py::object& a, const py::object& b, const py::object& mas
         py::gil_scoped_release release;
         stats = compareImages(A, B, o);
     }
+    raisePendingWarning();
     py::dict d = statsDict(stats);
     if (limits) {
         const Verdict v = judge(stats, *limits);
@@ -457,6 +609,7 @@ py::dict compare(const py::object& a, const py::object& b, const py::object& mas
 py::dict loadCube(const py::object& path) {
     const fs::path file = pathOf(path, "path");
     auto image = std::make_shared<SpectralImage>(readSpectralImage(file));
+    raisePendingWarning();
     const SpectralCube& c = image->cube;
     // The array owns the cube through a capsule: no copy of a cube that may be GiBs.
     py::capsule owner(new std::shared_ptr<SpectralImage>(image),
@@ -505,6 +658,7 @@ py::dict capture(const py::object& source, const py::object& sensorName, const p
         for (int f = 0; f < frames; ++f)
             raws.push_back(digitize(e.electrons, e.width, sensor, CaptureNoise{noise, seed, frame + uint64_t(f)}));
     }
+    raisePendingWarning();
     const py::ssize_t h = e.height, w = e.width;
     py::array_t<uint16_t> raw = frames == 1 ? py::array_t<uint16_t>({h, w}) : py::array_t<uint16_t>({py::ssize_t(frames), h, w});
     uint16_t* out = raw.mutable_data();
@@ -579,20 +733,21 @@ PYBIND11_MODULE(_metamer, m) {
                                [](const Render& r) -> py::object {
                                    if (!r.spectral) return py::none();
                                    return doubles(r.captured.grid.wavelengths());
-                               })
-        .def_property_readonly("grid", [](const Render& r) { return r.captured.grid.str(); })
+                               }, "the bands' centre wavelengths, nm (float64); None for a reduced mode")
+        .def_property_readonly("grid", [](const Render& r) { return r.captured.grid.str(); },
+                               "the spectral grid, \"START:END:STEP\" in nm (as grid= and --grid take it)")
         .def_property_readonly("channels",
                                [](const Render& r) -> py::object {
                                    if (r.spectral) return py::none();
                                    return py::cast(r.channelNames);
-                               })
+                               }, "a reduced mode's channel names (rgb, ac1c2, linear:K); None for spectral modes")
         .def_property_readonly("units",
                                [](const Render& r) {
                                    return r.spectral ? std::string("W·sr⁻¹·m⁻²·nm⁻¹")
                                                      : std::string("W·sr⁻¹·m⁻²·nm⁻¹ weighted by the mode's channels");
-                               })
-        .def_property_readonly("width", [](const Render& r) { return r.captured.outputs.width; })
-        .def_property_readonly("height", [](const Render& r) { return r.captured.outputs.height; })
+                               }, "the cube's units, readable (to_xarray() carries the CF form W sr-1 m-2 nm-1)")
+        .def_property_readonly("width", [](const Render& r) { return r.captured.outputs.width; }, "columns, pixels")
+        .def_property_readonly("height", [](const Render& r) { return r.captured.outputs.height; }, "rows, pixels")
         .def_property_readonly(
             "xyz",
             [](py::object self) -> py::object {
@@ -600,7 +755,8 @@ PYBIND11_MODULE(_metamer, m) {
                 return view(c.xyz, {c.height, c.width, 3}, self);
             },
             "rows × columns × 3 float32: XYZ as the detector sees the scene (xyz_units)")
-        .def_property_readonly("xyz_units", [](const Render& r) { return r.result.xyzUnits; })
+        .def_property_readonly("xyz_units", [](const Render& r) { return r.result.xyzUnits; },
+                               "what xyz holds: relative (white Y = 100) or absolute (cd/m²)")
         .def_property_readonly(
             "responses",
             [](py::object self) -> py::object {
@@ -610,14 +766,14 @@ PYBIND11_MODULE(_metamer, m) {
             "rows × columns × channels float32: the detector's raw responses")
         .def_property_readonly("response_channels",
                                [](const Render& r) -> py::object {
-                                   if (!r.captured.plan) return py::none();
-                                   return py::cast(r.captured.plan->detector.channels);
-                               })
+                                   if (!r.responseChannels) return py::none();
+                                   return py::cast(*r.responseChannels);
+                               }, "the detector's channel names (e.g. X, Y, Z or R, G, B); None without a display path")
         .def_property_readonly("response_units",
                                [](const Render& r) -> py::object {
-                                   if (!r.captured.plan) return py::none();
-                                   return py::cast(r.captured.plan->detector.units);
-                               })
+                                   if (!r.responseUnits) return py::none();
+                                   return py::cast(*r.responseUnits);
+                               }, "the units of responses, as the detector declares them")
         .def_property_readonly(
             "display",
             [](py::object self) -> py::object {
@@ -632,7 +788,8 @@ PYBIND11_MODULE(_metamer, m) {
                 return a;
             },
             "rows × columns × 3 display counts (uint8 or uint16 by bits), what the PNG holds")
-        .def_property_readonly("display_description", [](const Render& r) { return r.result.displayDescription; })
+        .def_property_readonly("display_description", [](const Render& r) { return r.result.displayDescription; },
+                               "the display path: detector, adaptation, display model and bits")
         .def_property_readonly(
             "edges",
             [](py::object self) -> py::object {
@@ -640,22 +797,31 @@ PYBIND11_MODULE(_metamer, m) {
                 return view(c.edges, {c.height, c.width}, self);
             },
             "rows × columns uint16, 255 where a pixel's 3×3 neighbourhood sees more than one surface (cpu)")
-        .def_property_readonly("clipped_pixels", [](const Render& r) { return r.result.clippedPixels; })
+        .def_property_readonly("clipped_pixels", [](const Render& r) { return r.result.clippedPixels; },
+                               "pixels whose display counts clipped at 0 or full scale")
         .def_property_readonly("camera_fit_rms_delta_e2000",
-                               [](const Render& r) { return r.result.cameraFitRmsDeltaE; })
-        .def_property_readonly("backend", [](const Render& r) { return r.result.backendDescription; })
-        .def_property_readonly("notes", [](const Render& r) { return r.result.notes; })
-        .def_property_readonly("validation_errors", [](const Render& r) { return r.result.validationErrors; })
+                               [](const Render& r) { return r.result.cameraFitRmsDeltaE; },
+                               "a camera detector's colour-correction fit, RMS ΔE2000 over its training set; None otherwise")
+        .def_property_readonly("backend", [](const Render& r) { return r.result.backendDescription; },
+                               "the device and the render plan (layers, passes, readback)")
+        .def_property_readonly("notes", [](const Render& r) { return r.result.notes; },
+                               "what the render told the user, one line each")
+        .def_property_readonly("validation_errors", [](const Render& r) { return r.result.validationErrors; },
+                               "Vulkan validation messages of error severity (with validation=True)")
         .def_property_readonly("timings_ms",
                                [](const Render& r) {
                                    py::dict d;
                                    for (const auto& [stage, ms] : r.result.timings.stages()) d[stage] = ms;
                                    return d;
-                               })
+                               }, "milliseconds per stage: load, upload, shading, readback, tonemap, write, total")
         .def(
             "save",
             [](const Render& r, const py::object& dir) {
                 const fs::path out = pathOf(dir, "dir");
+                if (r.unpickled)
+                    failInput(Where{"", "dir"}, "this Render was unpickled: it holds the arrays and the report, not the "
+                                                "scene its files' provenance and display path come from; save() it in "
+                                                "the process that rendered it");
                 std::vector<WrittenFile> written;
                 {
                     py::gil_scoped_release release;
@@ -666,6 +832,7 @@ PYBIND11_MODULE(_metamer, m) {
                 return paths;
             },
             py::arg("dir"), "Writes the files `metamer render --write ...` writes into dir; returns their paths")
+        .def(py::pickle(&renderState, &renderFromState))
         .def("__repr__", [](const Render& r) {
             const CapturedOutputs& c = r.captured.outputs;
             return fmt::format("<metamer.Render {}×{} px, grid {}, {}>", c.width, c.height, r.captured.grid.str(),
@@ -679,7 +846,8 @@ PYBIND11_MODULE(_metamer, m) {
           py::arg("write") = py::none(), py::arg("resample") = py::none(), py::arg("ssaa") = 1,
           py::arg("validation") = false, py::arg("device") = "", py::arg("allow_outside_paths") = false,
           py::arg("name") = "scene", py::arg("base_dir") = py::none(), py::arg("format") = py::none(),
-          py::arg("memory_budget") = py::none(),
+          py::arg("memory_budget") = py::none(), py::arg("half") = false, py::arg("compression") = "piz",
+          py::arg("strict_coverage") = false, py::arg("readback") = "auto",
           renderDoc().c_str());
     m.def("compare", &compare, py::arg("a"), py::arg("b"), py::kw_only(), py::arg("mask") = py::none(),
           py::arg("tolerance") = py::none(), py::arg("resample") = false, py::arg("detector") = "",

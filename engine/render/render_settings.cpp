@@ -64,6 +64,8 @@ void applyRenderSettings(const RenderSettings& s, RenderJob& job,
     if (s.backend != "gpu" && s.backend != "cpu")
         failInput(at("backend"), "'{}' is not a backend; expected \"gpu\" or \"cpu\"", s.backend);
     job.backend = s.backend == "cpu" ? Backend::Cpu : Backend::Gpu;
+    if (s.readback != "auto" && s.readback != "map" && s.readback != "copy")
+        failInput(at("readback"), "'{}' is not a readback; expected \"auto\", \"map\" or \"copy\"", s.readback);
     job.readback = s.readback == "map" ? Readback::Map : s.readback == "copy" ? Readback::Copy : Readback::Auto;
     job.half = s.half;
     job.compression = s.compression;

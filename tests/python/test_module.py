@@ -612,3 +612,124 @@ def test_the_cube_is_an_xarray_data_array_with_its_wavelengths():
     assert np.array_equal(a.wavelength.values, r.wavelengths_nm) and a.wavelength.attrs["units"] == "nm"
     assert a.attrs["units"] == "W sr-1 m-2 nm-1"
     assert float(a.sel(wavelength=550, x=3, y=2)) == float(r.cube[2, 3, list(r.wavelengths_nm).index(550)])
+
+
+# --- Issue 35: the objects users hold, a typed API, warnings as Python's, numbers as numbers, pickling.
+
+class _Spectrum:
+    """A colour-science SpectralDistribution as the package sees it: anything with .wavelengths and .values."""
+
+    def __init__(self, wavelengths, values):
+        self.wavelengths, self.values = np.asarray(wavelengths, float), np.asarray(values, float)
+
+
+def test_a_keyword_typo_names_the_keyword_and_the_nearest_one():
+    with pytest.raises(TypeError, match=r"^render\(\) got an unexpected keyword argument 'grids'; did you mean 'grid'\?$"):
+        metamer.render(white_quad(), grids="400:700:10")
+    with pytest.raises(TypeError, match=r"unexpected keyword argument 'delta'; did you mean 'delta_e'\?"):
+        metamer.compare("a.exr", "b.exr", delta=False)
+
+
+def test_the_api_has_signatures_and_every_public_attribute_a_docstring():
+    import inspect
+
+    parameters = inspect.signature(metamer.render).parameters
+    assert list(parameters)[:3] == ["scene", "grid", "overrides"] and parameters["half"].default is False
+    for keyword in ("half", "compression", "strict_coverage", "readback", "memory_budget"):
+        assert keyword in parameters and f"{keyword} (--" in metamer.render.__doc__
+    for function in (metamer.render, metamer.compare, metamer.load_cube, metamer.capture):
+        assert inspect.signature(function) and len(function.__doc__) > 80 and not function.__doc__.startswith(function.__name__ + "(")
+    public = [n for n in dir(metamer.Render) if not n.startswith("_")]
+    assert len(public) >= 24
+    undocumented = [n for n in public if len((getattr(metamer.Render, n).__doc__ or "").strip()) < 10]
+    assert undocumented == []
+
+
+def test_numpy_numbers_and_spectrum_objects_in_overrides_and_scenes():
+    w = np.arange(300.0, 741.0, 20.0)
+    scene = white_quad()
+    scene["materials"]["white"]["diffuse"] = _Spectrum(w, np.full(w.size, 0.5))
+    r = metamer.render(scene, overrides={"lights.0.scale": np.int64(3), "camera.width": np.int32(4),
+                                         "lights.0.spectrum": _Spectrum(w, np.full(w.size, 2.0))})
+    assert r.cube.shape[1] == 4
+    np.testing.assert_allclose(r.cube, 0.5 * 2.0 * 3 / math.pi, rtol=1e-6)
+    with pytest.raises(metamer.InputError, match=r"overrides\.lights\.0\.spectrum: a spectrum with \(3, 2\) values"):
+        metamer.render(white_quad(), overrides={"lights.0.spectrum": _Spectrum(w[:3], np.ones((3, 2)))})
+
+
+def test_grid_takes_a_spectral_shape_or_evenly_spaced_wavelengths():
+    shape = colour.SpectralShape(400, 700, 10)
+    assert metamer.render(white_quad(), grid=shape).grid == "400:700:10"
+    assert metamer.render(white_quad(), grid=np.arange(420.0, 681.0, 20.0)).grid == "420:680:20"
+    with pytest.raises(metamer.InputError, match="not evenly spaced"):
+        metamer.render(white_quad(), grid=[400, 410, 430])
+    with pytest.raises(TypeError, match="SpectralShape"):
+        metamer.render(white_quad(), grid=object())
+
+
+def test_a_detector_object_with_labels_is_a_detector():
+    cmfs = colour.MSDS_CMFS["CIE 1931 2 Degree Standard Observer"]
+    ours = metamer.render(white_quad(), grid="380:780:5", detector=cmfs, write="responses")
+    builtin = metamer.render(white_quad(), grid="380:780:5", detector="cie1931", write="responses")
+    assert ours.response_channels == list(cmfs.labels)
+    np.testing.assert_allclose(ours.responses, builtin.responses, rtol=2e-3)
+
+
+def test_compare_takes_arrays_xarray_and_load_cube_dicts_and_gives_numbers(tmp_path):
+    r = metamer.render(white_quad(), grid="400:700:10", format="exr")
+    path = r.save(tmp_path)[0]
+    for operand in (r.cube.copy(), r.to_xarray(), metamer.load_cube(path)):
+        assert metamer.compare(operand, r, wavelengths=r.wavelengths_nm)["max_abs"] == 0
+    stats = metamer.compare(r, np.zeros_like(r.cube), wavelengths=np.arange(400.0, 701.0, 10.0))
+    assert isinstance(stats["rmse_relative"], float) and stats["rmse_relative"] == math.inf
+    with pytest.raises(TypeError, match="an array needs its wavelengths"):
+        metamer.compare(r.cube, r)
+    with pytest.raises(metamer.InputError, match=r"^b: .*6×8×5 array on the grid 400:700:10 \(31 bands\)"):
+        metamer.compare(r, r.cube[..., :5], wavelengths=r.wavelengths_nm)
+
+
+def test_warnings_turned_into_errors_fail_the_render():
+    import warnings
+
+    args = dict(grid="300:740:20", overrides={"camera.width": 8, "camera.height": 8})
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", metamer.Warning)
+        with pytest.raises(metamer.Warning, match=r"materials\.floor\.diffuse"):
+            metamer.render(REPO / "scenes" / "spheres.json", **args)
+    with pytest.warns(metamer.Warning):  # the filter gone, the same render warns and returns
+        assert metamer.render(REPO / "scenes" / "spheres.json", **args).cube is not None
+
+
+def _render_in_worker(albedo):
+    return metamer.render(white_quad(albedo=albedo), write="cube,xyz,display")
+
+
+def test_renders_pickle_and_come_back_from_a_process_pool(tmp_path):
+    import concurrent.futures
+    import multiprocessing
+    import pickle
+
+    r = metamer.render(white_quad(), write="cube,xyz,display,responses")
+    back = pickle.loads(pickle.dumps(r))
+    for attribute in ("cube", "xyz", "display", "responses", "wavelengths_nm"):
+        assert np.array_equal(getattr(back, attribute), getattr(r, attribute)), attribute
+    for attribute in ("grid", "width", "height", "xyz_units", "response_channels", "backend", "display_description",
+                      "timings_ms", "validation_errors"):
+        assert getattr(back, attribute) == getattr(r, attribute), attribute
+    with pytest.raises(metamer.InputError, match="unpickled"):
+        back.save(tmp_path)
+    # spawn: what docs/python.md recommends; the worker imports metamer afresh.
+    with concurrent.futures.ProcessPoolExecutor(1, mp_context=multiprocessing.get_context("spawn")) as pool:
+        done = pool.submit(_render_in_worker, 0.5).result(timeout=300)
+    assert isinstance(done, metamer.Render)
+    np.testing.assert_allclose(done.cube, 0.5 * 2.0 / math.pi, rtol=1e-6)
+
+
+def test_the_cli_render_flags_have_keywords(tmp_path):
+    r = metamer.render(white_quad(), half=True, compression="zip", strict_coverage=True, readback="copy")
+    written = r.save(tmp_path)
+    oiio = pytest.importorskip("OpenImageIO")
+    spec = oiio.ImageInput.open(written[0]).spec()
+    assert str(spec.format) == "half" and spec.getattribute("compression") == "zip"
+    with pytest.raises(metamer.InputError, match="readback"):
+        metamer.render(white_quad(), readback="fast")

@@ -1,0 +1,272 @@
+"""The package's functions as a Python user calls them: typed signatures (inspect.signature, IDEs,
+mypy), keyword typos named with a suggestion, and the objects users already hold taken as they
+are — colour-science's SpectralDistribution and SpectralShape (duck-typed, never imported), numpy
+scalars and arrays, xarray cubes. Each function converts its arguments and calls the engine
+(metamer._metamer); nothing is computed here.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import difflib
+import functools
+import inspect
+import os
+import tempfile
+from typing import Any, Callable, Literal, Mapping, Optional, Sequence, TypeVar, Union
+
+from . import _metamer
+
+PathLike = Union[str, bytes, "os.PathLike[str]", "os.PathLike[bytes]"]
+F = TypeVar("F", bound=Callable[..., Any])
+
+
+def _keywords_checked(function: F) -> F:
+    """A keyword the function does not take is a TypeError that names it and the nearest one it
+    does take (`grids=` → "did you mean 'grid'?"), not a list of signatures."""
+    parameters = inspect.signature(function).parameters
+    names = [n for n, p in parameters.items() if p.kind in (p.KEYWORD_ONLY, p.POSITIONAL_OR_KEYWORD)]
+
+    @functools.wraps(function)
+    def call(*args: Any, **keywords: Any) -> Any:
+        for keyword in keywords:
+            if keyword not in parameters:
+                near = difflib.get_close_matches(keyword, names, n=1, cutoff=0.6)
+                hint = f"; did you mean {near[0]!r}?" if near else f"; it takes {', '.join(names)}"
+                raise TypeError(f"{function.__name__}() got an unexpected keyword argument {keyword!r}{hint}")
+        return function(*args, **keywords)
+
+    return call  # type: ignore[return-value]
+
+
+# --- Objects users hold, as the engine takes them.
+
+def _is_spectrum(x: Any) -> bool:
+    """A SpectralDistribution, duck-typed: .wavelengths and .values, one value per wavelength."""
+    return hasattr(x, "wavelengths") and hasattr(x, "values") and not isinstance(x, (str, bytes, Mapping))
+
+
+def _spectrum_json(x: Any, where: str) -> dict[str, list[float]]:
+    """A spectrum object as the scene format's inline spectrum (docs/scene-format.md)."""
+    import numpy as np
+
+    wavelengths = np.asarray(x.wavelengths, dtype=np.float64).ravel()
+    values = np.asarray(x.values, dtype=np.float64)
+    if values.ndim != 1 or values.shape != wavelengths.shape:
+        raise _metamer.InputError(f"{where}: a spectrum with {values.shape} values on {wavelengths.size} wavelengths; "
+                                  "expected one value per wavelength (a multi-channel object is a detector)")
+    return {"wavelengths_nm": wavelengths.tolist(), "values": values.tolist()}
+
+
+def _scene_values(x: Any, where: str, depth: int = 0) -> Any:
+    """A scene dict or an override's value with every spectrum object made inline JSON. Past the
+    parser's depth the value is passed on as it is, for the engine to refuse at its key path."""
+    if depth > 64:
+        return x
+    if _is_spectrum(x):
+        return _spectrum_json(x, where)
+    if isinstance(x, Mapping):
+        return {k: _scene_values(v, f"{where}.{k}", depth + 1) for k, v in x.items()}
+    if isinstance(x, (list, tuple)):
+        return [_scene_values(v, f"{where}.{i}", depth + 1) for i, v in enumerate(x)]
+    return x
+
+
+def _number_text(v: float) -> str:
+    return repr(float(v)).removesuffix(".0") if float(v) == float(v) else str(v)
+
+
+def _grid_text(grid: Any, keyword: str = "grid") -> Optional[str]:
+    """A grid as "START:END:STEP": the text itself; a SpectralShape-like object (.start, .end,
+    .interval); or evenly spaced wavelengths (a list or array)."""
+    if grid is None or isinstance(grid, str):
+        return grid
+    if all(hasattr(grid, a) for a in ("start", "end", "interval")):
+        return f"{_number_text(grid.start)}:{_number_text(grid.end)}:{_number_text(grid.interval)}"
+    import numpy as np
+
+    try:
+        w = np.asarray(grid, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise TypeError(f"{keyword}: expected \"START:END:STEP\", an object with .start, .end and .interval (a "
+                        f"colour SpectralShape) or evenly spaced wavelengths, got {type(grid).__name__}") from None
+    if w.ndim != 1 or w.size < 2:
+        raise _metamer.InputError(f"{keyword}: {w.size} wavelength(s); expected at least two, evenly spaced")
+    steps = np.diff(w)
+    if not np.all(np.isfinite(w)) or not np.allclose(steps, steps[0], rtol=0, atol=1e-9 * max(1.0, abs(w).max())):
+        raise _metamer.InputError(f"{keyword}: the wavelengths are not evenly spaced (steps {steps.min():g} … "
+                                  f"{steps.max():g} nm); a grid has one step")
+    return f"{_number_text(w[0])}:{_number_text(w[-1])}:{_number_text(steps[0])}"
+
+
+def _detector_file(detector: Any, folder: str) -> Optional[str]:
+    """A detector given as an object with .wavelengths, .values (wavelengths × channels) and
+    .labels (a colour MultiSpectralDistributions) written as the user table `csv:PATH` reads."""
+    if detector is None or isinstance(detector, str):
+        return detector
+    if not all(hasattr(detector, a) for a in ("wavelengths", "values", "labels")):
+        raise TypeError("detector: expected a name (cie1931, camera:<name>, csv:<path>, …) or an object with "
+                        f".wavelengths, .values and .labels (a colour MultiSpectralDistributions), got "
+                        f"{type(detector).__name__}")
+    import numpy as np
+
+    wavelengths = np.asarray(detector.wavelengths, dtype=np.float64).ravel()
+    values = np.asarray(detector.values, dtype=np.float64)
+    labels = [str(label) for label in detector.labels]
+    if values.ndim == 1:
+        values = values[:, None]
+    if values.shape != (wavelengths.size, len(labels)):
+        raise _metamer.InputError(f"detector: {values.shape} values for {wavelengths.size} wavelengths and "
+                                  f"{len(labels)} labels; expected wavelengths × channels")
+    for label in labels:
+        if not label or any(c in label for c in ",\n\r\""):
+            raise _metamer.InputError(f"detector: channel label {label!r}; expected a non-empty name without "
+                                      "commas, quotes or line breaks")
+    path = os.path.join(folder, "detector.csv")
+    with open(path, "w", encoding="utf-8") as f:
+        f.write(",".join(["wavelength_nm", *labels]) + "\n")
+        for w, row in zip(wavelengths.tolist(), values.tolist()):
+            f.write(",".join(repr(float(v)) for v in [w, *row]) + "\n")
+    return "csv:" + path
+
+
+def _cube_operand(x: Any, wavelengths: Any, which: str) -> Any:
+    """A compare operand: a path or a Render as they are; an xarray DataArray with a wavelength
+    coordinate, a dict as load_cube returns, or an array with `wavelengths`, as (cube, grid)."""
+    import numpy as np
+
+    is_array = isinstance(x, np.ndarray) or hasattr(x, "__array__") or hasattr(x, "__array_interface__")
+    if not (is_array or isinstance(x, Mapping)) or isinstance(x, (str, bytes, os.PathLike, _metamer.Render)):
+        return x  # a path, a Render or a (cube, grid) pair; anything else is refused by the engine, by name
+
+    if hasattr(x, "dims") and hasattr(x, "coords"):  # xarray
+        if "wavelength" not in x.dims:
+            raise _metamer.InputError(f"{which}: an xarray object without a 'wavelength' dimension (dims {x.dims})")
+        x = x.transpose(..., "wavelength")
+        return (np.asarray(x.values, dtype=np.float32), _grid_text(x["wavelength"].values, which))
+    if isinstance(x, Mapping) and "cube" in x and "grid" in x:  # load_cube's dict
+        return (x["cube"], x["grid"])
+    if wavelengths is None:
+        raise TypeError(f"{which}: an array needs its wavelengths: compare(a, b, wavelengths=...) (or pass a path, "
+                        "a Render, an xarray DataArray or load_cube's dict)")
+    return (np.asarray(x, dtype=np.float32), _grid_text(wavelengths, "wavelengths"))
+
+
+def _numbers(x: Any) -> Any:
+    """The statistics as numbers: JSON's "inf", "-inf" and "nan" strings become floats."""
+    if isinstance(x, dict):
+        return {k: _numbers(v) for k, v in x.items()}
+    if isinstance(x, list):
+        return [_numbers(v) for v in x]
+    if isinstance(x, str) and x in ("inf", "-inf", "nan", "Infinity", "-Infinity", "NaN"):
+        return float(x.replace("Infinity", "inf").replace("NaN", "nan"))
+    return x
+
+
+# --- The functions.
+
+@_keywords_checked
+def render(
+    scene: Union[PathLike, Mapping[str, Any]],
+    *,
+    grid: Any = None,
+    overrides: Union[Mapping[str, Any], Sequence[str], str, None] = None,
+    backend: Literal["gpu", "cpu"] = "gpu",
+    detector: Any = None,
+    adapt: Optional[Literal["none", "vonkries-xyz", "vonkries", "bradford", "cat02", "cat16"]] = None,
+    display: Optional[Literal["srgb", "crt"]] = None,
+    bits: Optional[Literal[8, 16]] = None,
+    integration: Optional[Literal["riemann", "trapezoid", "astm-e308"]] = None,
+    xyz: Optional[Literal["relative", "absolute"]] = None,
+    mode: str = "full",
+    write: Union[str, Sequence[str], None] = None,
+    resample: Optional[Literal["interpolate", "sprague", "band-mean"]] = None,
+    ssaa: int = 1,
+    validation: bool = False,
+    device: str = "",
+    allow_outside_paths: bool = False,
+    name: str = "scene",
+    base_dir: Optional[PathLike] = None,
+    format: Union[str, Sequence[str], None] = None,
+    memory_budget: Optional[float] = None,
+    half: bool = False,
+    compression: str = "piz",
+    strict_coverage: bool = False,
+    readback: Literal["auto", "map", "copy"] = "auto",
+) -> _metamer.Render:
+    if isinstance(scene, Mapping):
+        scene = _scene_values(dict(scene), "scene")
+    if isinstance(overrides, Mapping):
+        overrides = {k: _scene_values(v, f"overrides.{k}") for k, v in overrides.items()}
+    # A detector object is written as a table for the render to read, then removed.
+    folder = None if detector is None or isinstance(detector, str) else tempfile.TemporaryDirectory(prefix="metamer-")
+    with folder if folder is not None else contextlib.nullcontext():
+        return _metamer.render(
+            scene, grid=_grid_text(grid), overrides=overrides, backend=backend,
+            detector=_detector_file(detector, folder.name if folder else ""), adapt=adapt, display=display, bits=bits,
+            integration=integration, xyz=xyz, mode=mode, write=write, resample=resample, ssaa=ssaa,
+            validation=validation, device=device, allow_outside_paths=allow_outside_paths, name=name,
+            base_dir=base_dir, format=format, memory_budget=memory_budget, half=half, compression=compression,
+            strict_coverage=strict_coverage, readback=readback)
+
+
+@_keywords_checked
+def compare(
+    a: Any,
+    b: Any,
+    *,
+    wavelengths: Any = None,
+    mask: Optional[PathLike] = None,
+    tolerance: Optional[PathLike] = None,
+    resample: bool = False,
+    detector: str = "",
+    adapt: str = "",
+    display: str = "",
+    pixel_threshold: Optional[float] = None,
+    relative_floor: Optional[float] = None,
+    delta_e: bool = True,
+) -> dict[str, Any]:
+    stats = _metamer.compare(
+        _cube_operand(a, wavelengths, "a"), _cube_operand(b, wavelengths, "b"), mask=mask, tolerance=tolerance,
+        resample=resample, detector=detector, adapt=adapt, display=display, pixel_threshold=pixel_threshold,
+        relative_floor=relative_floor, delta_e=delta_e)
+    numbers: dict[str, Any] = _numbers(stats)
+    return numbers
+
+
+@_keywords_checked
+def load_cube(path: PathLike) -> dict[str, Any]:
+    return _metamer.load_cube(path)
+
+
+@_keywords_checked
+def capture(
+    source: Union[PathLike, _metamer.Render],
+    sensor: PathLike,
+    *,
+    seed: int = 0,
+    frame: int = 0,
+    frames: int = 1,
+    exposure: Optional[float] = None,
+    noise: bool = True,
+) -> dict[str, Any]:
+    return _metamer.capture(source, sensor, seed=seed, frame=frame, frames=frames, exposure=exposure, noise=noise)
+
+
+def _engine_doc(function: Any) -> str:
+    """The extension's docstring without pybind11's signature line (the signature is this module's)."""
+    doc = function.__doc__ or ""
+    return doc.split("\n\n", 1)[1] if doc.startswith(function.__name__ + "(") else doc
+
+
+render.__doc__ = _engine_doc(_metamer.render) + (
+    "\nIn Python also: `grid` may be a colour SpectralShape (.start, .end, .interval) or evenly spaced "
+    "wavelengths; any object with .wavelengths and .values (a colour SpectralDistribution) is a spectrum in a "
+    "scene dict or an override; `detector` may be an object with .wavelengths, .values (wavelengths × channels) "
+    "and .labels (a colour MultiSpectralDistributions). Returns a Render.")
+compare.__doc__ = _engine_doc(_metamer.compare) + (
+    "\n\nA and B may also be an xarray DataArray with a 'wavelength' dimension, the dict load_cube returns, or a "
+    "rows × columns × bands array with `wavelengths` (evenly spaced, nm). Infinite and undefined statistics are "
+    "floats (inf, nan).")
+load_cube.__doc__ = _engine_doc(_metamer.load_cube)
+capture.__doc__ = _engine_doc(_metamer.capture)
