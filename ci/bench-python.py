@@ -22,7 +22,7 @@ import time
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(REPO / "build" / "python"))
+sys.path.insert(0, str(REPO / "build" / "python"))  # this checkout's build, not an installed copy
 import metamer  # noqa: E402
 
 
@@ -62,7 +62,34 @@ def main() -> int:
             m, s, c = statistics.median(module), statistics.median(saved), statistics.median(cli)
             print(f"{label:<10} {first * 1e3:>9.0f}ms {m * 1e3:>7.0f}ms {s * 1e3:>10.0f}ms {c * 1e3:>7.0f}ms "
                   f"{c / m:>10.1f}×")
+    sweep(args.scene, args.runs)
     return 0
+
+
+def sweep(scene: str, runs: int) -> None:
+    """A sweep over illuminants at the scene's own size (docs/python.md, "Speed"): the light's
+    spectrum changes each call, which leaves the shadow maps as they were (drawn once, reused);
+    beside it, the same calls with the point light moved a millimetre each time, which redraws
+    them — the cost a spectrum change no longer pays."""
+    spectra = ["illuminants/A", "illuminants/D65", "illuminants/FL2"]
+    print(f"\nsweep over lights.1.spectrum, {scene} at its own size, write=xyz, {runs} calls each, interleaved")
+    metamer.render(scene, write="xyz")  # the device, the pipelines, the maps
+    changed, moved, upload_changed, upload_moved = [], [], [], []
+    for i in range(runs):
+        t = time.perf_counter()
+        r = metamer.render(scene, write="xyz", overrides={"lights.1.spectrum": spectra[i % 3]})
+        changed.append(time.perf_counter() - t)
+        upload_changed.append(r.timings_ms["upload"])
+        t = time.perf_counter()
+        r = metamer.render(scene, write="xyz", overrides={"lights.1.spectrum": spectra[i % 3],
+                                                          "lights.1.position": [1.5 + 0.001 * (i + 1), 3, 2.5]})
+        moved.append(time.perf_counter() - t)
+        upload_moved.append(r.timings_ms["upload"])
+    c, m = statistics.median(changed), statistics.median(moved)
+    print(f"{'call':<34} {'median':>8} {'upload (incl. shadow maps)':>28}")
+    print(f"{'spectrum changed (maps reused)':<34} {c * 1e3:>6.0f}ms {statistics.median(upload_changed):>26.0f}ms")
+    print(f"{'light moved (maps redrawn)':<34} {m * 1e3:>6.0f}ms {statistics.median(upload_moved):>26.0f}ms")
+    print(f"reuse saves {(m - c) * 1e3:.0f} ms a call ({m / c:.1f}×)")
 
 
 if __name__ == "__main__":
