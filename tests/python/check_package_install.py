@@ -49,7 +49,8 @@ with zipfile.ZipFile(wheel) as z:
     names = z.namelist()
 size_mb = os.path.getsize(wheel) / 1e6
 print(f"wheel {os.path.basename(wheel)}: {size_mb:.1f} MB, {len(names)} files")
-for required in ["metamer/__init__.py", "metamer/__main__.py", "metamer/py.typed", "metamer/bin/metamer",
+for required in ["metamer/__init__.py", "metamer/__main__.py", "metamer/_api.py", "metamer/_notebook.py",
+                 "metamer/_metamer.pyi", "metamer/py.typed", "metamer/bin/metamer",
                  "metamer/libmetamer_oiio.so", "metamer/spectra/README.md"]:
     check(required in names, f"the wheel holds {required}")
 check(any(n.startswith("metamer/_metamer.") and n.endswith(".so") for n in names), "the wheel holds the extension")
