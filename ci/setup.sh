@@ -53,6 +53,11 @@ fi
 if ! "$venv/bin/python" -c "import h5py, spectral" 2>/dev/null; then
   "${pip_in_venv[@]}" "h5py==3.13.0" "spectral==0.24" "numpy==2.2.6"
 fi
+# xarray through h5netcdf: the netCDF reader that checks the HDF5 cube's named dimensions
+# (tests/python/check_cube_formats.py); pandas and h5py pinned as above.
+if ! "$venv/bin/python" -c "import xarray, h5netcdf" 2>/dev/null; then
+  "${pip_in_venv[@]}" "xarray==2025.6.1" "h5netcdf==1.6.4" "h5py==3.13.0" "pandas==2.2.3" "numpy==2.2.6"
+fi
 # tmm (Byrnes' transfer-matrix method) is the independent oracle for the dielectric slabs.
 if ! "$venv/bin/python" -c "import tmm" 2>/dev/null; then
   "${pip_in_venv[@]}" "tmm==0.2.0" "numpy==2.2.6"

@@ -6,11 +6,13 @@
 #include "io/atomic_file.h"
 
 #include <hdf5.h>
+#include <hdf5_hl.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <fstream>
+#include <initializer_list>
 #include <limits>
 #include <optional>
 #include <string>
@@ -23,7 +25,10 @@ namespace metamer {
 
 namespace {
 
-constexpr const char* kRadianceUnits = "W·sr⁻¹·m⁻²·nm⁻¹";
+// `units` in UDUNITS' grammar, which CF readers (xarray with cf-units or pint, Panoply, ncdump
+// users) parse; the same with superscripts in `units_readable`.
+constexpr const char* kRadianceUnits = "W sr-1 m-2 nm-1";
+constexpr const char* kRadianceUnitsReadable = "W·sr⁻¹·m⁻²·nm⁻¹";
 constexpr const char* kInterleave = "pixel ([row, column, band])";
 constexpr hsize_t kMaxChunkColumns = 1024;
 constexpr uint64_t kMaxValues = uint64_t(1) << 34;  // 64 GiB of float32: refused before allocating
@@ -129,7 +134,8 @@ void writeDoubleAttribute(hid_t object, const char* name, double value, const fs
     check(H5Awrite(attribute.get(), H5T_NATIVE_DOUBLE, &value), path, "write a number attribute");
 }
 
-void writeDoubles(hid_t file, const char* name, const std::vector<double>& values, const fs::path& path) {
+// A float64 [bands] dataset in nm; returned open, for dimension scales.
+Handle writeDoubles(hid_t file, const char* name, const std::vector<double>& values, const fs::path& path) {
     const hsize_t n = values.size();
     Handle space = made(H5Screate_simple(1, &n, nullptr), H5Sclose, path, "make a dataspace");
     Handle set = made(H5Dcreate2(file, name, H5T_IEEE_F64LE, space.get(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
@@ -137,6 +143,32 @@ void writeDoubles(hid_t file, const char* name, const std::vector<double>& value
     check(H5Dwrite(set.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), path,
           "write a wavelength dataset");
     writeStringAttribute(set.get(), "units", "nm", path);
+    return set;
+}
+
+// /y or /x: the row or column index 0 .. n−1, as int32, so that every dimension of /cube has a
+// scale and netCDF readers need no made-up ("phony") dimension names.
+Handle writeIndices(hid_t file, const char* name, int n, const char* longName, const fs::path& path) {
+    const hsize_t size = hsize_t(n);
+    std::vector<int32_t> index(static_cast<size_t>(n));
+    for (int i = 0; i < n; ++i) index[size_t(i)] = i;
+    Handle space = made(H5Screate_simple(1, &size, nullptr), H5Sclose, path, "make a dataspace");
+    Handle set = made(H5Dcreate2(file, name, H5T_STD_I32LE, space.get(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                      H5Dclose, path, "create a pixel index dataset");
+    check(H5Dwrite(set.get(), H5T_NATIVE_INT32, H5S_ALL, H5S_ALL, H5P_DEFAULT, index.data()), path,
+          "write a pixel index dataset");
+    writeStringAttribute(set.get(), "long_name", longName, path);
+    return set;
+}
+
+// Makes `scale` the dimension scale named `name` (HDF5's DS convention, which netCDF-4 and so
+// h5netcdf and xarray read as a dimension with coordinates) and attaches it to `dimension` of each
+// dataset in `users`.
+void attachScale(const Handle& scale, const char* name, std::initializer_list<std::pair<hid_t, unsigned>> users,
+                 const fs::path& path) {
+    check(H5DSset_scale(scale.get(), name), path, "make a dimension scale");
+    for (const auto& [set, dimension] : users)
+        check(H5DSattach_scale(set, scale.get(), dimension), path, "attach a dimension scale");
 }
 
 }  // namespace
@@ -186,13 +218,27 @@ Hdf5CubeWriter::Hdf5CubeWriter(const fs::path& path, int width, int height, cons
 
     const bool reflective = options.component == SpectralComponent::Reflective;
     writeStringAttribute(m.cube.get(), "units", reflective ? "1" : kRadianceUnits, path);
+    writeStringAttribute(m.cube.get(), "units_readable", reflective ? "1" : kRadianceUnitsReadable, path);
     writeStringAttribute(m.cube.get(), "quantity", reflective ? "reflectance" : "spectral radiance", path);
     writeStringAttribute(m.cube.get(), "grid", grid.str(), path);
     writeDoubleAttribute(m.cube.get(), "band_width_nm", grid.step_nm, path);
     writeStringAttribute(m.cube.get(), "resampling", resamplingName(grid.resampling), path);
     writeStringAttribute(m.cube.get(), "interleave", kInterleave, path);
-    writeDoubles(m.file.get(), "wavelength_nm", grid.wavelengths(), path);
-    writeDoubles(m.file.get(), "fwhm_nm", std::vector<double>(size_t(m.bands), grid.step_nm), path);
+    const Handle wavelengthNm = writeDoubles(m.file.get(), "wavelength_nm", grid.wavelengths(), path);
+    const Handle fwhm = writeDoubles(m.file.get(), "fwhm_nm", std::vector<double>(size_t(m.bands), grid.step_nm), path);
+    // The dimensions, named and with coordinates, for netCDF readers (docs/io.md, "HDF5"): /wavelength
+    // repeats /wavelength_nm, which Metamer and earlier readers keep reading, under the name the
+    // dimension takes (h5netcdf names a dimension after its scale's dataset).
+    const Handle wavelength = writeDoubles(m.file.get(), "wavelength", grid.wavelengths(), path);
+    writeStringAttribute(wavelength.get(), "long_name", "band centre wavelength", path);
+    writeStringAttribute(wavelength.get(), "standard_name", "radiation_wavelength", path);
+    const Handle rows = writeIndices(m.file.get(), "y", height, "pixel row, 0 at the top", path);
+    const Handle columns = writeIndices(m.file.get(), "x", width, "pixel column, 0 at the left", path);
+    attachScale(rows, "y", {{m.cube.get(), 0}}, path);
+    attachScale(columns, "x", {{m.cube.get(), 1}}, path);
+    attachScale(wavelength, "wavelength", {{m.cube.get(), 2}, {wavelengthNm.get(), 0}, {fwhm.get(), 0}}, path);
+    const char* labels[3] = {"y", "x", "wavelength"};
+    for (unsigned d = 0; d < 3; ++d) check(H5DSset_label(m.cube.get(), d, labels[d]), path, "label a dimension");
     for (const auto& [name, value] : options.attributes) writeStringAttribute(m.file.get(), name, value, path);
 }
 

@@ -24,11 +24,17 @@ struct Hdf5WriteOptions {
 // Writes a cube strip by strip (rows in order) into one HDF5 file, each strip one hyperslab, so
 // memory stays bounded whatever the image size. The file appears only at commit(); a writer
 // destroyed before that leaves nothing behind (AtomicOutput). Layout:
-//   /cube           float32 [rows, columns, bands], chunks [1, min(columns, 1024), bands]
-//                   attributes units ("W·sr⁻¹·m⁻²·nm⁻¹" or "1"), quantity ("spectral radiance" or
-//                   "reflectance"), grid (Grid::str()), band_width_nm, resampling, interleave
+//   /cube           float32 [rows, columns, bands], chunks [1, min(columns, 1024), bands],
+//                   dimensions labelled y, x, wavelength with the scales below attached
+//                   attributes units ("W sr-1 m-2 nm-1", UDUNITS, or "1"), units_readable
+//                   ("W·sr⁻¹·m⁻²·nm⁻¹"), quantity ("spectral radiance" or "reflectance"), grid
+//                   (Grid::str()), band_width_nm, resampling, interleave
 //   /wavelength_nm  float64 [bands], the band centres
 //   /fwhm_nm        float64 [bands], the band widths (the grid step)
+//   /wavelength     float64 [bands], the band centres again: the dimension scale `wavelength`
+//   /y, /x          int32 row and column indices: the dimension scales `y` and `x`
+// so that netCDF readers (xarray with h5netcdf) see dimensions y, x, wavelength and a wavelength
+// coordinate in nm.
 // HDF5 failures are runtime errors naming the path.
 class Hdf5CubeWriter : public CubeWriter {
 public:

@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 #include <hdf5.h>
+#include <hdf5_hl.h>
 
 #include <cmath>
 #include <cstring>
@@ -257,7 +258,8 @@ TEST_F(Hdf5Cube, LayoutChunksAndAttributes) {
     EXPECT_EQ(H5Pget_filter2(dcpl, 1, &flags, &nValues, &level, 0, nullptr, nullptr), H5Z_FILTER_DEFLATE);
     EXPECT_EQ(level, 5u);
 
-    EXPECT_EQ(readStringAttribute(set, "units"), "W·sr⁻¹·m⁻²·nm⁻¹");
+    EXPECT_EQ(readStringAttribute(set, "units"), "W sr-1 m-2 nm-1");  // UDUNITS grammar
+    EXPECT_EQ(readStringAttribute(set, "units_readable"), "W·sr⁻¹·m⁻²·nm⁻¹");
     EXPECT_EQ(readStringAttribute(set, "quantity"), "spectral radiance");
     EXPECT_EQ(readStringAttribute(set, "grid"), "500:560:10");
     EXPECT_EQ(readStringAttribute(set, "resampling"), "interpolate");
@@ -288,6 +290,60 @@ TEST_F(Hdf5Cube, LayoutChunksAndAttributes) {
     H5Sclose(space);
     H5Dclose(set);
     H5Fclose(f);
+}
+
+// What netCDF readers (h5netcdf, xarray) need to name the dimensions: a labelled dimension scale
+// on each of /cube's axes, /wavelength holding the band centres in nm. tests/python/check_cube_formats.py
+// opens the same layout with xarray.
+TEST_F(Hdf5Cube, DimensionsAreLabelledScalesYXWavelength) {
+    const SpectralCube cube = randomCube(5, 2, Grid{500, 560, 10}, 3);
+    const fs::path file = dir / "scales.h5";
+    writeHdf5Cube(file, cube);
+    hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+    ASSERT_GE(f, 0);
+    hid_t set = H5Dopen2(f, "cube", H5P_DEFAULT);
+    ASSERT_GE(set, 0);
+    const char* names[3] = {"y", "x", "wavelength"};
+    const hsize_t sizes[3] = {2, 5, 7};
+    for (unsigned d = 0; d < 3; ++d) {
+        char label[32] = {};
+        ASSERT_GT(H5DSget_label(set, d, label, sizeof label), 0) << d;
+        EXPECT_STREQ(label, names[d]);
+        hid_t scale = H5Dopen2(f, names[d], H5P_DEFAULT);
+        ASSERT_GE(scale, 0) << names[d];
+        EXPECT_GT(H5DSis_scale(scale), 0) << names[d];
+        EXPECT_GT(H5DSis_attached(set, scale, d), 0) << names[d];
+        char scaleName[32] = {};
+        ASSERT_GT(H5DSget_scale_name(scale, scaleName, sizeof scaleName), 0) << names[d];
+        EXPECT_STREQ(scaleName, names[d]);
+        hid_t space = H5Dget_space(scale);
+        hsize_t n = 0;
+        H5Sget_simple_extent_dims(space, &n, nullptr);
+        EXPECT_EQ(n, sizes[d]) << names[d];
+        H5Sclose(space);
+        H5Dclose(scale);
+    }
+    // The wavelength coordinate in nm; /wavelength_nm and /fwhm_nm lie along the same dimension.
+    hid_t wavelength = H5Dopen2(f, "wavelength", H5P_DEFAULT);
+    std::vector<double> w(7);
+    ASSERT_GE(H5Dread(wavelength, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, w.data()), 0);
+    for (int b = 0; b < 7; ++b) EXPECT_EQ(w[size_t(b)], 500.0 + 10.0 * b);
+    EXPECT_EQ(readStringAttribute(wavelength, "units"), "nm");
+    for (const char* name : {"wavelength_nm", "fwhm_nm"}) {
+        hid_t d = H5Dopen2(f, name, H5P_DEFAULT);
+        EXPECT_GT(H5DSis_attached(d, wavelength, 0), 0) << name;
+        H5Dclose(d);
+    }
+    hid_t x = H5Dopen2(f, "x", H5P_DEFAULT);
+    std::vector<int> columns(5);
+    ASSERT_GE(H5Dread(x, H5T_NATIVE_INT, H5S_ALL, H5S_ALL, H5P_DEFAULT, columns.data()), 0);
+    EXPECT_EQ(columns, (std::vector<int>{0, 1, 2, 3, 4}));
+    H5Dclose(x);
+    H5Dclose(wavelength);
+    H5Dclose(set);
+    H5Fclose(f);
+    // Metamer reads its own file as before.
+    expectBitExact(readHdf5Cube(file).cube, cube);
 }
 
 TEST_F(Hdf5Cube, WideRowsAreChunkedBy1024ColumnsAndUncompressedHasNoFilters) {

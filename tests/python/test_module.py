@@ -212,7 +212,8 @@ def test_saved_hdf5_and_envi_hold_the_render_for_h5py_and_spectral_python(tmp_pa
     with h5py.File(tmp_path / "spheres.h5", "r") as f:
         np.testing.assert_array_equal(f["cube"][()], r.cube)
         np.testing.assert_array_equal(f["wavelength_nm"][()], r.wavelengths_nm)
-        assert f["cube"].attrs["units"] == "W·sr⁻¹·m⁻²·nm⁻¹"
+        assert f["cube"].attrs["units"] == "W sr-1 m-2 nm-1"  # UDUNITS, for CF readers
+        assert f["cube"].attrs["units_readable"] == "W·sr⁻¹·m⁻²·nm⁻¹"
         assert f.attrs["metamer:overrides"] == "camera.width=24 camera.height=18"
     img = spectral.open_image(str(tmp_path / "spheres.hdr"))
     np.testing.assert_array_equal(np.asarray(img.load()), r.cube)
