@@ -125,7 +125,7 @@ EncodeResult encodeXyz(const DisplayModel& display, const glm::dvec3& xyz) {
     return result;
 }
 
-glm::dvec3 decodeCounts(const DisplayModel& display, const glm::dvec3& counts) {
+glm::dvec3 linearRgbOfCounts(const DisplayModel& display, const glm::dvec3& counts) {
     const double n = maxCount(display);
     glm::dvec3 rgb;
     for (int c = 0; c < 3; ++c) {
@@ -134,7 +134,11 @@ glm::dvec3 decodeCounts(const DisplayModel& display, const glm::dvec3& counts) {
                      ? srgbDecode(d)
                      : std::pow(std::max(display.gain[c] * d + display.offset[c], 0.0), display.gamma[c]);
     }
-    return display.rgbToXyz * rgb + display.blackXyz;
+    return rgb;
+}
+
+glm::dvec3 decodeCounts(const DisplayModel& display, const glm::dvec3& counts) {
+    return display.rgbToXyz * linearRgbOfCounts(display, counts) + display.blackXyz;
 }
 
 }  // namespace metamer

@@ -59,6 +59,10 @@ struct EncodeResult {
 // cutoff as 0.
 EncodeResult encodeXyz(const DisplayModel& display, const glm::dvec3& xyz);
 
+// Digital counts → the display's linear RGB: its transfer function alone (sRGB decoding, or the
+// GOG function), 0 … 1. Counts are clamped to 0 .. 2^bits − 1 but not rounded.
+glm::dvec3 linearRgbOfCounts(const DisplayModel& display, const glm::dvec3& counts);
+
 // Digital counts → the XYZ the display shows: the forward model (sRGB decoding, or the GOG
 // function), rgbToXyz, plus the black. Counts are clamped to 0 .. 2^bits − 1 but not rounded.
 glm::dvec3 decodeCounts(const DisplayModel& display, const glm::dvec3& counts);
