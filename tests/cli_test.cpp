@@ -1,5 +1,6 @@
 // The `metamer` command as a user runs it: exit codes, one-line errors, outputs that appear
 // whole or not at all.
+#include "color/srgb.h"
 #include "io/spectral_exr.h"
 #include "support/cli.h"
 
@@ -8,6 +9,7 @@
 
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -57,6 +59,50 @@ TEST(Cli, RendersCubeAndQuickLookWithValidationClean) {
     EXPECT_TRUE(fs::exists(out / "small.png"));
     // Nothing but the two outputs: no temporary files left behind.
     EXPECT_EQ(std::distance(fs::directory_iterator(out), fs::directory_iterator()), 2);
+}
+
+// Files that ordinary tools show right (docs/io.md): the cube's EXR opens in a viewer as the
+// display image (R, G, B, A first, BT.709/D65 chromaticities for the sRGB display), the sRGB PNG
+// says it is sRGB.
+TEST(Cli, TheCubeCarriesTheDisplayPreviewAndThePngItsColourSpace) {
+    fs::path out = freshDir("preview");
+    CliRun r = run("render " + kScene + " --out " + out.string() + " --grid 400:700:10");
+    ASSERT_EQ(r.code, 0) << r.output;
+    auto exr = OIIO::ImageInput::open((out / "small.exr").string());
+    ASSERT_TRUE(exr);
+    const OIIO::ImageSpec spec = exr->spec();
+    ASSERT_EQ(spec.nchannels, 31 + 4);
+    EXPECT_EQ(std::vector<std::string>(spec.channelnames.begin(), spec.channelnames.begin() + 4),
+              (std::vector<std::string>{"R", "G", "B", "A"}));
+    const OIIO::ParamValue* chroma = spec.find_attribute("chromaticities");
+    ASSERT_TRUE(chroma);
+    const float* xy = static_cast<const float*>(chroma->data());
+    EXPECT_NEAR(xy[0], 0.64, 1e-4);
+    EXPECT_NEAR(xy[6], 0.3127, 1e-4);
+    std::vector<float> rgba(size_t(spec.width) * spec.height * 4);
+    ASSERT_TRUE(exr->read_image(0, 0, 0, 4, OIIO::TypeDesc::FLOAT, rgba.data()));
+    exr->close();
+    auto png = OIIO::ImageInput::open((out / "small.png").string());
+    ASSERT_TRUE(png);
+    EXPECT_EQ(png->spec().get_string_attribute("oiio:ColorSpace"), "sRGB");
+    std::vector<uint8_t> counts(size_t(spec.width) * spec.height * 3);
+    ASSERT_TRUE(png->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, counts.data()));
+    png->close();
+    // The preview is the PNG's linear RGB before the sRGB encoding: encoded, the same counts
+    // (within one: the GPU's float against the double here).
+    double worst = 0, lit = 0;
+    for (size_t p = 0; p < counts.size() / 3; ++p) {
+        EXPECT_EQ(rgba[4 * p + 3], 1.0f);
+        for (int c = 0; c < 3; ++c) {
+            const double v = std::clamp(double(rgba[4 * p + size_t(c)]), 0.0, 1.0);
+            worst = std::max(worst, std::fabs(std::round(255.0 * srgbEncode(v)) - counts[3 * p + size_t(c)]));
+            lit = std::max(lit, v);
+        }
+    }
+    EXPECT_LE(worst, 1.0);
+    EXPECT_GT(lit, 0.1);  // not a black image
+    // The spectral reader sees the bands alone.
+    EXPECT_EQ(readSpectralExr(out / "small.exr").bands(), 31);
 }
 
 TEST(Cli, GridFlagOverridesTheSceneAndHalfWritesFloat16) {
@@ -138,10 +184,22 @@ TEST(Cli, DisplayPathWritesPngXyzAndResponses) {
     ASSERT_TRUE(png);
     EXPECT_EQ(png->spec().format, OIIO::TypeDesc::UINT16);
     EXPECT_NE(png->spec().get_string_attribute("ImageDescription").find("adaptation cat16"), std::string::npos);
+    // The CRT's PNG carries its ICC profile (color/display_profile). (OpenImageIO calls every PNG
+    // without a gAMA chunk sRGB, so the absence of the sRGB chunk is checked by
+    // tests/python/check_ordinary_tools.py, which reads the chunks.)
+    const OIIO::ParamValue* icc = png->spec().find_attribute("ICCProfile");
+    ASSERT_TRUE(icc);
+    EXPECT_GT(icc->type().size(), 128u);
+    EXPECT_EQ(std::string(static_cast<const char*>(icc->data()) + 36, 4), "acsp");  // the ICC signature
     png->close();
+    // XYZ in R, G, B with OpenEXR's XYZ chromaticities.
     auto xyz = OIIO::ImageInput::open((out / "small.xyz.exr").string());
     ASSERT_TRUE(xyz);
-    EXPECT_EQ(xyz->spec().channelnames, (std::vector<std::string>{"X", "Y", "Z"}));
+    EXPECT_EQ(xyz->spec().channelnames, (std::vector<std::string>{"R", "G", "B"}));
+    const OIIO::ParamValue* chroma = xyz->spec().find_attribute("chromaticities");
+    ASSERT_TRUE(chroma);
+    const float* xy = static_cast<const float*>(chroma->data());
+    EXPECT_EQ(std::vector<float>(xy, xy + 8), (std::vector<float>{1, 0, 0, 1, 0, 0, 1.0f / 3, 1.0f / 3}));
     EXPECT_NE(xyz->spec().get_string_attribute("metamer:xyz").find("Y = 100"), std::string::npos);
     xyz->close();
     auto resp = OIIO::ImageInput::open((out / "small.camera-nikon_d5100.exr").string());

@@ -336,6 +336,20 @@ TEST_F(CompareFiles, ReadsSpectralExrsAndPlainImages) {
     ImageData x = readComparable(dir / "xyz.exr");
     EXPECT_FALSE(x.grid);
     EXPECT_EQ(x.data, (std::vector<float>{0.25f, 0.5f, 0.75f}));
+
+    // Metamer's XYZ EXR (OpenEXR's convention: X, Y, Z in R, G, B with the XYZ chromaticities)
+    // reads as X, Y, Z, so it compares with a file of the earlier X, Y, Z layout.
+    ImageFile convention{1, 1, {"R", "G", "B"}, {}};
+    convention.chromaticities = xyzChromaticities();
+    writeImage(dir / "new.xyz.exr", convention, std::vector<float>{0.25f, 0.5f, 0.75f});
+    ImageData n = readComparable(dir / "new.xyz.exr");
+    // (In the file's order, which OpenEXR sorts by name: B, G, R.)
+    EXPECT_EQ(n.channels, (std::vector<std::string>{"Z", "Y", "X"}));
+    EXPECT_EQ(n.data, (std::vector<float>{0.75f, 0.5f, 0.25f}));
+    EXPECT_EQ(compareImages(n, x, {}).maxAbs, 0.0);
+    // Plain RGB stays RGB.
+    writeImage(dir / "rgb.exr", ImageFile{1, 1, {"R", "G", "B"}, {}}, std::vector<float>{0.25f, 0.5f, 0.75f});
+    EXPECT_EQ(readComparable(dir / "rgb.exr").channels, (std::vector<std::string>{"B", "G", "R"}));
 }
 
 TEST_F(CompareFiles, UnreadableFilesAreInputErrorsNamingThem) {

@@ -17,6 +17,12 @@ public:
     virtual ~CubeWriter() = default;
     // `rows` rows starting at `firstRow`, pixel-interleaved (width × rows × bands floats).
     virtual void writeRows(int firstRow, int rows, const float* data) = 0;
+    // The same with the display preview's rows beside them, R, G, B, A per pixel (width × rows × 4
+    // floats), for a container that carries one (OpenEXR, when opened with a preview); the others
+    // write the bands alone.
+    virtual void writeRows(int firstRow, int rows, const float* data, const float* /*preview*/) {
+        writeRows(firstRow, rows, data);
+    }
     // Completes the temporary files and returns them, to be renamed into place together.
     virtual std::vector<AtomicOutput*> finish() = 0;
     // After finish(): finite values the container's precision could not hold and clamped (float16's ±65 504).

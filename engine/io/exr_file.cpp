@@ -2,6 +2,7 @@
 #include "core/file_reads.h"
 
 #include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfStandardAttributes.h>
 #include <OpenEXR/ImfCompression.h>
 #include <OpenEXR/ImfFrameBuffer.h>
 #include <OpenEXR/ImfHeader.h>
@@ -13,6 +14,7 @@
 #include <Imath/half.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <mutex>
 #include <thread>
@@ -48,6 +50,16 @@ void useEveryCore() {
 }
 
 }  // namespace
+
+ExrChromaticities xyzChromaticities() { return {{1.0, 0.0}, {0.0, 1.0}, {0.0, 0.0}, {1.0 / 3.0, 1.0 / 3.0}}; }
+
+bool isXyzChromaticities(const ExrChromaticities& c) {
+    const ExrChromaticities x = xyzChromaticities();
+    auto near = [](const std::array<double, 2>& a, const std::array<double, 2>& b) {
+        return std::fabs(a[0] - b[0]) < 1e-6 && std::fabs(a[1] - b[1]) < 1e-6;  // the attribute is float32
+    };
+    return near(c.red, x.red) && near(c.green, x.green) && near(c.blue, x.blue) && near(c.white, x.white);
+}
 
 bool knownExrCompression(const std::string& name) {
     const CompressionName* c = compressionOf(name);
@@ -94,6 +106,11 @@ ExrHeader readExrHeader(const fs::path& path, const Where& where) {
         for (auto a = h.begin(); a != h.end(); ++a)
             if (const auto* s = dynamic_cast<const Imf::StringAttribute*>(&a.attribute()))
                 out.attributes.push_back({a.name(), s->value()});
+        if (Imf::hasChromaticities(h)) {
+            const Imf::Chromaticities& c = Imf::chromaticities(h);
+            auto xy = [](const Imath::V2f& v) { return std::array<double, 2>{v.x, v.y}; };
+            out.chromaticities = ExrChromaticities{xy(c.red), xy(c.green), xy(c.blue), xy(c.white)};
+        }
         return out;
     } catch (const std::exception& e) {
         failInput(where, "not a readable OpenEXR file: {}", e.what());
@@ -134,19 +151,21 @@ struct ExrWriter::Impl {
     fs::path path;
     int width = 0, height = 0, nextRow = 0;
     bool half = false;
-    std::vector<std::string> channels;
-    std::vector<Imath::half> halves;  // half: the strip converted (OpenEXR writes a frame buffer's own type)
+    std::vector<std::string> channels, extraChannels;
+    // half: the strip converted (OpenEXR writes a frame buffer's own type), the extras after it
+    std::vector<Imath::half> halves;
     std::unique_ptr<Imf::OutputFile> file;
 };
 
 ExrWriter::ExrWriter(const fs::path& path, int width, int height, const std::vector<std::string>& channels, bool half,
-                     const std::string& compression, const StringAttributes& attributes)
+                     const std::string& compression, const StringAttributes& attributes, const ExrWriterExtras& extras)
     : impl_(std::make_unique<Impl>()) {
     Impl& m = *impl_;
     m.path = path;
     m.width = width;
     m.height = height;
     m.channels = channels;
+    m.extraChannels = extras.extraChannels;
     m.half = half;
     const CompressionName* c = compressionOf(compression);
     if (!c || !knownExrCompression(compression))
@@ -161,8 +180,19 @@ ExrWriter::ExrWriter(const fs::path& path, int width, int height, const std::vec
             else h.dwaCompressionLevel() = float(level);
         }
         for (const auto& name : channels) h.channels().insert(name, Imf::Channel(half ? Imf::HALF : Imf::FLOAT));
+        for (const auto& name : extras.extraChannels) {
+            if (h.channels().findChannel(name))
+                failRuntime("cannot write '{}': channel '{}' is named twice", path.string(), name);
+            h.channels().insert(name, Imf::Channel(half ? Imf::HALF : Imf::FLOAT));
+        }
         for (const auto& [key, value] : attributes) h.insert(key, Imf::StringAttribute(value));
+        if (const auto& c = extras.chromaticities) {
+            auto xy = [](const std::array<double, 2>& v) { return Imath::V2f(float(v[0]), float(v[1])); };
+            Imf::addChromaticities(h, Imf::Chromaticities(xy(c->red), xy(c->green), xy(c->blue), xy(c->white)));
+        }
         m.file = std::make_unique<Imf::OutputFile>(path.c_str(), h);
+    } catch (const Error&) {
+        throw;
     } catch (const std::exception& e) {
         failRuntime("cannot write '{}': {}", path.string(), e.what());
     }
@@ -170,29 +200,40 @@ ExrWriter::ExrWriter(const fs::path& path, int width, int height, const std::vec
 
 ExrWriter::~ExrWriter() = default;
 
-void ExrWriter::writeRows(int firstRow, int rows, const float* pixels) {
+void ExrWriter::writeRows(int firstRow, int rows, const float* pixels, const float* extraPixels) {
     Impl& m = *impl_;
     if (!m.file || firstRow != m.nextRow || rows <= 0 || firstRow + rows > m.height)
         failRuntime("cannot write '{}': rows {}..{} do not continue a {}-row image at row {}", m.path.string(), firstRow,
                     firstRow + rows, m.height, m.nextRow);
-    const size_t n = m.channels.size();
+    if (!m.extraChannels.empty() && !extraPixels)
+        failRuntime("cannot write '{}': rows {}..{} come without their {} channels", m.path.string(), firstRow,
+                    firstRow + rows, m.extraChannels.front());
+    const size_t n = m.channels.size(), extras = m.extraChannels.size();
+    const size_t count = size_t(m.width) * rows * n, extraCount = size_t(m.width) * rows * extras;
     const char* data = reinterpret_cast<const char*>(pixels);
+    const char* extraData = reinterpret_cast<const char*>(extraPixels);
     size_t sample = sizeof(float);
     if (m.half) {
-        const size_t count = size_t(m.width) * rows * n;
-        m.halves.resize(count);
+        m.halves.resize(count + extraCount);
         for (size_t i = 0; i < count; ++i) m.halves[i] = Imath::half(pixels[i]);
+        for (size_t i = 0; i < extraCount; ++i) m.halves[count + i] = Imath::half(extraPixels[i]);
         data = reinterpret_cast<const char*>(m.halves.data());
+        extraData = reinterpret_cast<const char*>(m.halves.data() + count);
         sample = sizeof(Imath::half);
     }
-    const size_t xStride = n * sample, yStride = size_t(m.width) * xStride;
-    // The strip's first row is row `firstRow` of the image: shift the base so OpenEXR finds it there.
-    const char* base = data - ptrdiff_t(firstRow) * ptrdiff_t(yStride);
     const Imf::PixelType type = m.half ? Imf::HALF : Imf::FLOAT;
     try {
         Imf::FrameBuffer fb;
-        for (size_t c = 0; c < n; ++c)
-            fb.insert(m.channels[c], Imf::Slice(type, const_cast<char*>(base) + c * sample, xStride, yStride));
+        // Each buffer's channels as slices; the strip's first row is row `firstRow` of the image,
+        // so the base is shifted for OpenEXR to find it there.
+        auto insert = [&](const std::vector<std::string>& names, const char* buffer) {
+            const size_t xStride = names.size() * sample, yStride = size_t(m.width) * xStride;
+            const char* base = buffer - ptrdiff_t(firstRow) * ptrdiff_t(yStride);
+            for (size_t c = 0; c < names.size(); ++c)
+                fb.insert(names[c], Imf::Slice(type, const_cast<char*>(base) + c * sample, xStride, yStride));
+        };
+        insert(m.channels, data);
+        if (extras) insert(m.extraChannels, extraData);
         m.file->setFrameBuffer(fb);
         m.file->writePixels(rows);
     } catch (const std::exception& e) {

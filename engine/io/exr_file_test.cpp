@@ -95,6 +95,55 @@ TEST(ExrFile, HalfStoresHalvesAndEveryCompressionRoundTrips) {
     }
 }
 
+// XYZ as OpenEXR's convention has it: in R, G, B with the XYZ chromaticities, which other readers
+// (OpenImageIO) and ours read back; without the attribute, none is reported.
+TEST(ExrFile, ChromaticitiesAreWrittenAndReadBack) {
+    const fs::path dir = scratch("chroma");
+    const std::vector<float> pixels = ramp(2 * 2 * 3, 0.5f);
+    {
+        ExrWriter w(dir / "xyz.exr", 2, 2, {"R", "G", "B"}, false, "piz", {}, {.chromaticities = xyzChromaticities()});
+        w.writeRows(0, 2, pixels.data());
+        w.close();
+    }
+    auto in = OIIO::ImageInput::open((dir / "xyz.exr").string());
+    ASSERT_TRUE(in) << OIIO::geterror();
+    const OIIO::ParamValue* c = in->spec().find_attribute("chromaticities");
+    ASSERT_TRUE(c);
+    const float* xy = static_cast<const float*>(c->data());
+    const float expected[8] = {1, 0, 0, 1, 0, 0, 1.0f / 3, 1.0f / 3};
+    for (int i = 0; i < 8; ++i) EXPECT_FLOAT_EQ(xy[i], expected[i]) << i;
+    const ExrHeader h = readExrHeader(dir / "xyz.exr", Where{"xyz.exr"});
+    ASSERT_TRUE(h.chromaticities);
+    EXPECT_TRUE(isXyzChromaticities(*h.chromaticities));
+    EXPECT_FALSE(isXyzChromaticities(ExrChromaticities{{0.64, 0.33}, {0.3, 0.6}, {0.15, 0.06}, {0.3127, 0.329}}));
+    {
+        ExrWriter w(dir / "plain.exr", 2, 2, {"R", "G", "B"}, false, "piz", {});
+        w.writeRows(0, 2, pixels.data());
+        w.close();
+    }
+    EXPECT_FALSE(readExrHeader(dir / "plain.exr", Where{"plain.exr"}).chromaticities);
+}
+
+// A second buffer of channels: each channel holds its own buffer's values; a strip without them,
+// or a name given twice, is a runtime error naming the file.
+TEST(ExrFile, ExtraChannelsComeFromTheirOwnBuffer) {
+    const fs::path dir = scratch("extra");
+    const std::vector<float> main = ramp(3 * 2 * 2, 1.0f), extra = ramp(3 * 2 * 1, -2.0f);
+    {
+        ExrWriter w(dir / "e.exr", 3, 2, {"S0.500,000000nm", "S0.600,000000nm"}, false, "zip", {},
+                    {.extraChannels = {"Y"}});
+        EXPECT_THROW(w.writeRows(0, 1, main.data()), Error);
+        w.writeRows(0, 2, main.data(), extra.data());
+        w.close();
+    }
+    const std::vector<float> back = readExrChannels(dir / "e.exr", {"S0.600,000000nm", "Y"}, Where{"e.exr"});
+    for (size_t p = 0; p < 6; ++p) {
+        EXPECT_EQ(back[2 * p], main[2 * p + 1]) << p;
+        EXPECT_EQ(back[2 * p + 1], extra[p]) << p;
+    }
+    EXPECT_THROW(ExrWriter(dir / "twice.exr", 1, 1, {"R"}, false, "zip", {}, {.extraChannels = {"R"}}), Error);
+}
+
 TEST(ExrFile, CompressionNamesAndLevels) {
     for (const char* ok : {"none", "rle", "zips", "zip", "zip:1", "zip:9", "zips:4", "piz", "pxr24", "b44", "b44a",
                            "dwaa", "dwab", "dwaa:45", "dwab:200.5"})

@@ -32,12 +32,15 @@ ImageFileWriter::ImageFileWriter(const std::filesystem::path& path, const ImageF
     if (ext == ".png") {
         if (bits != 8 && bits != 16) failRuntime("cannot write '{}': a PNG holds 8- or 16-bit counts, not {}", path.string(), bits);
         m.png = std::make_unique<PngWriter>(m.out.tempPath(), image.width, image.height, int(image.channels.size()),
-                                            bits, image.attributes);
+                                            bits, image.attributes, image.iccProfile);
     } else if (ext == ".exr") {
         if (bits != 32) failRuntime("cannot write '{}': an EXR image here holds float32, not {} bits", path.string(), bits);
         StringAttributes a = image.attributes;
         a.push_back({"Software", "metamer"});
-        m.exr = std::make_unique<ExrWriter>(m.out.tempPath(), image.width, image.height, image.channels, false, "piz", a);
+        ExrWriterExtras extras;
+        extras.chromaticities = image.chromaticities;
+        m.exr = std::make_unique<ExrWriter>(m.out.tempPath(), image.width, image.height, image.channels, false, "piz", a,
+                                            extras);
     } else {
         failRuntime("cannot write '{}': images are written as .png or .exr", path.string());
     }

@@ -4,9 +4,12 @@
 // Tests: engine/compare/compare_test.cpp, tests/cli_test.cpp.
 #pragma once
 
+#include "io/exr_file.h"
+
 #include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -19,6 +22,9 @@ struct ImageFile {
     int width = 0, height = 0;
     std::vector<std::string> channels;                    // names, e.g. {"R","G","B"} or {"X","Y","Z"}
     std::vector<std::pair<std::string, std::string>> attributes;  // string metadata
+    std::vector<uint8_t> iccProfile;  // PNG: the colour space's ICC profile (io/png_file.h), if any
+    // EXR: what R, G, B mean (io/exr_file.h), if not BT.709 with D65 — XYZ in R, G, B, for one
+    std::optional<ExrChromaticities> chromaticities;
 };
 
 // Writes an image strip by strip (rows in order); the file appears only at commit().

@@ -57,11 +57,14 @@ RasterImage readRasterImage(const fs::path& path, const Where& where, const Imag
         img.width = h.width;
         img.height = h.height;
         img.channels = h.channels;
+        // OpenEXR's XYZ convention (Metamer's .xyz.exr): R, G, B hold X, Y, Z, and are named so here.
+        if (h.chromaticities && isXyzChromaticities(*h.chromaticities))
+            for (std::string& c : img.channels) c = c == "R" ? "X" : c == "G" ? "Y" : c == "B" ? "Z" : c;
         img.floatingPoint = true;
         img.bits = !h.halfChannels.empty() && h.halfChannels[0] ? 16 : 32;
         img.attributes = h.attributes;
         check(img);
-        img.pixels = readExrChannels(path, h.channels, where);
+        img.pixels = readExrChannels(path, h.channels, where);  // the file's names, in img.channels' order
         return img;
     }
     return readWithOpenImageIO(path, where, check);

@@ -19,7 +19,8 @@ namespace metamer {
 std::string imageSignature(const std::filesystem::path& path);
 std::string imageSignature(const std::vector<uint8_t>& bytes);
 
-// Reads an image; input errors (missing, unreadable, damaged, deep, volume or too large to decode)
+// Reads an image; an OpenEXR file with the XYZ chromaticities (io/exr_file.h) has its R, G, B
+// channels named X, Y, Z. Input errors (missing, unreadable, damaged, deep, volume or too large to decode)
 // name `where`.
 RasterImage readRasterImage(const std::filesystem::path& path, const Where& where, const ImageHeaderCheck& check = {});
 // The same from bytes in memory (a glTF's embedded PNG or JPEG); `name` is for messages.

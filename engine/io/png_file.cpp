@@ -32,12 +32,14 @@ std::string keywordOf(const std::string& name) {
 }
 
 bool writeHeader(png_structp png, png_infop info, png_uint_32 w, png_uint_32 h, int bits, int colorType,
-                 png_textp text, int texts, bool srgb) {
+                 png_textp text, int texts, bool srgb, const std::vector<uint8_t>& icc) {
     if (setjmp(png_jmpbuf(png))) return false;
     png_set_IHDR(png, info, w, h, bits, colorType, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
                  PNG_FILTER_TYPE_DEFAULT);
     if (texts > 0) png_set_text(png, info, text, texts);
     if (srgb) png_set_sRGB_gAMA_and_cHRM(png, info, PNG_sRGB_INTENT_PERCEPTUAL);
+    if (!icc.empty())
+        png_set_iCCP(png, info, "ICC profile", PNG_COMPRESSION_TYPE_BASE, icc.data(), png_uint_32(icc.size()));
     // Display images are smooth: zlib level 6 with adaptive filters costs little and halves the file.
     png_set_compression_level(png, 6);
     png_write_info(png, info);
@@ -84,7 +86,8 @@ struct PngWriter::Impl {
 };
 
 PngWriter::PngWriter(const fs::path& path, int width, int height, int channels, int bits,
-                     const std::vector<std::pair<std::string, std::string>>& attributes)
+                     const std::vector<std::pair<std::string, std::string>>& attributes,
+                     const std::vector<uint8_t>& iccProfile)
     : impl_(std::make_unique<Impl>()) {
     Impl& m = *impl_;
     m.path = path;
@@ -122,8 +125,9 @@ PngWriter::PngWriter(const fs::path& path, int width, int height, int channels, 
         text[i].text = values[i].data();
         text[i].text_length = values[i].size();
     }
+    if (srgb && !iccProfile.empty()) m.fail("an sRGB chunk and an ICC profile both asked for; a PNG holds one");
     if (!writeHeader(m.png, m.info, png_uint_32(width), png_uint_32(height), bits, colorTypeOf(channels), text.data(),
-                     int(text.size()), srgb))
+                     int(text.size()), srgb, iccProfile))
         m.fail("");
     m.row.resize(size_t(width) * channels * (bits / 8));
 }

@@ -18,11 +18,14 @@ namespace metamer {
 
 // Writes `path` as it is (callers write a temporary name and rename, io/atomic_file). Text
 // attributes become tEXt chunks (iTXt when the value is not ASCII); "ImageDescription" is stored
-// under PNG's own keyword, "Description", and "oiio:ColorSpace" = "sRGB" as an sRGB chunk.
+// under PNG's own keyword, "Description", and "oiio:ColorSpace" = "sRGB" as an sRGB chunk (with
+// the gAMA and cHRM chunks that stand for it). An `iccProfile` goes into an iCCP chunk, for images
+// in another colour space (a PNG has one or the other: both is a runtime error).
 class PngWriter {
 public:
     PngWriter(const std::filesystem::path& path, int width, int height, int channels, int bits,
-              const std::vector<std::pair<std::string, std::string>>& attributes);
+              const std::vector<std::pair<std::string, std::string>>& attributes,
+              const std::vector<uint8_t>& iccProfile = {});
     ~PngWriter();
     PngWriter(const PngWriter&) = delete;
     PngWriter& operator=(const PngWriter&) = delete;

@@ -1,11 +1,15 @@
 // PNG through libpng (io/png_file): what it writes OpenImageIO reads back (pixels, text, the sRGB
-// chunk); what OpenImageIO writes it reads (grey, RGBA, 16-bit); broken files are refused.
+// chunk, an ICC profile); what OpenImageIO writes it reads (grey, RGBA, 16-bit); broken files are refused.
 #include "io/png_file.h"
+
+#include "color/display_profile.h"
 
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
+#include <iterator>
 #include <unistd.h>
 
 using namespace metamer;
@@ -68,6 +72,38 @@ TEST(PngFile, EightAndSixteenBitsReadBackByOpenImageIOWithTheirText) {
         EXPECT_EQ(r.attribute("ImageDescription"), "display counts: detector cie1931 → sRGB, 5 nm²");
         for (size_t i = 0; i < counts.size(); ++i) ASSERT_EQ(r.pixels[i], float(counts[i])) << i;
     }
+}
+
+TEST(PngFile, AnIccProfileGoesIntoTheIccpChunkThatOpenImageIOReads) {
+    const fs::path file = scratch("icc") / "crt.png";
+    const std::vector<uint8_t> icc = displayIccProfile(parseDisplay("crt", 8, Where{}), "test CRT");
+    const std::vector<uint16_t> counts = pattern(4 * 3 * 3, 8);
+    {
+        PngWriter w(file, 4, 3, 3, 8, {{"metamer:scene", "spheres.json"}}, icc);
+        w.writeRows(0, 3, counts.data());
+        w.close();
+    }
+    // The chunk itself: "iCCP" is in the file, and no sRGB chunk beside it.
+    std::ifstream in(file, std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    EXPECT_NE(bytes.find("iCCP"), std::string::npos);
+    EXPECT_EQ(bytes.find("sRGB"), std::string::npos);
+    auto image = OIIO::ImageInput::open(file.string());
+    ASSERT_TRUE(image) << OIIO::geterror();
+    const OIIO::ParamValue* p = image->spec().find_attribute("ICCProfile");
+    ASSERT_TRUE(p);
+    ASSERT_EQ(size_t(p->type().size()), icc.size());
+    const auto* stored = static_cast<const uint8_t*>(p->data());
+    EXPECT_TRUE(std::equal(icc.begin(), icc.end(), stored));
+
+    std::string message;
+    try {
+        PngWriter both(scratch("icc") / "both.png", 1, 1, 3, 8, {{"oiio:ColorSpace", "sRGB"}}, icc);
+    } catch (const std::exception& e) {
+        message = e.what();
+    }
+    EXPECT_NE(message.find("both.png"), std::string::npos) << message;
+    EXPECT_NE(message.find("ICC profile"), std::string::npos) << message;
 }
 
 TEST(PngFile, ReadsGreyAndRgbaThatOpenImageIOWrites) {

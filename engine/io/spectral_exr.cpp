@@ -143,6 +143,8 @@ struct SpectralExrWriter::Impl {
     std::unique_ptr<ExrWriter> writer;
     ExrWriteReport report;
     std::vector<float> clamped;  // half: the strip with finite overflow clamped to ±65504
+    std::vector<float> clampedPreview;  // the same for the preview's rows
+    bool preview = false;
     explicit Impl(const fs::path& p) : path(p), out(p) {}
 };
 
@@ -168,16 +170,35 @@ SpectralExrWriter::SpectralExrWriter(const fs::path& path, int width, int height
                           {"metamer:resampling", resamplingName(grid.resampling)},
                           {"Software", "metamer"}};
     a.insert(a.end(), options.extraAttributes.begin(), options.extraAttributes.end());
-    m.writer = std::make_unique<ExrWriter>(m.out.tempPath(), width, height, channels, m.half, options.compression, a);
+    ExrWriterExtras extras;
+    if (options.preview) {
+        m.preview = true;
+        extras.extraChannels = previewChannelNames();
+        extras.chromaticities = options.preview;
+        a.push_back({"metamer:preview", "R, G, B: the display's linear RGB (its primaries in chromaticities; white = 1), "
+                                        "A = 1; docs/io.md, \"Preview channels\""});
+    }
+    m.writer = std::make_unique<ExrWriter>(m.out.tempPath(), width, height, channels, m.half, options.compression, a,
+                                           extras);
+}
+
+const std::vector<std::string>& previewChannelNames() {
+    static const std::vector<std::string> names{"R", "G", "B", "A"};
+    return names;
 }
 
 SpectralExrWriter::~SpectralExrWriter() = default;  // not committed: AtomicOutput removes the temporary file
 
-void SpectralExrWriter::writeRows(int firstRow, int rows, const float* data) {
+void SpectralExrWriter::writeRows(int firstRow, int rows, const float* data) { writeRows(firstRow, rows, data, nullptr); }
+
+void SpectralExrWriter::writeRows(int firstRow, int rows, const float* data, const float* preview) {
     Impl& m = *impl_;
     if (firstRow != m.nextRow || rows <= 0 || firstRow + rows > m.height)
         failRuntime("cannot write '{}': rows {}..{} out of order (next is {}, height {})", m.path.string(), firstRow,
                     firstRow + rows, m.nextRow, m.height);
+    if (m.preview && !preview)
+        failRuntime("cannot write '{}': rows {}..{} come without their preview (R, G, B, A)", m.path.string(),
+                    firstRow, firstRow + rows);
     const size_t count = size_t(m.width) * rows * m.bands;
     const float* pixels = data;
     if (m.half) {
@@ -197,7 +218,15 @@ void SpectralExrWriter::writeRows(int firstRow, int rows, const float* data) {
     } else {
         for (size_t i = 0; i < count; ++i) m.report.nonFinite += !std::isfinite(data[i]);
     }
-    m.out.naming([&] { m.writer->writeRows(firstRow, rows, pixels); });
+    const float* previewPixels = m.preview ? preview : nullptr;
+    if (previewPixels && m.half) {
+        // The preview is for looking at: its overflow is clamped as the bands' is, and not counted.
+        m.clampedPreview.assign(preview, preview + size_t(m.width) * rows * 4);
+        for (float& v : m.clampedPreview)
+            if (std::isfinite(v) && std::fabs(v) > kHalfMax) v = std::copysign(kHalfMax, v);
+        previewPixels = m.clampedPreview.data();
+    }
+    m.out.naming([&] { m.writer->writeRows(firstRow, rows, pixels, previewPixels); });
     m.nextRow = firstRow + rows;
 }
 

@@ -4,12 +4,14 @@
 #pragma once
 
 #include "io/cube_writer.h"
+#include "io/exr_file.h"
 #include "spectral/bispectral.h"
 #include "spectral/cube.h"
 
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -22,7 +24,14 @@ struct ExrWriteOptions {
     bool half = false;               // float16 instead of float32
     std::string compression = "piz"; // an OpenEXR compression (io/exr_file.h): none, rle, zips, zip, piz, ...
     std::vector<std::pair<std::string, std::string>> extraAttributes;  // string header attributes
+    // R, G, B, A preview channels beside the bands, so that ordinary viewers show an image rather
+    // than the first three bands, with the chromaticities of R, G, B (docs/io.md, "Preview
+    // channels"). Absent: the bands alone.
+    std::optional<ExrChromaticities> preview;
 };
+
+// The preview's channel names, in the order its pixels are interleaved.
+const std::vector<std::string>& previewChannelNames();  // {"R", "G", "B", "A"}
 
 struct ExrWriteReport {
     size_t clampedToHalfMax = 0;  // half only: finite values beyond ±65504 written as ±65504
@@ -47,8 +56,10 @@ public:
     ~SpectralExrWriter() override;
     SpectralExrWriter(const SpectralExrWriter&) = delete;
     SpectralExrWriter& operator=(const SpectralExrWriter&) = delete;
-    // `rows` rows starting at `firstRow`, pixel-interleaved (width × rows × bands floats).
+    // `rows` rows starting at `firstRow`, pixel-interleaved (width × rows × bands floats); with a
+    // preview, its rows too (width × rows × 4 floats: R, G, B, A), else a runtime error.
     void writeRows(int firstRow, int rows, const float* data) override;
+    void writeRows(int firstRow, int rows, const float* data, const float* preview) override;
     // Completes the temporary file and returns it for commitTogether (io/atomic_file.h),
     // which renames a run's files into place together; commit() is finish() and that.
     std::vector<AtomicOutput*> finish() override;

@@ -145,6 +145,59 @@ TEST_F(SpectralExr, HeaderCarriesLayoutAndMetamerAttributes) {
     EXPECT_EQ(names.size(), 89u);
 }
 
+// The display preview beside the bands: ordinary readers see R, G, B, A first (OpenImageIO orders
+// them so), with the display's chromaticities; the spectral reader still sees the bands only.
+TEST_F(SpectralExr, PreviewChannelsSitBesideTheBandsAndReadersSeeThemFirst) {
+    const SpectralCube cube = randomCube(3, 2, Grid{400, 700, 50}, 9);
+    const ExrChromaticities crtLike{{0.62, 0.34}, {0.28, 0.60}, {0.15, 0.06}, {0.31, 0.33}};
+    std::vector<float> preview(3 * 2 * 4);
+    for (size_t i = 0; i < preview.size(); ++i) preview[i] = i % 4 == 3 ? 1.0f : 0.01f * float(i);
+    const fs::path file = dir / "preview.exr";
+    for (bool half : {false, true}) {
+        SCOPED_TRACE(half);
+        {
+            SpectralExrWriter w(file, 3, 2, cube.grid, {.half = half, .preview = crtLike});
+            // Without its preview a strip is refused, naming the file.
+            std::string message;
+            try {
+                w.writeRows(0, 1, cube.data.data());
+            } catch (const Error& e) {
+                message = e.what();
+            }
+            EXPECT_NE(message.find("preview.exr"), std::string::npos) << message;
+            EXPECT_NE(message.find("preview"), std::string::npos) << message;
+            w.writeRows(0, 1, cube.data.data(), preview.data());
+            w.writeRows(1, 1, cube.data.data() + 3 * 7, preview.data() + 3 * 4);
+            w.commit();
+        }
+        auto in = OIIO::ImageInput::open(file.string());
+        ASSERT_TRUE(in);
+        const OIIO::ImageSpec& spec = in->spec();
+        ASSERT_EQ(spec.nchannels, 7 + 4);
+        EXPECT_EQ(spec.channelnames[0], "R");
+        EXPECT_EQ(spec.channelnames[1], "G");
+        EXPECT_EQ(spec.channelnames[2], "B");
+        EXPECT_EQ(spec.channelnames[3], "A");
+        EXPECT_EQ(spec.alpha_channel, 3);
+        const OIIO::ParamValue* c = spec.find_attribute("chromaticities");
+        ASSERT_TRUE(c);
+        const float* xy = static_cast<const float*>(c->data());
+        EXPECT_FLOAT_EQ(xy[0], 0.62f);
+        EXPECT_FLOAT_EQ(xy[7], 0.33f);
+        std::vector<float> rgba(3 * 2 * 4);
+        ASSERT_TRUE(in->read_image(0, 0, 0, 4, OIIO::TypeDesc::FLOAT, rgba.data()));
+        for (size_t i = 0; i < rgba.size(); ++i) EXPECT_NEAR(rgba[i], preview[i], half ? 1e-3 * preview[i] : 0.0) << i;
+        in->close();
+        const SpectralCube back = readSpectralExr(file);
+        EXPECT_EQ(back.bands(), 7);
+        if (!half) expectBitExact(cube, back);
+        const std::optional<ExrChromaticities> read = readExrHeader(file, Where{file.string()}).chromaticities;
+        ASSERT_TRUE(read);
+        EXPECT_NEAR(read->red[0], crtLike.red[0], 1e-7);  // the attribute is float32
+        EXPECT_NEAR(read->white[1], crtLike.white[1], 1e-7);
+    }
+}
+
 TEST_F(SpectralExr, ReadsForeignLayoutsAndIgnoresRgb) {
     // Dot decimals, micrometres, no metamer:grid, RGB channels beside the spectral ones.
     OIIO::ImageSpec spec(2, 1, 6, OIIO::TypeDesc::FLOAT);

@@ -23,6 +23,7 @@ std::vector<CubeContainer> makeTable() {
             o.half = s.half;
             o.compression = s.compression;
             o.extraAttributes = s.provenance;
+            o.preview = s.preview;
             return std::unique_ptr<CubeWriter>(std::make_unique<SpectralExrWriter>(path, width, height, grid, o));
         },
         nullptr,  // the spectral EXR's line says float16 or float32 (RenderOutputs::commit)

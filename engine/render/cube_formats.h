@@ -6,11 +6,13 @@
 
 #include "core/error.h"
 #include "io/cube_writer.h"
+#include "io/exr_file.h"
 #include "spectral/grid.h"
 
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -26,6 +28,9 @@ struct CubeWriteSettings {
     Attributes provenance;
     bool half = false;
     std::string compression = "piz";
+    // The display preview's primaries, when the render has a display path: OpenEXR then carries
+    // R, G, B, A beside the bands (io/spectral_exr.h); the other containers hold bands only.
+    std::optional<ExrChromaticities> preview;
 };
 
 struct CubeContainer {

@@ -1,5 +1,7 @@
 #include "render/outputs.h"
 
+#include "color/display_profile.h"
+#include "color/display_rgb.h"
 #include "color/quick_look.h"
 #include "io/atomic_file.h"
 
@@ -87,8 +89,18 @@ RenderOutputs::RenderOutputs(const OutputTargets& targets, int width, int height
         f.attributes.push_back({"metamer:representation", representation_.description});
         channels_ = std::make_unique<ImageFileWriter>(targets_.cube, f, 32);
     }
+    // The display's linear RGB beside the bands, where the render has a colorimetric display path
+    // and writes its image or XYZ (whose pixels make the preview).
+    const bool colorimetric = plan_ && !responsesOnly(plan_);
+    preview_ = colorimetric && (!targets_.png.empty() || !targets_.xyz.empty());
+    std::optional<ExrChromaticities> previewPrimaries;
+    if (preview_) {
+        const DisplayPrimaries p = displayPrimaries(plan_->display);
+        auto xy = [](const glm::dvec2& v) { return std::array<double, 2>{v.x, v.y}; };
+        previewPrimaries = ExrChromaticities{xy(p.red), xy(p.green), xy(p.blue), xy(p.white)};
+    }
     for (const CubeTarget& t : targets_.cubes) {
-        CubeWriteSettings settings{t.format.options, provenance_, options_.half, options_.compression};
+        CubeWriteSettings settings{t.format.options, provenance_, options_.half, options_.compression, previewPrimaries};
         std::unique_ptr<CubeWriter> writer = t.format.format->open(t.path, width_, height_, grid_, settings);
         cubes_.push_back({t, std::move(settings), std::move(writer)});
     }
@@ -101,11 +113,21 @@ RenderOutputs::RenderOutputs(const OutputTargets& targets, int width, int height
         } else {
             ImageFile f{width_, height_, {"R", "G", "B"}, provenance_};
             f.attributes.push_back({"ImageDescription", "metamer display image: " + plan_->description});
+            // The display's colour space, for colour-managed viewers: sRGB's own chunk, or the
+            // model's ICC profile (color/display_profile.h).
+            if (plan_->display.kind == DisplayKind::Srgb)
+                f.attributes.push_back({"oiio:ColorSpace", "sRGB"});
+            else
+                f.iccProfile = displayIccProfile(plan_->display, "Metamer display: " + plan_->display.name +
+                                                                     " (gain-offset-gamma model, docs/color.md)");
             png_ = std::make_unique<ImageFileWriter>(targets_.png, f, plan_->display.bits);
         }
     }
     if (!targets_.xyz.empty() && plan_ && !responsesOnly(plan_)) {
-        ImageFile f{width_, height_, {"X", "Y", "Z"}, provenance_};
+        // OpenEXR's convention for XYZ: X, Y, Z in R, G, B, with the chromaticities that say so.
+        ImageFile f{width_, height_, {"R", "G", "B"}, provenance_};
+        f.chromaticities = xyzChromaticities();
+        f.attributes.push_back({"metamer:channels", "R, G, B hold CIE X, Y, Z (chromaticities: OpenEXR's XYZ convention)"});
         f.attributes.push_back({"metamer:xyz", plan_->xyzUnits});
         f.attributes.push_back({"metamer:integration", integrationName(plan_->detector.integration)});
         f.attributes.push_back({"metamer:display", plan_->description});
@@ -178,7 +200,8 @@ void RenderOutputs::writeRows(int firstRow, int rows, const float* cube, const D
         }
     }
     if (cube) {
-        for (OpenCube& c : cubes_) c.writer->writeRows(firstRow, rows, cube);
+        const float* preview = preview_ && !cubes_.empty() ? previewOf(rows, image) : nullptr;
+        for (OpenCube& c : cubes_) c.writer->writeRows(firstRow, rows, cube, preview);
         if (channels_) {
             const size_t channels = size_t(representation_.channels());
             channels_->writeRows(firstRow, rows, std::vector<float>(cube, cube + pixels * channels));
@@ -189,6 +212,23 @@ void RenderOutputs::writeRows(int firstRow, int rows, const float* cube, const D
         if (xyz_) xyz_->writeRows(firstRow, rows, firstRows(image->xyz, pixels, 3));
         if (responses_) responses_->writeRows(firstRow, rows, firstRows(image->responses, pixels, size_t(image->channels)));
     }
+}
+
+const float* RenderOutputs::previewOf(int rows, const DisplayImage* image) {
+    const size_t pixels = size_t(width_) * size_t(rows);
+    const bool fromXyz = image && image->xyz.size() >= pixels * 3;
+    if (!fromXyz && !(image && image->counts.size() >= pixels * 3))
+        failRuntime("cannot write the cube's preview: the display image's rows are missing");
+    previewRows_.resize(pixels * 4);
+    for (size_t i = 0; i < pixels; ++i) {
+        const glm::dvec3 rgb =
+            fromXyz ? linearDisplayRgbOfXyz(*plan_, {image->xyz[3 * i], image->xyz[3 * i + 1], image->xyz[3 * i + 2]})
+                    : linearRgbOfCounts(plan_->display,
+                                        {image->counts[3 * i], image->counts[3 * i + 1], image->counts[3 * i + 2]});
+        for (int c = 0; c < 3; ++c) previewRows_[4 * i + size_t(c)] = float(rgb[c]);
+        previewRows_[4 * i + 3] = 1.0f;
+    }
+    return previewRows_.data();
 }
 
 void RenderOutputs::writeQuickLook(const SpectralCube& cube, const SpectrumLibrary& library) {

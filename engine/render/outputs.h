@@ -137,6 +137,9 @@ public:
 
 private:
     void writeQuickLookImage(const QuickLook& q);
+    // The preview's rows from the display image's XYZ, or from its counts where XYZ was not kept
+    // (a render saved from Python without it).
+    const float* previewOf(int rows, const DisplayImage* image);
 
     OutputTargets targets_;
     int width_, height_;
@@ -151,6 +154,8 @@ private:
         std::unique_ptr<CubeWriter> writer;
     };
     std::vector<OpenCube> cubes_;  // the spectral cube, one writer per container
+    bool preview_ = false;         // the cube's EXR carries the display's linear RGB (docs/io.md, "Preview channels")
+    std::vector<float> previewRows_;  // R, G, B, A per pixel of the rows being written
     std::unique_ptr<ImageFileWriter> channels_, png_, xyz_, responses_, edges_;
     CapturedOutputs* capture_ = nullptr;
     bool quickLook_ = false;
