@@ -63,7 +63,7 @@ TEST(Cli, RendersCubeAndQuickLookWithValidationClean) {
 
 // Files that ordinary tools show right (docs/io.md): the cube's EXR opens in a viewer as the
 // display image (R, G, B, A first, BT.709/D65 chromaticities for the sRGB display), the sRGB PNG
-// says it is sRGB.
+// says it is sRGB. Without the PNG, the cube has its bands alone.
 TEST(Cli, TheCubeCarriesTheDisplayPreviewAndThePngItsColourSpace) {
     fs::path out = freshDir("preview");
     CliRun r = run("render " + kScene + " --out " + out.string() + " --grid 400:700:10");
@@ -88,8 +88,7 @@ TEST(Cli, TheCubeCarriesTheDisplayPreviewAndThePngItsColourSpace) {
     std::vector<uint8_t> counts(size_t(spec.width) * spec.height * 3);
     ASSERT_TRUE(png->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, counts.data()));
     png->close();
-    // The preview is the PNG's linear RGB before the sRGB encoding: encoded, the same counts
-    // (within one: the GPU's float against the double here).
+    // The preview is the PNG's counts as linear RGB: encoded, the same counts.
     double worst = 0, lit = 0;
     for (size_t p = 0; p < counts.size() / 3; ++p) {
         EXPECT_EQ(rgba[4 * p + 3], 1.0f);
@@ -99,10 +98,17 @@ TEST(Cli, TheCubeCarriesTheDisplayPreviewAndThePngItsColourSpace) {
             lit = std::max(lit, v);
         }
     }
-    EXPECT_LE(worst, 1.0);
+    EXPECT_EQ(worst, 0.0);
     EXPECT_GT(lit, 0.1);  // not a black image
     // The spectral reader sees the bands alone.
     EXPECT_EQ(readSpectralExr(out / "small.exr").bands(), 31);
+
+    r = run("render " + kScene + " --out " + out.string() + " --grid 400:700:10 --write cube,xyz");
+    ASSERT_EQ(r.code, 0) << r.output;
+    auto bands = OIIO::ImageInput::open((out / "small.exr").string());
+    ASSERT_TRUE(bands);
+    EXPECT_EQ(bands->spec().nchannels, 31);
+    bands->close();
 }
 
 TEST(Cli, GridFlagOverridesTheSceneAndHalfWritesFloat16) {

@@ -1,8 +1,5 @@
 #include "color/display_rgb.h"
 
-#include <glm/matrix.hpp>
-
-
 namespace metamer {
 
 namespace {
@@ -17,11 +14,6 @@ glm::dvec2 chromaticity(const glm::dvec3& xyz) {
 DisplayPrimaries displayPrimaries(const DisplayModel& display) {
     const glm::dmat3& m = display.rgbToXyz;
     return {chromaticity(m[0]), chromaticity(m[1]), chromaticity(m[2]), chromaticity(m * glm::dvec3(1.0))};
-}
-
-glm::dvec3 linearDisplayRgbOfXyz(const TonemapPlan& plan, const glm::dvec3& xyz) {
-    const glm::dvec3 relative = xyz / plan.xyzOutputScale;
-    return glm::inverse(plan.display.rgbToXyz) * (plan.adaptation * relative - plan.display.blackXyz);
 }
 
 }  // namespace metamer

@@ -1,12 +1,10 @@
-// The display's linear RGB (color/display_rgb): the sRGB display's primaries are BT.709 with D65,
-// the CRT's are its phosphors; XYZ and counts give the same RGB where the counts are exact.
+// What the display's linear RGB means (color/display_rgb): the sRGB display's primaries are BT.709
+// with D65, the CRT's its phosphors; and what linearRgbOfCounts gives, the display shows.
 #include "color/display_rgb.h"
-
-#include "color/srgb.h"
 
 #include <gtest/gtest.h>
 
-#include <glm/matrix.hpp>
+#include <string>
 
 using namespace metamer;
 
@@ -15,13 +13,6 @@ namespace {
 void expectXy(const glm::dvec2& actual, double x, double y, double tolerance, const char* what) {
     EXPECT_NEAR(actual.x, x, tolerance) << what;
     EXPECT_NEAR(actual.y, y, tolerance) << what;
-}
-
-TonemapPlan planFor(const std::string& display) {
-    TonemapPlan p;
-    p.display = parseDisplay(display, 8, Where{});
-    p.xyzOutputScale = 100.0;
-    return p;
 }
 
 }  // namespace
@@ -45,22 +36,19 @@ TEST(DisplayRgb, CrtPrimariesAreItsPhosphorsAndItsWhite) {
     expectXy(p.white, crt.whiteXyz.x / sum, crt.whiteXyz.y / sum, 1e-12, "white");
 }
 
-TEST(DisplayRgb, WhiteIsOneAndOutOfGamutIsNotClipped) {
+// The preview's numbers: counts through the transfer function alone; through rgbToXyz, plus the
+// black, they are what the display shows (decodeCounts), and full drive is (1, 1, 1).
+TEST(DisplayRgb, LinearRgbOfCountsIsWhatTheDisplayShowsLessItsBlack) {
     for (const char* name : {"srgb", "crt"}) {
-        SCOPED_TRACE(name);
-        const TonemapPlan plan = planFor(name);
-        // The display white at the XYZ file's scale (Y = 100) is (1, 1, 1), black included.
-        const glm::dvec3 white = linearDisplayRgbOfXyz(plan, 100.0 * plan.display.whiteXyz);
-        for (int c = 0; c < 3; ++c) EXPECT_NEAR(white[c], 1.0, 1e-12);
-        // Twice the white is 2: the preview keeps what the PNG clips.
-        const glm::dvec3 bright = linearDisplayRgbOfXyz(plan, 200.0 * plan.display.whiteXyz);
-        // (The CRT's black is added once, not twice: 2 + its share of each channel.)
-        const glm::dvec3 black = glm::inverse(plan.display.rgbToXyz) * plan.display.blackXyz;
-        for (int c = 0; c < 3; ++c) EXPECT_NEAR(bright[c], 2.0 + black[c], 1e-12);
-        // What a count triple shows, as XYZ, comes back as the counts' linear RGB.
-        const glm::dvec3 counts(40, 128, 250);
-        const glm::dvec3 fromXyz = linearDisplayRgbOfXyz(plan, 100.0 * decodeCounts(plan.display, counts));
-        const glm::dvec3 fromCounts = linearRgbOfCounts(plan.display, counts);
-        for (int c = 0; c < 3; ++c) EXPECT_NEAR(fromXyz[c], fromCounts[c], 1e-12) << c;
+        for (int bits : {8, 16}) {
+            SCOPED_TRACE(std::string(name) + " " + std::to_string(bits));
+            const DisplayModel d = parseDisplay(name, bits, Where{});
+            const glm::dvec3 full = linearRgbOfCounts(d, glm::dvec3(maxCount(d)));
+            for (int c = 0; c < 3; ++c) EXPECT_NEAR(full[c], 1.0, 1e-15);
+            const glm::dvec3 counts = glm::dvec3(0.1, 0.5, 0.9) * maxCount(d);
+            const glm::dvec3 shown = d.rgbToXyz * linearRgbOfCounts(d, counts) + d.blackXyz;
+            const glm::dvec3 decoded = decodeCounts(d, counts);
+            for (int c = 0; c < 3; ++c) EXPECT_NEAR(shown[c], decoded[c], 1e-15);
+        }
     }
 }

@@ -175,8 +175,8 @@ SpectralExrWriter::SpectralExrWriter(const fs::path& path, int width, int height
         m.preview = true;
         extras.extraChannels = previewChannelNames();
         extras.chromaticities = options.preview;
-        a.push_back({"metamer:preview", "R, G, B: the display's linear RGB (its primaries in chromaticities; white = 1), "
-                                        "A = 1; docs/io.md, \"Preview channels\""});
+        a.push_back({"metamer:rgb", "R, G, B: the display image's linear RGB (its primaries in chromaticities; "
+                                    "white = 1), A = 1; docs/io.md, \"Preview channels\""});
     }
     m.writer = std::make_unique<ExrWriter>(m.out.tempPath(), width, height, channels, m.half, options.compression, a,
                                            extras);

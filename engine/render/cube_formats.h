@@ -28,8 +28,8 @@ struct CubeWriteSettings {
     Attributes provenance;
     bool half = false;
     std::string compression = "piz";
-    // The display preview's primaries, when the render has a display path: OpenEXR then carries
-    // R, G, B, A beside the bands (io/spectral_exr.h); the other containers hold bands only.
+    // The display preview's primaries, when the render writes a display image: OpenEXR then
+    // carries R, G, B, A beside the bands (io/spectral_exr.h); the other containers hold bands only.
     std::optional<ExrChromaticities> preview;
 };
 

@@ -89,10 +89,10 @@ RenderOutputs::RenderOutputs(const OutputTargets& targets, int width, int height
         f.attributes.push_back({"metamer:representation", representation_.description});
         channels_ = std::make_unique<ImageFileWriter>(targets_.cube, f, 32);
     }
-    // The display's linear RGB beside the bands, where the render has a colorimetric display path
-    // and writes its image or XYZ (whose pixels make the preview).
-    const bool colorimetric = plan_ && !responsesOnly(plan_);
-    preview_ = colorimetric && (!targets_.png.empty() || !targets_.xyz.empty());
+    // The display image's linear RGB beside the bands, where the render writes a display image (a
+    // colorimetric display path): its counts make the preview, so every way of writing a render
+    // (whole, in strips, the preview's Save, Python's save) gives the same preview.
+    preview_ = plan_ && !responsesOnly(plan_) && !targets_.png.empty();
     std::optional<ExrChromaticities> previewPrimaries;
     if (preview_) {
         const DisplayPrimaries p = displayPrimaries(plan_->display);
@@ -216,15 +216,13 @@ void RenderOutputs::writeRows(int firstRow, int rows, const float* cube, const D
 
 const float* RenderOutputs::previewOf(int rows, const DisplayImage* image) {
     const size_t pixels = size_t(width_) * size_t(rows);
-    const bool fromXyz = image && image->xyz.size() >= pixels * 3;
-    if (!fromXyz && !(image && image->counts.size() >= pixels * 3))
-        failRuntime("cannot write the cube's preview: the display image's rows are missing");
+    if (!image || image->counts.size() < pixels * 3)
+        failRuntime("cannot write '{}': the display image's rows {} are missing for its preview channels",
+                    targets_.cubes.front().path.string(), rows);
     previewRows_.resize(pixels * 4);
     for (size_t i = 0; i < pixels; ++i) {
         const glm::dvec3 rgb =
-            fromXyz ? linearDisplayRgbOfXyz(*plan_, {image->xyz[3 * i], image->xyz[3 * i + 1], image->xyz[3 * i + 2]})
-                    : linearRgbOfCounts(plan_->display,
-                                        {image->counts[3 * i], image->counts[3 * i + 1], image->counts[3 * i + 2]});
+            linearRgbOfCounts(plan_->display, {image->counts[3 * i], image->counts[3 * i + 1], image->counts[3 * i + 2]});
         for (int c = 0; c < 3; ++c) previewRows_[4 * i + size_t(c)] = float(rgb[c]);
         previewRows_[4 * i + 3] = 1.0f;
     }

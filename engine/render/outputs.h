@@ -137,8 +137,7 @@ public:
 
 private:
     void writeQuickLookImage(const QuickLook& q);
-    // The preview's rows from the display image's XYZ, or from its counts where XYZ was not kept
-    // (a render saved from Python without it).
+    // The preview's rows: the display image's counts as the display's linear RGB, and A = 1.
     const float* previewOf(int rows, const DisplayImage* image);
 
     OutputTargets targets_;
@@ -154,7 +153,7 @@ private:
         std::unique_ptr<CubeWriter> writer;
     };
     std::vector<OpenCube> cubes_;  // the spectral cube, one writer per container
-    bool preview_ = false;         // the cube's EXR carries the display's linear RGB (docs/io.md, "Preview channels")
+    bool preview_ = false;         // the cube's EXR carries the display image's linear RGB (docs/io.md, "Preview channels")
     std::vector<float> previewRows_;  // R, G, B, A per pixel of the rows being written
     std::unique_ptr<ImageFileWriter> channels_, png_, xyz_, responses_, edges_;
     CapturedOutputs* capture_ = nullptr;

@@ -4,7 +4,8 @@
 Renders tests/data/cli/small.json twice (sRGB and CRT displays) and checks, with the tools a user
 has rather than Metamer's own readers:
 - oiiotool: `oiiotool small.exr -o view.png` writes the cube's R, G, B, A preview, not its first
-  bands; with `--ch R,G,B --colorconvert linear sRGB` it is the render's own PNG within a count;
+  bands; with `--ch R,G,B --colorconvert linear sRGB` it is the render's own PNG (within a count:
+  oiiotool's conversion is float);
   `--ch` takes band channels by index, not by name (their names hold a comma, its separator).
 - OpenImageIO: the XYZ EXR holds X, Y, Z in R, G, B with OpenEXR's XYZ chromaticities.
 - xarray (h5netcdf): the HDF5 cube has dimensions y, x, wavelength and a wavelength coordinate.
