@@ -53,11 +53,6 @@ fi
 if ! "$venv/bin/python" -c "import h5py, spectral" 2>/dev/null; then
   "${pip_in_venv[@]}" "h5py==3.13.0" "spectral==0.24" "numpy==2.2.6"
 fi
-# xarray through h5netcdf: the netCDF reader that checks the HDF5 cube's named dimensions
-# (tests/python/check_cube_formats.py); pandas and h5py pinned as above.
-if ! "$venv/bin/python" -c "import xarray, h5netcdf" 2>/dev/null; then
-  "${pip_in_venv[@]}" "xarray==2025.6.1" "h5netcdf==1.6.4" "h5py==3.13.0" "pandas==2.2.3" "numpy==2.2.6"
-fi
 # tmm (Byrnes' transfer-matrix method) is the independent oracle for the dielectric slabs.
 if ! "$venv/bin/python" -c "import tmm" 2>/dev/null; then
   "${pip_in_venv[@]}" "tmm==0.2.0" "numpy==2.2.6"
@@ -79,8 +74,9 @@ fi
 if ! "$venv/bin/python" -c "import scikit_build_core; assert scikit_build_core.__version__ == '1.1.2'" 2>/dev/null; then
   "${pip_in_venv[@]}" "scikit-build-core==1.1.2"
 fi
-# xarray (with h5netcdf) opens the HDF5 cubes and Render.to_xarray's arrays; mypy checks a user's
-# script against the package's types (tests/python/test_typing.py).
+# xarray (with h5netcdf) opens the HDF5 cubes — their named dimensions are checked by
+# tests/python/check_cube_formats.py and check_ordinary_tools.py — and Render.to_xarray's arrays;
+# mypy checks a user's script against the package's types (tests/python/test_typing.py).
 if ! "$venv/bin/python" -c "import xarray, h5netcdf, mypy" 2>/dev/null; then
   "${pip_in_venv[@]}" "xarray==2025.6.1" "h5netcdf==1.6.4" "mypy==1.15.0" "numpy==2.2.6"
 fi
