@@ -1,5 +1,7 @@
 #include "reference/cpu_renderer.h"
 
+#include "core/cpu_count.h"
+
 #include "reference/hemisphere_lobe.h"
 #include "spectral/dielectric.h"
 
@@ -547,7 +549,7 @@ ReferenceImage ReferenceRenderer::render() const {
     image.crossings.assign(static_cast<size_t>(w) * h, 0);
 
     int threads = options_.threads;
-    if (threads == 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    if (threads == 0) threads = usableCpuCount();
     threads = std::min(threads, h);
 
     // Rows are handed out one at a time; each pixel depends only on its own rays, so the result

@@ -21,7 +21,7 @@ namespace metamer {
 
 struct ReferenceOptions {
     int ssaa = 1;     // s×s sub-samples per pixel on a regular grid, box-averaged
-    int threads = 0;  // 0 = std::thread::hardware_concurrency()
+    int threads = 0;  // 0 = usableCpuCount() (core/cpu_count.h)
 };
 
 // objectId values besides a mesh index.
