@@ -1,0 +1,77 @@
+// The render job's progress hook (render/render_progress.h): the order of its calls, and a hook
+// that throws stops the render leaving no output file — what the Python binding's Ctrl-C and
+// callbacks rely on.
+#include "render/render_job.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace fs = std::filesystem;
+using namespace metamer;
+
+namespace {
+
+RenderJob smallJob(const std::string& name) {
+    RenderJob job;
+    job.scene = fs::path(METAMER_SOURCE_DIR) / "tests" / "data" / "cli" / "small.json";
+    job.outDir = fs::temp_directory_path() / ("metamer-render-progress-" + name);
+    fs::remove_all(job.outDir);
+    job.validation = true;
+    return job;
+}
+
+struct Stop : std::runtime_error {
+    Stop() : std::runtime_error("stopped by the hook") {}
+};
+
+}  // namespace
+
+TEST(RenderProgress, StripsAreCountedFromZeroToTheTotal) {
+    RenderJob job = smallJob("strips");
+    job.memoryBudget = 96 << 10;  // a few rows per strip
+    std::vector<RenderProgress> seen;
+    job.progress = [&](const RenderProgress& p) { seen.push_back(p); };
+    const RenderJobResult r = runRenderJob(job);
+    EXPECT_EQ(r.validationErrors, 0u);
+    ASSERT_GE(seen.size(), 3u);
+    EXPECT_EQ(seen.front().done, 0);
+    EXPECT_EQ(seen.back().done, seen.back().total);
+    for (size_t i = 0; i < seen.size(); ++i) {
+        EXPECT_STREQ(seen[i].unit, "strip");
+        EXPECT_EQ(seen[i].done, int(i));
+        EXPECT_EQ(seen[i].total, seen.front().total);
+        if (i) EXPECT_GE(seen[i].seconds, seen[i - 1].seconds);
+    }
+    EXPECT_GT(r.threads, 0);
+}
+
+TEST(RenderProgress, WholeFramesAreCountedToo) {
+    RenderJob job = smallJob("frames");
+    job.frames = 3;
+    std::vector<int> done;
+    job.progress = [&](const RenderProgress& p) {
+        EXPECT_STREQ(p.unit, "frame");
+        EXPECT_EQ(p.total, 3);
+        done.push_back(p.done);
+    };
+    runRenderJob(job);
+    EXPECT_EQ(done, (std::vector<int>{0, 1, 2, 3}));
+}
+
+TEST(RenderProgress, AHookThatThrowsStopsTheRenderAndLeavesNoFile) {
+    RenderJob job = smallJob("stop");
+    job.memoryBudget = 96 << 10;
+    int calls = 0;
+    job.progress = [&](const RenderProgress& p) {
+        ++calls;
+        if (p.done == 2) throw Stop();
+    };
+    EXPECT_THROW(runRenderJob(job), Stop);
+    EXPECT_EQ(calls, 3);
+    // The folder may have been made for the outputs; nothing is in it, not even a temporary file.
+    if (fs::exists(job.outDir)) EXPECT_TRUE(fs::is_empty(job.outDir));
+}
