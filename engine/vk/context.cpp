@@ -251,9 +251,9 @@ Context::Context(const ContextOptions& options) {
         vkGetPhysicalDeviceProperties(physical_, &properties_);
         vkGetPhysicalDeviceMemoryProperties(physical_, &memory_);
         if (options.verbose)
-            std::fprintf(stderr, "metamer: device %u: %s, chosen by %s; %d threads (%s); %s\n", info_.index,
+            std::fprintf(stderr, "metamer: device %u: %s, chosen by %s; %d thread%s (%s); %s\n", info_.index,
                          describeDevice(info_).c_str(), deviceReason_.c_str(), usableCpuCount(),
-                         cpuCount().source.c_str(), driverThreads.c_str());
+                         usableCpuCount() == 1 ? "" : "s", cpuCount().source.c_str(), driverThreads.c_str());
 
         float priority = 1.0f;
         VkDeviceQueueCreateInfo qci[2] = {{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO},
