@@ -2,7 +2,6 @@
 
 #include "core/error.h"
 #include "core/file_reads.h"
-#include "render/outputs.h"
 
 #include <algorithm>
 
@@ -38,6 +37,7 @@ const CubeContainer* namedCubeFormat(const std::string& extension) {
 
 OutputPath parseOutputPath(const std::string& text, const std::string& flag) {
     const Where where{"", flag};
+    if (text.empty()) failInput(where, "expected a folder or an output file's name, got an empty string");
     const fs::path path(text);
     std::error_code ec;
     const fs::file_status st = fs::status(path, ec);

@@ -495,7 +495,8 @@ RenderJobResult runRenderJob(const RenderJob& job) {
         else if (scene.output.format) oo.formats = parseCubeFormats(*scene.output.format, sceneOut.child("format"));
         else if (const CubeContainer* named = namedCubeFormat(job.outExtension)) oo.formats = {{named, ""}};
         if (!job.outExtension.empty())
-            requireNamedOutput((job.outDir / (stem + job.outExtension)).lexically_normal(), files.cube, files.png && planPtr, oo.formats,
+            requireNamedOutput((job.outDir / (stem + job.outExtension)).lexically_normal(), files.cube,
+                               files.png && planPtr, oo.formats,
                                job.format ? "--format" : scene.output.format ? "the scene's output.format" : "");
         const bool onlyExr = oo.formats.size() == 1 && oo.formats.front().format->name == "exr";
         if (!onlyExr && !loaded->representation.mode.spectral())
