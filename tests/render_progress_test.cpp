@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <stdexcept>
 #include <string>
@@ -74,4 +75,33 @@ TEST(RenderProgress, AHookThatThrowsStopsTheRenderAndLeavesNoFile) {
     EXPECT_EQ(calls, 3);
     // The folder may have been made for the outputs; nothing is in it, not even a temporary file.
     if (fs::exists(job.outDir)) EXPECT_TRUE(fs::is_empty(job.outDir));
+}
+
+TEST(RenderProgress, TheCpuReferenceCountsRowsAndCanBeStopped) {
+    RenderJob job = smallJob("rows");
+    job.backend = Backend::Cpu;
+    job.validation = false;
+    std::vector<int> done;
+    job.progress = [&](const RenderProgress& p) {
+        EXPECT_STREQ(p.unit, "row");
+        EXPECT_EQ(p.total, 32);
+        done.push_back(p.done);
+    };
+    runRenderJob(job);
+    ASSERT_GE(done.size(), 2u);
+    EXPECT_EQ(done.front(), 0);
+    EXPECT_EQ(done.back(), 32);
+    EXPECT_TRUE(std::is_sorted(done.begin(), done.end()));
+
+    RenderJob stopped = smallJob("rows-stop");
+    stopped.backend = Backend::Cpu;
+    stopped.validation = false;
+    stopped.overrides = {"camera.width=160", "camera.height=120"};  // long enough for a report between rows
+    // The first report after 0: between rows when the render is slow enough, else the last one,
+    // which still comes before any file is written.
+    stopped.progress = [](const RenderProgress& p) {
+        if (p.done > 0) throw Stop();
+    };
+    EXPECT_THROW(runRenderJob(stopped), Stop);
+    if (fs::exists(stopped.outDir)) EXPECT_TRUE(fs::is_empty(stopped.outDir));
 }

@@ -393,9 +393,11 @@ void renderReferenceFrame(const RenderJob& job, LoadedScene& loaded, const Tonem
     auto t = Clock::now();
     ReferenceOptions ro;
     ro.ssaa = job.ssaa;
-    report("image", 0, 1);
+    const int rows = loaded.scene.camera.height;
+    report("row", 0, rows);
+    ro.progress = [&](int done, int total) { report("row", done, total); };
     ReferenceImage img = renderReference(loaded.scene, loaded.rendered, ro);
-    report("image", 1, 1);
+    report("row", rows, rows);
     r.timings.shading_ms = msSince(t);
     DisplayImage image;
     if (plan) {
