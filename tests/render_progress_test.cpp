@@ -7,6 +7,8 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -50,17 +52,40 @@ TEST(RenderProgress, StripsAreCountedFromZeroToTheTotal) {
     EXPECT_GT(r.threads, 0);
 }
 
-TEST(RenderProgress, WholeFramesAreCountedToo) {
-    RenderJob job = smallJob("frames");
+TEST(RenderProgress, WholeFramesArePassByPassAndTheSameImage) {
+    RenderJob job = smallJob("passes");
     job.frames = 3;
+    job.write = {"cube"};
     std::vector<int> done;
     job.progress = [&](const RenderProgress& p) {
-        EXPECT_STREQ(p.unit, "frame");
-        EXPECT_EQ(p.total, 3);
+        EXPECT_STREQ(p.unit, "pass");
+        EXPECT_EQ(p.total % 3, 0);  // the frame's passes, three times
         done.push_back(p.done);
     };
-    runRenderJob(job);
-    EXPECT_EQ(done, (std::vector<int>{0, 1, 2, 3}));
+    const RenderJobResult r = runRenderJob(job);
+    EXPECT_EQ(r.validationErrors, 0u);
+    ASSERT_GE(done.size(), 2u);
+    for (size_t i = 0; i < done.size(); ++i) EXPECT_EQ(done[i], int(i));
+    // Submitted pass by pass, the cube is the one a single submission draws.
+    RenderJob whole = smallJob("passes-whole");
+    whole.write = {"cube"};
+    runRenderJob(whole);
+    auto bytes = [](const fs::path& p) {
+        std::ifstream in(p, std::ios::binary);
+        return std::string(std::istreambuf_iterator<char>(in), {});
+    };
+    EXPECT_EQ(bytes(job.outDir / "small.exr"), bytes(whole.outDir / "small.exr"));
+
+    RenderJob display = smallJob("display-frames");  // no bands: the response pass, frame by frame
+    display.write = {"png"};
+    display.frames = 2;
+    std::vector<int> frames;
+    display.progress = [&](const RenderProgress& p) {
+        EXPECT_STREQ(p.unit, "frame");
+        frames.push_back(p.done);
+    };
+    runRenderJob(display);
+    EXPECT_EQ(frames, (std::vector<int>{0, 1, 2}));
 }
 
 TEST(RenderProgress, AHookThatThrowsStopsTheRenderAndLeavesNoFile) {

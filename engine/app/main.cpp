@@ -160,8 +160,8 @@ int main(int argc, char** argv) {
     addRenderFlags(render, settings, kAllRenderFlags);
     auto* timingsFlag = render->add_flag("--timings", timings, "print per-stage timings");
     auto* progressFlag = render->add_flag("--progress,!--no-progress", progress,
-                                          "strips, frames or rows done, time elapsed and left, on stderr (default: "
-                                          "when stderr is a terminal)");
+                                          "strips, passes, frames or rows done, time elapsed and left, on stderr "
+                                          "(default: when stderr is a terminal)");
     render->add_flag("--quiet,-q", quiet, "print nothing but errors")
         ->excludes(render->get_option("--verbose"))
         ->excludes(timingsFlag)

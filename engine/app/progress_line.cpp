@@ -24,8 +24,9 @@ void ProgressLine::operator()(const RenderProgress& p) {
     std::string line;
     if (p.done == 0) {
         startSeconds_ = p.seconds;
-        line = fmt::format("metamer: rendering: {} {}{} (set-up {})", p.total, p.unit, p.total == 1 ? "" : "s",
-                           duration(p.seconds));
+        const std::string unit = p.unit;
+        const char* plural = p.total == 1 ? "" : unit.back() == 's' ? "es" : "s";  // "passes"
+        line = fmt::format("metamer: rendering: {} {}{} (set-up {})", p.total, unit, plural, duration(p.seconds));
     } else {
         // The time per unit so far, times the units left: strips and frames cost about the same.
         const double perUnit = (p.seconds - startSeconds_) / p.done;

@@ -1,4 +1,4 @@
-// `metamer render`'s progress on stderr: strips, frames or rows done, the time so far and an estimate of
+// `metamer render`'s progress on stderr: strips, passes, frames or rows done, the time so far and an estimate of
 // the time left, fed by the render job's progress hook (render/render_progress.h). On a terminal
 // one line rewritten in place; elsewhere (--progress into a log) one line per step.
 // Tests: tests/cli_test.cpp (CliProgress.*).

@@ -347,10 +347,15 @@ void renderGpuFrames(const RenderJob& job, LoadedScene& loaded, const TonemapPla
         SpectralCube cube;
         DisplayImage image;
         std::vector<double> shading, readback, tonemapMs;
-        const int frames = std::max(1, job.frames);
-        report("frame", 0, frames);
+        // Progress per declared pass (depth pre-pass, band passes, ...) of every frame: with a hook
+        // the passes are submitted one at a time, so a long frame reports and can stop between them.
+        const int frames = std::max(1, job.frames), passes = pass.framePasses();
+        report("pass", 0, frames * passes);
         for (int f = 0; f < frames; ++f) {
-            pass.draw();
+            std::function<void(int, int)> afterPass;
+            if (job.progress)
+                afterPass = [&, f](int done, int) { report("pass", f * passes + done, frames * passes); };
+            pass.draw(afterPass);
             shading.push_back(pass.timings().shading_ms);
             if (tonemap) image = tonemap->render();
             tonemapMs.push_back(tonemap ? tonemap->lastMs() : 0.0);
@@ -360,7 +365,6 @@ void renderGpuFrames(const RenderJob& job, LoadedScene& loaded, const TonemapPla
             } else {
                 readback.push_back(0.0);
             }
-            report("frame", f + 1, frames);
         }
         r.timings.upload_ms = pass.timings().upload_ms;
         r.timings.shadow_ms = pass.timings().shadow_ms;

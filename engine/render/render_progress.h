@@ -8,10 +8,11 @@
 // - First with done = 0, once the scene is loaded and every output is open (so `seconds` then is
 //   the set-up's time), then as units finish, done rising to total. `unit` and `total` stay the
 //   same within a job: "strip" for an image rendered in strips (over the memory budget), after
-//   every strip; "frame" for whole GPU frames (total = --frames), after every frame; "row" for the
-//   CPU reference (total = the image's rows), at most about 4 times a second and at the end. A unit
-//   is the finest step the renderer can stop between: a whole GPU frame draws every band pass in
-//   one submission.
+//   every strip; "pass" for whole GPU frames with the bands (total = --frames × the frame's
+//   declared passes: depth pre-pass, lobe pass, band and transmission passes), after every pass,
+//   each then a GPU submission of its own; "frame" for the display path without the bands (total =
+//   --frames); "row" for the CPU reference (total = the image's rows), at most about 4 times a
+//   second and at the end.
 // - It may throw, any exception, to stop the render: runRenderJob stops drawing, removes every
 //   temporary file it had opened and lets the exception through unchanged. No output file is
 //   created or replaced (files of an earlier run under the same names stay as they were); a folder
@@ -24,7 +25,7 @@
 namespace metamer {
 
 struct RenderProgress {
-    const char* unit = "frame";  // "strip", "frame" or "row"
+    const char* unit = "frame";  // "strip", "pass", "frame" or "row"
     int done = 0, total = 1;
     double seconds = 0;  // since runRenderJob started (loading included)
 };
