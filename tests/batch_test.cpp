@@ -4,6 +4,7 @@
 #include "support/cli.h"
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 #include <gtest/gtest.h>
 
@@ -463,4 +464,22 @@ TEST(BatchCli, TheIndexMarksWhatIsCurrentAndListsTheSweepsJobsMissingOrNot) {
     ASSERT_EQ(index.size(), 5u);
     EXPECT_NE(index[4].find(",missing,true,"), std::string::npos) << index[4];
     EXPECT_NE(index[4].find("illuminants/A"), std::string::npos) << index[4];  // what it would render
+}
+
+// Issue 35, item 5: a job's record says how many threads rendered it (--threads, as the Slurm
+// task passes it).
+TEST(BatchCli, TheRecordKeepsTheThreadCount) {
+    const fs::path dir = freshDir("threads");
+    const fs::path sweep = writeSweep(dir, R"({"write": "png", "size": "24x16"})", 1);
+    test::CliRun r = test::runMetamer("batch " + sweep.string() + " --out " + (dir / "out").string() + " --threads 1 -q");
+    ASSERT_EQ(r.code, 0) << r.output;
+    size_t records = 0;
+    for (const auto& e : fs::directory_iterator(dir / "out"))
+        if (e.is_directory() && fs::exists(e.path() / "job.json")) {
+            std::ifstream in(e.path() / "job.json");
+            const nlohmann::json record = nlohmann::json::parse(in);
+            EXPECT_EQ(record.value("threads", 0), 1) << e.path();
+            ++records;
+        }
+    EXPECT_EQ(records, 2u);
 }

@@ -434,3 +434,199 @@ TEST(CliChecks, OptionsForFilesNotWrittenAreSaid) {
     CliRun fine = run("render " + kScene + " --half --compression zip --bits 16 --out " + out.string());
     EXPECT_EQ(fine.output.find("has no effect"), std::string::npos) << fine.output;
 }
+
+// Issue 35, item 5: the threads come from what the scheduler gave, observable with -v.
+namespace {
+// The variables these tests set, unset first so that the machine's own do not leak in.
+const std::string kClean = "env -u LP_NUM_THREADS -u SLURM_CPUS_PER_TASK -u METAMER_DEVICE -u CUDA_VISIBLE_DEVICES "
+                           "-u SLURM_LOCALID ";
+}  // namespace
+
+TEST(CliThreads, TasksetToOneCpuGivesOneThread) {
+    CliRun r = run("render " + kScene + " -v --out " + freshDir("taskset").string(), kClean + "taskset -c 0");
+    ASSERT_EQ(r.code, 0) << r.output;
+    EXPECT_NE(r.output.find("threads: 1 (sched_getaffinity (1 CPU this process may run on))"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("LP_NUM_THREADS=1 (from sched_getaffinity"), std::string::npos) << r.output;
+}
+
+TEST(CliThreads, SlurmCpusPerTaskIsHonouredWithinTheAffinity) {
+    CliRun one = run("render " + kScene + " -v --out " + freshDir("slurm-1").string(), kClean + "SLURM_CPUS_PER_TASK=1");
+    ASSERT_EQ(one.code, 0) << one.output;
+    EXPECT_NE(one.output.find("threads: 1 (SLURM_CPUS_PER_TASK)"), std::string::npos) << one.output;
+    EXPECT_NE(one.output.find("LP_NUM_THREADS=1"), std::string::npos) << one.output;
+    CliRun many = run("render " + kScene + " -v --out " + freshDir("slurm-many").string(),
+                      kClean + "taskset -c 0 env SLURM_CPUS_PER_TASK=64");
+    ASSERT_EQ(many.code, 0) << many.output;
+    EXPECT_NE(many.output.find("threads: 1 (SLURM_CPUS_PER_TASK=64, bounded by sched_getaffinity (1 CPU))"),
+              std::string::npos) << many.output;
+    CliRun flag = run("render " + kScene + " -v --threads 3 --out " + freshDir("flag").string(),
+                      kClean + "SLURM_CPUS_PER_TASK=1 LP_NUM_THREADS=2");
+    ASSERT_EQ(flag.code, 0) << flag.output;
+    EXPECT_NE(flag.output.find("threads: 3 (--threads)"), std::string::npos) << flag.output;
+    EXPECT_NE(flag.output.find("LP_NUM_THREADS=2 (set by the user)"), std::string::npos) << flag.output;
+    CliRun bad = run("render " + kScene + " --out " + freshDir("slurm-bad").string(), kClean + "SLURM_CPUS_PER_TASK=all");
+    EXPECT_EQ(bad.code, 2) << bad.output;
+    EXPECT_NE(bad.output.find("SLURM_CPUS_PER_TASK: 'all' is not a thread count"), std::string::npos) << bad.output;
+    CliRun zero = run("batch sweep.json --threads 0");
+    EXPECT_EQ(zero.code, 2) << zero.output;
+    EXPECT_NE(zero.output.find("--threads: '0' is not a thread count"), std::string::npos) << zero.output;
+}
+
+// Issue 35, item 4: -o names the output file, a folder stays a folder, the rest is an error.
+TEST(CliOutputName, AFileNameNamesEveryOutput) {
+    const fs::path d = freshDir("named");
+    CliRun r = run("render " + kScene + " -o " + (d / "x.exr").string());
+    ASSERT_EQ(r.code, 0) << r.output;
+    EXPECT_EQ(readSpectralExr(d / "x.exr").bands(), 89);
+    EXPECT_TRUE(fs::exists(d / "x.png"));
+    EXPECT_EQ(std::distance(fs::directory_iterator(d), fs::directory_iterator()), 2);
+    CliRun h5 = run("render " + kScene + " --no-png -o " + (d / "y.h5").string());
+    ASSERT_EQ(h5.code, 0) << h5.output;
+    EXPECT_TRUE(fs::exists(d / "y.h5"));
+    EXPECT_FALSE(fs::exists(d / "y.exr"));
+    CliRun png = run("render " + kScene + " --write png --output " + (d / "z.png").string());
+    ASSERT_EQ(png.code, 0) << png.output;
+    EXPECT_TRUE(fs::exists(d / "z.png"));
+    EXPECT_FALSE(fs::exists(d / "z.exr"));
+}
+
+TEST(CliOutputName, AFolderStaysAFolder) {
+    const fs::path d = freshDir("slash");
+    CliRun r = run("render " + kScene + " -o " + (d / "result.exr").string() + "/");
+    ASSERT_EQ(r.code, 0) << r.output;
+    EXPECT_TRUE(fs::is_directory(d / "result.exr"));
+    EXPECT_TRUE(fs::exists(d / "result.exr" / "small.exr"));
+    // An existing folder with an output's extension is a folder too.
+    CliRun again = run("render " + kScene + " --no-png -o " + (d / "result.exr").string());
+    ASSERT_EQ(again.code, 0) << again.output;
+    EXPECT_TRUE(fs::is_directory(d / "result.exr"));
+}
+
+TEST(CliOutputName, AmbiguousOrUnwrittenNamesAreErrors) {
+    const fs::path d = freshDir("ambiguous");
+    CliRun tiff = run("render " + kScene + " -o " + (d / "result.tiff").string());
+    EXPECT_EQ(tiff.code, 2) << tiff.output;
+    EXPECT_NE(tiff.output.find("--out: '" + (d / "result.tiff").string() + "' is ambiguous"), std::string::npos)
+        << tiff.output;
+    EXPECT_NE(tiff.output.find("NAME.exr, NAME.h5, NAME.hdr or NAME.png"), std::string::npos) << tiff.output;
+    CliRun clash = run("render " + kScene + " --format exr -o " + (d / "x.h5").string());
+    EXPECT_EQ(clash.code, 2) << clash.output;
+    EXPECT_NE(clash.output.find("--out: '"), std::string::npos) << clash.output;
+    EXPECT_NE(clash.output.find("names a cube in hdf5 format, but --format asks for exr"), std::string::npos)
+        << clash.output;
+    CliRun noPng = run("render " + kScene + " --no-png -o " + (d / "x.png").string());
+    EXPECT_EQ(noPng.code, 2) << noPng.output;
+    EXPECT_NE(noPng.output.find("names the display PNG, which this run does not write"), std::string::npos)
+        << noPng.output;
+    EXPECT_FALSE(fs::exists(d));  // nothing made
+}
+
+TEST(CliOutputName, ASceneFromStdinResolvesItsPathsAgainstTheCurrentFolder) {
+    const fs::path d = freshDir("stdin");
+    fs::create_directories(d / "elsewhere");
+    fs::copy_file(fs::path(METAMER_SOURCE_DIR) / "spectra" / "illuminants" / "A.csv", d / "mine.csv");
+    std::ifstream in(kScene);
+    std::string text(std::istreambuf_iterator<char>(in), {});
+    const std::string from = "\"illuminants/A\"";
+    text.replace(text.find(from), from.size(), "\"mine.csv\"");
+    std::ofstream(d / "scene.txt") << text;
+    test::CliOptions here;
+    here.dir = d.string();
+    CliRun r = test::runMetamer("render - -o out/ < scene.txt", here);
+    ASSERT_EQ(r.code, 0) << r.output;
+    EXPECT_TRUE(fs::exists(d / "out" / "stdin.exr"));
+    CliRun named = test::runMetamer("render - --no-png -o lamp.exr < scene.txt", here);
+    ASSERT_EQ(named.code, 0) << named.output;
+    EXPECT_TRUE(fs::exists(d / "lamp.exr"));
+    test::CliOptions there;
+    there.dir = (d / "elsewhere").string();
+    CliRun missing = test::runMetamer("render - -o out/ < ../scene.txt", there);
+    EXPECT_EQ(missing.code, 2) << missing.output;
+    EXPECT_NE(missing.output.find("<stdin>"), std::string::npos) << missing.output;
+    EXPECT_NE(missing.output.find("mine.csv"), std::string::npos) << missing.output;
+}
+
+TEST(CliOptions, AMistypedOptionGetsTheNearestOne) {
+    CliRun r = run("render " + kScene + " --outptu x.exr");
+    EXPECT_EQ(r.code, 2) << r.output;
+    EXPECT_NE(r.output.find("--outptu: not an option of metamer render (did you mean --output?)"), std::string::npos)
+        << r.output;
+    EXPECT_EQ(countLinesStartingWith(r.output, "metamer: "), 1) << r.output;
+    CliRun batch = run("batch sweep.json --shrad 0/2");
+    EXPECT_EQ(batch.code, 2) << batch.output;
+    EXPECT_NE(batch.output.find("(did you mean --shard?)"), std::string::npos) << batch.output;
+    CliRun far = run("render " + kScene + " --zzzzzzzz");
+    EXPECT_EQ(far.code, 2) << far.output;
+    EXPECT_EQ(far.output.find("did you mean"), std::string::npos) << far.output;
+}
+
+// Issue 35, item 1: progress on stderr when asked (tests run without a terminal), -q silent.
+TEST(CliProgress, PrintedWithProgressAndNotWithoutATerminal) {
+    const std::string strips = " --memory-budget 0.5 --out " + freshDir("progress").string();
+    test::CliOptions errors;
+    errors.stderrOnly = true;
+    CliRun asked = test::runMetamer("render " + kScene + strips + " --progress", errors);
+    ASSERT_EQ(asked.code, 0) << asked.output;
+    EXPECT_NE(asked.output.find("metamer: rendering: "), std::string::npos) << asked.output;
+    EXPECT_NE(asked.output.find("metamer: strip 1 of "), std::string::npos) << asked.output;
+    EXPECT_NE(asked.output.find(" left"), std::string::npos) << asked.output;
+    EXPECT_EQ(asked.output.find('\r'), std::string::npos) << "not a terminal: one line per step";
+    CliRun unasked = test::runMetamer("render " + kScene + strips, errors);
+    ASSERT_EQ(unasked.code, 0) << unasked.output;
+    EXPECT_EQ(unasked.output.find("metamer: "), std::string::npos) << unasked.output;
+}
+
+TEST(CliProgress, QuietPrintsNothingButErrors) {
+    CliRun quiet = run("render " + kScene + " -q --no-png --half --out " + freshDir("quiet").string());
+    EXPECT_EQ(quiet.code, 0) << quiet.output;
+    EXPECT_EQ(quiet.output, "");  // not even the --half warning or the "wrote" lines
+    CliRun error = run("render /nonexistent.json -q");
+    EXPECT_EQ(error.code, 2);
+    EXPECT_EQ(countLinesStartingWith(error.output, "metamer: "), 1) << error.output;
+    CliRun both = run("render " + kScene + " -q -v");
+    EXPECT_EQ(both.code, 2) << both.output;
+}
+
+// Issue 35, item 5: the Vulkan device from METAMER_DEVICE, CUDA_VISIBLE_DEVICES, SLURM_LOCALID
+// (lavapipe is the one device here).
+TEST(CliDevices, TheVariablesChooseAndWhatMatchesNothingIsAClearError) {
+    const std::string out = " --no-png -v --out " + freshDir("devices").string();
+    CliRun zero = run("render " + kScene + out, kClean + "METAMER_DEVICE=0");
+    ASSERT_EQ(zero.code, 0) << zero.output;
+    EXPECT_NE(zero.output.find("chosen by METAMER_DEVICE=0"), std::string::npos) << zero.output;
+    CliRun five = run("render " + kScene + out, kClean + "METAMER_DEVICE=5");
+    EXPECT_EQ(five.code, 3) << five.output;
+    EXPECT_NE(five.output.find("METAMER_DEVICE='5' is not a device index; the devices: 0: llvmpipe"), std::string::npos)
+        << five.output;
+    CliRun uuid = run("render " + kScene + out, kClean + "METAMER_DEVICE=GPU-00000000-1111-2222-3333-444444444444");
+    EXPECT_EQ(uuid.code, 3) << uuid.output;
+    EXPECT_NE(uuid.output.find("is not the UUID of any Vulkan device"), std::string::npos) << uuid.output;
+    CliRun cuda = run("render " + kScene + out, kClean + "CUDA_VISIBLE_DEVICES=GPU-00000000-1111-2222-3333-444444444444");
+    EXPECT_EQ(cuda.code, 3) << cuda.output;
+    EXPECT_NE(cuda.output.find("CUDA_VISIBLE_DEVICES='GPU-00000000"), std::string::npos) << cuda.output;
+    CliRun cudaIndex = run("render " + kScene + out, kClean + "CUDA_VISIBLE_DEVICES=0");
+    ASSERT_EQ(cudaIndex.code, 0) << cudaIndex.output;
+    EXPECT_NE(cudaIndex.output.find("chosen by CUDA_VISIBLE_DEVICES=0"), std::string::npos) << cudaIndex.output;
+    CliRun local = run("render " + kScene + out, kClean + "SLURM_LOCALID=3");
+    ASSERT_EQ(local.code, 0) << local.output;
+    EXPECT_NE(local.output.find("chosen by SLURM_LOCALID=3 (of 1 GPU)"), std::string::npos) << local.output;
+    CliRun list = run("devices", kClean);
+    ASSERT_EQ(list.code, 0) << list.output;
+    EXPECT_NE(list.output.find(" UUID "), std::string::npos) << list.output;
+    EXPECT_NE(list.output.find("a render uses 0 (the best score)"), std::string::npos) << list.output;
+}
+
+// docs/cli.md's reference is what `metamer --markdown-reference` prints from the declarations.
+TEST(CliReference, DocsAreCurrent) {
+    CliRun r = run("--markdown-reference");
+    ASSERT_EQ(r.code, 0) << r.output;
+    std::ifstream in(std::string(METAMER_SOURCE_DIR) + "/docs/cli.md");
+    const std::string doc(std::istreambuf_iterator<char>(in), {});
+    const std::string begin = "<!-- begin: generated by metamer --markdown-reference -->";
+    const std::string end = "<!-- end: generated by metamer --markdown-reference -->\n";
+    const size_t a = doc.find(begin), b = doc.find(end);
+    ASSERT_NE(a, std::string::npos) << "docs/cli.md has no reference block";
+    ASSERT_NE(b, std::string::npos) << "docs/cli.md has no reference block";
+    EXPECT_EQ(doc.substr(a, b + end.size() - a), r.output)
+        << "docs/cli.md is stale: python3 tools/update_cli_reference.py build/metamer";
+}

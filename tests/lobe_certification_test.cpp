@@ -7,6 +7,7 @@
 // and 10³ grazing ones (n·v < 0.02): the largest error must be at most 10⁻⁴. The ring oracle is
 // checked against the independent lune oracle on 50 configurations per gloss. Prints the table
 // docs/physics.md quotes. Runs in the plain suite only (ci/sanitize.sh leaves it out).
+#include "core/cpu_count.h"
 #include "reference/lobe_table.h"
 #include "scene/scene_json.h"
 #include "spectral/library.h"
@@ -65,7 +66,7 @@ TEST(LobeCertification, EveryBundledGlossAndTheListedOnesWithin1e4OfTheUnocclude
     for (double N : {1.0, 4.0, 10.0, 60.0, 200.0, 1000.0, 10000.0}) glosses.insert(N);
     std::printf("| gloss | median | 99th percentile | max (random) | max (grazing) | unoccluded lobe, max | exactly 0 or all | ring vs lune |\n"
                 "|--:|--:|--:|--:|--:|--:|--:|--:|\n");
-    const int threads = int(std::max(1u, std::thread::hardware_concurrency()));
+    const int threads = usableCpuCount();  // what the scheduler gave (core/cpu_count.h)
     for (double N : glosses) {
         const auto table = lobeTableFor(N);
         const std::vector<Configuration> cs = configurations(N);

@@ -178,7 +178,10 @@ int runBatchCommand(const BatchArgs& a) {
 
     vk::ContextOptions co = vk::contextOptionsFromEnvironment();
     co.validation = co.validation || a.validation;
-    if (!a.device.empty()) co.device = a.device;
+    if (!a.device.empty()) {
+        co.device = a.device;
+        co.deviceFrom = "--device";
+    }
     vk::Context ctx(co);
     const bool terminal = ::isatty(STDERR_FILENO);
     auto progress = [&](const BatchProgress& p) {

@@ -111,7 +111,10 @@ int runBenchCommand(const BenchArgs& args) {
 
     vk::ContextOptions co = vk::contextOptionsFromEnvironment();
     co.validation = co.validation || args.validation;
-    if (!args.device.empty()) co.device = args.device;
+    if (!args.device.empty()) {
+        co.device = args.device;
+        co.deviceFrom = "--device";
+    }
     auto ctx = std::make_unique<vk::Context>(co);
     auto progress = [&](const std::string& line) {
         if (!args.quiet) std::fprintf(stderr, "%s\n", line.c_str());

@@ -86,6 +86,38 @@ void checkVerb(const CLI::App& app, int argc, char** argv) {
 
 void checkParsedValues(const CLI::App& app) { checkOptions(app); }
 
+void failUnexpectedArguments(const CLI::App& app) {
+    // The command that was given: the deepest subcommand parsed.
+    const CLI::App* at = &app;
+    while (!at->get_subcommands().empty()) at = at->get_subcommands().front();
+    const std::string command = at == &app ? "metamer" : "metamer " + at->get_name();
+    const std::vector<std::string> extras = app.remaining(true);
+    std::string first = extras.empty() ? "" : extras.front();
+    for (const std::string& e : extras)
+        if (e.size() > 1 && e[0] == '-') {
+            first = e;
+            break;
+        }
+    if (first.size() > 1 && first[0] == '-') {
+        const std::string typed = first.substr(0, first.find('='));
+        std::vector<std::string> names;
+        for (const CLI::App* a = at; a; a = a->get_parent())
+            for (const CLI::Option* o : a->get_options()) {
+                if (o->get_group().empty()) continue;  // hidden
+                for (const std::string& l : o->get_lnames()) names.push_back("--" + l);
+                for (const std::string& s : o->get_snames()) names.push_back("-" + s);
+            }
+        const std::string near = closestMatch(typed, names);
+        failInput(Where{"", printableMessage(typed)}, "not an option of {}{}; {} --help lists them", command,
+                  near.empty() ? "" : fmt::format(" (did you mean {}?)", near), command);
+    }
+    failInput(Where{}, "'{}' was not expected: {} takes {}; {} --help says more", printableMessage(first), command,
+              at->get_options([](const CLI::Option* o) { return o->get_positional(); }).empty()
+                  ? "no positional argument"
+                  : "fewer positional arguments",
+              command);
+}
+
 CLI::Validator positiveNumber(const std::string& unit) { return numberAbove(true, unit); }
 CLI::Validator nonNegativeNumber() { return numberAbove(false, ""); }
 

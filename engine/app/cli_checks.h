@@ -3,7 +3,8 @@
 // default, `--out ''` the scene's own folder), and a number must be finite (`--memory-budget nan`
 // used to pass CLI11's positive-number check, which NaN does not fail). And the verb: an unknown
 // one is an error with the nearest verb, not CLI11's generic complaint or, with --help, the
-// top-level help and exit 0. Errors name the option as the user typed it (`--grid`).
+// top-level help and exit 0; a mistyped option, likewise, gets the nearest option. Errors name the
+// option as the user typed it (`--grid`).
 // Tests: tests/cli_test.cpp (CliChecks.*).
 #pragma once
 
@@ -18,6 +19,11 @@ void checkVerb(const CLI::App& app, int argc, char** argv);
 
 // After parsing: every value given to an option of `app` or of a subcommand that was used.
 void checkParsedValues(const CLI::App& app);
+
+// After CLI11's ExtrasError: the first argument the command did not expect, as an input error —
+// a mistyped option with the nearest of the command's options (`--outptu`: did you mean
+// --output?), anything else with what the command takes.
+[[noreturn]] void failUnexpectedArguments(const CLI::App& app);
 
 // A validator for a number > 0 whose message says so in words (CLI11's PositiveNumber prints the
 // range as "0.000000 to 1.797…e308").

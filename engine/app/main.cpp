@@ -7,10 +7,14 @@
 #include "sensor/capture_files.h"
 #include "sensor/sensor_spec.h"
 #include "app/compare_command.h"  // metamer compare
+#include "app/markdown_reference.h"  // metamer --markdown-reference: docs/cli.md
+#include "app/progress_line.h"   // render --progress
 #include "app/preview_command.h"  // metamer preview
 #include "app/render_flags.h"     // the render flags, shared with preview, bench and batch
+#include "core/cpu_count.h"
 #include "core/error.h"
 #include "io/atomic_file.h"
+#include "render/output_path.h"
 #include "render/render_job.h"
 #include "vk/context.h"
 
@@ -19,6 +23,8 @@
 #include <algorithm>
 #include <csignal>
 #include <cstdio>
+#include <iostream>
+#include <iterator>
 #include <sys/syscall.h>
 #include <unistd.h>
 
@@ -95,7 +101,7 @@ void printTimings(const RenderJobResult& r) {
 }
 
 int listDevices() {
-    vk::ContextOptions o;
+    vk::Context::sizeDriverThreads();
     VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
     app.apiVersion = VK_API_VERSION_1_1;
     VkInstanceCreateInfo ici{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
@@ -106,15 +112,22 @@ int listDevices() {
         return int(ExitCode::NoDevice);
     }
     auto devices = vk::Context::listDevices(instance);
-    for (const auto& d : devices)
-        std::printf("%u: %s (score %d%s)\n", d.index, d.name.c_str(), d.score, d.score ? "" : ", unusable");
     vkDestroyInstance(instance, nullptr);
+    for (const auto& d : devices)
+        std::printf("%u: %s (%s, score %d%s)%s%s\n", d.index, d.name.c_str(), vk::deviceTypeName(d.type), d.score,
+                    d.score ? "" : ", unusable", d.uuid.empty() ? "" : " UUID ", d.uuid.c_str());
     if (devices.empty()) {
         std::fprintf(stderr, "metamer: no usable Vulkan device: the loader found none\n");
         return int(ExitCode::NoDevice);
     }
+    // Which one a render here would take, and why (vk/device_choice.h); an error if none.
+    const vk::DeviceChoice choice = vk::chooseDevice(devices, vk::deviceRequestFromEnvironment());
+    std::printf("a render uses %u (%s)\n", devices[choice.position].index, choice.reason.c_str());
     return 0;
 }
+
+// Warnings dropped: `metamer render -q` prints errors only.
+void dropWarning(const std::string&) {}
 
 }  // namespace
 
@@ -128,14 +141,31 @@ int main(int argc, char** argv) {
     // The same string as the Python module's metamer.__version__ (one CMake project version).
     app.set_version_flag("--version", std::string("metamer ") + metamerVersion());
 
+    // docs/cli.md's reference, from these declarations (hidden: group "").
+    app.add_flag_callback("--markdown-reference", [&app] {
+        std::fputs(markdownReference(app).c_str(), stdout);
+        throw CLI::Success();
+    }, "print docs/cli.md's reference block")->group("");
+
     RenderSettings settings;
-    bool timings = false;
-    std::filesystem::path scenePath, outDir = "out";
+    bool timings = false, quiet = false, progress = false;
+    std::string scenePath, outText = "out";
     auto* render = app.add_subcommand("render", "render a scene to a spectral radiance cube (EXR) and a quick-look PNG");
-    render->add_option("scene", scenePath, "scene file (JSON, docs/scene-format.md)")->required();
-    render->add_option("--out,-o", outDir, "output folder (created if missing)")->check(outputFolder())->capture_default_str();
+    render->add_option("scene", scenePath, "scene file (JSON, docs/scene-format.md); - reads it from stdin, its "
+                                           "relative paths then resolved against the current folder")->required();
+    render->add_option("--out,--output,-o", outText, "output folder (created if missing; an existing one, a path "
+                       "ending in '/' or a name without an extension), or NAME.exr, NAME.h5, NAME.hdr or NAME.png: "
+                       "every output named NAME.* in that file's folder (docs/cli.md, \"Output names\")")
+        ->capture_default_str();
     addRenderFlags(render, settings, kAllRenderFlags);
-    render->add_flag("--timings", timings, "print per-stage timings");
+    auto* timingsFlag = render->add_flag("--timings", timings, "print per-stage timings");
+    auto* progressFlag = render->add_flag("--progress,!--no-progress", progress,
+                                          "strips, passes, frames or rows done, time elapsed and left, on stderr "
+                                          "(default: when stderr is a terminal)");
+    render->add_flag("--quiet,-q", quiet, "print nothing but errors")
+        ->excludes(render->get_option("--verbose"))
+        ->excludes(timingsFlag)
+        ->excludes(progressFlag);
     // A simulated sensor's capture of the rendered cube, as `metamer capture` (docs/sensor.md).
     std::string sensor;
     uint64_t sensorSeed = 0;
@@ -172,10 +202,18 @@ int main(int argc, char** argv) {
     auto* preview = addPreviewCommand(app, previewArgs);
     // --- end metamer preview
 
+    // --threads on every command that works (core/cpu_count.h).
+    std::optional<int> threads;
+    for (CLI::App* sub : app.get_subcommands({}))
+        if (sub != devices)
+            sub->add_option("--threads", threads, "CPU threads for the thread pools, OpenEXR and lavapipe (default: "
+                            "SLURM_CPUS_PER_TASK, at most the CPUs this process may run on; else those CPUs)");
+
     try {
         checkVerb(app, argc, argv);  // before CLI11: `metamer rendr --help` is an error, not the top-level help
         app.parse(argc, argv);
         checkParsedValues(app);
+        setThreadCount(threads);  // before any pool, EXR or Vulkan instance
     } catch (const Error& e) {
         printError(e.text());
         return int(e.code());
@@ -183,6 +221,13 @@ int main(int argc, char** argv) {
         return app.exit(e);
     } catch (const CLI::CallForAllHelp& e) {
         return app.exit(e);
+    } catch (const CLI::ExtrasError&) {
+        try {
+            failUnexpectedArguments(app);
+        } catch (const Error& e) {
+            printError(e.text());
+            return int(e.code());
+        }
     } catch (const CLI::ParseError& e) {
         // A bad command line is bad input like any other: one "metamer: " line, exit code 2.
         if (e.get_exit_code() == 0) return app.exit(e);
@@ -198,10 +243,32 @@ int main(int argc, char** argv) {
         if (batch->parsed()) return runBatchCommand(batchArgs);  // metamer batch
         if (preview->parsed()) return runPreviewCommand(previewArgs);  // metamer preview
 
+        if (quiet) {
+            // Errors only: they go to stderr; everything the render reports goes to stdout or is a warning.
+            setWarningSink(dropWarning);
+            if (!std::freopen("/dev/null", "w", stdout)) failRuntime("-q: cannot silence stdout");
+        }
         RenderJob job;
-        job.scene = scenePath;
-        job.outDir = outDir;
+        const OutputPath out = parseOutputPath(outText, "--out");
+        job.outDir = out.folder;
+        job.outStem = out.stem;
+        job.outExtension = out.extension;
+        if (scenePath == "-") {
+            // The scene from stdin: named <stdin> in messages; its relative paths resolve against the
+            // current folder (the parent of a relative name), which is also the folder it may read.
+            job.sceneText = std::string(std::istreambuf_iterator<char>(std::cin), std::istreambuf_iterator<char>());
+            job.scene = "<stdin>";
+            if (job.outStem.empty()) job.outStem = "stdin";
+        } else {
+            job.scene = scenePath;
+        }
         applyRenderSettings(settings, job, [](const std::string& name) { return "--" + name; });
+        std::optional<ProgressLine> progressLine;
+        const bool terminal = ::isatty(STDERR_FILENO) != 0;
+        if (progressFlag->count() ? progress : terminal && !quiet) {
+            progressLine.emplace(stderr, terminal);
+            job.progress = [&progressLine](const RenderProgress& p) { (*progressLine)(p); };
+        }
         std::optional<CaptureRequest> capture;
         if (!sensor.empty()) {
             const SpectrumLibrary library;
@@ -216,7 +283,9 @@ int main(int argc, char** argv) {
         }
 
         RenderJobResult r = runRenderJob(job);
-        if (job.verbose) std::printf("%s\n", r.backendDescription.c_str());
+        progressLine.reset();
+        if (job.verbose) std::printf("%s\nthreads: %d (%s)\n", r.backendDescription.c_str(), r.threads,
+                                     r.threadsSource.c_str());
         for (const auto& f : r.written) std::printf("wrote %s (%s)\n", f.path.c_str(), f.what.c_str());
         if (r.clampedToHalf)
             std::printf("note: %zu values beyond the float16 range were clamped to ±65504\n", r.clampedToHalf);

@@ -374,6 +374,7 @@ BatchSummary runBatch(const Sweep& sweep, const BatchOptions& o, vk::Context& co
                 }
                 rec["outputs"] = outputs;
                 rec["notes"] = r.notes;
+                rec["threads"] = r.threads;  // what the pools, OpenEXR and lavapipe were sized by
                 Json stages = Json::object();
                 for (const auto& [stage, ms] : r.timings.stages())
                     if (std::string(stage) != "total") stages[stage] = ms;  // the record's "job" is the whole job

@@ -108,6 +108,19 @@ void checkSlurmOptions(const SlurmOptions& o) {
             failInput(Where{"", k}, "cannot be written into the task script");
 }
 
+namespace {
+
+// The renderer's --threads: the CPUs Slurm gave the task (SLURM_CPUS_PER_TASK, set when the job
+// declares --cpus-per-task; sbatch -c on the command line overrides the script's), else the count
+// declared here; without either, no flag, and metamer counts the CPUs it is bound to
+// (core/cpu_count.h).
+std::string threadsArgument(const SlurmOptions& o) {
+    if (o.cpusPerTask) return fmt::format("--threads \"${{SLURM_CPUS_PER_TASK:-{}}}\"", o.cpusPerTask);
+    return "${SLURM_CPUS_PER_TASK:+--threads \"$SLURM_CPUS_PER_TASK\"}";
+}
+
+}  // namespace
+
 std::string shellQuote(const std::string& text) {
     std::string q = "'";
     for (char c : text) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
@@ -135,8 +148,9 @@ SlurmScripts writeSlurmScripts(const SlurmOptions& o) {
         "set -euo pipefail\n"
         "{}"
         "echo \"metamer batch: array task $SLURM_ARRAY_TASK_ID of $SLURM_ARRAY_TASK_COUNT on $(hostname)\"\n"
-        "exec {} batch {} --out {}{}\n",
-        exports(o), shellQuote(o.metamer.string()), shellQuote(o.sweep.string()), shellQuote(o.out.string()), extraText);
+        "exec {} batch {} --out {} {}{}\n",
+        exports(o), shellQuote(o.metamer.string()), shellQuote(o.sweep.string()), shellQuote(o.out.string()),
+        threadsArgument(o), extraText);
     std::string index = header(o, name + "-index", (s.logs / "index-%j.log").string());
     index += fmt::format(
         "# Written by metamer batch --slurm: the dataset index from every task's records.\n"

@@ -71,7 +71,7 @@ TEST(SlurmScript, TheScriptsAreExactlyTheseLines) {
               "export METAMER_SPECTRA='/data/my spectra'\n"
               "echo \"metamer batch: array task $SLURM_ARRAY_TASK_ID of $SLURM_ARRAY_TASK_COUNT on $(hostname)\"\n"
               "exec '/opt/metamer/bin/metamer' batch '/data/it'\\''s a sweep.json' --out '" + out.string() +
-                  "' '--retry-failed'\n");
+                  "' --threads \"${SLURM_CPUS_PER_TASK:-4}\" '--retry-failed'\n");
     EXPECT_EQ(textOf(s.index),
               "#!/bin/bash\n"
               "#SBATCH --job-name=metamer-it_s_a_sweep-index\n"

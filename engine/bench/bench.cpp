@@ -1,5 +1,7 @@
 #include "bench/bench.h"
 
+#include "core/cpu_count.h"
+
 #include "color/delta_e.h"
 #include "color/lab.h"
 #include "color/tonemap.h"
@@ -82,7 +84,7 @@ std::string machineDescription() {
     std::vector<std::string> parts;
     for (const auto& p : {os, kernel})
         if (!p.empty()) parts.push_back(p);
-    parts.push_back(fmt::format("{} CPUs", std::thread::hardware_concurrency()));
+    parts.push_back(fmt::format("{} CPUs, {} threads", std::thread::hardware_concurrency(), usableCpuCount()));
     return fmt::format("{}", fmt::join(parts, ", "));
 }
 

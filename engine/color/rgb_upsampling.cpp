@@ -1,4 +1,6 @@
 #include "color/rgb_upsampling.h"
+
+#include "core/cpu_count.h"
 #include "core/file_reads.h"
 
 #include "color/lab.h"
@@ -651,7 +653,7 @@ const RgbUpsampler& RgbUpsampler::srgb(const SpectrumLibrary& library) {
         }
     if (!loaded) {
         BuildStats stats;
-        const int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+        const int threads = usableCpuCount();
         *up = build(library, kDefaultResolution, threads, &stats);
         warn(Where{candidates.empty() ? std::string() : candidates.front().string()},
              fmt::format("no RGB up-sampling table made from this spectra library's D65 and CIE 1931 tables "

@@ -1,5 +1,7 @@
 #include "color/tonemap.h"
 
+#include "core/cpu_count.h"
+
 #include <thread>
 
 namespace metamer {
@@ -17,7 +19,7 @@ DisplayImage tonemapReference(const TonemapPlan& plan, const SpectralCube& cube)
         img.counts.resize(n * 3);
         img.clipped.resize(n);
     }
-    std::vector<size_t> clipped(std::max(1u, std::thread::hardware_concurrency()), 0);
+    std::vector<size_t> clipped(size_t(usableCpuCount()), 0);
     auto rows = [&](int t, int y0, int y1) {
         std::vector<double> r(img.channels);
         for (int y = y0; y < y1; ++y)

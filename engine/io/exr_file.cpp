@@ -1,4 +1,6 @@
 #include "io/exr_file.h"
+
+#include "core/cpu_count.h"
 #include "core/file_reads.h"
 
 #include <OpenEXR/ImfChannelList.h>
@@ -43,10 +45,11 @@ const CompressionName* compressionOf(const std::string& name) {
     return nullptr;
 }
 
-// OpenEXR compresses (and decompresses) line blocks on a global thread pool: one thread per core.
+// OpenEXR compresses (and decompresses) line blocks on a global thread pool: one thread per CPU this
+// process was given (core/cpu_count.h).
 void useEveryCore() {
     static std::once_flag once;
-    std::call_once(once, [] { Imf::setGlobalThreadCount(int(std::max(1u, std::thread::hardware_concurrency()))); });
+    std::call_once(once, [] { Imf::setGlobalThreadCount(usableCpuCount()); });
 }
 
 }  // namespace

@@ -1,10 +1,13 @@
 #include "reference/cpu_renderer.h"
 
+#include "core/cpu_count.h"
+
 #include "reference/hemisphere_lobe.h"
 #include "spectral/dielectric.h"
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <exception>
 #include <limits>
@@ -547,15 +550,18 @@ ReferenceImage ReferenceRenderer::render() const {
     image.crossings.assign(static_cast<size_t>(w) * h, 0);
 
     int threads = options_.threads;
-    if (threads == 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    if (threads == 0) threads = usableCpuCount();
     threads = std::min(threads, h);
 
     // Rows are handed out one at a time; each pixel depends only on its own rays, so the result
     // is the same for any thread count.
-    std::atomic<int> nextRow{0};
+    std::atomic<int> nextRow{0}, rowsDone{0};
     std::exception_ptr failure;
     std::mutex failureMutex;
-    auto work = [&] {
+    // The calling thread also renders rows, and reports progress between its own rows (a throw
+    // from the report stops every thread as a failure does).
+    auto lastReport = std::chrono::steady_clock::now();
+    auto work = [&](bool caller) {
         try {
             std::vector<double> radiance(bands_);
             for (int y = nextRow++; y < h; y = nextRow++) {
@@ -565,6 +571,12 @@ ReferenceImage ReferenceRenderer::render() const {
                     float* out = image.cube.pixel(x, y);
                     for (int b = 0; b < bands_; ++b) out[b] = static_cast<float>(radiance[b]);
                 }
+                ++rowsDone;
+                if (caller && options_.progress &&
+                    std::chrono::steady_clock::now() - lastReport > std::chrono::milliseconds(250)) {
+                    lastReport = std::chrono::steady_clock::now();
+                    options_.progress(rowsDone.load(), h);
+                }
             }
         } catch (...) {
             std::lock_guard<std::mutex> lock(failureMutex);
@@ -573,8 +585,8 @@ ReferenceImage ReferenceRenderer::render() const {
         }
     };
     std::vector<std::thread> pool;
-    for (int t = 1; t < threads; ++t) pool.emplace_back(work);
-    work();
+    for (int t = 1; t < threads; ++t) pool.emplace_back(work, false);
+    work(true);
     for (auto& t : pool) t.join();
     if (failure) std::rethrow_exception(failure);
     return image;

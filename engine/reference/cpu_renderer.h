@@ -15,13 +15,17 @@
 #include "spectral/cube.h"
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 namespace metamer {
 
 struct ReferenceOptions {
     int ssaa = 1;     // s×s sub-samples per pixel on a regular grid, box-averaged
-    int threads = 0;  // 0 = std::thread::hardware_concurrency()
+    int threads = 0;  // 0 = usableCpuCount() (core/cpu_count.h)
+    // Rows finished so far of all rows, on the calling thread, at most about 4 times a second;
+    // it may throw to stop the render (the exception comes out of render()). Empty: none.
+    std::function<void(int rowsDone, int rows)> progress;
 };
 
 // objectId values besides a mesh index.

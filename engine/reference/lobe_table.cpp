@@ -1,5 +1,7 @@
 #include "reference/lobe_table.h"
 
+#include "core/cpu_count.h"
+
 #include "core/cache_folder.h"
 #include "io/atomic_file.h"
 #include "reference/lobe_integrals.h"
@@ -72,7 +74,7 @@ void parallelFor(int count, int threads, const Task& task) {
 }  // namespace
 
 LobeTable buildLobeTable(double gloss, int threads) {
-    if (threads <= 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    if (threads <= 0) threads = usableCpuCount();
     LobeTable table;
     table.gloss = gloss;
     table.data.assign(LOBE_TABLE_UVEC4, glm::uvec4(0u));

@@ -1,5 +1,6 @@
 #include "render/render_job.h"
 
+#include "core/cpu_count.h"
 #include "core/memory_limits.h"
 #include "core/statistics.h"
 #include "core/timing.h"
@@ -7,6 +8,7 @@
 #include "interface.h"
 #include "io/exr_file.h"
 #include "render/display_frame.h"
+#include "render/output_path.h"
 #include "render/render_setup.h"
 #include "render/strip_render.h"
 #include "render/tonemap_pass.h"
@@ -19,6 +21,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <functional>
 #include <memory>
 
 namespace metamer {
@@ -248,9 +251,13 @@ int stripRowsFor(const RenderJob& job, const Scene& scene, uint64_t budget, cons
     return rows;
 }
 
+// The job's progress hook with the time since the job started (render/render_progress.h); a no-op
+// without a hook.
+using ProgressReport = std::function<void(const char* unit, int done, int total)>;
+
 // The image strip by strip on the GPU into `out` (render/strip_render); returns the strip count.
 int renderStripsInto(const RenderJob& job, LoadedScene& loaded, const TonemapPlan* plan, int rows, RenderOutputs& out,
-                     RenderJobResult& r) {
+                     RenderJobResult& r, const ProgressReport& report) {
     JobContext ctx(job);
     StripJob sj;
     sj.scene = &loaded.scene;
@@ -262,6 +269,7 @@ int renderStripsInto(const RenderJob& job, LoadedScene& loaded, const TonemapPla
     sj.ssaa = job.ssaa;
     sj.readback = job.readback;
     sj.outputs = &out;
+    sj.afterStrip = [&](int done, int total) { report("strip", done, total); };
     const StripResult sr = renderInStrips(sj);
     r.validationErrors = ctx.finish();
     r.timings.shading_ms = sr.shading_ms;
@@ -277,7 +285,7 @@ int renderStripsInto(const RenderJob& job, LoadedScene& loaded, const TonemapPla
 // Display outputs only, on the GPU into `out`: the response pass and the tonemap pass
 // (render/display_frame.h), one or more whole frames; the bands are never drawn.
 void renderDisplayFrames(const RenderJob& job, LoadedScene& loaded, const TonemapPlan& plan, RenderOutputs& out,
-                         RenderJobResult& r) {
+                         RenderJobResult& r, const ProgressReport& report) {
     JobContext ctx(job);
     {
         refuseOversizedTarget(job, loaded.scene, *ctx);
@@ -286,10 +294,13 @@ void renderDisplayFrames(const RenderJob& job, LoadedScene& loaded, const Tonema
         DisplayFrame frame(*ctx, loaded.scene, loaded.rendered, plan, po, out.displayOutputs());
         DisplayImage image;
         std::vector<double> shading, tonemap;
-        for (int f = 0; f < std::max(1, job.frames); ++f) {
+        const int frames = std::max(1, job.frames);
+        report("frame", 0, frames);
+        for (int f = 0; f < frames; ++f) {
             image = frame.render();
             shading.push_back(frame.timings().shading_ms);
             tonemap.push_back(frame.timings().tonemap_ms);
+            report("frame", f + 1, frames);
         }
         r.responsePass = frame.passPlan().responses;
         r.displayOnly = true;
@@ -322,7 +333,7 @@ void renderDisplayFrames(const RenderJob& job, LoadedScene& loaded, const Tonema
 
 // One or more whole frames on the GPU into `out`: the bands, and the display path over them.
 void renderGpuFrames(const RenderJob& job, LoadedScene& loaded, const TonemapPlan* plan, RenderOutputs& out,
-                     RenderJobResult& r) {
+                     RenderJobResult& r, const ProgressReport& report) {
     JobContext ctx(job);
     {
         refuseOversizedTarget(job, loaded.scene, *ctx);
@@ -336,8 +347,15 @@ void renderGpuFrames(const RenderJob& job, LoadedScene& loaded, const TonemapPla
         SpectralCube cube;
         DisplayImage image;
         std::vector<double> shading, readback, tonemapMs;
-        for (int f = 0; f < std::max(1, job.frames); ++f) {
-            pass.draw();
+        // Progress per declared pass (depth pre-pass, band passes, ...) of every frame: with a hook
+        // the passes are submitted one at a time, so a long frame reports and can stop between them.
+        const int frames = std::max(1, job.frames), passes = pass.framePasses();
+        report("pass", 0, frames * passes);
+        for (int f = 0; f < frames; ++f) {
+            std::function<void(int, int)> afterPass;
+            if (job.progress)
+                afterPass = [&, f](int done, int) { report("pass", f * passes + done, frames * passes); };
+            pass.draw(afterPass);
             shading.push_back(pass.timings().shading_ms);
             if (tonemap) image = tonemap->render();
             tonemapMs.push_back(tonemap ? tonemap->lastMs() : 0.0);
@@ -375,11 +393,15 @@ void renderGpuFrames(const RenderJob& job, LoadedScene& loaded, const TonemapPla
 
 // The CPU reference (double precision) and its tonemap into `out`.
 void renderReferenceFrame(const RenderJob& job, LoadedScene& loaded, const TonemapPlan* plan, RenderOutputs& out,
-                          RenderJobResult& r) {
+                          RenderJobResult& r, const ProgressReport& report) {
     auto t = Clock::now();
     ReferenceOptions ro;
     ro.ssaa = job.ssaa;
+    const int rows = loaded.scene.camera.height;
+    report("row", 0, rows);
+    ro.progress = [&](int done, int total) { report("row", done, total); };
     ReferenceImage img = renderReference(loaded.scene, loaded.rendered, ro);
+    report("row", rows, rows);
     r.timings.shading_ms = msSince(t);
     DisplayImage image;
     if (plan) {
@@ -403,10 +425,16 @@ void renderReferenceFrame(const RenderJob& job, LoadedScene& loaded, const Tonem
 RenderJobResult runRenderJob(const RenderJob& job) {
     RenderJobResult r;
     const auto start = Clock::now();
+    r.threads = usableCpuCount();
+    r.threadsSource = cpuCount().source;
+    const ProgressReport report = [&](const char* unit, int done, int total) {
+        if (job.progress) job.progress(RenderProgress{unit, done, total, msSince(start) / 1000.0});
+    };
 
     // 1. The scene with the job's overrides and grid, on the grid, in the job's representation,
     //    and the display plan when an output needs one.
-    requireOutputStem(job.scene.stem().string(), Where{job.scene.string()});
+    const std::string stem = job.outStem.empty() ? job.scene.stem().string() : job.outStem;
+    requireOutputStem(stem, job.outStem.empty() ? Where{job.scene.string()} : Where{"", "--out"});
     auto t = Clock::now();
     std::unique_ptr<LoadedScene> loaded = loadJobScene(job);
     const Scene& scene = loaded->scene;
@@ -471,6 +499,11 @@ RenderJobResult runRenderJob(const RenderJob& job) {
         const Where sceneOut = scene.output.where.file.empty() ? Where{scene.file.string(), "output"} : scene.output.where;
         if (job.format) oo.formats = parseCubeFormats(*job.format, Where{"", "--format"});
         else if (scene.output.format) oo.formats = parseCubeFormats(*scene.output.format, sceneOut.child("format"));
+        else if (const CubeContainer* named = namedCubeFormat(job.outExtension)) oo.formats = {{named, ""}};
+        if (!job.outExtension.empty())
+            requireNamedOutput((job.outDir / (stem + job.outExtension)).lexically_normal(), files.cube,
+                               files.png && planPtr, oo.formats,
+                               job.format ? "--format" : scene.output.format ? "the scene's output.format" : "");
         const bool onlyExr = oo.formats.size() == 1 && oo.formats.front().format->name == "exr";
         if (!onlyExr && !loaded->representation.mode.spectral())
             failInput(job.format ? Where{"", "--format"} : sceneOut.child("format"),
@@ -493,7 +526,6 @@ RenderJobResult runRenderJob(const RenderJob& job) {
             warn(Where{"", "--bits"}, fmt::format("{} has no effect: it sets the display PNG's counts, which this run "
                  "does not write", *job.bits));
     }
-    const std::string stem = job.scene.stem().string();
     RenderOutputs out(job.capture ? OutputTargets{}
                                   : renderTargets(job.outDir, stem, files, loaded->representation, planPtr, oo.formats),
                       W, H, loaded->grid, loaded->representation, planPtr, provenance, oo);
@@ -505,18 +537,18 @@ RenderJobResult runRenderJob(const RenderJob& job) {
     // 4. The pixels: strips over the memory budget, whole GPU frames, or the CPU reference.
     int strips = 1;
     if (stripRows > 0) {
-        strips = renderStripsInto(job, *loaded, planPtr, stripRows, out, r);
+        strips = renderStripsInto(job, *loaded, planPtr, stripRows, out, r, report);
         r.notes.push_back(job.capture ? why + fmt::format(" (what is left after {} for the arrays kept); rendered in {} "
                                                           "strips of {} rows into the arrays", memorySize(held), strips,
                                                           stripRows)
                                       : why + fmt::format("; rendered in {} strips of {} rows and streamed to the files",
                                                           strips, stripRows));
     } else if (job.backend == Backend::Gpu && !out.needsCube() && planPtr) {
-        renderDisplayFrames(job, *loaded, *planPtr, out, r);
+        renderDisplayFrames(job, *loaded, *planPtr, out, r, report);
     } else if (job.backend == Backend::Gpu) {
-        renderGpuFrames(job, *loaded, planPtr, out, r);
+        renderGpuFrames(job, *loaded, planPtr, out, r, report);
     } else {
-        renderReferenceFrame(job, *loaded, planPtr, out, r);
+        renderReferenceFrame(job, *loaded, planPtr, out, r, report);
     }
 
     // 5. Every file renamed into place.

@@ -63,6 +63,10 @@ struct RenderJobResult {
     std::optional<double> cameraFitRmsDeltaE;
     uint32_t validationErrors = 0;
     std::vector<std::string> notes;  // one line each, for the user
+    // The CPU threads the process was given and why (core/cpu_count.h): what the pools, OpenEXR and
+    // lavapipe were sized by.
+    int threads = 0;
+    std::string threadsSource;
 };
 
 // The memory a render allocates that grows with the image, in bytes: what is checked against

@@ -3,6 +3,7 @@
 // and render/render_job (running it). Tests: tests/cli_test.cpp.
 #pragma once
 
+#include "render/render_progress.h"
 #include "render/spectral_plan.h"
 #include "scene/scene_on_grid.h"
 #include "spectral/grid.h"
@@ -29,6 +30,12 @@ struct RenderJob {
     // names it in messages, resolves its relative paths and gives the output files their stem.
     std::optional<std::string> sceneText;
     std::filesystem::path outDir = "out";
+    // The outputs' stem, <outStem>.exr, <outStem>.png, ... (-o NAME.exr); empty: the scene file's.
+    std::string outStem;
+    // The file -o named, by its extension (".exr", ".h5", ".hdr", ".png"; render/output_path.h):
+    // the run must write it (an error naming --out otherwise), and a cube extension chooses the
+    // cube's format when neither --format nor the scene's output.format does. Empty: a folder.
+    std::string outExtension;
     std::optional<Grid> grid;             // --grid overrides the scene's grid (not its resampling rule)
     std::optional<Resampling> resampling; // --resample overrides the scene's grid.resample
     std::vector<std::string> overrides;   // --set KEY=VALUE
@@ -59,6 +66,9 @@ struct RenderJob {
     // Keep the outputs that `write` names in memory instead of writing files (outDir is not used);
     // saveCapturedRender() writes them later. Null: write the files.
     CapturedRender* capture = nullptr;
+    // Called between strips and frames (render/render_progress.h: when, on which thread, and what
+    // throwing from it does). Empty: none.
+    RenderProgressHook progress;
 };
 
 }  // namespace metamer

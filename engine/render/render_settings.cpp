@@ -35,7 +35,8 @@ const char* renderSettingHelp(const std::string& name) {
         {"no-png", "skip the display PNG"},
         {"frames", "render N frames (timing: first frame and median of the rest)"},
         {"validation", "enable Vulkan validation layers; any error fails the run"},
-        {"device", "Vulkan device index or name substring (default: best; env METAMER_DEVICE)"},
+        {"device", "Vulkan device index, UUID or name substring (default: METAMER_DEVICE, else CUDA_VISIBLE_DEVICES, "
+                   "else SLURM_LOCALID, else the best; docs/cli.md)"},
         {"verbose", "print the chosen device (and, rendering, the render plan)"},
         {"allow-outside-paths", "let the scene read files outside its own folder tree and the spectra library "
                                 "(docs/scene-format.md)"},

@@ -67,7 +67,10 @@ TonemapPlan makeJobTonemapPlan(const RenderJob& job, const LoadedScene& loaded, 
 vk::ContextOptions jobContextOptions(const RenderJob& job) {
     vk::ContextOptions co = vk::contextOptionsFromEnvironment();
     co.validation = co.validation || job.validation;
-    if (!job.device.empty()) co.device = job.device;
+    if (!job.device.empty()) {
+        co.device = job.device;
+        co.deviceFrom = "--device";
+    }
     co.verbose = job.verbose;
     return co;
 }

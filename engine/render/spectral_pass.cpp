@@ -138,12 +138,25 @@ void SpectralPass::setCamera(const Camera& camera) {
     if (m.rows != m.scene.camera.height || m.columns != m.scene.camera.width) m.placeTile();
 }
 
-void SpectralPass::draw() {
+void SpectralPass::draw(const std::function<void(int done, int passes)>& afterPass) {
     Impl& m = *impl_;
     auto t0 = Clock::now();
-    m.ctx.submitAndWait([&](VkCommandBuffer cmd) { recordSpectralFrame(cmd, *m.resources, m.camera); });
+    if (!afterPass) {
+        m.ctx.submitAndWait([&](VkCommandBuffer cmd) { recordSpectralFrame(cmd, *m.resources, m.camera); });
+    } else {
+        // One submission per pass: the barriers recorded between passes order them across
+        // submissions as within one.
+        const int passes = framePasses();
+        for (int p = 0; p < passes; ++p) {
+            m.ctx.submitAndWait([&](VkCommandBuffer cmd) { recordSpectralFrame(cmd, *m.resources, m.camera, p, p + 1); });
+            timings_.shading_ms = msSince(t0);
+            afterPass(p + 1, passes);
+        }
+    }
     timings_.shading_ms = msSince(t0);
 }
+
+int SpectralPass::framePasses() const { return int(impl_->resources->frame.size()); }
 
 VkImage SpectralPass::targetImage() const { return impl_->resources->color.handle(); }
 VkImageView SpectralPass::targetArrayView() { return impl_->resources->color.layerView(~0u); }

@@ -14,6 +14,7 @@
 #include "vk/context.h"
 #include "vk/resources.h"
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -50,8 +51,12 @@ public:
     // the image size the pass was made for. The strip or tile stays where it was.
     void setCamera(const Camera& camera);
 
-    // Draws every band into the layered target and waits (no readback).
-    void draw();
+    // Draws every band into the layered target and waits (no readback). With `afterPass`, the
+    // frame's declared passes are submitted one at a time, and it is called after each with the
+    // passes done and their count (render/render_progress.h: it may throw; the target then holds a
+    // partial frame).
+    void draw(const std::function<void(int done, int passes)>& afterPass = {});
+    int framePasses() const;  // the frame's declared passes: depth pre-pass, lobe pass, colour passes
     // Reads the target drawn last into `cube` (reusing its memory when it has the right size).
     void readback(SpectralCube& cube);
 

@@ -175,14 +175,16 @@ void SpectralResources::declareFrame() {
     }
 }
 
-void recordSpectralFrame(VkCommandBuffer cmd, const SpectralResources& r, const CameraMatrices& camera) {
+void recordSpectralFrame(VkCommandBuffer cmd, const SpectralResources& r, const CameraMatrices& camera, size_t first,
+                         size_t end) {
+    end = std::min(end, r.frame.size());
     const SpectralPassPlan& plan = r.plan;
     const vk::Image& color = r.color;
     SpectralFrameState state{camera, {}};
     state.pc.viewProjection = camera.viewProjection;
     state.pc.cameraPosition = glm::vec4(camera.position, camera.perspective ? 1.0f : 0.0f);
     state.pc.cameraForward = glm::vec4(camera.forward, 0.0f);
-    {
+    if (first == 0) {
         // Zero every layer (background radiance is 0), in GENERAL, then let the colour passes load it.
         const uint32_t layers = uint32_t(plan.layers);
         const vk::ImageUse previous{VK_IMAGE_LAYOUT_UNDEFINED,
@@ -200,8 +202,9 @@ void recordSpectralFrame(VkCommandBuffer cmd, const SpectralResources& r, const 
     }
     // The frame's declared passes, in order (SpectralResources::declareFrame).
     r.frameState = &state;
-    for (const FramePass& pass : r.frame) recordFramePass(cmd, pass);
+    for (size_t p = first; p < end; ++p) recordFramePass(cmd, r.frame[p]);
     r.frameState = nullptr;
+    if (end < r.frame.size()) return;  // the rest of the frame follows in another submission
     if (plan.mappedReadback) {
         // Make the colour writes visible to the host, which reads the linear image directly.
         vk::imageBarrier(cmd, color.handle(), uint32_t(plan.layers),

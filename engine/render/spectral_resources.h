@@ -23,6 +23,7 @@
 #include "vk/resources.h"
 
 #include <array>
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <string>
@@ -195,7 +196,10 @@ private:
 
 // A frame's commands: clear the target, record the declared passes in order (SpectralResources::
 // frame: the depth pre-pass, the lobe pass, every colour pass), and make the target readable by the host (a barrier for a mapped image, else a copy into readbackBuffer; the
-// response pass's target is left for the tonemap pass).
-void recordSpectralFrame(VkCommandBuffer cmd, const SpectralResources& r, const CameraMatrices& camera);
+// response pass's target is left for the tonemap pass). [first, end) records only those passes,
+// the clear with the first and the host's barrier or copy with the last: a frame submitted pass by
+// pass (SpectralPass::draw with a progress callback) records the same commands in pieces.
+void recordSpectralFrame(VkCommandBuffer cmd, const SpectralResources& r, const CameraMatrices& camera,
+                         size_t first = 0, size_t end = SIZE_MAX);
 
 }  // namespace metamer

@@ -26,6 +26,8 @@ StripResult displayStrips(const StripJob& j, SpectralPassOptions po) {
     r.displayOnly = true;
     r.description = j.context->deviceInfo().name + ": " + frame.passPlan().describe() +
                     fmt::format(", in strips of {} rows", frame.rows());
+    const int total = (H + frame.rows() - 1) / frame.rows();
+    if (j.afterStrip) j.afterStrip(0, total);
     for (int r0 = 0; r0 < H; r0 += frame.rows()) {
         const int rows = std::min(frame.rows(), H - r0);
         frame.setStrip(r0);
@@ -36,6 +38,7 @@ StripResult displayStrips(const StripJob& j, SpectralPassOptions po) {
         for (size_t i = 0; i < size_t(W) * rows && i < d.clipped.size(); ++i) r.clippedPixels += d.clipped[i];
         j.outputs->writeRows(r0, rows, nullptr, &d);
         ++r.strips;
+        if (j.afterStrip) j.afterStrip(r.strips, total);
     }
     return r;
 }
@@ -61,6 +64,8 @@ StripResult renderInStrips(const StripJob& j) {
                     fmt::format(", in strips of {} rows", pass.rows());
 
     SpectralCube strip;
+    const int total = (H + pass.rows() - 1) / pass.rows();
+    if (j.afterStrip) j.afterStrip(0, total);
     for (int r0 = 0; r0 < H; r0 += pass.rows()) {
         int rows = std::min(pass.rows(), H - r0);
         pass.setStrip(r0);
@@ -80,6 +85,7 @@ StripResult renderInStrips(const StripJob& j) {
         }
         out.writeRows(r0, rows, out.needsCube() ? strip.data.data() : nullptr, tonemap ? &d : nullptr);
         ++r.strips;
+        if (j.afterStrip) j.afterStrip(r.strips, total);
     }
     return r;
 }

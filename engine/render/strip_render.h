@@ -15,6 +15,7 @@
 
 #include <cstddef>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 #include <utility>
@@ -36,6 +37,9 @@ struct StripJob {
     int ssaa = 1;
     Readback readback = Readback::Auto;
     RenderOutputs* outputs = nullptr;             // where every strip's rows go
+    // After every strip, with the strips done and their total (and once with 0 before the
+    // first); may throw to stop (render/render_progress.h). Empty: none.
+    std::function<void(int done, int total)> afterStrip;
 };
 
 struct StripResult {

@@ -1,5 +1,7 @@
 #include "render/target_readback.h"
 
+#include "core/cpu_count.h"
+
 #include <algorithm>
 #include <cstring>
 #include <thread>
@@ -39,7 +41,7 @@ void readLayered(const LayeredView& a, int ssaa, SpectralCube& cube) {
                     for (int c = 0; c < n; ++c) cube.at(x, y, 4 * l + c) = acc[size_t(x) * 4 + c] * norm;
             }
     };
-    int threads = std::max(1, std::min<int>(int(std::thread::hardware_concurrency()), H));
+    int threads = std::max(1, std::min(usableCpuCount(), H));
     std::vector<std::thread> pool;
     for (int t = 0; t < threads; ++t) {
         int y0 = H * t / threads, y1 = H * (t + 1) / threads;

@@ -1,4 +1,6 @@
 #include "scene/scene_on_grid.h"
+
+#include "core/cpu_count.h"
 #include "spectral/resampling.h"
 
 #include "spectral/library.h"
@@ -292,7 +294,7 @@ TextureOnGrid paintTexture(const PaintOnGrid& p, const Texture& map, size_t band
         for (size_t v = begin; v < end; ++v)
             for (size_t b = 0; b < bands; ++b) spectra[v * bands + b] = float(p.body(b, double(values[v])));
     };
-    const size_t threads = std::clamp<size_t>(values.size() / 1024, 1, std::max(1u, std::thread::hardware_concurrency()));
+    const size_t threads = std::clamp<size_t>(values.size() / 1024, 1, size_t(usableCpuCount()));
     std::vector<std::thread> pool;
     for (size_t t = 1; t < threads; ++t)
         pool.emplace_back(compute, values.size() * t / threads, values.size() * (t + 1) / threads);

@@ -1,5 +1,7 @@
 #include "sensor/capture.h"
 
+#include "core/cpu_count.h"
+
 #include "core/error.h"
 #include "core/statistics.h"
 #include "sensor/poisson.h"
@@ -23,7 +25,7 @@ constexpr uint64_t kPrnuStream = 1, kDsnuStream = 2, kShotStream = 3, kReadStrea
 // 16 384 pixels).
 template <typename F>
 void forEachPixel(size_t n, int threads, F&& f) {
-    size_t t = threads > 0 ? size_t(threads) : std::max(1u, std::thread::hardware_concurrency());
+    size_t t = threads > 0 ? size_t(threads) : size_t(usableCpuCount());
     t = std::clamp<size_t>(std::min(t, n / 16384), 1, 256);
     auto block = [&](size_t k) {
         for (size_t i = n * k / t; i < n * (k + 1) / t; ++i) f(i);

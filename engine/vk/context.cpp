@@ -1,5 +1,6 @@
 #include "vk/context.h"
 
+#include "core/cpu_count.h"
 #include "vk/device_objects.h"
 #include "vk/pipeline_cache.h"
 
@@ -95,15 +96,6 @@ bool usable(VkPhysicalDevice pd, uint32_t* family, VkSurfaceKHR surface = VK_NUL
            (depth.optimalTilingFeatures & VK_FORMAT_FEATURE_DEPTH_STENCIL_ATTACHMENT_BIT);
 }
 
-const char* typeName(VkPhysicalDeviceType t) {
-    switch (t) {
-        case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return "discrete GPU";
-        case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return "integrated GPU";
-        case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return "virtual GPU";
-        case VK_PHYSICAL_DEVICE_TYPE_CPU: return "CPU";
-        default: return "other";
-    }
-}
 
 }  // namespace
 
@@ -127,7 +119,10 @@ const char* resultName(VkResult r) {
 ContextOptions contextOptionsFromEnvironment() {
     ContextOptions o;
     if (const char* v = std::getenv("METAMER_VALIDATION")) o.validation = std::strcmp(v, "0") != 0;
-    if (const char* d = std::getenv("METAMER_DEVICE")) o.device = d;
+    const DeviceRequest request = deviceRequestFromEnvironment();
+    o.device = request.device;
+    o.cudaVisibleDevices = request.cudaVisibleDevices;
+    o.slurmLocalId = request.slurmLocalId;
     o.pipelineCacheFolder = pipelineCacheFolder();
     return o;
 }
@@ -142,10 +137,26 @@ std::vector<DeviceInfo> Context::listDevices(VkInstance instance, VkSurfaceKHR s
         VkPhysicalDeviceProperties p;
         vkGetPhysicalDeviceProperties(pds[i], &p);
         uint32_t family;
-        DeviceInfo d{i, p.deviceName, p.deviceType, usable(pds[i], &family, surface) ? scoreType(p.deviceType) : 0};
+        DeviceInfo d{i, p.deviceName, p.deviceType, usable(pds[i], &family, surface) ? scoreType(p.deviceType) : 0, ""};
+        if (VK_API_VERSION_MINOR(p.apiVersion) >= 1 || VK_API_VERSION_MAJOR(p.apiVersion) > 1) {
+            VkPhysicalDeviceIDProperties id{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ID_PROPERTIES};
+            VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+            p2.pNext = &id;
+            vkGetPhysicalDeviceProperties2(pds[i], &p2);
+            // 8-4-4-4-12 hex, as nvidia-smi -L and CUDA_VISIBLE_DEVICES write it (after "GPU-").
+            for (int b = 0; b < VK_UUID_SIZE; ++b)
+                d.uuid += fmt::format("{}{:02x}", b == 4 || b == 6 || b == 8 || b == 10 ? "-" : "", id.deviceUUID[b]);
+        }
         out.push_back(d);
     }
     return out;
+}
+
+std::string Context::sizeDriverThreads() {
+    if (const char* set = std::getenv("LP_NUM_THREADS")) return fmt::format("LP_NUM_THREADS={} (set by the user)", set);
+    const std::string n = std::to_string(usableCpuCount());
+    ::setenv("LP_NUM_THREADS", n.c_str(), 0);
+    return fmt::format("LP_NUM_THREADS={} (from {})", n, cpuCount().source);
 }
 
 VKAPI_ATTR VkBool32 VKAPI_CALL Context::onValidationMessage(
@@ -174,6 +185,7 @@ Context::Context(const ContextOptions& options) {
         failRuntime("validation requested but {} is not installed (apt-get install vulkan-validationlayers)",
                     kValidationLayer);
 
+    const std::string driverThreads = sizeDriverThreads();
     VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
     app.pApplicationName = "metamer";
     app.apiVersion = VK_API_VERSION_1_1;
@@ -219,37 +231,16 @@ Context::Context(const ContextOptions& options) {
             if (!surface_) failRuntime("Vulkan: the window's surface could not be created");
         }
 
-        // Choose the device.
+        // Choose the device (vk/device_choice.h).
         auto devices = listDevices(instance_, surface_);
-        if (devices.empty()) failNoDevice("the Vulkan loader found no device (is mesa-vulkan-drivers installed?)");
-        std::string all;
-        for (const auto& d : devices)
-            all += fmt::format("{}{}: {} ({})", all.empty() ? "" : ", ", d.index, d.name, typeName(d.type));
-        const DeviceInfo* chosen = nullptr;
-        if (!options.device.empty()) {
-            char* end = nullptr;
-            long idx = std::strtol(options.device.c_str(), &end, 10);
-            for (const auto& d : devices) {
-                bool byIndex = *end == '\0' && idx == long(d.index);
-                std::string lname = d.name, lwant = options.device;
-                std::transform(lname.begin(), lname.end(), lname.begin(), ::tolower);
-                std::transform(lwant.begin(), lwant.end(), lwant.begin(), ::tolower);
-                if (byIndex || (*end != '\0' && lname.find(lwant) != std::string::npos)) {
-                    chosen = &d;
-                    break;
-                }
-            }
-            if (!chosen) failNoDevice(fmt::format("METAMER_DEVICE='{}' matches none of: {}", options.device, all));
-            if (chosen->score == 0)
-                failNoDevice(fmt::format("device '{}' lacks a graphics queue or RGBA32F/D32 render targets{}",
-                                         chosen->name, surface_ ? " or cannot present to the window" : ""));
-        } else {
-            for (const auto& d : devices)
-                if (d.score > 0 && (!chosen || d.score > chosen->score)) chosen = &d;
-            if (!chosen)
-                failNoDevice(fmt::format("none has a graphics queue and RGBA32F/D32 render targets{} ({})",
-                                         surface_ ? " and presents to the window" : "", all));
-        }
+        DeviceRequest request;
+        request.device = options.device;
+        request.deviceFrom = options.deviceFrom;
+        request.cudaVisibleDevices = options.cudaVisibleDevices;
+        request.slurmLocalId = options.slurmLocalId;
+        const DeviceChoice choice = chooseDevice(devices, request);
+        const DeviceInfo* chosen = &devices[choice.position];
+        deviceReason_ = choice.reason;
         info_ = *chosen;
         uint32_t n = 0;
         vkEnumeratePhysicalDevices(instance_, &n, nullptr);
@@ -260,8 +251,9 @@ Context::Context(const ContextOptions& options) {
         vkGetPhysicalDeviceProperties(physical_, &properties_);
         vkGetPhysicalDeviceMemoryProperties(physical_, &memory_);
         if (options.verbose)
-            std::fprintf(stderr, "metamer: device %u: %s (%s)\n", info_.index, info_.name.c_str(),
-                         typeName(info_.type));
+            std::fprintf(stderr, "metamer: device %u: %s, chosen by %s; %d thread%s (%s); %s\n", info_.index,
+                         describeDevice(info_).c_str(), deviceReason_.c_str(), usableCpuCount(),
+                         usableCpuCount() == 1 ? "" : "s", cpuCount().source.c_str(), driverThreads.c_str());
 
         float priority = 1.0f;
         VkDeviceQueueCreateInfo qci[2] = {{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO},

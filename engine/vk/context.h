@@ -1,13 +1,14 @@
 // The Vulkan instance and device: headless by default (no window-system extensions), or able to
 // present to a window's surface when ContextOptions asks for it (the preview, engine/preview).
-// Devices are scored discrete > integrated > virtual > CPU; METAMER_DEVICE (an index or a name
-// substring) overrides.
+// The device: --device / METAMER_DEVICE, CUDA_VISIBLE_DEVICES, SLURM_LOCALID, else the best score
+// (vk/device_choice.h). lavapipe's LP_NUM_THREADS comes from core/cpu_count unless the user set it.
 // With validation on, every validation error is counted (and printed); tests require zero,
 // including the leak reports the layers make when the device is destroyed.
 // Tests: tests/cli_test.cpp (device choice, no device), the GPU tests.
 #pragma once
 
 #include "vk/check.h"
+#include "vk/device_choice.h"
 
 #include <atomic>
 #include <filesystem>
@@ -24,9 +25,12 @@ class DeviceObjects;
 struct ContextOptions {
     // Enable VK_LAYER_KHRONOS_validation. Default: on when METAMER_VALIDATION=1.
     bool validation = false;
-    // Device choice: "" = best score; else an index into the device list or a name substring.
-    // Default: $METAMER_DEVICE.
+    // Device choice (vk/device_choice.h): "" = what the scheduler's variables say, else the best
+    // score; else an index into the device list, a UUID or a name substring. Default: $METAMER_DEVICE.
     std::string device;
+    std::string deviceFrom = "METAMER_DEVICE";  // "--device" when the flag set `device`, for messages
+    // The scheduler's binding (default: from the environment; empty: unset).
+    std::string cudaVisibleDevices, slurmLocalId;
     bool verbose = false;  // print the chosen device
 
     // Presentation (empty: headless). The window system's instance extensions (e.g. from
@@ -43,13 +47,6 @@ struct ContextOptions {
 };
 
 ContextOptions contextOptionsFromEnvironment();
-
-struct DeviceInfo {
-    uint32_t index = 0;
-    std::string name;
-    VkPhysicalDeviceType type = VK_PHYSICAL_DEVICE_TYPE_OTHER;
-    int score = 0;
-};
 
 class Context {
 public:
@@ -73,6 +70,7 @@ public:
     const VkPhysicalDeviceProperties& properties() const { return properties_; }
     const VkPhysicalDeviceMemoryProperties& memoryProperties() const { return memory_; }
     const DeviceInfo& deviceInfo() const { return info_; }
+    const std::string& deviceReason() const { return deviceReason_; }  // why this device ("the best score")
     bool validationEnabled() const { return validation_; }
     // The pipeline cache every pipeline is made with (kept on disk: vk/pipeline_cache.h).
     VkPipelineCache pipelineCache() const;
@@ -100,6 +98,11 @@ public:
     // With a surface, a device that cannot present to it (or lacks VK_KHR_swapchain) scores 0.
     static std::vector<DeviceInfo> listDevices(VkInstance instance, VkSurfaceKHR surface = VK_NULL_HANDLE);
 
+    // Sets LP_NUM_THREADS (lavapipe's rasterizer threads) to core/cpu_count's count unless it is set
+    // already; lavapipe reads it when the instance is made, so every vkCreateInstance comes after.
+    // Returns "LP_NUM_THREADS=N" and who set it, for -v.
+    static std::string sizeDriverThreads();
+
 private:
     void release();
     VkCommandBuffer beginOneTime();
@@ -123,6 +126,7 @@ private:
     VkPhysicalDeviceProperties properties_{};
     VkPhysicalDeviceMemoryProperties memory_{};
     DeviceInfo info_;
+    std::string deviceReason_;
     bool validation_ = false;
     std::atomic<uint32_t> validationErrors_{0};
     PFN_vkSetDebugUtilsObjectNameEXT setObjectName_ = nullptr;

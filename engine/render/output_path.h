@@ -1,0 +1,38 @@
+// What `metamer render -o PATH` means: a folder the outputs go into under the scene's name, or one
+// output file whose name gives every output its stem (-o result.exr: result.exr and result.png).
+// A folder is an existing folder, a path ending in '/', or a name without an extension (created if
+// missing); a file is NAME.exr, NAME.h5 or NAME.hdr (the cube formats' extensions, render/
+// cube_formats.h) or NAME.png (the display image). Anything else is ambiguous and an input error
+// naming the flag and what was expected: `-o result.tiff` used to make a folder `result.tiff/`.
+// docs/cli.md, "Output names". Tests: engine/render/output_path_test.cpp, tests/cli_test.cpp (CliOutputName.*).
+#pragma once
+
+#include "render/cube_formats.h"
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace metamer {
+
+struct OutputPath {
+    std::filesystem::path folder;
+    std::string stem;       // the named file's stem; empty: the scene's
+    std::string extension;  // the named file's (".exr", ".h5", ".hdr", ".png"); empty: a folder
+};
+
+// Reads `text`, the value of `flag` (for errors), as above. A path that exists is checked now: a
+// folder where a file is named, or a file or a device where a folder is, is an input error.
+OutputPath parseOutputPath(const std::string& text, const std::string& flag);
+
+// The cube format whose file has `extension` (".h5": hdf5), or null (".png", "").
+const CubeContainer* namedCubeFormat(const std::string& extension);
+
+// That the run writes `file`, the file -o named: a cube extension needs the cube among the outputs
+// and its format among `formats` (`formatsFrom` says who chose them: "--format", "the scene's
+// output.format" or "" for -o itself), .png needs the display PNG. An input error naming --out and
+// what to change otherwise.
+void requireNamedOutput(const std::filesystem::path& file, bool writesCube, bool writesPng,
+                        const std::vector<ChosenCubeFormat>& formats, const std::string& formatsFrom);
+
+}  // namespace metamer
