@@ -230,10 +230,20 @@ void refuseCaptureOverBudget(const RenderJob& job, const Scene& scene, const Gri
               memorySize(held), memorySize(rendering), memorySize(budget));
 }
 
-// Strip rows when the render is over the memory budget (GPU), else 0; the reason in `why`.
+// Strip rows when the render is over the memory budget (GPU), or, with a progress hook, larger
+// than job.stripPixels (when strips can make its outputs), else 0; the reason in `why`.
 int stripRowsFor(const RenderJob& job, const Scene& scene, uint64_t budget, const RenderMemory& memory,
                  const RenderMemory& perRow, bool quickLookOrEdges, std::string& why) {
-    if (memory.total() <= budget) return 0;
+    if (memory.total() <= budget) {
+        // Samples, not pixels: with ssaa each pixel is ssaa² of them.
+        const int W = scene.camera.width, H = scene.camera.height;
+        const uint64_t samplesPerRow = uint64_t(W) * uint64_t(job.ssaa) * uint64_t(job.ssaa);
+        if (!job.progress || job.stripPixels == 0 || job.backend != Backend::Gpu || quickLookOrEdges ||
+            job.frames > 1 || samplesPerRow * uint64_t(H) <= job.stripPixels)
+            return 0;
+        const int rows = std::max(16, int(job.stripPixels / samplesPerRow) / 16 * 16);
+        return rows >= H ? 0 : rows;  // `why` stays empty: not the user's concern, no note
+    }
     auto mib = [](uint64_t b) { return double(b) / (1 << 20); };
     why = fmt::format("the render needs about {:.0f} MiB at once, over the budget of {:.0f} MiB", mib(memory.total()),
                       mib(budget));
@@ -243,7 +253,6 @@ int stripRowsFor(const RenderJob& job, const Scene& scene, uint64_t budget, cons
     if (quickLookOrEdges || job.frames > 1)
         failInput(Where{"", "--memory-budget"}, "{}; strips cannot make the edges mask, a quick look or "
                   "repeated frames", why);
-    (void)scene;
     // Half the budget per strip (the rest for the writers and the process), in whole 16-row EXR
     // blocks when there is room.
     int rows = int(std::max<uint64_t>(1, budget / 2 / std::max<uint64_t>(1, perRow.total())));
@@ -538,11 +547,12 @@ RenderJobResult runRenderJob(const RenderJob& job) {
     int strips = 1;
     if (stripRows > 0) {
         strips = renderStripsInto(job, *loaded, planPtr, stripRows, out, r, report);
-        r.notes.push_back(job.capture ? why + fmt::format(" (what is left after {} for the arrays kept); rendered in {} "
-                                                          "strips of {} rows into the arrays", memorySize(held), strips,
-                                                          stripRows)
-                                      : why + fmt::format("; rendered in {} strips of {} rows and streamed to the files",
-                                                          strips, stripRows));
+        if (!why.empty())
+            r.notes.push_back(job.capture ? why + fmt::format(" (what is left after {} for the arrays kept); rendered "
+                                                              "in {} strips of {} rows into the arrays",
+                                                              memorySize(held), strips, stripRows)
+                                          : why + fmt::format("; rendered in {} strips of {} rows and streamed to the "
+                                                              "files", strips, stripRows));
     } else if (job.backend == Backend::Gpu && !out.needsCube() && planPtr) {
         renderDisplayFrames(job, *loaded, *planPtr, out, r, report);
     } else if (job.backend == Backend::Gpu) {

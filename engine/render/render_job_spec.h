@@ -69,6 +69,11 @@ struct RenderJob {
     // Called between strips and frames (render/render_progress.h: when, on which thread, and what
     // throwing from it does). Empty: none.
     RenderProgressHook progress;
+    // With a hook: a GPU image of more samples (pixels × ssaa²) than this is rendered in strips of
+    // about this many (whole 16-row blocks), so the hook runs at least once per strip's worth of work and a
+    // stop it asks for waits for one strip, not the image (the Python binding's Ctrl-C). Strips
+    // give the same values as one frame (tests/strips_test.cpp). 0: strips only over the budget.
+    size_t stripPixels = 0;
 };
 
 }  // namespace metamer

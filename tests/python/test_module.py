@@ -734,3 +734,99 @@ def test_the_cli_render_flags_have_keywords(tmp_path):
     assert str(spec.format) == "half" and spec.getattribute("compression") == "zip"
     with pytest.raises(metamer.InputError, match="readback"):
         metamer.render(white_quad(), readback="fast")
+
+
+# --- Issue 35 item 1: renders you can stop and watch.
+
+SPHERES = REPO / "scenes" / "spheres.json"
+
+
+def test_progress_reaches_a_callable_and_a_tqdm_like_bar_and_strips_give_the_clis_values(tmp_path):
+    calls = []
+    args = dict(overrides={"camera.width": 640, "camera.height": 480}, grid="400:700:10")
+    r = metamer.render(SPHERES, progress=lambda done, total: calls.append((done, total)), **args)
+    total = calls[-1][1]
+    assert calls[0] == (0, total) and calls[-1] == (total, total) and total >= 2  # 640×480 > 512²: strips
+    assert [d for d, _ in calls] == sorted(d for d, _ in calls)
+
+    class Bar:  # what the package uses of a tqdm bar
+        def __init__(self):
+            self.total, self.n, self.unit = None, 0, "it"
+
+        def reset(self, total=None):
+            self.total, self.n = total, 0
+
+        def update(self, n):
+            self.n += n
+
+    bar = Bar()
+    metamer.render(SPHERES, progress=bar, **args)
+    assert bar.total == total and bar.n == total and bar.unit == "strip"
+    # The strips hold what the CLI's single frame holds (the CLI has no hook without a terminal) to
+    # float rounding — a few edge pixels to 3·10⁻⁴ relative, as strips over the budget
+    # (tests/strips_test.cpp); interruptible=False draws the single frame, bit for bit.
+    cli = subprocess.run([BINARY, "render", str(SPHERES), "--grid", "400:700:10", "--set", "camera.width=640",
+                          "--set", "camera.height=480", "--write", "cube", "--out", str(tmp_path)],
+                         capture_output=True, text=True)
+    assert cli.returncode == 0, cli.stderr
+    whole = metamer.load_cube(tmp_path / "spheres.exr")["cube"]
+    relative = np.abs(r.cube - whole) / np.maximum(np.abs(whole), 1e-3)
+    assert relative.max() < 1e-3 and (relative.max(axis=2) > 1e-4).sum() < 100
+    assert np.array_equal(metamer.render(SPHERES, interruptible=False, **args).cube, whole)
+    with pytest.raises(TypeError, match="progress: expected a callable"):
+        metamer.render(white_quad(), progress=3)
+
+
+def test_an_exception_in_the_progress_callback_stops_the_render_and_the_next_one_works():
+    def stop(done, total):
+        if done >= 1:
+            raise RuntimeError("enough")
+
+    with pytest.raises(RuntimeError, match="^enough$"):
+        metamer.render(SPHERES, overrides={"camera.width": 640, "camera.height": 480}, progress=stop)
+    np.testing.assert_allclose(metamer.render(white_quad()).cube, 0.8 * 2.0 / math.pi, rtol=1e-6)
+
+
+def test_ctrl_c_stops_a_long_render_within_half_a_second(tmp_path):
+    """SIGINT to a process in the middle of a render of many strips (1024² at 4×4 supersampling,
+    several seconds on lavapipe): KeyboardInterrupt comes at the end of the strip being drawn, and
+    the process renders again after it."""
+    import signal
+    import time
+
+    child = tmp_path / "child.py"
+    child.write_text(f"""
+import sys, time
+import metamer
+def progress(done, total):
+    print("progress", done, total, flush=True)
+try:
+    metamer.render({str(SPHERES)!r}, overrides={{"camera.width": 1024, "camera.height": 1024}}, ssaa=4,
+                   write="xyz", progress=progress)
+    print("finished", flush=True)
+except KeyboardInterrupt:
+    print("interrupted", time.monotonic(), flush=True)
+r = metamer.render({str(SPHERES)!r}, overrides={{"camera.width": 16, "camera.height": 16}}, write="xyz")
+print("after", r.xyz.shape, flush=True)
+""")
+    p = subprocess.Popen([sys.executable, str(child)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    lines = []
+    try:
+        for line in p.stdout:
+            lines.append(line.split())
+            if lines[-1][:1] == ["progress"] and int(lines[-1][1]) >= 1:
+                total = int(lines[-1][2])
+                sent = time.monotonic()
+                p.send_signal(signal.SIGINT)
+                break
+        rest, err = p.communicate(timeout=300)
+    finally:
+        p.kill()
+    lines += [line.split() for line in rest.splitlines()]
+    assert total >= 16, lines  # many strips: a stop after the first one is early
+    interrupted = [line for line in lines if line[:1] == ["interrupted"]]
+    assert interrupted, (lines, err)
+    latency = float(interrupted[0][1]) - sent
+    print(f"Ctrl-C latency {latency * 1e3:.0f} ms ({total} strips)")
+    assert latency < 0.5, f"KeyboardInterrupt {latency:.2f} s after SIGINT"
+    assert ["after", "(16,", "16,", "3)"] in lines and p.returncode == 0, (lines, err)

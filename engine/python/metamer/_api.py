@@ -152,6 +152,36 @@ def _cube_operand(x: Any, wavelengths: Any, which: str) -> Any:
     return (np.asarray(x, dtype=np.float32), _grid_text(wavelengths, "wavelengths"))
 
 
+def _progress_call(progress: Any) -> Optional[Callable[[str, int, int, float], None]]:
+    """What the engine calls between units of work, (unit, done, total, seconds), from a
+    user's `progress`: a callable progress(done, total), or a tqdm bar (anything with .update and
+    .total), reset to the render's total and advanced by each unit."""
+    if progress is None:
+        return None
+    if hasattr(progress, "update") and hasattr(progress, "total"):
+        bar, last = progress, [0]
+
+        def advance(unit: str, done: int, total: int, seconds: float) -> None:
+            if done == 0 or bar.total != total:
+                if hasattr(bar, "reset"):
+                    bar.reset(total=total)
+                else:
+                    bar.total = total
+                if hasattr(bar, "unit"):
+                    bar.unit = unit
+                last[0] = 0
+            bar.update(done - last[0])
+            last[0] = done
+
+        return advance
+    if callable(progress):
+        def call(unit: str, done: int, total: int, seconds: float) -> None:
+            progress(done, total)
+
+        return call
+    raise TypeError(f"progress: expected a callable progress(done, total) or a tqdm bar, got {type(progress).__name__}")
+
+
 def _numbers(x: Any) -> Any:
     """The statistics as numbers: JSON's "inf", "-inf" and "nan" strings become floats."""
     if isinstance(x, dict):
@@ -193,6 +223,8 @@ def render(
     compression: str = "piz",
     strict_coverage: bool = False,
     readback: Literal["auto", "map", "copy"] = "auto",
+    progress: Union[Callable[[int, int], Any], Any, None] = None,
+    interruptible: bool = True,
 ) -> _metamer.Render:
     if isinstance(scene, Mapping):
         scene = _scene_values(dict(scene), "scene")
@@ -207,7 +239,8 @@ def render(
             integration=integration, xyz=xyz, mode=mode, write=write, resample=resample, ssaa=ssaa,
             validation=validation, device=device, allow_outside_paths=allow_outside_paths, name=name,
             base_dir=base_dir, format=format, memory_budget=memory_budget, half=half, compression=compression,
-            strict_coverage=strict_coverage, readback=readback)
+            strict_coverage=strict_coverage, readback=readback, progress=_progress_call(progress),
+            interruptible=interruptible)
 
 
 @_keywords_checked
@@ -260,7 +293,12 @@ def _engine_doc(function: Any) -> str:
 
 
 render.__doc__ = _engine_doc(_metamer.render) + (
-    "\nIn Python also: `grid` may be a colour SpectralShape (.start, .end, .interval) or evenly spaced "
+    "\nprogress: a callable progress(done, total), or a tqdm bar, told how far the render is between its "
+    "strips, passes or rows; Ctrl-C (or a notebook's interrupt) stops a render between them with "
+    "KeyboardInterrupt, within one strip of at most 512² samples (pixels × ssaa²): larger images render in "
+    "strips, equal to one frame to float rounding; interruptible=False draws one frame (the CLI's values bit for "
+    "bit) and a stop waits for it.\n"
+    "In Python also: `grid` may be a colour SpectralShape (.start, .end, .interval) or evenly spaced "
     "wavelengths; any object with .wavelengths and .values (a colour SpectralDistribution) is a spectrum in a "
     "scene dict or an override; `detector` may be an object with .wavelengths, .values (wavelengths × channels) "
     "and .labels (a colour MultiSpectralDistributions). Returns a Render.")
