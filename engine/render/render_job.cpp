@@ -231,19 +231,17 @@ void refuseCaptureOverBudget(const RenderJob& job, const Scene& scene, const Gri
 }
 
 // Strip rows when the render is over the memory budget (GPU), or, with a progress hook, larger
-// than job.stripPixels (when strips can make its outputs), else 0; the reason in `why`.
+// than job.stripPixels samples (when strips can make its outputs), else 0; the reason for strips
+// over the budget in `why` (none for the hook's: they are not the user's concern).
 int stripRowsFor(const RenderJob& job, const Scene& scene, uint64_t budget, const RenderMemory& memory,
                  const RenderMemory& perRow, bool quickLookOrEdges, std::string& why) {
-    if (memory.total() <= budget) {
-        // Samples, not pixels: with ssaa each pixel is ssaa² of them.
-        const int W = scene.camera.width, H = scene.camera.height;
-        const uint64_t samplesPerRow = uint64_t(W) * uint64_t(job.ssaa) * uint64_t(job.ssaa);
-        if (!job.progress || job.stripPixels == 0 || job.backend != Backend::Gpu || quickLookOrEdges ||
-            job.frames > 1 || samplesPerRow * uint64_t(H) <= job.stripPixels)
-            return 0;
-        const int rows = std::max(16, int(job.stripPixels / samplesPerRow) / 16 * 16);
-        return rows >= H ? 0 : rows;  // `why` stays empty: not the user's concern, no note
-    }
+    // Samples, not pixels: with ssaa each pixel is ssaa² of them.
+    const int H = scene.camera.height;
+    const uint64_t samplesPerRow = uint64_t(scene.camera.width) * uint64_t(job.ssaa) * uint64_t(job.ssaa);
+    int interruptRows = 0;
+    if (job.progress && job.stripPixels > 0 && job.backend == Backend::Gpu && !quickLookOrEdges && job.frames <= 1)
+        interruptRows = std::max(16, int(std::min<uint64_t>(job.stripPixels / samplesPerRow, uint64_t(H))) / 16 * 16);
+    if (memory.total() <= budget) return interruptRows > 0 && interruptRows < H ? interruptRows : 0;
     auto mib = [](uint64_t b) { return double(b) / (1 << 20); };
     why = fmt::format("the render needs about {:.0f} MiB at once, over the budget of {:.0f} MiB", mib(memory.total()),
                       mib(budget));
@@ -254,10 +252,10 @@ int stripRowsFor(const RenderJob& job, const Scene& scene, uint64_t budget, cons
         failInput(Where{"", "--memory-budget"}, "{}; strips cannot make the edges mask, a quick look or "
                   "repeated frames", why);
     // Half the budget per strip (the rest for the writers and the process), in whole 16-row EXR
-    // blocks when there is room.
+    // blocks when there is room; no taller than the hook's strips.
     int rows = int(std::max<uint64_t>(1, budget / 2 / std::max<uint64_t>(1, perRow.total())));
     if (rows >= 16) rows -= rows % 16;
-    return rows;
+    return interruptRows > 0 ? std::min(rows, interruptRows) : rows;
 }
 
 // The job's progress hook with the time since the job started (render/render_progress.h); a no-op
