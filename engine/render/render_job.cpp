@@ -239,7 +239,8 @@ int stripRowsFor(const RenderJob& job, const Scene& scene, uint64_t budget, cons
     const int H = scene.camera.height;
     const uint64_t samplesPerRow = uint64_t(scene.camera.width) * uint64_t(job.ssaa) * uint64_t(job.ssaa);
     int interruptRows = 0;
-    if (job.progress && job.stripPixels > 0 && job.backend == Backend::Gpu && !quickLookOrEdges && job.frames <= 1)
+    if (job.progress && job.stripPixels > 0 && job.backend == Backend::Gpu && !quickLookOrEdges && job.frames <= 1 &&
+        samplesPerRow * uint64_t(H) > job.stripPixels)
         interruptRows = std::max(16, int(std::min<uint64_t>(job.stripPixels / samplesPerRow, uint64_t(H))) / 16 * 16);
     if (memory.total() <= budget) return interruptRows > 0 && interruptRows < H ? interruptRows : 0;
     auto mib = [](uint64_t b) { return double(b) / (1 << 20); };
