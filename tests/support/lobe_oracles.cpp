@@ -75,26 +75,34 @@ int quarticRoots(double a, double b, double c, double d, double e, double* roots
 // in t whose leading coefficient is g(s + π); s is taken among 8 angles where |g(s + π)| is largest,
 // so that no root sits at t = ∞. Each root is polished by Newton's method on g.
 int trigonometricRoots(double a0, double a1, double b1, double a2, double b2, double* roots) {
-    auto g = [&](double p) { return a0 + a1 * std::cos(p) + b1 * std::sin(p) + a2 * std::cos(2 * p) + b2 * std::sin(2 * p); };
-    auto dg = [&](double p) {
-        return -a1 * std::sin(p) + b1 * std::cos(p) - 2 * a2 * std::sin(2 * p) + 2 * b2 * std::cos(2 * p);
+    // g and g' from one sincos (the double angles by identity): this runs for every ring.
+    auto gAndSlope = [&](double p, double& slope) {
+        const double c = std::cos(p), s = std::sin(p), c2 = c * c - s * s, s2 = 2.0 * s * c;
+        slope = -a1 * s + b1 * c - 2 * a2 * s2 + 2 * b2 * c2;
+        return a0 + a1 * c + b1 * s + a2 * c2 + b2 * s2;
     };
-    double shift = 0.0, largest = -1.0;
+    // g(kπ/4 + π) for k = 0..7, from the exact cosines and sines of multiples of π/4.
+    constexpr double h = 0.70710678118654752440;
+    static constexpr double kCos[8] = {-1, -h, 0, h, 1, h, 0, -h}, kSin[8] = {0, -h, -1, -h, 0, h, 1, h};
+    int best = 0;
+    double largest = -1.0;
     for (int k = 0; k < 8; ++k) {
-        const double s = k * kPi / 4.0, value = std::fabs(g(s + kPi));
-        if (value > largest) largest = value, shift = s;
+        const double c = kCos[k], s = kSin[k];
+        const double value = std::fabs(a0 + a1 * c + b1 * s + a2 * (c * c - s * s) + b2 * 2.0 * s * c);
+        if (value > largest) largest = value, best = k;
     }
     if (!(largest > 0.0)) return 0;
-    const double cs = std::cos(shift), ss = std::sin(shift), c2 = std::cos(2 * shift), s2 = std::sin(2 * shift);
+    const double shift = best * kPi / 4.0, cs = -kCos[best], ss = -kSin[best], c2 = cs * cs - ss * ss, s2 = 2.0 * ss * cs;
     const double A1 = a1 * cs + b1 * ss, B1 = b1 * cs - a1 * ss, A2 = a2 * c2 + b2 * s2, B2 = b2 * c2 - a2 * s2;
     double t[4];
     const int n = quarticRoots(a0 - A1 + A2, 2 * B1 - 4 * B2, 2 * a0 - 6 * A2, 2 * B1 + 4 * B2, a0 + A1 + A2, t);
     for (int i = 0; i < n; ++i) {
         double p = shift + 2.0 * std::atan(t[i]);
         for (int iteration = 0; iteration < 3; ++iteration) {
-            const double slope = dg(p);
+            double slope;
+            const double value = gAndSlope(p, slope);
             if (slope == 0.0) break;
-            const double step = g(p) / slope;
+            const double step = value / slope;
             if (!(std::fabs(step) < 1e-3)) break;
             p -= step;
         }
@@ -145,7 +153,8 @@ double ringOracle(const dvec3& n, const dvec3& v, const dvec3& u, double gloss, 
         if (!(phiN > 0.0)) return 0.0;
         const double P0 = A * (2 * c * A - nv), P1 = B * (2 * c * A - nv) + 2 * c * A * B, P2 = 2 * c * B * B;
         auto antiderivative = [&](double p) {
-            return 4.0 * (P0 * p + P1 * std::sin(p) + P2 * (0.5 * p + 0.25 * std::sin(2 * p)));
+            const double sine = std::sin(p);  // sin 2p = 2 sin p cos p: one sincos
+            return 4.0 * (P0 * p + P1 * sine + P2 * (0.5 * p + 0.5 * sine * std::cos(p)));
         };
         if (!hemisphere) return antiderivative(phiN) - antiderivative(-phiN);
         double roots[4];
