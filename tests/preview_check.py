@@ -6,6 +6,9 @@
                                               more than N in some channel
   differ A B [--counts N]                     the base patch differs by more than N between A and B
   cube A B                                    two spectral cubes are equal to float rounding
+  tagged A B                                  PNG A carries B's colour tag: the same sRGB or iCCP
+                                              chunk (OpenImageIO calls untagged PNGs sRGB too, so
+                                              the chunks are read from the bytes)
 """
 import argparse
 import sys
@@ -24,6 +27,19 @@ def read(path):
 
 def counts(path):
     return read(path)[0]
+
+
+def colour_chunks(path):
+    """The colour-space chunks of a PNG (sRGB, iCCP, gAMA, cHRM) with their data."""
+    data = open(path, "rb").read()
+    found, at = {}, 8
+    while at + 8 <= len(data):
+        length = int.from_bytes(data[at:at + 4], "big")
+        kind = data[at + 4:at + 8].decode("latin-1")
+        if kind in ("sRGB", "iCCP", "gAMA", "cHRM"):
+            found[kind] = data[at + 8:at + 8 + length]
+        at += 12 + length
+    return found
 
 
 def patch(img, fx):
@@ -77,6 +93,11 @@ def main():
         print(f"cubes: {a.shape[2]} channels, max abs difference {d:g} (largest value {scale:g})")
         if d > 1e-6 * scale:
             sys.exit("FAIL: the cubes differ")
+    elif args.what == "tagged":
+        a, b = colour_chunks(args.a), colour_chunks(args.b)
+        print(f"{args.a}: {sorted(a)}; {args.b}: {sorted(b)}")
+        if not b or a != b:
+            sys.exit(f"FAIL: {args.a} should carry the same colour chunks as {args.b}")
     else:
         sys.exit(f"unknown check {args.what}")
 

@@ -6,7 +6,8 @@
 #      and the cube it saves equals the render's cube;
 #   3. a scripted change of light (--set lights.0.spectrum=illuminants/A) changes the metameric
 #      pair's colours: matched under D65, apart under A, as the probe's ΔE00 also says;
-#   4. the split view shows D65 | A side by side, each half equal to its single view;
+#   4. the split view shows D65 | A side by side, each half equal to its single view; a screenshot
+#      carries its display's colour tag (sRGB chunk, or the CRT's ICC profile) as the render's PNG does;
 #   5. a change of the scene file on disk is reloaded while the window is open.
 # Xvfb is part of the set-up (ci/setup.sh); without it this test fails rather than skips.
 set -euo pipefail
@@ -47,6 +48,7 @@ xrun "$metamer" preview "$scene" --frames 3 --validation --screenshot "$out/d65.
     --save --out "$out/saved" | tee "$out/d65.log"
 "$metamer" render "$scene" --out "$out/render" --validation >/dev/null
 check same "$out/d65.png" "$out/render/metamers.png" --tolerance 1
+check tagged "$out/d65.png" "$out/render/metamers.png"
 check cube "$out/saved/metamers-preview.exr" "$out/render/metamers.exr"
 check same "$out/saved/metamers-preview.png" "$out/render/metamers.png" --tolerance 0
 
@@ -69,6 +71,12 @@ xrun "$metamer" preview "$scene" --frames 2 --validation --split lights.0.spectr
     --screenshot "$out/split.png" | tee "$out/split.log"
 check same "$out/split.png" "$out/d65.png" --crop 0,0,256,128 --tolerance 0
 check same "$out/split.png" "$out/a.png" --crop 256,0,256,128 --tolerance 0
+
+echo "== 4b. the CRT display: its screenshot carries the CRT's ICC profile, as the render's PNG does"
+xrun "$metamer" preview "$scene" --frames 2 --validation --display crt --screenshot "$out/crt.png" >"$out/crt.log"
+"$metamer" render "$scene" --display crt --out "$out/render-crt" --write png >/dev/null
+check same "$out/crt.png" "$out/render-crt/metamers.png" --tolerance 1
+check tagged "$out/crt.png" "$out/render-crt/metamers.png"
 
 echo "== 5. reload when the scene file changes"
 mkdir -p "$out/live"

@@ -3,6 +3,7 @@
 #include "bench/bench.h"
 #include "bench/plot.h"
 #include "support/gpu.h"
+#include "support/png_chunks.h"
 
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
@@ -151,6 +152,7 @@ TEST(BenchSweep, FullBeatsRgbUnderIlluminantAAndTheFilesAreWritten) {
     EXPECT_EQ(in->spec().width, 960);
     EXPECT_EQ(in->spec().nchannels, 3);
     in->close();
+    EXPECT_TRUE(test::hasPngChunk(dir / "metamers.bench.png", "sRGB")) << "its colours are sRGB counts, tagged so";
     fs::remove_all(dir);
 }
 

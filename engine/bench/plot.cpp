@@ -323,6 +323,7 @@ bool writeBenchPlot(const std::filesystem::path& path, const BenchResult& result
     ImageFile f{W, H, {"R", "G", "B"}, {}};
     f.attributes.push_back({"ImageDescription", fmt::format("metamer bench {}: time per frame against ΔE2000 p95 on {}",
                                                             result.scene, result.device)});
+    f.attributes.push_back({"oiio:ColorSpace", "sRGB"});  // its colours are sRGB counts
     writeImage(path, f, cv.counts(), 8);
     return cv.hasText();
 }

@@ -70,6 +70,7 @@ void writeHeatmap(const std::filesystem::path& path, const CompareStats& stats, 
                      "{:.3g} (near black) to {:.3g} (light blue) | over the threshold: red to {:.3g} (light yellow); "
                      "magenta: NaN or Inf in one image only; grey: masked; {} of {} pixels over",
                      centre / 100.0, std::max(threshold, 0.0), centre * 100.0, over, pixels - stats.maskedPixels)});
+    image.attributes.push_back({"oiio:ColorSpace", "sRGB"});  // its colours are sRGB counts
     writeImage(path, image, rgb, 8);
 }
 

@@ -5,6 +5,7 @@
 #include "color/display_model.h"
 #include "color/lab.h"
 #include "compare/compare_test_util.h"
+#include "support/png_chunks.h"
 
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
@@ -56,6 +57,7 @@ TEST_F(CompareHeatmap, WritesOnePixelPerImagePixelWithOverThresholdPixelsInWarmC
     EXPECT_GT(over[0], over[2]) << "over the threshold: warm";
     EXPECT_GT(under[2], under[0]) << "under the threshold: blue";
     EXPECT_EQ(nan, (std::array<uint8_t, 3>{255, 0, 255}));
+    EXPECT_TRUE(metamer::test::hasPngChunk(path, "sRGB")) << "its colours are sRGB counts, tagged so";
     EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir), std::filesystem::directory_iterator()), 1);
 }
 

@@ -14,6 +14,7 @@
 #include "preview/ui_context.h"
 #include "preview/view.h"
 #include "preview/window.h"
+#include "render/display_colour_space.h"
 #include "render/render_setup.h"
 #include "vk/context.h"
 
@@ -464,6 +465,16 @@ void Session::renderViews() {
 
 void Session::writeScreenshots(PreviewReport& report) {
     const bool bgra = presenter_->swapchain().bgra();
+    // The screenshots hold the views' display counts as the window showed them: tagged with that
+    // display's colour space when the views share one (render/display_colour_space.h).
+    const DisplayModel& display = views_.front()->plan().display;
+    const bool oneDisplay = std::all_of(views_.begin(), views_.end(), [&](const auto& v) {
+        return v->plan().display.kind == display.kind && v->plan().display.name == display.name;
+    });
+    if (!oneDisplay) report.notes.push_back("the screenshots carry no colour space: the views show different displays");
+    auto tag = [&](ImageFile& f) {
+        if (oneDisplay) tagDisplayColourSpace(f, display);
+    };
     if (!o_.screenshot.empty()) {
         Region last = region(views_.size() - 1);
         int W = last.x + last.width - kPanelWidth, H = 0;
@@ -493,6 +504,7 @@ void Session::writeScreenshots(PreviewReport& report) {
         ImageFile f{W, H, {"R", "G", "B"}, {}};
         std::string what = views_.size() > 1 ? "left and right views side by side" : "the view";
         f.attributes.push_back({"ImageDescription", "metamer preview screenshot: " + what});
+        tag(f);
         writeImage(o_.screenshot, f, counts, 8);
         report.written.push_back({o_.screenshot, fmt::format("{}×{} px, 8-bit display counts as the window showed {}{}",
                                                              W, H, what, fromFrame ? "" : " (from the display images)")});
@@ -505,6 +517,7 @@ void Session::writeScreenshots(PreviewReport& report) {
             std::vector<uint16_t> all = fromWindowBytes(presenter_->lastFrame(), int(fe.width), int(fe.height), bgra, 0,
                                                         0, int(fe.width), int(fe.height));
             ImageFile f{int(fe.width), int(fe.height), {"R", "G", "B"}, {}};
+            tag(f);
             writeImage(o_.windowScreenshot, f, all, 8);
             report.written.push_back({o_.windowScreenshot, fmt::format("{}×{} px, the whole window, UI included",
                                                                        fe.width, fe.height)});

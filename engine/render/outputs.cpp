@@ -1,9 +1,9 @@
 #include "render/outputs.h"
 
-#include "color/display_profile.h"
 #include "color/display_rgb.h"
 #include "color/quick_look.h"
 #include "io/atomic_file.h"
+#include "render/display_colour_space.h"
 
 #include <fmt/ranges.h>
 
@@ -113,13 +113,7 @@ RenderOutputs::RenderOutputs(const OutputTargets& targets, int width, int height
         } else {
             ImageFile f{width_, height_, {"R", "G", "B"}, provenance_};
             f.attributes.push_back({"ImageDescription", "metamer display image: " + plan_->description});
-            // The display's colour space, for colour-managed viewers: sRGB's own chunk, or the
-            // model's ICC profile (color/display_profile.h).
-            if (plan_->display.kind == DisplayKind::Srgb)
-                f.attributes.push_back({"oiio:ColorSpace", "sRGB"});
-            else
-                f.iccProfile = displayIccProfile(plan_->display, "Metamer display: " + plan_->display.name +
-                                                                     " (gain-offset-gamma model, docs/color.md)");
+            tagDisplayColourSpace(f, plan_->display);
             png_ = std::make_unique<ImageFileWriter>(targets_.png, f, plan_->display.bits);
         }
     }

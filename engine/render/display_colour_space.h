@@ -1,0 +1,13 @@
+// How an image of a display model's counts says what colour space it is in, for colour-managed
+// viewers: sRGB's own PNG chunk for the sRGB model, the model's ICC profile (color/display_profile)
+// for any other. The display PNG of a render and the preview's screenshots carry it.
+#pragma once
+
+#include "color/display_model.h"
+#include "io/image_file.h"
+
+namespace metamer {
+
+void tagDisplayColourSpace(ImageFile& image, const DisplayModel& display);
+
+}  // namespace metamer
