@@ -71,6 +71,14 @@ std::vector<uint8_t> displayIccProfile(const DisplayModel& display, const std::s
     std::vector<uint8_t> bytes(size);
     if (!cmsSaveProfileToMem(profile.get(), bytes.data(), &size)) failProfile("write the profile");
     bytes.resize(size);
+    // Little CMS stamps the header with the time of writing (dateTimeNumber, bytes 24–35); a fixed
+    // date makes the profile a function of the model alone, so a render's PNG is the same bytes
+    // every time (no profile ID is computed, so nothing else depends on the date).
+    if (bytes.size() >= 36)
+        for (int i = 0; i < 6; ++i) {
+            bytes[size_t(24 + 2 * i)] = uint8_t(kProfileDate[i] >> 8);
+            bytes[size_t(25 + 2 * i)] = uint8_t(kProfileDate[i] & 0xff);
+        }
     return bytes;
 }
 

@@ -19,6 +19,10 @@
 
 namespace metamer {
 
+// The header's creation date, fixed (year, month, day, hour, minute, second, UTC): the same model
+// gives the same bytes.
+inline constexpr uint16_t kProfileDate[6] = {2026, 1, 1, 0, 0, 0};
+
 // The profile's bytes (an sRGB model gets sRGB's parametric curve); `description` becomes its
 // profileDescriptionTag. A runtime error if Little CMS fails.
 std::vector<uint8_t> displayIccProfile(const DisplayModel& display, const std::string& description);

@@ -8,6 +8,8 @@
 #include <gtest/gtest.h>
 #include <lcms2.h>
 
+#include <ctime>
+
 #include <glm/matrix.hpp>
 
 using namespace metamer;
@@ -82,4 +84,21 @@ TEST(DisplayProfile, LittleCmsReadsTheModelsPrimariesWhiteAndCurves) {
         cmsCloseProfile(xyzProfile);
         cmsCloseProfile(profile);
     }
+}
+
+// The same model gives the same bytes (a render's PNG is reproducible): the header's date is fixed,
+// not the time of writing, and Little CMS reads it back.
+TEST(DisplayProfile, TheSameModelGivesTheSameBytesWithAFixedDate) {
+    const DisplayModel display = parseDisplay("crt", 8, Where{});
+    const std::vector<uint8_t> bytes = displayIccProfile(display, "test crt");
+    cmsHPROFILE profile = cmsOpenProfileFromMem(bytes.data(), cmsUInt32Number(bytes.size()));
+    ASSERT_TRUE(profile);
+    struct tm date {};
+    ASSERT_TRUE(cmsGetHeaderCreationDateTime(profile, &date));
+    cmsCloseProfile(profile);
+    EXPECT_EQ(date.tm_year + 1900, kProfileDate[0]);
+    EXPECT_EQ(date.tm_mon + 1, kProfileDate[1]);
+    EXPECT_EQ(date.tm_mday, kProfileDate[2]);
+    EXPECT_EQ(date.tm_hour, kProfileDate[3]);
+    EXPECT_EQ(displayIccProfile(display, "test crt"), bytes);
 }
