@@ -11,10 +11,15 @@
                                               the chunks are read from the bytes)
 """
 import argparse
+import os
 import sys
 
 import numpy as np
 import OpenImageIO as oiio
+
+# The script tests' one PNG chunk reader.
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "python"))
+from check_ordinary_tools import png_chunks  # noqa: E402
 
 
 def read(path):
@@ -31,15 +36,7 @@ def counts(path):
 
 def colour_chunks(path):
     """The colour-space chunks of a PNG (sRGB, iCCP, gAMA, cHRM) with their data."""
-    data = open(path, "rb").read()
-    found, at = {}, 8
-    while at + 8 <= len(data):
-        length = int.from_bytes(data[at:at + 4], "big")
-        kind = data[at + 4:at + 8].decode("latin-1")
-        if kind in ("sRGB", "iCCP", "gAMA", "cHRM"):
-            found[kind] = data[at + 8:at + 8 + length]
-        at += 12 + length
-    return found
+    return {k: v for k, v in png_chunks(path).items() if k in ("sRGB", "iCCP", "gAMA", "cHRM")}
 
 
 def patch(img, fx):

@@ -75,11 +75,13 @@ int quarticRoots(double a, double b, double c, double d, double e, double* roots
 // in t whose leading coefficient is g(s + π); s is taken among 8 angles where |g(s + π)| is largest,
 // so that no root sits at t = ∞. Each root is polished by Newton's method on g.
 int trigonometricRoots(double a0, double a1, double b1, double a2, double b2, double* roots) {
-    // g and g' from one sincos (the double angles by identity): this runs for every ring.
+    // g from cos φ and sin φ (the double angles by identity), g' beside it: one sincos per
+    // Newton step, none for the 8 shifts; this runs for every ring.
+    auto gOf = [&](double c, double s) { return a0 + a1 * c + b1 * s + a2 * (c * c - s * s) + b2 * 2.0 * s * c; };
     auto gAndSlope = [&](double p, double& slope) {
-        const double c = std::cos(p), s = std::sin(p), c2 = c * c - s * s, s2 = 2.0 * s * c;
-        slope = -a1 * s + b1 * c - 2 * a2 * s2 + 2 * b2 * c2;
-        return a0 + a1 * c + b1 * s + a2 * c2 + b2 * s2;
+        const double c = std::cos(p), s = std::sin(p);
+        slope = -a1 * s + b1 * c - 2 * a2 * (2.0 * s * c) + 2 * b2 * (c * c - s * s);
+        return gOf(c, s);
     };
     // g(kπ/4 + π) for k = 0..7, from the exact cosines and sines of multiples of π/4.
     constexpr double h = 0.70710678118654752440;
@@ -87,8 +89,7 @@ int trigonometricRoots(double a0, double a1, double b1, double a2, double b2, do
     int best = 0;
     double largest = -1.0;
     for (int k = 0; k < 8; ++k) {
-        const double c = kCos[k], s = kSin[k];
-        const double value = std::fabs(a0 + a1 * c + b1 * s + a2 * (c * c - s * s) + b2 * 2.0 * s * c);
+        const double value = std::fabs(gOf(kCos[k], kSin[k]));
         if (value > largest) largest = value, best = k;
     }
     if (!(largest > 0.0)) return 0;
