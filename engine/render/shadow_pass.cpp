@@ -1,6 +1,7 @@
 // The shadow maps' depth passes (SpectralResources::createShadowMaps): each layer of
-// render/shadow_maps.h's plan drawn once, depth only, with a slope-scaled bias, and left in
-// DEPTH_STENCIL_READ_ONLY_OPTIMAL for the spectral passes' depth-compare sampler.
+// render/shadow_maps.h's plan drawn once, depth only, with a slope-scaled bias, as a Frame
+// (render/frame_pass.h) that leaves the image sampled (DEPTH_STENCIL_READ_ONLY_OPTIMAL) for the
+// spectral passes' depth-compare sampler.
 #include "core/timing.h"
 #include "render/frame_pass.h"
 #include "vk/render_pass.h"
@@ -54,13 +55,9 @@ std::string shadowMapKey(const PackedScene& packed, uint32_t size, uint32_t laye
 void SpectralResources::drawShadowMaps(vk::Image& shadowImage, uint32_t size, uint32_t layers) {
     VkDevice d = ctx.device();
     const ShadowMaps& maps = packed.shadowMaps;
-    // One render pass: clear, draw, leave the layer for the fragment shader.
+    // One render pass: clear, draw.
     vk::RenderPassDesc passDesc;
-    passDesc.depth = vk::AttachmentDesc{VK_FORMAT_D32_SFLOAT, VK_ATTACHMENT_LOAD_OP_CLEAR, VK_ATTACHMENT_STORE_OP_STORE,
-                                    VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL};
-    passDesc.dependencies.push_back({false, VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT,
-                                 VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT, VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
-                                 VK_ACCESS_SHADER_READ_BIT});
+    passDesc.depth = vk::attachmentFor(VK_FORMAT_D32_SFLOAT, vk::Access::DepthAttachment, VK_ATTACHMENT_LOAD_OP_CLEAR);
     VkRenderPass renderPass = vk::createRenderPass(d, passDesc);
     const vk::OwnedRenderPass ownedPass(d, renderPass);
 
@@ -97,13 +94,21 @@ void SpectralResources::drawShadowMaps(vk::Image& shadowImage, uint32_t size, ui
     }
 
     // One declared pass per layer (render/frame_pass.h), recorded once: the maps depend on the
-    // scene, not the camera.
-    std::vector<FramePass> shadowPasses;
-    for (uint32_t l = 0; l < layers; ++l)
-        shadowPasses.push_back(
-            {fmt::format("shadow map layer {}", l), "the scene's triangles seen from the light",
-             "the layer's depth, for the spectral passes' visibility", "depth only, slope-scaled bias", renderPass, framebuffers[l].get(), {size, size},
-             {VkClearValue{.depthStencil = {1.0f, 0}}}, [&, l](VkCommandBuffer cmd) {
+    // scene, not the camera. The image is new, and left for the fragment shaders to sample.
+    Frame shadowPasses;
+    const size_t image =
+        shadowPasses.add(FrameResource::madeFor("shadow maps", shadowImage.handle(), layers, {vk::Access::Sampled, true, true}));
+    std::vector<ResourceUse> geometry;
+    if (!packed.vertices.empty())
+        for (const auto& [name, buffer] : {std::pair{"vertices", &vertexBuffer}, std::pair{"indices", &indexBuffer}})
+            geometry.push_back(
+                {shadowPasses.add(FrameResource::settled(name, buffer->handle(), vk::Access::VertexInput)), vk::Access::VertexInput});
+    for (uint32_t l = 0; l < layers; ++l) {
+        std::vector<ResourceUse> uses = geometry;
+        uses.push_back({image, vk::Access::DepthAttachment, l, 1, false});
+        shadowPasses.add(FramePass{
+             fmt::format("shadow map layer {}", l), "depth only, slope-scaled bias", std::move(uses), renderPass,
+             framebuffers[l].get(), {size, size}, {VkClearValue{.depthStencil = {1.0f, 0}}}, [&, l](VkCommandBuffer cmd) {
                  if (!draws) return;
                  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.get());
                  VkDeviceSize zero = 0;
@@ -116,9 +121,9 @@ void SpectralResources::drawShadowMaps(vk::Image& shadowImage, uint32_t size, ui
                      if (!draw.transparent)  // filters and media colour the light instead (the transmittance maps)
                          vkCmdDrawIndexed(cmd, draw.indexCount, 1, draw.firstIndex, draw.vertexOffset, 0);
              }});
-    ctx.submitAndWait([&](VkCommandBuffer cmd) {
-        for (const FramePass& pass : shadowPasses) recordFramePass(cmd, pass);
-    });
+    }
+    shadowPasses.derive();
+    ctx.submitAndWait([&](VkCommandBuffer cmd) { recordFrame(cmd, shadowPasses); });
 }
 
 void SpectralResources::createShadowMaps() {

@@ -144,24 +144,25 @@ void SpectralPass::draw(const std::function<void(int done, int passes)>& afterPa
     if (!afterPass) {
         m.ctx.submitAndWait([&](VkCommandBuffer cmd) { recordSpectralFrame(cmd, *m.resources, m.camera); });
     } else {
-        // One submission per pass: the barriers recorded between passes order them across
-        // submissions as within one.
-        const int passes = framePasses();
-        for (int p = 0; p < passes; ++p) {
-            m.ctx.submitAndWait([&](VkCommandBuffer cmd) { recordSpectralFrame(cmd, *m.resources, m.camera, p, p + 1); });
+        // One submission per pass that draws (with the clear or copy beside it): the derived
+        // barriers order the passes across submissions as within one.
+        const auto steps = m.resources->frame.drawingSteps();
+        for (size_t i = 0; i < steps.size(); ++i) {
+            m.ctx.submitAndWait(
+                [&](VkCommandBuffer cmd) { recordSpectralFrame(cmd, *m.resources, m.camera, steps[i].first, steps[i].second); });
             timings_.shading_ms = msSince(t0);
-            afterPass(p + 1, passes);
+            afterPass(int(i) + 1, int(steps.size()));
         }
     }
     timings_.shading_ms = msSince(t0);
 }
 
-int SpectralPass::framePasses() const { return int(impl_->resources->frame.size()); }
+int SpectralPass::framePasses() const { return int(impl_->resources->frame.drawingSteps().size()); }
 
 VkImage SpectralPass::targetImage() const { return impl_->resources->color.handle(); }
 VkImageView SpectralPass::targetArrayView() { return impl_->resources->color.layerView(~0u); }
-VkImageLayout SpectralPass::targetLayout() const {
-    return plan_.mappedReadback ? VK_IMAGE_LAYOUT_GENERAL : VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+vk::ResourceState SpectralPass::targetState() const {
+    return impl_->resources->frame.stateAtEnd(impl_->resources->targetResource);
 }
 
 void SpectralPass::readback(SpectralCube& cube) {

@@ -11,6 +11,7 @@
 #include "scene/scene.h"
 #include "scene/scene_on_grid.h"
 #include "spectral/cube.h"
+#include "vk/barrier.h"
 #include "vk/context.h"
 #include "vk/resources.h"
 
@@ -56,7 +57,7 @@ public:
     // passes done and their count (render/render_progress.h: it may throw; the target then holds a
     // partial frame).
     void draw(const std::function<void(int done, int passes)>& afterPass = {});
-    int framePasses() const;  // the frame's declared passes: depth pre-pass, lobe pass, colour passes
+    int framePasses() const;  // the frame's passes that draw (depth pre-pass, lobe pass, colour passes): draw()'s steps
     // Reads the target drawn last into `cube` (reusing its memory when it has the right size).
     void readback(SpectralCube& cube);
 
@@ -67,10 +68,11 @@ public:
     void render(SpectralCube& cube);
 
     // The layered target for a later pass (options.sampled): ssaa × camera size, plan().layers
-    // RGBA32F layers, in layout targetLayout() after draw() (and after readback()).
+    // RGBA32F layers, in the state targetState() after draw() (and after readback()): a later
+    // frame borrows it from there and hands it back so (render/frame_pass.h, FrameResource::entry).
     VkImage targetImage() const;
     VkImageView targetArrayView();
-    VkImageLayout targetLayout() const;
+    vk::ResourceState targetState() const;
 
 private:
     struct Impl;

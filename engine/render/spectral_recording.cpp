@@ -1,7 +1,6 @@
 #include "render/spectral_resources.h"
 
 #include "interface.h"
-#include "vk/barrier.h"
 
 #include <algorithm>
 #include <limits>
@@ -114,112 +113,148 @@ void SpectralResources::drawTransparent(VkCommandBuffer cmd, const SpectralFrame
     }
 }
 
+SpectralResources::SceneReads SpectralResources::declareSceneReads(Frame& f, bool transmittanceMaps) const {
+    SceneReads reads;
+    auto buffer = [&](std::vector<ResourceUse>& into, const char* name, const vk::Buffer& b, vk::Access access) {
+        if (b.handle() != VK_NULL_HANDLE) into.push_back({f.add(FrameResource::settled(name, b.handle(), access)), access});
+    };
+    buffer(reads.geometry, "vertices", vertexBuffer, vk::Access::VertexInput);
+    buffer(reads.geometry, "indices", indexBuffer, vk::Access::VertexInput);
+    const struct {
+        const char* name;
+        const vk::Buffer& buffer;
+    } uniforms[] = {{"lights", lightBuffer},         {"light spectra", lightSpectraBuffer},
+                    {"materials", materialBuffer},   {"fluorescence", fluorescenceBuffer},
+                    {"responses", responseBuffer},   {"shadow matrices", shadowBuffer},
+                    {"lobe tables", lobeTableBuffer}, {"shadow excitation", shadowExcitationBuffer}};
+    for (const auto& u : uniforms) buffer(reads.shading, u.name, u.buffer, vk::Access::UniformRead);
+    auto image = [&](std::string name, const vk::Image& im, bool depthAspect) {
+        const vk::Use sampled{vk::Access::Sampled, true, depthAspect};
+        reads.shading.push_back(
+            {f.add(FrameResource::settled(std::move(name), im.handle(), im.desc().layers, sampled)), vk::Access::Sampled});
+    };
+    image("shadow maps", *shadowMap, true);
+    for (size_t t = 0; t < textures.size(); ++t)
+        image(t + 1 == textures.size() ? "placeholder texture" : fmt::format("texture {}", t), textures[t], false);
+    if (transmittanceMaps && packed.filteredShadows) image("shadow transmittance", shadowTransmittance, false);
+    return reads;
+}
+
 void SpectralResources::declareFrame() {
+    using vk::Access;
     frame.clear();
     const VkExtent2D extent{plan.targetWidth, plan.targetHeight};
     const VkClearValue farDepth{.depthStencil = {1.0f, 0}};
     const bool draws = !packed.draws.empty();
-    // With transparent objects the pre-pass also leaves the nearest opaque surface's distance
-    // (background: the largest float) for the transmission passes.
-    VkClearValue noSurface{};
-    noSurface.color.float32[0] = std::numeric_limits<float>::max();
-    if (hasDepthPrePass)
-        frame.push_back({"depth pre-pass", hasTransmission ? "the opaque triangles" : "the scene's triangles",
-                         hasTransmission ? "the depth and distance of the nearest opaque surface" : "the depth of the visible surface",
-                         hasTransmission ? "opaque_distance.frag; back faces culled for closed meshes seen from outside"
-                                         : "vertex stage only; back faces culled for closed meshes seen from outside",
-                         depthPrePass.renderPass, depthPrePass.framebuffer.get(), extent,
-                         hasTransmission ? std::vector<VkClearValue>{noSurface, farDepth} : std::vector<VkClearValue>{farDepth},
-                         [this, draws](VkCommandBuffer cmd) {
-                             if (draws) drawDepth(cmd, *frameState);
-                         }});
+    const uint32_t layers = uint32_t(plan.layers);
+    // The frame's own images and buffers: drawn in every frame, first written (cleared) in it.
+    targetResource = frame.add(FrameResource::perFrame("spectral target", color.handle(), layers));
+    const size_t depthImage = frame.add(FrameResource::perFrame("depth", depth.handle(), 1, VK_IMAGE_ASPECT_DEPTH_BIT));
+    const size_t distance = hasTransmission ? frame.add(FrameResource::perFrame("opaque distance", opaqueDistance.handle())) : 0;
+    const size_t lobe = hasLobePass ? frame.add(FrameResource::perFrame("lobe weights", lobeWeights.handle())) : 0;
+    const bool copies = !plan.mappedReadback && !plan.responses;
+    const size_t readback = copies ? frame.add(FrameResource::perFrame("readback buffer", readbackBuffer.handle())) : 0;
+    const SceneReads scene = declareSceneReads(frame, true);
+    auto with = [](std::vector<ResourceUse> uses, const std::vector<ResourceUse>& more) {
+        uses.insert(uses.end(), more.begin(), more.end());
+        return uses;
+    };
+    std::vector<ResourceUse> shading = with(scene.geometry, scene.shading);
+
+    // Zero every layer (background radiance is 0) before the colour passes load it: a transfer, not
+    // a render pass's clear — lavapipe (Mesa 22.3) leaks about a target's size of memory per
+    // render-pass clear of array-layer views (measured: +20 MB per frame at 256² × 89 bands).
+    frame.add(FramePass{"clear", "vkCmdClearColorImage", {{targetResource, Access::TransferDst, 0, kAllLayers, false}},
+                        VK_NULL_HANDLE, VK_NULL_HANDLE, {}, {}, [this, layers](VkCommandBuffer cmd) {
+                            const VkImageSubresourceRange all{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, layers};
+                            const VkClearColorValue black{{0, 0, 0, 0}};
+                            vkCmdClearColorImage(cmd, color.handle(), vk::accessLayout(Access::TransferDst), &black, 1, &all);
+                        }});
+    if (hasDepthPrePass) {
+        // With transparent objects the pre-pass also leaves the nearest opaque surface's distance
+        // (background: the largest float) for the transmission passes.
+        VkClearValue noSurface{};
+        noSurface.color.float32[0] = std::numeric_limits<float>::max();
+        std::vector<ResourceUse> uses = with({{depthImage, Access::DepthAttachment, 0, kAllLayers, false}}, scene.geometry);
+        if (hasTransmission) uses.push_back({distance, Access::ColorAttachment, 0, kAllLayers, false});
+        frame.add(FramePass{"depth pre-pass",
+                            hasTransmission ? "opaque_distance.frag; back faces culled for closed meshes seen from outside"
+                                            : "vertex stage only; back faces culled for closed meshes seen from outside",
+                            std::move(uses), depthPrePass.renderPass, depthPrePass.framebuffer.get(), extent,
+                            hasTransmission ? std::vector<VkClearValue>{noSurface, farDepth} : std::vector<VkClearValue>{farDepth},
+                            [this, draws](VkCommandBuffer cmd) {
+                                if (draws) drawDepth(cmd, *frameState);
+                            }});
+    }
     if (hasLobePass)
         // The hemisphere lights' lobe integrals, once per pixel, for every band pass to read.
-        frame.push_back({"lobe pass", "the depth; the lobe tables", "the hemisphere lights' lobe integrals per pixel",
-                         "LOBE_WRITE; specular materials' pipeline variants only", lobePass.renderPass, lobePass.framebuffer.get(), extent, {VkClearValue{}, VkClearValue{}},
-                         [this, draws](VkCommandBuffer cmd) {
-                             if (draws) drawScene(cmd, *frameState, lobePass.pipelines, 0, lobeDescriptorSet, true);
-                         }});
+        frame.add(FramePass{"lobe pass", "LOBE_WRITE; specular materials' pipeline variants only",
+                            with({{depthImage, Access::DepthAttachment}, {lobe, Access::ColorAttachment, 0, kAllLayers, false}},
+                                 shading),
+                            lobePass.renderPass, lobePass.framebuffer.get(), extent, {VkClearValue{}, VkClearValue{}},
+                            [this, draws](VkCommandBuffer cmd) {
+                                if (draws) drawScene(cmd, *frameState, lobePass.pipelines, 0, lobeDescriptorSet, true);
+                            }});
     for (size_t p = 0; p < passes.size(); ++p) {
         const PassObjects& po = passes[p];
         std::vector<VkClearValue> clears(po.attachments + 1);
         for (uint32_t i = 0; i < po.attachments; ++i) clears[i].color = {{0, 0, 0, 0}};
         clears[po.attachments] = farDepth;
-        const uint32_t first = po.firstLayer * 4,
-                       last = std::min<uint32_t>(uint32_t(plan.bands), (po.firstLayer + po.attachments) * 4) - 1;
-        frame.push_back({plan.responses ? "response pass" : fmt::format("band pass {}", p),
-                         std::string(hasDepthPrePass ? "the depth; " : "") + (hasLobePass ? "the lobe integrals; " : "") +
-                             "lights, materials, textures, shadow maps",
-                         plan.responses ? fmt::format("the detector's {} channel(s)", plan.bands)
-                                        : fmt::format("bands {}–{} (layers {}–{})", first, last, po.firstLayer,
-                                                      po.firstLayer + po.attachments - 1),
-                         fmt::format("OUTPUT_COUNT {}{}; a pipeline per material kind (specular, fluorescent, textured, "
-                                     "normal-mapped, culled)",
-                                     po.attachments, plan.responses ? ", SPEC_RESPONSES" : hasLobePass ? ", LOBE_READ" : ""),
-                         po.renderPass, po.framebuffer.get(), extent, std::move(clears),
-                         [this, p, draws](VkCommandBuffer cmd) {
-                             if (draws) drawScene(cmd, *frameState, passes[p].pipelines, p, descriptorSet, false);
-                         }});
+        // Without a pre-pass, the pass clears and writes its own depth.
+        std::vector<ResourceUse> uses = with({{targetResource, Access::ColorAttachment, po.firstLayer, po.attachments},
+                                              {depthImage, Access::DepthAttachment, 0, kAllLayers, hasDepthPrePass}},
+                                             shading);
+        if (hasLobePass) uses.push_back({lobe, Access::Sampled});
+        frame.add(FramePass{plan.responses ? "response pass" : fmt::format("band pass {}", p),
+                            fmt::format("OUTPUT_COUNT {}{}; a pipeline per material kind (specular, fluorescent, textured, "
+                                        "normal-mapped, culled)",
+                                        po.attachments, plan.responses ? ", SPEC_RESPONSES" : hasLobePass ? ", LOBE_READ" : ""),
+                            std::move(uses), po.renderPass, po.framebuffer.get(), extent, std::move(clears),
+                            [this, p, draws](VkCommandBuffer cmd) {
+                                if (draws) drawScene(cmd, *frameState, passes[p].pipelines, p, descriptorSet, false);
+                            }});
         if (!hasTransmission) continue;
         const PassObjects& to = transmissionPasses[p];
-        std::vector<VkClearValue> none(to.attachments + 1);
-        frame.push_back({fmt::format("transmission pass {}", p), "band pass " + std::to_string(p) + "'s radiance; the opaque distance",
-                         fmt::format("layers {}–{} × the transparent surfaces' transmittance", to.firstLayer,
-                                     to.firstLayer + to.attachments - 1),
-                         fmt::format("transmit.frag, OUTPUT_COUNT {}; farthest first, blend destination × source (slabs: then + their reflection)", to.attachments),
-                         to.renderPass, to.framebuffer.get(), extent, std::move(none),
-                         [this, p](VkCommandBuffer cmd) {
-                             drawTransparent(cmd, *frameState, p, transmissionPasses[p].pipelines[0], descriptorSet,
-                                             transmissionPasses[p].pipelines[1]);
-                         }});
+        frame.add(FramePass{fmt::format("transmission pass {}", p),
+                            fmt::format("transmit.frag, OUTPUT_COUNT {}; farthest first, blend destination × source "
+                                        "(slabs: then + their reflection)", to.attachments),
+                            with({{targetResource, Access::ColorAttachment, to.firstLayer, to.attachments},
+                                  {distance, Access::Sampled}},
+                                 shading),
+                            to.renderPass, to.framebuffer.get(), extent, std::vector<VkClearValue>(to.attachments + 1),
+                            [this, p](VkCommandBuffer cmd) {
+                                drawTransparent(cmd, *frameState, p, transmissionPasses[p].pipelines[0], descriptorSet,
+                                                transmissionPasses[p].pipelines[1]);
+                            }});
     }
+    // The host reads the cube: from the linear image itself, or from a copy into a host buffer. The
+    // response pass's target is the tonemap pass's to read (render/tonemap_pass.cpp borrows it).
+    if (plan.mappedReadback) {
+        frame.add(FramePass{"host read", "the host maps the linear target", {{targetResource, Access::HostRead}}});
+    } else if (copies) {
+        frame.add(FramePass{"readback copy", "vkCmdCopyImageToBuffer",
+                            {{targetResource, Access::TransferSrc}, {readback, Access::TransferDst}}, VK_NULL_HANDLE,
+                            VK_NULL_HANDLE, {}, {}, [this, layers](VkCommandBuffer cmd) {
+                                VkBufferImageCopy region{};
+                                region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, layers};
+                                region.imageExtent = {plan.targetWidth, plan.targetHeight, 1};
+                                vkCmdCopyImageToBuffer(cmd, color.handle(), vk::accessLayout(Access::TransferSrc),
+                                                       readbackBuffer.handle(), 1, &region);
+                            }});
+        frame.add(FramePass{"host read", "the host maps the readback buffer", {{readback, Access::HostRead}}});
+    }
+    frame.derive();
 }
 
 void recordSpectralFrame(VkCommandBuffer cmd, const SpectralResources& r, const CameraMatrices& camera, size_t first,
                          size_t end) {
-    end = std::min(end, r.frame.size());
-    const SpectralPassPlan& plan = r.plan;
-    const vk::Image& color = r.color;
     SpectralFrameState state{camera, {}};
     state.pc.viewProjection = camera.viewProjection;
     state.pc.cameraPosition = glm::vec4(camera.position, camera.perspective ? 1.0f : 0.0f);
     state.pc.cameraForward = glm::vec4(camera.forward, 0.0f);
-    if (first == 0) {
-        // Zero every layer (background radiance is 0), in GENERAL, then let the colour passes load it.
-        const uint32_t layers = uint32_t(plan.layers);
-        const vk::ImageUse previous{VK_IMAGE_LAYOUT_UNDEFINED,
-                                    VK_ACCESS_HOST_READ_BIT | VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT,
-                                    VK_PIPELINE_STAGE_ALL_COMMANDS_BIT};
-        const vk::ImageUse cleared{VK_IMAGE_LAYOUT_GENERAL, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT};
-        const vk::ImageUse drawn{VK_IMAGE_LAYOUT_GENERAL,
-                                 VK_ACCESS_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT,
-                                 VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT};
-        vk::imageBarrier(cmd, color.handle(), layers, previous, cleared);
-        VkImageSubresourceRange all{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, layers};
-        VkClearColorValue black{{0, 0, 0, 0}};
-        vkCmdClearColorImage(cmd, color.handle(), VK_IMAGE_LAYOUT_GENERAL, &black, 1, &all);
-        vk::imageBarrier(cmd, color.handle(), layers, cleared, drawn);
-    }
-    // The frame's declared passes, in order (SpectralResources::declareFrame).
     r.frameState = &state;
-    for (size_t p = first; p < end; ++p) recordFramePass(cmd, r.frame[p]);
+    recordFrame(cmd, r.frame, first, end);
     r.frameState = nullptr;
-    if (end < r.frame.size()) return;  // the rest of the frame follows in another submission
-    if (plan.mappedReadback) {
-        // Make the colour writes visible to the host, which reads the linear image directly.
-        vk::imageBarrier(cmd, color.handle(), uint32_t(plan.layers),
-                         {VK_IMAGE_LAYOUT_GENERAL, VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT,
-                          VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT},
-                         {VK_IMAGE_LAYOUT_GENERAL, VK_ACCESS_HOST_READ_BIT, VK_PIPELINE_STAGE_HOST_BIT});
-    } else if (!plan.responses) {
-        VkBufferImageCopy region{};
-        region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, uint32_t(plan.layers)};
-        region.imageExtent = {plan.targetWidth, plan.targetHeight, 1};
-        vkCmdCopyImageToBuffer(cmd, color.handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, r.readbackBuffer.handle(), 1,
-                               &region);
-        vk::bufferBarrier(cmd, r.readbackBuffer.handle(), VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
-                          VK_ACCESS_HOST_READ_BIT, VK_PIPELINE_STAGE_HOST_BIT);
-    }
 }
 
 }  // namespace metamer

@@ -1,10 +1,15 @@
 // The Vulkan objects of one spectral pass, made once per scene from its packed data
-// (render/spectral_packing.h) and plan: uniform and vertex buffers, texture images, the layered
-// colour target and its depth buffer, descriptor sets, one render pass + pipeline per attachment
-// count and a framebuffer per pass. Everything is owned (vk/handle.h) and freed with the struct.
-// recordSpectralFrame writes a frame's commands. Used by render/spectral_pass.cpp; tested
-// through it (tests/gpu_known_answer_test.cpp, tests/gpu_vs_reference_test.cpp).
-// Tests: through render/spectral_pass.h's (every GPU test runs with validation layers).
+// (render/spectral_packing.h) and plan, and the frame drawn with them. By concept, one file each:
+//   spectral_resources.cpp    the frame's resources: buffers, textures, the layered colour target,
+//                             depth, readback (what the passes read and write)
+//   spectral_descriptors.cpp  descriptor set layouts, the pipeline layout and the sets
+//   spectral_pipelines.cpp    each pass's render pass and pipelines (material variants)
+//   shadow_pass.cpp, shadow_transmittance.cpp  the per-scene frames: shadow maps, coloured shadows
+//   spectral_recording.cpp    the frame declared (render/frame_pass.h: passes and their resource
+//                             uses; barriers derived) and its draws; recordSpectralFrame
+// Everything is owned (vk/handle.h) and freed with the struct. Used by render/spectral_pass.cpp.
+// Tests: through render/spectral_pass.h's (every GPU test runs with validation layers;
+// tests/gpu_known_answer_test.cpp, tests/gpu_vs_reference_test.cpp), engine/render/frame_pass_test.cpp.
 #pragma once
 
 #include "interface.h"
@@ -139,15 +144,17 @@ struct SpectralResources {
     VkDescriptorSet lightDescriptorSet = VK_NULL_HANDLE;  // set 0 with the light's distance
     std::vector<PassObjects> transmissionPasses;
 
-    // The frame as a list of declared passes (render/frame_pass.h), recorded in order by
-    // recordSpectralFrame: each names what it reads and writes, its render pass, framebuffer and
-    // clears (its pipelines are its shader's specializations, one per material variant), and
-    // records its draws. A new pass is one entry here (declareFrame) and its shader.
-    std::vector<FramePass> frame;
+    // The frame as declared passes over declared resources (render/frame_pass.h), recorded in
+    // order by recordSpectralFrame with the barriers derived from the declarations: each pass names
+    // the resources it uses and how, its render pass, framebuffer and clears (its pipelines are its
+    // shader's specializations, one per material variant), and records its commands. A new pass is
+    // one entry in declareFrame, its render pass and pipelines, and its shader.
+    Frame frame;
+    size_t targetResource = 0;  // the layered colour target's index in frame.resources()
     // The camera's state while recordSpectralFrame records the frame (the passes' draws read it).
     mutable const SpectralFrameState* frameState = nullptr;
-    // "depth pre-pass → lobe pass → band pass 0 → band pass 1 …"
-    std::string describeFrame() const { return describeFramePasses(frame); }
+    // "clear → depth pre-pass → lobe pass → band pass 0 → band pass 1 … → host read"
+    std::string describeFrame() const { return frame.describe(); }
 
 private:
     VkDeviceSize aligned(VkDeviceSize size) const;
@@ -176,6 +183,13 @@ private:
                                const VkSpecializationInfo* specialization = nullptr);
     void createPasses();
     void declareFrame();
+    // What every drawing pass reads that was made once per scene (settled, never written in a
+    // frame): geometry, set 0's uniform and texel buffers, the shadow maps, the textures, and —
+    // `transmittanceMaps` — the coloured shadows' maps.
+    struct SceneReads {
+        std::vector<ResourceUse> geometry, shading;
+    };
+    SceneReads declareSceneReads(Frame& f, bool transmittanceMaps) const;
     // The draws the frame's passes record.
     void bindGeometry(VkCommandBuffer cmd, const SpectralFrameState& f) const;
     void drawDepth(VkCommandBuffer cmd, const SpectralFrameState& f) const;
@@ -194,11 +208,11 @@ private:
                          VkDescriptorSet set0, VkPipeline reflection = VK_NULL_HANDLE) const;
 };
 
-// A frame's commands: clear the target, record the declared passes in order (SpectralResources::
-// frame: the depth pre-pass, the lobe pass, every colour pass), and make the target readable by the host (a barrier for a mapped image, else a copy into readbackBuffer; the
-// response pass's target is left for the tonemap pass). [first, end) records only those passes,
-// the clear with the first and the host's barrier or copy with the last: a frame submitted pass by
-// pass (SpectralPass::draw with a progress callback) records the same commands in pieces.
+// A frame's commands: the declared passes in order (SpectralResources::frame: the clear, the depth
+// pre-pass, the lobe pass, every colour pass, the readback copy or the host's read; the response
+// pass's target is left for the tonemap pass), each after the barriers derived for it. [first, end)
+// records only those passes: a frame submitted pass by pass (SpectralPass::draw with a progress
+// callback) records the same commands in pieces.
 void recordSpectralFrame(VkCommandBuffer cmd, const SpectralResources& r, const CameraMatrices& camera,
                          size_t first = 0, size_t end = SIZE_MAX);
 

@@ -4,7 +4,6 @@
 
 #include "interface.h"
 #include "vk/device_objects.h"
-#include "vk/barrier.h"
 #include "vk/handle.h"
 #include "vk/pipeline.h"
 #include "vk/resources.h"
@@ -60,7 +59,7 @@ struct TonemapPass::Impl {
     vk::SharedHandle<VkRenderPass> renderPass;
     vk::OwnedFramebuffer framebuffer;
     vk::SharedHandle<VkPipeline> pipeline;
-    FramePass pass;
+    Frame frame;
 
     Impl(vk::Context& c, SpectralPass& s, const TonemapPlan& p, TonemapOutputs o) : ctx(c), source(s), plan(p), outputs(o) {}
 
@@ -160,7 +159,7 @@ struct TonemapPass::Impl {
         ai.descriptorSetCount = 1;
         ai.pSetLayouts = &layout;
         VK_CHECK(vkAllocateDescriptorSets(d, &ai, &set));
-        VkDescriptorImageInfo image{sampler.get(), source.targetArrayView(), sampledLayout()};
+        VkDescriptorImageInfo image{sampler.get(), source.targetArrayView(), vk::accessLayout(vk::Access::Sampled)};
         VkDescriptorBufferInfo ubo{params.handle(), 0, VK_WHOLE_SIZE}, ssbo{tables.handle(), 0, VK_WHOLE_SIZE};
         VkWriteDescriptorSet w[3];
         for (int i = 0; i < 3; ++i) {
@@ -176,10 +175,9 @@ struct TonemapPass::Impl {
         vkUpdateDescriptorSets(d, 3, w, 0, nullptr);
 
         vk::RenderPassDesc desc;
-        for (uint32_t i = 0; i < kAttachments; ++i)
-            desc.colors.push_back({VK_FORMAT_R32G32B32A32_SFLOAT, VK_ATTACHMENT_LOAD_OP_DONT_CARE,  // every pixel is written
-                                   VK_ATTACHMENT_STORE_OP_STORE, VK_IMAGE_LAYOUT_UNDEFINED,
-                                   VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL});
+        for (uint32_t i = 0; i < kAttachments; ++i)  // DONT_CARE: every pixel is written
+            desc.colors.push_back(vk::attachmentFor(VK_FORMAT_R32G32B32A32_SFLOAT, vk::Access::ColorAttachment,
+                                                    VK_ATTACHMENT_LOAD_OP_DONT_CARE));
         renderPass = vk::sharedRenderPass(objects, "tonemap.pass", desc);
         std::vector<VkImageView> views;
         for (uint32_t i = 0; i < kAttachments; ++i) views.push_back(targets[i].layerView(0));
@@ -219,50 +217,51 @@ struct TonemapPass::Impl {
                 return vk::createGraphicsPipeline(d, desc);
             },
             {renderPass, pipelineLayout});
-        // The one pass, declared (render/frame_pass.h): a full-screen triangle, every pixel written.
-        pass = FramePass{"tonemap", "the spectral target (bands or detector responses)",
-                         "responses, XYZ and display counts (4 RGBA32F attachments)",
-                         "the detector's channels, the tonemap mode, the display model, the input", renderPass.get(),
-                         framebuffer.get(),
-                         {width, height}, {}, [this](VkCommandBuffer cmd) {
-                             vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.get());
-                             vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelineLayout.get(), 0, 1,
-                                                     &set, 0, nullptr);
-                             vkCmdDraw(cmd, 3, 1, 0, 0);
-                         }};
+        declareFrame();
     }
 
-    // The spectral target is sampled in GENERAL when it is a mapped linear image (the host may
-    // read it too), else in SHADER_READ_ONLY_OPTIMAL.
-    VkImageLayout sampledLayout() const {
-        return source.targetLayout() == VK_IMAGE_LAYOUT_GENERAL ? VK_IMAGE_LAYOUT_GENERAL
-                                                                : VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
-    }
-
-    void record(VkCommandBuffer cmd) {
-        // The spectral target, from where the spectral pass left it to sampled, and back at the end.
-        const vk::ImageUse drawn{source.targetLayout(), VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT,
-                                 VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT};
-        const vk::ImageUse sampled{sampledLayout(), VK_ACCESS_SHADER_READ_BIT, VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT};
-        const uint32_t targetLayers = uint32_t(source.plan().layers);
-        vk::imageBarrier(cmd, source.targetImage(), targetLayers, drawn, sampled);
-
-        recordFramePass(cmd, pass);
-
+    // The frame (render/frame_pass.h): the tonemap pass, a full-screen triangle writing every pixel
+    // of its four targets, then the copy of the wanted ones and the host's read. The spectral target
+    // is borrowed: it enters as the spectral pass's frame left it and is handed back so.
+    void declareFrame() {
+        using vk::Access;
+        FrameResource borrowed = FrameResource::perFrame("spectral target", source.targetImage(), uint32_t(source.plan().layers));
+        borrowed.entry = borrowed.exit = source.targetState();
+        const size_t spectral = frame.add(std::move(borrowed));
+        const size_t uniforms = frame.add(FrameResource::settled("tonemap params", params.handle(), Access::UniformRead));
+        const size_t storage = frame.add(FrameResource::settled("tonemap tables", tables.handle(), Access::StorageRead));
+        std::vector<ResourceUse> uses{{spectral, Access::Sampled}, {uniforms, Access::UniformRead}, {storage, Access::StorageRead}};
+        size_t target[kAttachments];
         for (uint32_t i = 0; i < kAttachments; ++i) {
-            if (!wanted(i)) continue;
-            VkBufferImageCopy region{};
-            region.bufferOffset = VkDeviceSize(i) * width * height * 16;
-            region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-            region.imageExtent = {width, height, 1};
-            vkCmdCopyImageToBuffer(cmd, targets[i].handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback.handle(), 1,
-                                   &region);
+            target[i] = frame.add(FrameResource::perFrame(targets[i].desc().name, targets[i].handle()));
+            uses.push_back({target[i], Access::ColorAttachment, 0, kAllLayers, false});
         }
-        vk::bufferBarrier(cmd, readback.handle(), VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
-                          VK_ACCESS_HOST_READ_BIT, VK_PIPELINE_STAGE_HOST_BIT);
-        // Hand the spectral target back in the layout the spectral pass left it in.
-        vk::imageBarrier(cmd, source.targetImage(), targetLayers, sampled,
-                         {source.targetLayout(), VK_ACCESS_HOST_READ_BIT, VK_PIPELINE_STAGE_HOST_BIT});
+        frame.add(FramePass{"tonemap", "the detector's channels, the tonemap mode, the display model, the input",
+                            std::move(uses), renderPass.get(), framebuffer.get(), {width, height}, {},
+                            [this](VkCommandBuffer cmd) {
+                                vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.get());
+                                vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelineLayout.get(), 0, 1,
+                                                        &set, 0, nullptr);
+                                vkCmdDraw(cmd, 3, 1, 0, 0);
+                            }});
+        const size_t buffer = frame.add(FrameResource::perFrame("tonemap readback", readback.handle()));
+        std::vector<ResourceUse> copied{{buffer, Access::TransferDst}};
+        for (uint32_t i = 0; i < kAttachments; ++i)
+            if (wanted(i)) copied.push_back({target[i], Access::TransferSrc});
+        frame.add(FramePass{"tonemap readback", "vkCmdCopyImageToBuffer of the outputs asked for", std::move(copied),
+                            VK_NULL_HANDLE, VK_NULL_HANDLE, {}, {}, [this](VkCommandBuffer cmd) {
+                                for (uint32_t i = 0; i < kAttachments; ++i) {
+                                    if (!wanted(i)) continue;
+                                    VkBufferImageCopy region{};
+                                    region.bufferOffset = VkDeviceSize(i) * width * height * 16;
+                                    region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+                                    region.imageExtent = {width, height, 1};
+                                    vkCmdCopyImageToBuffer(cmd, targets[i].handle(), vk::accessLayout(vk::Access::TransferSrc),
+                                                           readback.handle(), 1, &region);
+                                }
+                            }});
+        frame.add(FramePass{"host read", "the host maps the readback buffer", {{buffer, Access::HostRead}}});
+        frame.derive();
     }
 
     DisplayImage read() {
@@ -326,7 +325,7 @@ TonemapPass::~TonemapPass() = default;
 
 DisplayImage TonemapPass::render() {
     auto t0 = std::chrono::steady_clock::now();
-    impl_->ctx.submitAndWait([&](VkCommandBuffer cmd) { impl_->record(cmd); });
+    impl_->ctx.submitAndWait([&](VkCommandBuffer cmd) { recordFrame(cmd, impl_->frame); });
     DisplayImage img = impl_->read();
     lastMs_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return img;

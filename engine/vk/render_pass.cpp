@@ -21,6 +21,12 @@ VkAttachmentDescription description(const AttachmentDesc& a) {
 
 }  // namespace
 
+AttachmentDesc attachmentFor(VkFormat format, Access access, VkAttachmentLoadOp load, VkAttachmentStoreOp store) {
+    const bool depth = access == Access::DepthAttachment;
+    const VkImageLayout layout = accessLayout(access, depth);
+    return {format, load, store, layout, layout};
+}
+
 RenderPassInfo::RenderPassInfo(const RenderPassDesc& desc) {
     for (uint32_t i = 0; i < desc.colors.size(); ++i) {
         attachments.push_back(description(desc.colors[i]));

@@ -1,11 +1,12 @@
 // Render passes described as data. Every pass Metamer draws — the spectral depth pre-pass and band
 // passes, the lobe pass, the shadow maps, the tonemap pass, the preview's UI pass — is a
 // RenderPassDesc: its attachments (colour ones first, then depth), how each is loaded, stored and
-// left, and its dependencies on what comes before and after it. This is the one place that turns
+// left, and (outside a declared frame) its dependencies on what comes before and after it. This is the one place that turns
 // one into a VkRenderPassCreateInfo; no file outside vk/ fills one.
 // Tests: engine/vk/render_pass_test.cpp, and every GPU test (validation layers on).
 #pragma once
 
+#include "vk/barrier.h"
 #include "vk/device_objects.h"
 
 #include <vulkan/vulkan.h>
@@ -24,8 +25,14 @@ struct AttachmentDesc {
     VkImageLayout final = VK_IMAGE_LAYOUT_UNDEFINED;
 };
 
+// An attachment that stays in the layout of its use (vk/barrier.h, accessLayout): for passes of
+// a declared frame (render/frame_pass.h), whose derived barriers make every transition and every
+// wait before and after the render pass, so the render pass itself makes none.
+AttachmentDesc attachmentFor(VkFormat format, Access access, VkAttachmentLoadOp load,
+                             VkAttachmentStoreOp store = VK_ATTACHMENT_STORE_OP_STORE);
+
 // A dependency between the pass's one subpass and what runs before it (before = true: source
-// VK_SUBPASS_EXTERNAL) or after it.
+// VK_SUBPASS_EXTERNAL) or after it: for render passes outside a declared frame (the preview's).
 struct PassDependency {
     bool before = true;
     VkPipelineStageFlags srcStages = 0, dstStages = 0;

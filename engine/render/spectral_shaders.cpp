@@ -1,0 +1,68 @@
+#include "render/spectral_shaders.h"
+
+#include "core/error.h"
+#include "interface.h"
+
+#include "spectral.frag.1.spv.h"
+#include "spectral.frag.2.spv.h"
+#include "spectral.frag.3.spv.h"
+#include "spectral.frag.4.spv.h"
+#include "spectral.frag.5.spv.h"
+#include "spectral.frag.6.spv.h"
+#include "spectral.frag.7.spv.h"
+#include "spectral.frag.8.spv.h"
+#include "opaque_distance.frag.spv.h"
+#include "transmit.frag.1.spv.h"
+#include "transmit.frag.2.spv.h"
+#include "transmit.frag.3.spv.h"
+#include "transmit.frag.4.spv.h"
+#include "transmit.frag.5.spv.h"
+#include "transmit.frag.6.spv.h"
+#include "transmit.frag.7.spv.h"
+#include "transmit.frag.8.spv.h"
+#include "spectral.vert.spv.h"
+
+namespace metamer {
+
+namespace {
+
+// spectral.frag built for 1..8 colour attachments (index = count - 1).
+const SpirvCode kSpectralFrag[MAX_OUTPUTS] = {
+    {kSpirv_spectral_frag_1, sizeof(kSpirv_spectral_frag_1)}, {kSpirv_spectral_frag_2, sizeof(kSpirv_spectral_frag_2)},
+    {kSpirv_spectral_frag_3, sizeof(kSpirv_spectral_frag_3)}, {kSpirv_spectral_frag_4, sizeof(kSpirv_spectral_frag_4)},
+    {kSpirv_spectral_frag_5, sizeof(kSpirv_spectral_frag_5)}, {kSpirv_spectral_frag_6, sizeof(kSpirv_spectral_frag_6)},
+    {kSpirv_spectral_frag_7, sizeof(kSpirv_spectral_frag_7)}, {kSpirv_spectral_frag_8, sizeof(kSpirv_spectral_frag_8)},
+};
+// transmit.frag likewise.
+const SpirvCode kTransmitFrag[MAX_OUTPUTS] = {
+    {kSpirv_transmit_frag_1, sizeof(kSpirv_transmit_frag_1)}, {kSpirv_transmit_frag_2, sizeof(kSpirv_transmit_frag_2)},
+    {kSpirv_transmit_frag_3, sizeof(kSpirv_transmit_frag_3)}, {kSpirv_transmit_frag_4, sizeof(kSpirv_transmit_frag_4)},
+    {kSpirv_transmit_frag_5, sizeof(kSpirv_transmit_frag_5)}, {kSpirv_transmit_frag_6, sizeof(kSpirv_transmit_frag_6)},
+    {kSpirv_transmit_frag_7, sizeof(kSpirv_transmit_frag_7)}, {kSpirv_transmit_frag_8, sizeof(kSpirv_transmit_frag_8)},
+};
+
+uint32_t variantIndex(uint32_t attachments) {
+    if (attachments < 1 || attachments > MAX_OUTPUTS)
+        failRuntime("no fragment shader variant for {} colour attachments (1 … {})", attachments, MAX_OUTPUTS);
+    return attachments - 1;
+}
+
+}  // namespace
+
+SpirvCode spectralFragment(uint32_t attachments) { return kSpectralFrag[variantIndex(attachments)]; }
+SpirvCode transmitFragment(uint32_t attachments) { return kTransmitFrag[variantIndex(attachments)]; }
+SpirvCode opaqueDistanceFragment() { return {kSpirv_opaque_distance_frag, sizeof(kSpirv_opaque_distance_frag)}; }
+SpirvCode spectralVertex() { return {kSpirv_spectral_vert, sizeof(kSpirv_spectral_vert)}; }
+
+// spectral.vert's vertex input: one interleaved buffer of gpu::SpectralVertex.
+void spectralVertexInput(vk::GraphicsPipelineDesc& d) {
+    using V = gpu::SpectralVertex;
+    d.bindings = {{0, sizeof(V), VK_VERTEX_INPUT_RATE_VERTEX}};
+    d.attributes = {{VERTEX_POSITION, 0, VK_FORMAT_R32G32B32_SFLOAT, uint32_t(offsetof(V, position))},
+                    {VERTEX_NORMAL, 0, VK_FORMAT_R32G32B32_SFLOAT, uint32_t(offsetof(V, normal))},
+                    {VERTEX_UV, 0, VK_FORMAT_R32G32_SFLOAT, uint32_t(offsetof(V, uv))},
+                    {VERTEX_TANGENT, 0, VK_FORMAT_R32G32B32A32_SFLOAT, uint32_t(offsetof(V, tangent))}};
+}
+
+
+}  // namespace metamer

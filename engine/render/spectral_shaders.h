@@ -1,0 +1,28 @@
+// The spectral frame's shaders as compiled into the binary (build/shaders/*.spv.h, glslang at
+// build time): spectral.frag and transmit.frag once per colour-attachment count, opaque_distance.frag,
+// spectral.vert and its vertex input. One place that includes the SPIR-V arrays, so each is in the
+// binary once. Used by render/spectral_pipelines.cpp and render/shadow_transmittance.cpp.
+// Tests: through render/spectral_pass.h's (every GPU test).
+#pragma once
+
+#include "vk/pipeline.h"
+
+#include <cstddef>
+#include <cstdint>
+
+namespace metamer {
+
+struct SpirvCode {
+    const uint32_t* code;
+    size_t bytes;
+};
+
+SpirvCode spectralFragment(uint32_t attachments);  // spectral.frag with OUTPUT_COUNT attachments (1..8)
+SpirvCode transmitFragment(uint32_t attachments);  // transmit.frag likewise
+SpirvCode opaqueDistanceFragment();
+SpirvCode spectralVertex();
+
+// spectral.vert's vertex input: one interleaved buffer of gpu::SpectralVertex.
+void spectralVertexInput(vk::GraphicsPipelineDesc& d);
+
+}  // namespace metamer
