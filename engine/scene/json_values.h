@@ -1,7 +1,8 @@
 // Reading a scene's JSON: the parser, which follows the key path as it parses (to refuse
 // duplicate keys and to say on which line and under which key an error is), and typed access
 // whose errors name the file, the key, what was expected and what was found. Used by
-// scene/scene_json.cpp. Tests: scene/scene_json_test.cpp, tests/bad_inputs_test.cpp.
+// scene/scene_json.cpp, scene/scene_reader.cpp and the material readers (scene/material_readers.h).
+// Tests: scene/scene_json_test.cpp, tests/bad_inputs_test.cpp.
 #pragma once
 
 #include "core/json.h"
