@@ -1,21 +1,11 @@
 #include "preview/presenter.h"
 
-#include "vk/barrier.h"
+#include "render/frame_pass.h"
 
 #include <algorithm>
 #include <cstring>
 
 namespace metamer::preview {
-
-namespace {
-
-// The swapchain image (one layer) from one use to another.
-void imageBarrier(VkCommandBuffer cmd, VkImage image, VkImageLayout from, VkImageLayout to, VkAccessFlags srcAccess,
-                  VkAccessFlags dstAccess, VkPipelineStageFlags srcStage, VkPipelineStageFlags dstStage) {
-    vk::imageBarrier(cmd, image, 1, {from, srcAccess, srcStage}, {to, dstAccess, dstStage});
-}
-
-}  // namespace
 
 Presenter::Presenter(vk::Context& ctx, const Window& window, bool immediate) : ctx_(ctx), window_(window) {
     swapchain_ = std::make_unique<Swapchain>(ctx, window.framebufferSize(), immediate);
@@ -61,17 +51,8 @@ void Presenter::setImages(const std::vector<ShownImage>& images) {
     }
 }
 
-void Presenter::record(VkCommandBuffer cmd, uint32_t index) {
-    VkImage image = swapchain_->image(index);
+void Presenter::copyImages(VkCommandBuffer cmd, VkImage image) const {
     const VkExtent2D ext = swapchain_->extent();
-    imageBarrier(cmd, image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 0,
-                 VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT);
-    VkClearColorValue background{{0.06f, 0.06f, 0.06f, 1.0f}};
-    VkImageSubresourceRange all{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-    vkCmdClearColorImage(cmd, image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &background, 1, &all);
-    imageBarrier(cmd, image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
-                 VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
-                 VK_PIPELINE_STAGE_TRANSFER_BIT);
     for (const Region& r : regions_) {
         // The part of the image inside the window.
         int x0 = std::max(r.x, 0), y0 = std::max(r.y, 0);
@@ -84,12 +65,8 @@ void Presenter::record(VkCommandBuffer cmd, uint32_t index) {
         c.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
         c.imageOffset = {x0, y0, 0};
         c.imageExtent = {uint32_t(x1 - x0), uint32_t(y1 - y0), 1};
-        vkCmdCopyBufferToImage(cmd, upload_.handle(), image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &c);
+        vkCmdCopyBufferToImage(cmd, upload_.handle(), image, vk::accessLayout(vk::Access::TransferDst), 1, &c);
     }
-    imageBarrier(cmd, image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
-                 VK_ACCESS_TRANSFER_WRITE_BIT,
-                 VK_ACCESS_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT,
-                 VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT);
 }
 
 bool Presenter::frame(const std::function<void(VkCommandBuffer)>& ui, bool readBack) {
@@ -120,38 +97,47 @@ bool Presenter::frame(const std::function<void(VkCommandBuffer)>& ui, bool readB
     VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
     bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
     VK_CHECK(vkBeginCommandBuffer(cmd_, &bi));
-    record(cmd_, index);
-    const VkExtent2D ext = swapchain_->extent();
-    VkRenderPassBeginInfo rb{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
-    rb.renderPass = swapchain_->renderPass();
-    rb.framebuffer = swapchain_->framebuffer(index);
-    rb.renderArea = {{0, 0}, ext};
-    vkCmdBeginRenderPass(cmd_, &rb, VK_SUBPASS_CONTENTS_INLINE);
-    ui(cmd_);
-    vkCmdEndRenderPass(cmd_);
+    // The frame (render/frame_pass.h): clear, copy the display images in, the UI over them, the
+    // screenshot's copy; the image handed to presentation. The acquired image comes with the
+    // acquire semaphore, waited for at the transfer stage: the first transition waits there too.
     VkImage image = swapchain_->image(index);
-    bool reading = readBack && swapchain_->readable();
+    const VkExtent2D ext = swapchain_->extent();
+    const bool reading = readBack && swapchain_->readable();
+    using vk::Access;
+    Frame f;
+    FrameResource shown = FrameResource::perFrame("swapchain image", image);
+    shown.entry = vk::ResourceState{VK_IMAGE_LAYOUT_UNDEFINED, 0, 0, VK_PIPELINE_STAGE_TRANSFER_BIT};
+    shown.exit = vk::settledIn({Access::Present});
+    const size_t target = f.add(std::move(shown));
+    f.add(FramePass{"clear", "vkCmdClearColorImage", {{target, Access::TransferDst, 0, kAllLayers, false}}, VK_NULL_HANDLE,
+                    VK_NULL_HANDLE, {}, {}, [image](VkCommandBuffer cmd) {
+                        const VkClearColorValue background{{0.06f, 0.06f, 0.06f, 1.0f}};
+                        const VkImageSubresourceRange all{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+                        vkCmdClearColorImage(cmd, image, vk::accessLayout(Access::TransferDst), &background, 1, &all);
+                    }});
+    if (!regions_.empty()) {
+        const size_t upload = f.add(FrameResource::settled("display images", upload_.handle(), Access::TransferSrc));
+        f.add(FramePass{"display images", "vkCmdCopyBufferToImage", {{target, Access::TransferDst}, {upload, Access::TransferSrc}},
+                        VK_NULL_HANDLE, VK_NULL_HANDLE, {}, {}, [this, image](VkCommandBuffer cmd) { copyImages(cmd, image); }});
+    }
+    f.add(FramePass{"ui", "Dear ImGui", {{target, Access::ColorAttachment}}, swapchain_->renderPass(),
+                    swapchain_->framebuffer(index), ext, {}, ui});
     if (reading) {
         VkDeviceSize bytes = VkDeviceSize(ext.width) * ext.height * 4;
         if (readback_.size() < bytes)
             readback_ = vk::Buffer(ctx_, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, "preview screenshot");
-        imageBarrier(cmd_, image, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                     VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT,
-                     VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT);
-        VkBufferImageCopy c{};
-        c.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-        c.imageExtent = {ext.width, ext.height, 1};
-        vkCmdCopyImageToBuffer(cmd_, image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback_.handle(), 1, &c);
-        vk::bufferBarrier(cmd_, readback_.handle(), VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
-                          VK_ACCESS_HOST_READ_BIT, VK_PIPELINE_STAGE_HOST_BIT);
-        imageBarrier(cmd_, image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_IMAGE_LAYOUT_PRESENT_SRC_KHR,
-                     VK_ACCESS_TRANSFER_READ_BIT, 0, VK_PIPELINE_STAGE_TRANSFER_BIT,
-                     VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT);
-    } else {
-        imageBarrier(cmd_, image, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_PRESENT_SRC_KHR,
-                     VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, 0, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT,
-                     VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT);
+        const size_t shot = f.add(FrameResource::perFrame("screenshot", readback_.handle()));
+        f.add(FramePass{"screenshot copy", "vkCmdCopyImageToBuffer", {{target, Access::TransferSrc}, {shot, Access::TransferDst}},
+                        VK_NULL_HANDLE, VK_NULL_HANDLE, {}, {}, [this, image, ext](VkCommandBuffer cmd) {
+                            VkBufferImageCopy c{};
+                            c.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+                            c.imageExtent = {ext.width, ext.height, 1};
+                            vkCmdCopyImageToBuffer(cmd, image, vk::accessLayout(Access::TransferSrc), readback_.handle(), 1, &c);
+                        }});
+        f.add(FramePass{"host read", "the host maps the screenshot", {{shot, Access::HostRead}}});
     }
+    f.derive();
+    recordFrame(cmd_, f);
     VK_CHECK(vkEndCommandBuffer(cmd_));
 
     VK_CHECK(vkResetFences(d, 1, &fence_));

@@ -46,7 +46,7 @@ public:
     bool lastFrameRead() const { return !lastFrame_.empty(); }
 
 private:
-    void record(VkCommandBuffer cmd, uint32_t image);  // clear, copy the images in, ready for the UI
+    void copyImages(VkCommandBuffer cmd, VkImage image) const;  // the display images into the swapchain image
 
     vk::Context& ctx_;
     const Window& window_;

@@ -212,18 +212,4 @@ void BarrierBatch::record(VkCommandBuffer cmd) const {
                          uint32_t(images_.size()), images_.empty() ? nullptr : images_.data());
 }
 
-void imageBarrier(VkCommandBuffer cmd, VkImage image, uint32_t layers, const ImageUse& from, const ImageUse& to) {
-    BarrierBatch batch;
-    batch.image(image, VK_IMAGE_ASPECT_COLOR_BIT, 0, layers,
-                Barrier{from.layout, to.layout, from.stage, to.stage, from.access, to.access});
-    batch.record(cmd);
-}
-
-void bufferBarrier(VkCommandBuffer cmd, VkBuffer buffer, VkAccessFlags fromAccess, VkPipelineStageFlags fromStage,
-                   VkAccessFlags toAccess, VkPipelineStageFlags toStage) {
-    BarrierBatch batch;
-    batch.buffer(buffer, Barrier{VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_UNDEFINED, fromStage, toStage, fromAccess, toAccess});
-    batch.record(cmd);
-}
-
 }  // namespace metamer::vk

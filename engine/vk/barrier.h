@@ -83,7 +83,7 @@ ResourceState advance(const ResourceState& state, Use use, bool image);
 // starts after this one's fence).
 std::optional<Barrier> barrierTo(const ResourceState& state, const ResourceState& target, bool image);
 
-// "colour attachment writes (colour attachment output) → sampled reads (fragment shader), COLOR_ATTACHMENT_OPTIMAL → SHADER_READ_ONLY_OPTIMAL"
+// "after writes (colour attachment output) before fragment shader, COLOR_ATTACHMENT_OPTIMAL → SHADER_READ_ONLY_OPTIMAL"
 std::string describeBarrier(const Barrier& b, bool image);
 std::string layoutName(VkImageLayout layout);
 
@@ -100,20 +100,5 @@ private:
     std::vector<VkImageMemoryBarrier> images_;
     std::vector<VkBufferMemoryBarrier> buffers_;
 };
-
-// What an image (all its colour layers) or a buffer is used for at one point of a command buffer,
-// for the few one-off transitions outside a declared frame.
-struct ImageUse {
-    VkImageLayout layout;
-    VkAccessFlags access;
-    VkPipelineStageFlags stage;
-};
-
-// Transitions colour layers [0, layers) of `image` (mip 0) from `from` to `to`.
-void imageBarrier(VkCommandBuffer cmd, VkImage image, uint32_t layers, const ImageUse& from, const ImageUse& to);
-
-// Makes `from`'s writes to the whole of `buffer` visible to `to`'s accesses.
-void bufferBarrier(VkCommandBuffer cmd, VkBuffer buffer, VkAccessFlags fromAccess, VkPipelineStageFlags fromStage,
-                   VkAccessFlags toAccess, VkPipelineStageFlags toStage);
 
 }  // namespace metamer::vk
