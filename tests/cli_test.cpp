@@ -532,7 +532,7 @@ TEST(CliOutputName, RefusedOrUnwrittenNamesAreErrors) {
     EXPECT_NE(jpeg.output.find("names a .JPEG file"), std::string::npos) << jpeg.output;
     CliRun hdf5 = run("render " + kScene + " -o " + (d / "cube.hdf5").string());
     EXPECT_EQ(hdf5.code, 2) << hdf5.output;
-    EXPECT_NE(hdf5.output.find("(an HDF5 cube is NAME.h5)"), std::string::npos) << hdf5.output;
+    EXPECT_NE(hdf5.output.find("names a .hdf5 file: HDF5 cubes are NAME.h5"), std::string::npos) << hdf5.output;
     CliRun upper = run("render " + kScene + " -o " + (d / "X.EXR").string());
     EXPECT_EQ(upper.code, 2) << upper.output;
     EXPECT_NE(upper.output.find("output files are named in lower case; write '" + (d / "X.exr").string() + "'"),

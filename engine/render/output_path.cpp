@@ -33,10 +33,9 @@ std::string lowerCase(std::string text) {
 }
 
 // Files a user may mean by -o that Metamer does not write: a name ending in one of these is an error,
-// not a folder (-o result.tiff made a folder result.tiff/ once). Raster images, camera raws (--sensor
-// writes a DNG beside the cube, never instead of it) and the other cube containers; a hint where
-// Metamer writes the same thing under another name. Lower case, matched in any case. ".dat" is left
-// out: ENVI data use it, but so do too many folders.
+// not a folder (-o result.tiff made a folder result.tiff/ once). Raster images, camera raws and the
+// other cube containers; a hint where Metamer writes the like under another name. Lower case,
+// matched in any case. ".dat" is left out: ENVI data use it, but so do too many folders.
 struct RefusedExtension {
     const char* extension;
     const char* hint;
@@ -45,12 +44,13 @@ constexpr RefusedExtension kRefused[] = {
     {".tif", ""}, {".tiff", ""}, {".jpg", ""}, {".jpeg", ""}, {".jp2", ""}, {".j2k", ""}, {".jxl", ""},
     {".webp", ""}, {".avif", ""}, {".heic", ""}, {".heif", ""}, {".gif", ""}, {".bmp", ""}, {".tga", ""},
     {".ppm", ""}, {".pgm", ""}, {".pbm", ""}, {".pnm", ""}, {".pfm", ""}, {".dpx", ""}, {".cin", ""},
-    {".psd", ""}, {".dng", ""}, {".raw", ""},
-    {".hdf5", "an HDF5 cube is NAME.h5"}, {".he5", "an HDF5 cube is NAME.h5"}, {".hdf", "an HDF5 cube is NAME.h5"},
-    {".img", "an ENVI cube is named by its header, NAME.hdr (its data is NAME.img)"},
-    {".bsq", "an ENVI cube is named by its header, NAME.hdr (--format envi:bsq)"},
-    {".bil", "an ENVI cube is named by its header, NAME.hdr (--format envi:bil)"},
-    {".bip", "an ENVI cube is named by its header, NAME.hdr (--format envi:bip)"},
+    {".psd", ""}, {".raw", ""},
+    {".dng", "--sensor writes a DNG beside the cube, named after it"},
+    {".hdf5", "HDF5 cubes are NAME.h5"}, {".he5", "HDF5 cubes are NAME.h5"}, {".hdf", "HDF5 cubes are NAME.h5"},
+    {".img", "an ENVI cube is named by its header, NAME.hdr (NAME.img holds its data)"},
+    {".bsq", "an ENVI cube is named by its header, NAME.hdr, its layout chosen with --format envi:bsq"},
+    {".bil", "an ENVI cube is named by its header, NAME.hdr, its layout chosen with --format envi:bil"},
+    {".bip", "an ENVI cube is named by its header, NAME.hdr, its layout chosen with --format envi:bip"},
     {".nc", ""}, {".fits", ""}, {".fit", ""}, {".fts", ""}, {".npy", ""}, {".npz", ""}, {".mat", ""}, {".zarr", ""},
 };
 
@@ -108,8 +108,8 @@ OutputPath parseOutputPath(const std::string& text, const std::string& flag) {
         failInput(where, "'{}': output files are named in lower case; write '{}' {}", text,
                   (path.parent_path() / (path.stem().string() + lower)).string(), orFolder);
     if (const RefusedExtension* r = refused(lower))
-        failInput(where, "'{}' names a {} file, which Metamer does not write{}; Metamer writes {} {}", text,
-                  extension, *r->hint ? fmt::format(" ({})", r->hint) : "", files, orFolder);
+        failInput(where, "'{}' names a {} file{}; Metamer writes {} {}", text, extension,
+                  *r->hint ? fmt::format(": {}", r->hint) : ", which Metamer does not write", files, orFolder);
     // Any other name is a folder, dots and all: runs/v1.2, 2026.12.05.
     if (!namesAFile) return {path, "", ""};
     const fs::path folder = path.parent_path().empty() ? fs::path(".") : path.parent_path();

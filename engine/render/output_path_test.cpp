@@ -86,14 +86,19 @@ TEST(OutputPath, AnImageOrCubeMetamerDoesNotWriteIsAnErrorNamingTheFlag) {
     for (const std::string& ext : refusedList) {
         std::string upper = ext;
         for (char& c : upper) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-        EXPECT_NE(inputError("x" + ext).find("which Metamer does not write"), std::string::npos) << ext;
-        EXPECT_NE(inputError("x" + upper).find("which Metamer does not write"), std::string::npos) << upper;
+        EXPECT_NE(inputError("x" + ext).find("'x" + ext + "' names a " + ext + " file"), std::string::npos) << ext;
+        EXPECT_NE(inputError("x" + upper).find("'x" + upper + "' names a " + upper + " file"), std::string::npos)
+            << upper;
         EXPECT_EQ(namedCubeFormat(ext), nullptr) << ext;  // never an output's own
     }
     // Where Metamer writes the same thing under another name, the error says which.
-    EXPECT_NE(inputError("cube.hdf5").find("an HDF5 cube is NAME.h5"), std::string::npos);
-    EXPECT_NE(inputError("cube.he5").find("an HDF5 cube is NAME.h5"), std::string::npos);
+    const std::string hdf5 = inputError("cube.hdf5");
+    EXPECT_NE(hdf5.find("'cube.hdf5' names a .hdf5 file: HDF5 cubes are NAME.h5; Metamer writes NAME.exr"),
+              std::string::npos) << hdf5;
+    EXPECT_NE(inputError("cube.he5").find("HDF5 cubes are NAME.h5"), std::string::npos);
     EXPECT_NE(inputError("cube.img").find("an ENVI cube is named by its header, NAME.hdr"), std::string::npos);
+    EXPECT_NE(inputError("cube.bil").find("--format envi:bil"), std::string::npos);
+    EXPECT_NE(inputError("shot.dng").find("--sensor writes a DNG beside the cube"), std::string::npos);
 }
 
 TEST(OutputPath, AnOutputsExtensionInAnotherCaseIsAnError) {
@@ -123,9 +128,10 @@ TEST(OutputPath, TheDocsListTheRefusedExtensions) {
     const std::string section = docs.substr(from, docs.find("\n- ", from + 1) - from);
     for (const std::string& ext : refusedOutputExtensions())
         EXPECT_NE(section.find("`" + ext + "`"), std::string::npos) << ext << " is refused but not in docs/cli.md";
-    // And nothing listed there that is not refused.
+    // And nothing listed there that is not refused: every `.ext` counted (not "`X`." closing a sentence).
     size_t n = 0;
-    for (size_t at = section.find("`."); at != std::string::npos; at = section.find("`.", at + 1)) ++n;
+    for (size_t at = section.find("`."); at != std::string::npos; at = section.find("`.", at + 1))
+        n += std::isalnum(static_cast<unsigned char>(section[at + 2])) ? 1 : 0;
     EXPECT_EQ(n, refusedOutputExtensions().size()) << section;
 }
 
