@@ -19,7 +19,7 @@ label_band() { band=$1 label_size=$2; }
 panel() {
   local label=$1 scene=$2
   shift 2
-  local out="$work/${#panels[@]}"
+  local out="$work/${#labels[@]}"
   "$metamer" render "$here/$scene" --out "$out" --write png "$@"
   # oiiotool evaluates {TOP...} on the image at hand: the band is added below whatever size it is.
   panels+=("$out/$(basename "$scene" .json).png" --fullsize "{TOP.width}x{TOP.height+$band}" --croptofull
