@@ -502,13 +502,41 @@ TEST(CliOutputName, AFolderStaysAFolder) {
     EXPECT_TRUE(fs::is_directory(d / "result.exr"));
 }
 
-TEST(CliOutputName, AmbiguousOrUnwrittenNamesAreErrors) {
-    const fs::path d = freshDir("ambiguous");
+// Issue 46: a folder's name may hold dots; only an output's extension or a refused one names a file.
+TEST(CliOutputName, ANameWithADotIsAFolder) {
+    const fs::path d = freshDir("dotted");
+    CliRun r = run("render " + std::string(METAMER_SOURCE_DIR) + "/scenes/colorchecker.json --out " +
+                   (d / "runs" / "v1.2").string());
+    ASSERT_EQ(r.code, 0) << r.output;
+    EXPECT_TRUE(fs::is_directory(d / "runs" / "v1.2"));
+    EXPECT_TRUE(fs::exists(d / "runs" / "v1.2" / "colorchecker.exr"));
+    EXPECT_TRUE(fs::exists(d / "runs" / "v1.2" / "colorchecker.png"));
+    EXPECT_EQ(std::distance(fs::directory_iterator(d / "runs"), fs::directory_iterator()), 1);  // no runs/v1.exr
+    // A relative name, from the folder the user is in.
+    test::CliOptions here;
+    here.dir = d.string();
+    CliRun dated = test::runMetamer("render " + kScene + " --no-png -o 2026.12.05", here);
+    ASSERT_EQ(dated.code, 0) << dated.output;
+    EXPECT_TRUE(fs::exists(d / "2026.12.05" / "small.exr"));
+}
+
+TEST(CliOutputName, RefusedOrUnwrittenNamesAreErrors) {
+    const fs::path d = freshDir("refused");
     CliRun tiff = run("render " + kScene + " -o " + (d / "result.tiff").string());
     EXPECT_EQ(tiff.code, 2) << tiff.output;
-    EXPECT_NE(tiff.output.find("--out: '" + (d / "result.tiff").string() + "' is ambiguous"), std::string::npos)
-        << tiff.output;
-    EXPECT_NE(tiff.output.find("NAME.exr, NAME.h5, NAME.hdr or NAME.png"), std::string::npos) << tiff.output;
+    EXPECT_NE(tiff.output.find("--out: '" + (d / "result.tiff").string() + "' names a .tiff file, which Metamer does not "
+                               "write"), std::string::npos) << tiff.output;
+    EXPECT_NE(tiff.output.find("Metamer writes NAME.exr, NAME.h5, NAME.hdr or NAME.png"), std::string::npos) << tiff.output;
+    CliRun jpeg = run("render " + kScene + " -o " + (d / "result.JPEG").string());
+    EXPECT_EQ(jpeg.code, 2) << jpeg.output;
+    EXPECT_NE(jpeg.output.find("names a .JPEG file"), std::string::npos) << jpeg.output;
+    CliRun hdf5 = run("render " + kScene + " -o " + (d / "cube.hdf5").string());
+    EXPECT_EQ(hdf5.code, 2) << hdf5.output;
+    EXPECT_NE(hdf5.output.find("names a .hdf5 file: HDF5 cubes are NAME.h5"), std::string::npos) << hdf5.output;
+    CliRun upper = run("render " + kScene + " -o " + (d / "X.EXR").string());
+    EXPECT_EQ(upper.code, 2) << upper.output;
+    EXPECT_NE(upper.output.find("output files are named in lower case; write '" + (d / "X.exr").string() + "'"),
+              std::string::npos) << upper.output;
     CliRun clash = run("render " + kScene + " --format exr -o " + (d / "x.h5").string());
     EXPECT_EQ(clash.code, 2) << clash.output;
     EXPECT_NE(clash.output.find("--out: '"), std::string::npos) << clash.output;

@@ -4,24 +4,11 @@
 # parametric reversal model of spectra/film), left to right, each shown on an sRGB display after
 # Bradford adaptation to D65. Needs a build (bash ci/build.sh) and oiiotool (openimageio-tools).
 set -euo pipefail
-here="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
-metamer="${METAMER:-$here/build/metamer}"
-work="$(mktemp -d)"
-trap 'rm -rf "$work"' EXIT
-font=/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf
-panels=()
-for detector in cie1931 camera:nikon_d5100 film:reversal; do
-  name="${detector//:/-}"
-  "$metamer" render "$here/scenes/imaging-systems.json" --out "$work/$name" --detector "$detector" \
-    --adapt bradford --display srgb --write png
-  case "$detector" in
-    cie1931) label="CIE 1931 observer" ;;
-    camera:*) label="Nikon D5100" ;;
-    *) label="reversal film" ;;
-  esac
-  # A black band of 40 px below each panel holds its label.
-  panels+=("$work/$name/imaging-systems.png" --fullsize 480x400 --croptofull
-           --text:x=14:y=388:size=24:color=1,1,1:font="$font" "$label")
-done
-oiiotool "${panels[@]}" --mosaic:pad=8 3x1 -d uint8 -o "$here/docs/figures/figure5.png"
-echo "wrote docs/figures/figure5.png (left to right: CIE 1931 observer, Nikon D5100, reversal film)"
+source "$(dirname "${BASH_SOURCE[0]}")/mosaic.sh"
+scene=scenes/imaging-systems.json
+display=(--adapt bradford --display srgb)
+label_band 40 24
+panel "CIE 1931 observer" "$scene" --detector cie1931 "${display[@]}"
+panel "Nikon D5100" "$scene" --detector camera:nikon_d5100 "${display[@]}"
+panel "reversal film" "$scene" --detector film:reversal "${display[@]}"
+mosaic figure5

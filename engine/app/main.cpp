@@ -153,9 +153,9 @@ int main(int argc, char** argv) {
     auto* render = app.add_subcommand("render", "render a scene to a spectral radiance cube (EXR) and a quick-look PNG");
     render->add_option("scene", scenePath, "scene file (JSON, docs/scene-format.md); - reads it from stdin, its "
                                            "relative paths then resolved against the current folder")->required();
-    render->add_option("--out,--output,-o", outText, "output folder (created if missing; an existing one, a path "
-                       "ending in '/' or a name without an extension), or NAME.exr, NAME.h5, NAME.hdr or NAME.png: "
-                       "every output named NAME.* in that file's folder (docs/cli.md, \"Output names\")")
+    render->add_option("--out,--output,-o", outText, "output folder (created if missing), or NAME.exr, NAME.h5, NAME.hdr "
+                       "or NAME.png: every output named NAME.* in that file's folder; another image's extension "
+                       "(.tiff, .jpg, ...) is an error (docs/cli.md, \"Output names\")")
         ->capture_default_str();
     addRenderFlags(render, settings, kAllRenderFlags);
     auto* timingsFlag = render->add_flag("--timings", timings, "print per-stage timings");

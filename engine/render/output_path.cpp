@@ -4,6 +4,7 @@
 #include "core/file_reads.h"
 
 #include <algorithm>
+#include <cctype>
 
 namespace metamer {
 
@@ -26,7 +27,46 @@ std::string listed(const std::vector<std::string>& items, const std::string& pre
     return text;
 }
 
+std::string lowerCase(std::string text) {
+    for (char& c : text) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return text;
+}
+
+// Files a user may mean by -o that Metamer does not write: a name ending in one of these is an error,
+// not a folder (-o result.tiff made a folder result.tiff/ once). Raster images, camera raws and the
+// other cube containers; a hint where Metamer writes the like under another name. Lower case,
+// matched in any case. ".dat" is left out: ENVI data use it, but so do too many folders.
+struct RefusedExtension {
+    const char* extension;
+    const char* hint;
+};
+constexpr RefusedExtension kRefused[] = {
+    {".tif", ""}, {".tiff", ""}, {".jpg", ""}, {".jpeg", ""}, {".jp2", ""}, {".j2k", ""}, {".jxl", ""},
+    {".webp", ""}, {".avif", ""}, {".heic", ""}, {".heif", ""}, {".gif", ""}, {".bmp", ""}, {".tga", ""},
+    {".ppm", ""}, {".pgm", ""}, {".pbm", ""}, {".pnm", ""}, {".pfm", ""}, {".dpx", ""}, {".cin", ""},
+    {".psd", ""}, {".raw", ""},
+    {".dng", "--sensor writes a DNG beside the cube, named after it"},
+    {".hdf5", "HDF5 cubes are NAME.h5"}, {".he5", "HDF5 cubes are NAME.h5"}, {".hdf", "HDF5 cubes are NAME.h5"},
+    {".img", "an ENVI cube is named by its header, NAME.hdr (NAME.img holds its data)"},
+    {".bsq", "an ENVI cube is named by its header, NAME.hdr, its layout chosen with --format envi:bsq"},
+    {".bil", "an ENVI cube is named by its header, NAME.hdr, its layout chosen with --format envi:bil"},
+    {".bip", "an ENVI cube is named by its header, NAME.hdr, its layout chosen with --format envi:bip"},
+    {".nc", ""}, {".fits", ""}, {".fit", ""}, {".fts", ""}, {".npy", ""}, {".npz", ""}, {".mat", ""}, {".zarr", ""},
+};
+
+const RefusedExtension* refused(const std::string& lowerExtension) {
+    for (const RefusedExtension& r : kRefused)
+        if (lowerExtension == r.extension) return &r;
+    return nullptr;
+}
+
 }  // namespace
+
+std::vector<std::string> refusedOutputExtensions() {
+    std::vector<std::string> all;
+    for (const RefusedExtension& r : kRefused) all.push_back(r.extension);
+    return all;
+}
 
 const CubeContainer* namedCubeFormat(const std::string& extension) {
     if (extension.empty()) return nullptr;
@@ -41,9 +81,8 @@ OutputPath parseOutputPath(const std::string& text, const std::string& flag) {
     const fs::path path(text);
     std::error_code ec;
     const fs::file_status st = fs::status(path, ec);
-    const std::string expected = fmt::format(
-        "expected a folder (an existing one, a path ending in '/', or a name without an extension) or an output "
-        "file named {}", listed(namedExtensions(), "NAME"));
+    const std::string files = listed(namedExtensions(), "NAME");
+    const std::string expected = fmt::format("expected a folder or an output file named {}", files);
     // A folder: said so with a trailing '/', or one that exists.
     if (text.back() == '/' || fs::is_directory(st)) {
         // stat("file/") fails with ENOTDIR: look at the name without its slashes.
@@ -61,10 +100,18 @@ OutputPath parseOutputPath(const std::string& text, const std::string& flag) {
     if (fs::exists(st) && !(namesAFile && fs::is_regular_file(st)))
         failInput(where, "'{}' is {}, not a folder; {}", text, fs::is_regular_file(st) ? "a file" : specialFileKind(st),
                   expected);
-    if (extension.empty()) return {path, "", ""};
-    if (!namesAFile)
-        failInput(where, "'{}' is ambiguous: '{}' is not the extension of an output; {} (for a folder named '{}', "
-                  "write '{}/')", text, extension, expected, text, text);
+    const std::string lower = lowerCase(extension);
+    const std::string orFolder = fmt::format("(for a folder named '{}', write '{}/')", text, text);
+    // X.EXR: the outputs are written with the table's lower-case extensions, so X.EXR would name a
+    // file the run does not write (X.exr); a folder of that name would surprise as much.
+    if (!namesAFile && std::find(known.begin(), known.end(), lower) != known.end())
+        failInput(where, "'{}': output files are named in lower case; write '{}' {}", text,
+                  (path.parent_path() / (path.stem().string() + lower)).string(), orFolder);
+    if (const RefusedExtension* r = refused(lower))
+        failInput(where, "'{}' names a {} file{}; Metamer writes {} {}", text, extension,
+                  *r->hint ? fmt::format(": {}", r->hint) : ", which Metamer does not write", files, orFolder);
+    // Any other name is a folder, dots and all: runs/v1.2, 2026.12.05.
+    if (!namesAFile) return {path, "", ""};
     const fs::path folder = path.parent_path().empty() ? fs::path(".") : path.parent_path();
     const fs::file_status folderStatus = fs::status(folder, ec);
     if (fs::exists(folderStatus) && !fs::is_directory(folderStatus))

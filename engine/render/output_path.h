@@ -1,9 +1,11 @@
 // What `metamer render -o PATH` means: a folder the outputs go into under the scene's name, or one
 // output file whose name gives every output its stem (-o result.exr: result.exr and result.png).
-// A folder is an existing folder, a path ending in '/', or a name without an extension (created if
-// missing); a file is NAME.exr, NAME.h5 or NAME.hdr (the cube formats' extensions, render/
-// cube_formats.h) or NAME.png (the display image). Anything else is ambiguous and an input error
-// naming the flag and what was expected: `-o result.tiff` used to make a folder `result.tiff/`.
+// An existing folder or a path ending in '/' is a folder. Otherwise NAME.exr, NAME.h5 or NAME.hdr
+// (the cube formats' extensions, render/cube_formats.h) or NAME.png (the display image) is a file;
+// a name ending in the extension of an image or cube Metamer does not write (.tiff, .jpg, .hdf5,
+// .img, ...: refusedOutputExtensions, in any case) or in an output's extension in another case
+// (X.EXR) is an input error naming the flag and the files Metamer writes; any other name is a
+// folder, created if missing: `out`, `runs/v1.2`, `2026.12.05`.
 // docs/cli.md, "Output names". Tests: engine/render/output_path_test.cpp, tests/cli_test.cpp (CliOutputName.*).
 #pragma once
 
@@ -24,6 +26,9 @@ struct OutputPath {
 // Reads `text`, the value of `flag` (for errors), as above. A path that exists is checked now: a
 // folder where a file is named, or a file or a device where a folder is, is an input error.
 OutputPath parseOutputPath(const std::string& text, const std::string& flag);
+
+// The extensions -o refuses (lower case, ".tiff"), in the order docs/cli.md lists them.
+std::vector<std::string> refusedOutputExtensions();
 
 // The cube format whose file has `extension` (".h5": hdf5), or null (".png", "").
 const CubeContainer* namedCubeFormat(const std::string& extension);
