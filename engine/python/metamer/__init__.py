@@ -1,7 +1,7 @@
 """Metamer: full-spectral rendering of spectral radiance cubes (docs/python.md).
 
 render(), compare(), load_cube() and capture() are the engine's, a C++ extension (metamer._metamer,
-engine/python/metamer_module.cpp), called through _api.py, which types them and takes the objects
+engine/python/*.cpp), called through _api.py, which types them and takes the objects
 users hold (colour-science spectra and shapes, numpy, xarray). This file loads the extension and
 says what to install when Vulkan is missing; _notebook.py gives a Render what a notebook expects.
 """

@@ -1,4 +1,4 @@
-# Types of the extension (engine/python/metamer_module.cpp) for IDEs and mypy; the package's
+# Types of the extension (engine/python/*.cpp) for IDEs and mypy; the package's
 # functions (render, compare, load_cube, capture) are typed where they are defined, in _api.py.
 from typing import Any, Optional, Sequence
 
