@@ -321,7 +321,7 @@ def mix(pigments: Sequence[tuple[Values, Values, Values]], *, K: Values = 0.0,
     k = [_checked(t[1], f"pigments[{i}].k", _MIXED) for i, t in enumerate(items)]
     s = [_checked(t[2], f"pigments[{i}].s", _MIXED) for i, t in enumerate(items)]
     own = {"K": _checked(K, "K", _MIXED), "S": _checked(S, "S", _MIXED)}
-    arrays = {**own, **{f"pigments[{i}]": a for i, a in enumerate(c)},
+    arrays = {**own, **{f"pigments[{i}].concentration": a for i, a in enumerate(c)},
               **{f"pigments[{i}].k": a for i, a in enumerate(k)}, **{f"pigments[{i}].s": a for i, a in enumerate(s)}}
     shape = _shape(arrays)
     K_mixed, S_mixed = _engine.mix(_flat(c, shape), _flat(k, shape), _flat(s, shape), _flat([own["K"]], shape)[0],
