@@ -238,12 +238,17 @@ PaintOnGrid paintOnGrid(const Material::Paint& paint, const std::vector<Material
         std::vector<double> K(bands, 0.0), S(bands, 0.0);
         if (layer.K) K = onGrid(*layer.K, grid, policy, gaps);
         if (layer.S) S = onGrid(*layer.S, grid, policy, gaps);
+        std::vector<std::vector<double>> k, s;  // [pigment][band]
         for (const Material::Paint::Pigment& pigment : layer.pigments) {
-            const std::vector<double> k = onGrid(pigment.k, grid, policy, gaps), s = onGrid(pigment.s, grid, policy, gaps);
-            for (size_t b = 0; b < bands; ++b) {
-                K[b] += pigment.concentration * k[b];
-                S[b] += pigment.concentration * s[b];
-            }
+            k.push_back(onGrid(pigment.k, grid, policy, gaps));
+            s.push_back(onGrid(pigment.s, grid, policy, gaps));
+        }
+        std::vector<KubelkaMunkPigment> inBand(layer.pigments.size());
+        for (size_t b = 0; b < bands && !inBand.empty(); ++b) {
+            for (size_t i = 0; i < inBand.size(); ++i) inBand[i] = {layer.pigments[i].concentration, k[i][b], s[i][b]};
+            const KubelkaMunkCoefficients mixed = kubelkaMunkMix(inBand, {K[b], S[b]});
+            K[b] = mixed.K;
+            S[b] = mixed.S;
         }
         for (size_t b = 0; b < bands; ++b)
             if (!(K[b] >= 0.0 && S[b] >= 0.0 && std::isfinite(K[b] + S[b])))

@@ -59,6 +59,14 @@ double kubelkaMunkStack(std::span<const KubelkaMunkFilm> bottomUp, double substr
     return r;
 }
 
+KubelkaMunkCoefficients kubelkaMunkMix(std::span<const KubelkaMunkPigment> pigments, KubelkaMunkCoefficients own) {
+    for (const KubelkaMunkPigment& p : pigments) {
+        own.K += p.concentration * p.k;
+        own.S += p.concentration * p.s;
+    }
+    return own;
+}
+
 double kOverSFromInfinite(double rInfinite) { return (1.0 - rInfinite) * (1.0 - rInfinite) / (2.0 * rInfinite); }
 
 double saundersonBody(double R, double k1, double k2) { return (1.0 - k1) * (1.0 - k2) * R / (1.0 - k2 * R); }

@@ -47,6 +47,18 @@ struct KubelkaMunkFilm {
 };
 double kubelkaMunkStack(std::span<const KubelkaMunkFilm> bottomUp, double substrate);
 
+// A film's K and S from its pigments by the two-constant rule (Duncan): its own K₀, S₀ plus each
+// pigment's concentration times its k and s per unit concentration, added in order —
+// K = K₀ + Σ cᵢkᵢ, S = S₀ + Σ cᵢsᵢ. The concentrations are not normalized to sum to 1: they are
+// amounts in whatever unit the pigment data are per (docs/physics.md, "Pigment mixtures").
+struct KubelkaMunkPigment {
+    double concentration = 0.0, k = 0.0, s = 0.0;
+};
+struct KubelkaMunkCoefficients {
+    double K = 0.0, S = 0.0;
+};
+KubelkaMunkCoefficients kubelkaMunkMix(std::span<const KubelkaMunkPigment> pigments, KubelkaMunkCoefficients own = {});
+
 // K/S from R∞ (the inverse of kubelkaMunkInfinite): (1 − R∞)²/(2R∞).
 double kOverSFromInfinite(double rInfinite);
 

@@ -96,6 +96,24 @@ TEST(KubelkaMunk, StacksApplyBottomUpAndOneLayerSplitInTwoIsTheSameLayer) {
               kubelkaMunkOverSubstrate(5.0, 1.0, 0.2, kubelkaMunkOverSubstrate(0.1, 30.0, 0.02, 0.5)));
 }
 
+TEST(KubelkaMunk, MixAddsEachPigmentsConcentrationTimesItsConstantsToTheFilmsOwn) {
+    const std::vector<KubelkaMunkPigment> whiteAndBlack{{0.1, 2.0, 3000.0}, {0.002, 50000.0, 400.0}};
+    const KubelkaMunkCoefficients bare = kubelkaMunkMix(whiteAndBlack);
+    EXPECT_NEAR(bare.K, 0.1 * 2.0 + 0.002 * 50000.0, 1e-12);  // 100.2
+    EXPECT_NEAR(bare.S, 0.1 * 3000.0 + 0.002 * 400.0, 1e-12);  // 300.8
+    const KubelkaMunkCoefficients inBinder = kubelkaMunkMix(whiteAndBlack, {5.0, 7.0});
+    EXPECT_NEAR(inBinder.K, 105.2, 1e-12);
+    EXPECT_NEAR(inBinder.S, 307.8, 1e-12);
+    // Not normalized: doubling every concentration doubles K and S, and keeps K/S (and R∞).
+    const std::vector<KubelkaMunkPigment> twice{{0.2, 2.0, 3000.0}, {0.004, 50000.0, 400.0}};
+    const KubelkaMunkCoefficients doubled = kubelkaMunkMix(twice);
+    EXPECT_NEAR(doubled.K, 2.0 * bare.K, 1e-12);
+    EXPECT_NEAR(kubelkaMunkInfinite(doubled.K, doubled.S), kubelkaMunkInfinite(bare.K, bare.S), 1e-15);
+    const KubelkaMunkCoefficients none = kubelkaMunkMix({}, {5.0, 7.0});
+    EXPECT_EQ(none.K, 5.0);
+    EXPECT_EQ(none.S, 7.0);
+}
+
 TEST(KubelkaMunk, SaundersonRoundTripsAndKOverSInverts) {
     for (double R : {0.0, 0.05, 0.5, 0.95})
         EXPECT_NEAR(saundersonInverse(saundersonMeasured(R, 0.04, 0.6), 0.04, 0.6), R, 1e-15);

@@ -1,4 +1,4 @@
-"""The Python module (`import metamer`, engine/python/metamer_module.cpp; docs/python.md), tested
+"""The Python module (`import metamer`, engine/python/; docs/python.md), tested
 with pytest through the project's venv: known answers, the CLI's files, colour-science as the
 colorimetry oracle, h5py and Spectral Python as the readers of the cube formats, errors, memory
 and the GIL. Run by CTest (tests/CMakeLists.txt, test `python_module`) with validation layers on.

@@ -29,3 +29,15 @@ def test_each_mistake_is_reported_on_its_line():
                 and ": error:" in line}
     assert result.returncode == 1
     assert reported == marked, result.stdout
+
+
+def test_a_kubelka_munk_script_type_checks_and_its_mistakes_are_reported_on_their_lines():
+    correct = mypy("kubelka_munk_script.py")
+    assert correct.returncode == 0, correct.stdout + correct.stderr
+    result = mypy("kubelka_munk_mistakes.py")
+    lines = (HERE / "kubelka_munk_mistakes.py").read_text().splitlines()
+    marked = {i + 1 for i, line in enumerate(lines) if "# MISTAKE" in line}
+    reported = {int(line.split(":")[1]) for line in result.stdout.splitlines() if line.startswith(str(HERE))
+                and ": error:" in line}
+    assert result.returncode == 1
+    assert reported == marked, result.stdout

@@ -1,8 +1,9 @@
 """Metamer: full-spectral rendering of spectral radiance cubes (docs/python.md).
 
 render(), compare(), load_cube() and capture() are the engine's, a C++ extension (metamer._metamer,
-engine/python/metamer_module.cpp), called through _api.py, which types them and takes the objects
-users hold (colour-science spectra and shapes, numpy, xarray). This file loads the extension and
+engine/python/*.cpp), called through _api.py, which types them and takes the objects
+users hold (colour-science spectra and shapes, numpy, xarray); kubelka_munk.py does the same for
+the Kubelka–Munk functions. This file loads the extension and
 says what to install when Vulkan is missing; _notebook.py gives a Render what a notebook expects.
 """
 
@@ -53,10 +54,10 @@ from ._metamer import (  # noqa: E402  (after the check, so a missing driver is 
     Render,
     Warning,
     __version__,
-    kubelka_munk,
     _context_count,
 )
 from ._api import capture, compare, load_cube, render  # noqa: E402
+from . import kubelka_munk  # noqa: E402  (the engine's Kubelka–Munk functions, typed and checked)
 from . import _notebook  # noqa: E402,F401  (gives Render its notebook methods)
 
 __all__ = ["Error", "InputError", "NotFoundError", "Render", "VulkanUnavailableError", "Warning", "__version__",

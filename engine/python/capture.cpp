@@ -1,0 +1,102 @@
+// metamer.capture: the simulated sensor of `metamer capture` (sensor/capture.h, docs/sensor.md) on
+// a Render's cube or a cube file: the expected electrons and the digitized frames, as numpy arrays
+// equal to the CLI's files for the same seed and frame.
+// Tests: tests/python/test_sensor.py.
+#include "core/error.h"
+#include "python/arguments.h"
+#include "python/bindings.h"
+#include "python/errors.h"
+#include "python/render_class.h"
+#include "sensor/capture.h"
+#include "sensor/capture_files.h"
+#include "spectral/library.h"
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <climits>
+#include <optional>
+
+namespace metamer::python {
+
+namespace {
+
+// metamer.capture: the simulated sensor (docs/sensor.md) on a Render's cube or a cube file.
+py::dict capture(const py::object& source, const py::object& sensorName, const py::object& seedArg,
+                 const py::object& frameArg, const py::object& framesArg, const py::object& exposureArg, bool noise) {
+    discardPendingWarning();
+    const uint64_t seed = unsignedInteger(seedArg, "seed"), frame = unsignedInteger(frameArg, "frame");
+    const int frames = int(integer(framesArg, "frames", INT_MIN, INT_MAX));
+    const std::optional<double> exposure = optionalNumber(exposureArg, "exposure");
+    if (frames < 1 || frames > 100000) failInput(Where{"frames"}, "expected 1 … 100000 frames, got {}", frames);
+    if (exposure && !(*exposure > 0.0 && *exposure <= 1e6))  // the CLI's bounds (sensor/capture_files.cpp)
+        failInput(Where{"exposure"}, "expected an exposure time in seconds, > 0 and at most 10⁶, got {:g}", *exposure);
+    const SpectrumLibrary library;
+    const SensorSpec sensor = readSensor(sensorFile(pathOf(sensorName, "sensor").string(), library), library);
+    SpectralCube cube;
+    if (py::isinstance<Render>(source)) {
+        const Render& r = source.cast<const Render&>();
+        if (!r.spectral || r.captured.outputs.cube.empty())
+            failInput(Where{"source"}, "the render holds no spectral cube: render with write=\"cube\" in mode \"full\"");
+        cube.width = r.captured.outputs.width;
+        cube.height = r.captured.outputs.height;
+        cube.grid = r.captured.grid;
+        cube.data = r.captured.outputs.cube;
+    } else {
+        if (!isPath(source))
+            throw py::type_error(fmt::format("source: expected a path (str, bytes or os.PathLike) or a metamer.Render, "
+                                             "got {}", typeName(source)));
+        cube = readRadianceCube(pathOf(source, "source"));
+    }
+    ExpectedElectrons e;
+    std::vector<std::vector<uint16_t>> raws;
+    {
+        py::gil_scoped_release release;
+        e = expectedElectrons(cube, sensor, exposure, noise);
+        for (int f = 0; f < frames; ++f)
+            raws.push_back(digitize(e.electrons, e.width, sensor, CaptureNoise{noise, seed, frame + uint64_t(f)}));
+    }
+    raisePendingWarning();
+    const py::ssize_t h = e.height, w = e.width;
+    py::array_t<uint16_t> raw = frames == 1 ? py::array_t<uint16_t>({h, w}) : py::array_t<uint16_t>({py::ssize_t(frames), h, w});
+    uint16_t* out = raw.mutable_data();
+    for (const auto& r : raws) out = std::copy(r.begin(), r.end(), out);
+    py::array_t<double> electrons({h, w});
+    std::copy(e.electrons.begin(), e.electrons.end(), electrons.mutable_data());
+    py::list cfa;
+    for (const auto& row : sensor.cfa) {
+        py::list names;
+        for (int c : row) names.append(sensor.channels[size_t(c)]);
+        cfa.append(names);
+    }
+    py::dict d;
+    d["raw"] = raw;
+    d["electrons"] = electrons;
+    d["channels"] = sensor.channels;
+    d["cfa"] = cfa;
+    d["black_level_dn"] = sensor.blackLevel_dn;
+    d["white_level_dn"] = sensor.whiteLevel();
+    d["conversion_gain_dn_per_e"] = sensor.gain_dn_per_e;
+    d["exposure_s"] = e.exposure_s;
+    d["auto_exposed"] = e.autoExposed;
+    d["seed"] = seed;
+    d["frame"] = frame;
+    d["sensor"] = sensor.file.string();
+    return d;
+}
+
+}  // namespace
+
+void bindCapture(py::module_& m) {
+    m.def("capture", &capture, py::arg("source"), py::arg("sensor"), py::kw_only(), py::arg("seed") = 0,
+          py::arg("frame") = 0, py::arg("frames") = 1, py::arg("exposure") = py::none(), py::arg("noise") = true,
+          "What a simulated sensor records from a Render's cube or a cube file (docs/sensor.md): a dict with raw "
+          "(rows × columns uint16 digital numbers; frames × rows × columns when frames > 1), electrons (the "
+          "expected electrons, float64), channels, cfa, black and white levels, conversion gain, exposure");
+}
+
+}  // namespace metamer::python

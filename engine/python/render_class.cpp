@@ -1,0 +1,243 @@
+#include "python/render_class.h"
+
+#include "core/error.h"
+#include "python/arguments.h"
+#include "python/bindings.h"
+#include "python/numpy_views.h"
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <fmt/format.h>
+
+#include <cstring>
+#include <map>
+#include <memory>
+
+namespace metamer::python {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// --- Pickling (concurrent.futures, multiprocessing, dask): a Render's arrays and report, so a
+// worker can return one. The loaded scene and its textures stay behind: an unpickled Render has
+// every attribute but cannot save() (which writes the scene's provenance and display path).
+
+template <typename T>
+py::bytes rawBytes(const std::vector<T>& v) {
+    return py::bytes(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
+}
+
+template <typename T>
+std::vector<T> fromRawBytes(const py::handle& b, const char* what) {
+    const std::string s = b.cast<std::string>();
+    if (s.size() % sizeof(T)) failInput(Where{"", "pickle"}, "{}: {} bytes is not a whole number of values", what, s.size());
+    std::vector<T> v(s.size() / sizeof(T));
+    std::memcpy(v.data(), s.data(), s.size());
+    return v;
+}
+
+constexpr int kPickleVersion = 1;
+
+py::tuple renderState(const Render& r) {
+    const CapturedOutputs& c = r.captured.outputs;
+    py::dict timings;
+    for (const auto& [stage, ms] : r.result.timings.stages()) timings[py::str(stage)] = ms;
+    py::dict d;
+    d["width"] = c.width;
+    d["height"] = c.height;
+    d["cube"] = rawBytes(c.cube);
+    d["cube_channels"] = c.cubeChannels;
+    d["counts"] = rawBytes(c.counts);
+    d["xyz"] = rawBytes(c.xyz);
+    d["responses"] = rawBytes(c.responses);
+    d["response_channels_count"] = c.responseChannels;
+    d["edges"] = rawBytes(c.edges);
+    d["grid"] = r.captured.grid.str();
+    d["spectral"] = r.spectral;
+    d["channel_names"] = r.channelNames;
+    d["bits"] = r.bits;
+    d["response_channels"] = r.responseChannels ? py::cast(*r.responseChannels) : py::none();
+    d["response_units"] = r.responseUnits ? py::cast(*r.responseUnits) : py::none();
+    d["xyz_units"] = r.result.xyzUnits;
+    d["display_description"] = r.result.displayDescription;
+    d["clipped_pixels"] = r.result.clippedPixels;
+    d["camera_fit"] = r.result.cameraFitRmsDeltaE ? py::cast(*r.result.cameraFitRmsDeltaE) : py::none();
+    d["backend"] = r.result.backendDescription;
+    d["notes"] = r.result.notes;
+    d["validation_errors"] = r.result.validationErrors;
+    d["timings_ms"] = timings;
+    return py::make_tuple(kPickleVersion, d);
+}
+
+std::shared_ptr<Render> renderFromState(const py::tuple& t) {
+    if (t.size() != 2 || t[0].cast<int>() != kPickleVersion)
+        failInput(Where{"", "pickle"}, "a metamer.Render pickled by another version of metamer (expected state version {})",
+                  kPickleVersion);
+    const py::dict d = t[1].cast<py::dict>();
+    auto r = std::make_shared<Render>();
+    CapturedOutputs& c = r->captured.outputs;
+    c.width = d["width"].cast<int>();
+    c.height = d["height"].cast<int>();
+    c.cube = fromRawBytes<float>(d["cube"], "cube");
+    c.cubeChannels = d["cube_channels"].cast<size_t>();
+    c.counts = fromRawBytes<uint16_t>(d["counts"], "display");
+    c.xyz = fromRawBytes<float>(d["xyz"], "xyz");
+    c.responses = fromRawBytes<float>(d["responses"], "responses");
+    c.responseChannels = d["response_channels_count"].cast<size_t>();
+    c.edges = fromRawBytes<uint16_t>(d["edges"], "edges");
+    const size_t pixels = size_t(c.width) * size_t(c.height);
+    if (c.cube.size() != pixels * c.cubeChannels || c.xyz.size() % 3 || c.counts.size() % 3 ||
+        c.responses.size() != (c.responses.empty() ? 0 : pixels * c.responseChannels))
+        failInput(Where{"", "pickle"}, "a metamer.Render whose arrays do not match its {}×{} size", c.width, c.height);
+    r->captured.grid = Grid::parse(d["grid"].cast<std::string>(), Where{"", "pickle"});
+    r->spectral = d["spectral"].cast<bool>();
+    r->channelNames = d["channel_names"].cast<std::vector<std::string>>();
+    r->bits = d["bits"].cast<int>();
+    if (!d["response_channels"].is_none()) r->responseChannels = d["response_channels"].cast<std::vector<std::string>>();
+    if (!d["response_units"].is_none()) r->responseUnits = d["response_units"].cast<std::string>();
+    r->result.xyzUnits = d["xyz_units"].cast<std::string>();
+    r->result.displayDescription = d["display_description"].cast<std::string>();
+    r->result.clippedPixels = d["clipped_pixels"].cast<size_t>();
+    if (!d["camera_fit"].is_none()) r->result.cameraFitRmsDeltaE = d["camera_fit"].cast<double>();
+    r->result.backendDescription = d["backend"].cast<std::string>();
+    r->result.notes = d["notes"].cast<std::vector<std::string>>();
+    r->result.validationErrors = d["validation_errors"].cast<uint32_t>();
+    StageTimings& times = r->result.timings;
+    const std::map<std::string, double*> stages{{"load", &times.load_ms},       {"upload", &times.upload_ms},
+                                                {"shading", &times.shading_ms}, {"readback", &times.readback_ms},
+                                                {"tonemap", &times.tonemap_ms}, {"write", &times.write_ms},
+                                                {"total", &times.total_ms}};
+    for (auto [stage, ms] : d["timings_ms"].cast<py::dict>())
+        if (auto it = stages.find(stage.cast<std::string>()); it != stages.end()) *it->second = ms.cast<double>();
+    r->unpickled = true;
+    return r;
+}
+
+}  // namespace
+
+void bindRenderClass(py::module_& m) {
+    py::class_<Render, std::shared_ptr<Render>>(m, "Render", "A render held in memory (metamer.render)")
+        .def_property_readonly(
+            "cube",
+            [](py::object self) -> py::object {
+                const Render& r = self.cast<const Render&>();
+                const CapturedOutputs& c = r.captured.outputs;
+                return view(c.cube, {c.height, c.width, py::ssize_t(c.cubeChannels)}, self);
+            },
+            "rows × columns × bands float32 (read-only view): spectral radiance per band, W·sr⁻¹·m⁻²·nm⁻¹; "
+            "a reduced mode's channels when mode is not spectral; None unless write has \"cube\"")
+        .def_property_readonly("wavelengths_nm",
+                               [](const Render& r) -> py::object {
+                                   if (!r.spectral) return py::none();
+                                   return doubles(r.captured.grid.wavelengths());
+                               }, "the bands' centre wavelengths, nm (float64); None for a reduced mode")
+        .def_property_readonly("grid", [](const Render& r) { return r.captured.grid.str(); },
+                               "the spectral grid, \"START:END:STEP\" in nm (as grid= and --grid take it)")
+        .def_property_readonly("channels",
+                               [](const Render& r) -> py::object {
+                                   if (r.spectral) return py::none();
+                                   return py::cast(r.channelNames);
+                               }, "a reduced mode's channel names (rgb, ac1c2, linear:K); None for spectral modes")
+        .def_property_readonly("units",
+                               [](const Render& r) {
+                                   return r.spectral ? std::string("W·sr⁻¹·m⁻²·nm⁻¹")
+                                                     : std::string("W·sr⁻¹·m⁻²·nm⁻¹ weighted by the mode's channels");
+                               }, "the cube's units, readable (to_xarray() carries the CF form W sr-1 m-2 nm-1)")
+        .def_property_readonly("width", [](const Render& r) { return r.captured.outputs.width; }, "columns, pixels")
+        .def_property_readonly("height", [](const Render& r) { return r.captured.outputs.height; }, "rows, pixels")
+        .def_property_readonly(
+            "xyz",
+            [](py::object self) -> py::object {
+                const CapturedOutputs& c = self.cast<const Render&>().captured.outputs;
+                return view(c.xyz, {c.height, c.width, 3}, self);
+            },
+            "rows × columns × 3 float32: XYZ as the detector sees the scene (xyz_units)")
+        .def_property_readonly("xyz_units", [](const Render& r) { return r.result.xyzUnits; },
+                               "what xyz holds: relative (white Y = 100) or absolute (cd/m²)")
+        .def_property_readonly(
+            "responses",
+            [](py::object self) -> py::object {
+                const CapturedOutputs& c = self.cast<const Render&>().captured.outputs;
+                return view(c.responses, {c.height, c.width, py::ssize_t(c.responseChannels)}, self);
+            },
+            "rows × columns × channels float32: the detector's raw responses")
+        .def_property_readonly("response_channels",
+                               [](const Render& r) -> py::object {
+                                   if (!r.responseChannels) return py::none();
+                                   return py::cast(*r.responseChannels);
+                               }, "the detector's channel names (e.g. X, Y, Z or R, G, B); None without a display path")
+        .def_property_readonly("response_units",
+                               [](const Render& r) -> py::object {
+                                   if (!r.responseUnits) return py::none();
+                                   return py::cast(*r.responseUnits);
+                               }, "the units of responses, as the detector declares them")
+        .def_property_readonly(
+            "display",
+            [](py::object self) -> py::object {
+                const Render& r = self.cast<const Render&>();
+                const CapturedOutputs& c = r.captured.outputs;
+                if (c.counts.empty()) return py::none();
+                if (r.bits == 16) return view(c.counts, {c.height, c.width, 3}, self);
+                const std::vector<py::ssize_t> shape{c.height, c.width, 3};
+                py::array a(py::dtype::of<uint8_t>(), shape, cStrides<uint8_t>(shape));  // 8-bit counts: a copy
+                auto* out = static_cast<uint8_t*>(a.mutable_data());
+                for (size_t i = 0; i < c.counts.size(); ++i) out[i] = uint8_t(c.counts[i]);
+                return a;
+            },
+            "rows × columns × 3 display counts (uint8 or uint16 by bits), what the PNG holds")
+        .def_property_readonly("display_description", [](const Render& r) { return r.result.displayDescription; },
+                               "the display path: detector, adaptation, display model and bits")
+        .def_property_readonly(
+            "edges",
+            [](py::object self) -> py::object {
+                const CapturedOutputs& c = self.cast<const Render&>().captured.outputs;
+                return view(c.edges, {c.height, c.width}, self);
+            },
+            "rows × columns uint16, 255 where a pixel's 3×3 neighbourhood sees more than one surface (cpu)")
+        .def_property_readonly("clipped_pixels", [](const Render& r) { return r.result.clippedPixels; },
+                               "pixels whose display counts clipped at 0 or full scale")
+        .def_property_readonly("camera_fit_rms_delta_e2000",
+                               [](const Render& r) { return r.result.cameraFitRmsDeltaE; },
+                               "a camera detector's colour-correction fit, RMS ΔE2000 over its training set; None otherwise")
+        .def_property_readonly("backend", [](const Render& r) { return r.result.backendDescription; },
+                               "the device and the render plan (layers, passes, readback)")
+        .def_property_readonly("notes", [](const Render& r) { return r.result.notes; },
+                               "what the render told the user, one line each")
+        .def_property_readonly("validation_errors", [](const Render& r) { return r.result.validationErrors; },
+                               "Vulkan validation messages of error severity (with validation=True)")
+        .def_property_readonly("timings_ms",
+                               [](const Render& r) {
+                                   py::dict d;
+                                   for (const auto& [stage, ms] : r.result.timings.stages()) d[stage] = ms;
+                                   return d;
+                               }, "milliseconds per stage: load, upload, shading, readback, tonemap, write, total")
+        .def(
+            "save",
+            [](const Render& r, const py::object& dir) {
+                const fs::path out = pathOf(dir, "dir");
+                if (r.unpickled)
+                    failInput(Where{"", "dir"}, "this Render was unpickled: it holds the arrays and the report, not the "
+                                                "scene its files' provenance and display path come from; save() it in "
+                                                "the process that rendered it");
+                std::vector<WrittenFile> written;
+                {
+                    py::gil_scoped_release release;
+                    written = saveCapturedRender(r.captured, out);
+                }
+                std::vector<std::string> paths;
+                for (const auto& w : written) paths.push_back(w.path.string());
+                return paths;
+            },
+            py::arg("dir"), "Writes the files `metamer render --write ...` writes into dir; returns their paths")
+        .def(py::pickle(&renderState, &renderFromState))
+        .def("__repr__", [](const Render& r) {
+            const CapturedOutputs& c = r.captured.outputs;
+            return fmt::format("<metamer.Render {}×{} px, grid {}, {}>", c.width, c.height, r.captured.grid.str(),
+                               r.result.backendDescription);
+        });
+}
+
+}  // namespace metamer::python
