@@ -161,6 +161,8 @@ int SpectralPass::framePasses() const { return int(impl_->resources->frame.drawi
 
 VkImage SpectralPass::targetImage() const { return impl_->resources->color.handle(); }
 VkImageView SpectralPass::targetArrayView() { return impl_->resources->color.layerView(~0u); }
+const Frame& SpectralPass::frame() const { return impl_->resources->frame; }
+
 vk::ResourceState SpectralPass::targetState() const {
     return impl_->resources->frame.stateAtEnd(impl_->resources->targetResource);
 }

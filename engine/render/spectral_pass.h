@@ -7,6 +7,7 @@
 // render/spectral_packing_test.cpp, render/target_readback_test.cpp.
 #pragma once
 
+#include "render/frame_pass.h"
 #include "render/spectral_plan.h"
 #include "scene/scene.h"
 #include "scene/scene_on_grid.h"
@@ -73,6 +74,8 @@ public:
     VkImage targetImage() const;
     VkImageView targetArrayView();
     vk::ResourceState targetState() const;
+    // The declared frame (render/frame_pass.h): its passes, resources and derived barriers (-v, tests).
+    const Frame& frame() const;
 
 private:
     struct Impl;

@@ -323,6 +323,8 @@ TonemapPass::TonemapPass(vk::Context& ctx, SpectralPass& source, const TonemapPl
 
 TonemapPass::~TonemapPass() = default;
 
+const Frame& TonemapPass::frame() const { return impl_->frame; }
+
 DisplayImage TonemapPass::render() {
     auto t0 = std::chrono::steady_clock::now();
     impl_->ctx.submitAndWait([&](VkCommandBuffer cmd) { recordFrame(cmd, impl_->frame); });

@@ -5,6 +5,8 @@
 // the goldens.
 #pragma once
 
+#include "render/frame_pass.h"
+
 #include "color/tonemap.h"
 #include "render/spectral_pass.h"
 #include "vk/context.h"
@@ -32,6 +34,8 @@ public:
     // Runs the pass on what source.draw() drew last, waits, and reads the outputs back.
     DisplayImage render();
     double lastMs() const { return lastMs_; }
+    // The declared frame (render/frame_pass.h): tonemap, readback copy, host read (tests).
+    const Frame& frame() const;
 
 private:
     struct Impl;
