@@ -1,10 +1,9 @@
-#include "scene/scene_json.h"
+#include "scene/scene_json_test_util.h"
 
 #include "scene/scene_on_grid.h"
 #include "support/capture_warnings.h"
 
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 
 #include <unistd.h>
 
@@ -13,72 +12,11 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
-#include <functional>
 #include <set>
 
 using namespace metamer;
+using namespace metamer::test;
 namespace fs = std::filesystem;
-using Json = nlohmann::ordered_json;
-
-namespace {
-
-const fs::path kData = fs::path(METAMER_TEST_DATA_DIR) / "scene";
-
-const SpectrumLibrary& fixtureLibrary() {
-    static SpectrumLibrary lib(kData / "spectra");
-    return lib;
-}
-
-using test::CaptureWarnings;
-
-// A valid scene exercising every feature; the bad-input cases below break one thing each.
-Json baseScene() {
-    return Json::parse(R"({
-      "description": "test scene",
-      "grid": {"start_nm": 380, "end_nm": 780, "step_nm": 10},
-      "camera": {"projection": "perspective", "position": [0, 1, 6], "target": [0, 0, 0],
-                 "up": [0, 1, 0], "fov_y_deg": 35, "width": 64, "height": 48},
-      "lights": [
-        {"type": "ambient", "spectrum": "illuminants/D65", "scale": 0.02},
-        {"type": "directional", "direction": [0, -2, 0], "spectrum": "illuminants/D65", "scale": 1.0},
-        {"type": "point", "position": [2, 3, 2], "spectrum": "illuminants/A", "scale": 20.0}
-      ],
-      "materials": {
-        "skin": {"diffuse": "colorchecker/dark_skin", "specular": 0.04, "gloss": 40},
-        "white": {"diffuse": 0.8},
-        "local": {"diffuse": "local.csv"},
-        "inline": {"diffuse": {"wavelengths_nm": [400, 700], "values": [0.1, 0.7]}},
-        "gold": {"diffuse": 0, "specular": "metals/gold", "gloss": 200},
-        "brightener": {"diffuse": 0.8, "fluorescence": {"excitation": "fluorescent/brightener_ex",
-                       "emission": "fluorescent/brightener_em", "quantum_yield": 0.9}}
-      },
-      "objects": [
-        {"shape": "sphere", "center": [0, 0, 0], "radius": 1, "material": "skin", "segments": 16},
-        {"shape": "quad", "center": [0, -1, 0], "normal": [0, 2, 0], "size": [8, 4], "material": "brightener"},
-        {"mesh": "cube.gltf", "translate": [2, 0, 0], "rotate_deg": [0, 30, 0], "scale": 0.5, "material": "gold"},
-        {"shape": "sphere", "center": [3, 0, 0], "radius": 0.5, "material": "white"},
-        {"shape": "quad", "center": [0, 0, -2], "normal": [0, 0, 1], "size": [1, 1], "material": "local"},
-        {"shape": "quad", "center": [0, 0, -3], "normal": [0, 0, 1], "size": [1, 1], "up": [1, 1, 0], "material": "inline"}
-      ]
-    })");
-}
-
-// In-memory scenes are "placed" in the fixture folder so relative paths resolve there.
-Scene load(const Json& doc, const std::vector<std::string>& overrides = {}) {
-    return loadSceneFromString(doc.dump(2), kData / "test.json", fixtureLibrary(), overrides);
-}
-
-std::string errorOf(const std::function<void()>& f) {
-    try {
-        f();
-    } catch (const Error& e) {
-        EXPECT_EQ(e.code(), ExitCode::BadInput) << e.what();
-        return e.what();
-    }
-    return "(no error)";
-}
-
-}  // namespace
 
 TEST(SceneJson, FullSceneLoadsWithTheRightValues) {
     CaptureWarnings warnings;
@@ -243,18 +181,6 @@ TEST(SceneJson, LoadsFromFileAndResolvesPathsAgainstItsFolder) {
 
 // ---- Bad inputs: every error names the file and the key path ---------------------------------
 
-struct BadCase {
-    const char* name;
-    std::function<void(Json&)> edit;
-    const char* key;      // must appear in what()
-    const char* message;  // must appear in what()
-};
-
-// Print a case by its name (CTest shows the parameter; a byte dump of the struct helps nobody).
-void PrintTo(const BadCase& c, std::ostream* os) { *os << c.name; }
-
-class SceneJsonBad : public ::testing::TestWithParam<BadCase> {};
-
 TEST_P(SceneJsonBad, NamesFileKeyAndProblem) {
     const BadCase& c = GetParam();
     Json d = baseScene();
@@ -265,8 +191,6 @@ TEST_P(SceneJsonBad, NamesFileKeyAndProblem) {
     EXPECT_NE(what.find(std::string(": ") + c.key + ": "), std::string::npos) << what;
     EXPECT_NE(what.find(c.message), std::string::npos) << what;
 }
-
-Json parse(const char* s) { return Json::parse(s); }
 
 const BadCase kBadCases[] = {
     {"SlabWithoutThickness", [](Json& d) { d["materials"]["glass"] = parse(R"({"slab": {"ior": 1.5}})"); },
@@ -519,8 +443,7 @@ const BadCase kBadCases[] = {
     {"MeshWithRadius", [](Json& d) { d["objects"][2]["radius"] = 1; }, "objects.2.radius", "unknown key for a mesh object"},
 };
 
-INSTANTIATE_TEST_SUITE_P(All, SceneJsonBad, ::testing::ValuesIn(kBadCases),
-                         [](const auto& info) { return std::string(info.param.name); });
+INSTANTIATE_TEST_SUITE_P(All, SceneJsonBad, ::testing::ValuesIn(kBadCases), badCaseName);
 
 // Errors found while parsing carry the line (and what the parser was inside).
 TEST(SceneJson, TransparentMaterialsAndBoxes) {
