@@ -2,7 +2,8 @@
 // "specular" with its "gloss", their "textures" (and a normal or bump map), and "fluorescence" as an
 // excitation/emission pair or a Donaldson matrix. A paint is an opaque material whose body
 // reflectance comes from its layers (scene/material_reader_paint.cpp).
-// Tests: engine/scene/scene_json_test.cpp, engine/scene/scene_donaldson_test.cpp,
+// Tests: engine/scene/material_reader_opaque_test.cpp, engine/scene/scene_json_test.cpp
+// (FullSceneLoadsWithTheRightValues), engine/scene/scene_donaldson_test.cpp,
 // tests/bad_inputs_test.cpp (the donaldson-, texture- and range- cases), tests/textures_test.cpp.
 #include "scene/material_readers.h"
 

@@ -2,7 +2,7 @@
 // a film of "pigments" or of its own K and S, with a "thickness" and an optional "thickness_map"),
 // the "substrate" beneath them and the "surface" for Saunderson's correction. The paint is an
 // opaque material (scene/material_reader_opaque.cpp) whose body reflectance the layers give.
-// Tests: engine/scene/scene_json_test.cpp (SceneJsonBad), tests/paints_test.cpp,
+// Tests: engine/scene/material_reader_paint_test.cpp, tests/paints_test.cpp,
 // tests/bad_inputs_test.cpp (the paint- cases).
 #include "scene/material_readers.h"
 

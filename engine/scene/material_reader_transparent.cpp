@@ -1,8 +1,7 @@
 // Transparent materials (docs/scene-format.md, "Transparent materials"): a thin sheet's
 // "transmittance", an absorbing medium's "absorbance" and "dyes", and a glass "slab" with its
 // refractive index (read by scene/scene_reader.cpp, which paints' surfaces share) and thickness.
-// Tests: engine/scene/scene_json_test.cpp (TransparentMaterialsAndBoxes,
-// SlabsAndTheirRefractiveIndices, SceneJsonBad), tests/transparency_test.cpp.
+// Tests: engine/scene/material_reader_transparent_test.cpp, tests/transparency_test.cpp.
 #include "scene/material_readers.h"
 
 #include <cmath>

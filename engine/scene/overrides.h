@@ -1,6 +1,6 @@
 // `--set KEY=VALUE` overrides, applied to a scene's JSON before it is interpreted, so an override
 // is checked exactly like the file's own value.
-// Tests: engine/scene/scene_json_test.cpp (--set), tests/cli_test.cpp.
+// Tests: engine/scene/overrides_test.cpp, tests/cli_test.cpp.
 #pragma once
 
 #include "core/json.h"

@@ -3,7 +3,8 @@
 // whose reader is a file of its own (scene/material_readers.h). What the readers share, spectra and
 // the paths a scene may read among it, is scene/scene_reader.h.
 // Tests: engine/scene/scene_json_test.cpp, engine/scene/scene_output_test.cpp,
-// tests/bad_inputs_test.cpp (tests/bad-inputs/), tests/textures_test.cpp.
+// engine/scene/bundled_scenes_test.cpp, tests/bad_inputs_test.cpp (tests/bad-inputs/),
+// tests/textures_test.cpp.
 #include "scene/scene_json.h"
 
 #include "core/file_reads.h"

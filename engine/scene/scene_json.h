@@ -1,5 +1,9 @@
 // Scene files: JSON in, a validated Scene out (format: docs/scene-format.md). Every error is an
 // input error naming the file and the key path (or the line, for JSON syntax).
+// Tests: in engine/scene/, scene_json_test.cpp (the document), material_reader_opaque_test.cpp,
+// material_reader_transparent_test.cpp and material_reader_paint_test.cpp (the material models),
+// overrides_test.cpp (--set), bundled_scenes_test.cpp, scene_output_test.cpp and
+// scene_donaldson_test.cpp; tests/bad_inputs_test.cpp.
 #pragma once
 
 #include "scene/scene.h"

@@ -1,8 +1,9 @@
 // The reader context shared by scene/scene_json.cpp and the material models' readers: paths a
 // scene may read, spectra, Donaldson matrices, refractive indices and texture references.
-// Tests: engine/scene/scene_json_test.cpp (SpectrumForms, SceneJsonBad,
-// SlabsAndTheirRefractiveIndices), engine/scene/scene_donaldson_test.cpp, tests/bad_inputs_test.cpp
-// (the csv-, inline-, donaldson- and texture- cases), tests/textures_test.cpp.
+// Tests: engine/scene/scene_json_test.cpp (SpectrumForms, SceneJsonBad),
+// engine/scene/material_reader_transparent_test.cpp (SlabsAndTheirRefractiveIndices),
+// engine/scene/scene_donaldson_test.cpp, tests/bad_inputs_test.cpp (the csv-, inline-, donaldson-
+// and texture- cases), tests/textures_test.cpp.
 #include "scene/scene_reader.h"
 
 #include "core/file_reads.h"
