@@ -99,7 +99,8 @@ public:
     // What pass p waits for before it starts; p == passes().size(): what the frame does after its
     // last pass (resources left as their exit states say).
     const std::vector<PassBarrier>& waits(size_t p) const;
-    // waits(p) in words, one line per barrier: "depth: after writes (early fragment tests, …) before …"
+    // waits(p) in words, one line per barrier: "depth: after early fragment tests, late fragment tests,
+    // its writes made visible to early fragment tests, late fragment tests"
     std::string describeWaits(size_t p) const;
     // A resource's state after the whole frame (for a later frame that borrows it).
     vk::ResourceState stateAtEnd(size_t resource) const;

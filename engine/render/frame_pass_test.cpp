@@ -46,7 +46,7 @@ TEST(FramePass, ReadingWhatAnEarlierPassWroteWaitsForItsWrites) {
     EXPECT_EQ(b.barrier.oldLayout, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL);
     EXPECT_EQ(b.barrier.newLayout, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
     EXPECT_EQ(f.describeWaits(1),
-              "lobe weights: after writes (colour attachment output) before fragment shader, "
+              "lobe weights: after colour attachment output, its writes made visible to fragment shader; "
               "COLOR_ATTACHMENT_OPTIMAL → SHADER_READ_ONLY_OPTIMAL\n");
     // The frame is recorded again and again: the next frame's lobe pass writes over what this
     // frame's band pass sampled, so it waits for those reads, and discards the contents.

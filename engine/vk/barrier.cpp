@@ -169,10 +169,13 @@ std::string layoutName(VkImageLayout layout) {
 }
 
 std::string describeBarrier(const Barrier& b, bool image) {
-    std::string text = fmt::format("after {} ({}) before {}", b.srcAccess ? "writes" : "work", stageNames(b.srcStages),
-                                   stageNames(b.dstStages));
+    std::string text = b.srcStages == 0 ? fmt::format("before {} (nothing to wait for)", stageNames(b.dstStages))
+                       : b.srcAccess ? fmt::format("after {}, its writes made visible to {}", stageNames(b.srcStages),
+                                                   stageNames(b.dstStages))
+                                     : fmt::format("after {} (execution only), before {}", stageNames(b.srcStages),
+                                                   stageNames(b.dstStages));
     if (image && b.oldLayout != b.newLayout)
-        text += fmt::format(", {} → {}", layoutName(b.oldLayout), layoutName(b.newLayout));
+        text += fmt::format("; {} → {}", layoutName(b.oldLayout), layoutName(b.newLayout));
     return text;
 }
 

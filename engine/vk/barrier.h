@@ -83,7 +83,8 @@ ResourceState advance(const ResourceState& state, Use use, bool image);
 // starts after this one's fence).
 std::optional<Barrier> barrierTo(const ResourceState& state, const ResourceState& target, bool image);
 
-// "after writes (colour attachment output) before fragment shader, COLOR_ATTACHMENT_OPTIMAL → SHADER_READ_ONLY_OPTIMAL"
+// "after colour attachment output, its writes made visible to fragment shader; COLOR_ATTACHMENT_OPTIMAL →
+// SHADER_READ_ONLY_OPTIMAL"
 std::string describeBarrier(const Barrier& b, bool image);
 std::string layoutName(VkImageLayout layout);
 

@@ -58,7 +58,7 @@ TEST(Barrier, BarrierToATargetOnlyWhenItIsNotAlreadyServed) {
     EXPECT_EQ(b->srcAccess, VkAccessFlags(VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT));
     EXPECT_EQ(b->dstAccess, VkAccessFlags(VK_ACCESS_SHADER_READ_BIT));
     EXPECT_EQ(describeBarrier(*b, true),
-              "after writes (colour attachment output) before fragment shader, COLOR_ATTACHMENT_OPTIMAL → "
+              "after colour attachment output, its writes made visible to fragment shader; COLOR_ATTACHMENT_OPTIMAL → "
               "SHADER_READ_ONLY_OPTIMAL");
     EXPECT_TRUE(accessFits(Access::TransferSrc, false));
     EXPECT_FALSE(accessFits(Access::Sampled, false));
