@@ -38,10 +38,10 @@ Swapchain::Swapchain(vk::Context& ctx, VkExtent2D size, bool immediate) : ctx_(c
                 break;
             }
 
-    // The UI pass draws over the images the frame has already copied in (load, not clear).
+    // The UI pass draws over the images the frame has already copied in (load, not clear); the
+    // present frame's derived barriers (preview/presenter.cpp) bring the image in and out.
     vk::RenderPassDesc desc;
-    desc.colors.push_back({format_, VK_ATTACHMENT_LOAD_OP_LOAD, VK_ATTACHMENT_STORE_OP_STORE,
-                           VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL});
+    desc.colors.push_back(vk::attachmentFor(format_, vk::Access::ColorAttachment, VK_ATTACHMENT_LOAD_OP_LOAD));
     renderPass_ = vk::createRenderPass(ctx.device(), desc);
     try {
         create(size, VK_NULL_HANDLE);

@@ -49,6 +49,11 @@ size_t Frame::add(FrameResource resource) {
     return resources_.size() - 1;
 }
 
+void Frame::add(FramePass pass) {
+    passes_.push_back(std::move(pass));
+    waits_.clear();  // derive() again
+}
+
 void Frame::clear() {
     resources_.clear();
     passes_.clear();

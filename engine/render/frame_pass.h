@@ -89,7 +89,7 @@ class Frame {
 public:
     // Adds a resource; its index, for ResourceUse::resource.
     size_t add(FrameResource resource);
-    void add(FramePass pass) { passes_.push_back(std::move(pass)); }
+    void add(FramePass pass);
 
     // Derives every pass's barriers from the declared uses (after the last add). A use of a
     // resource the frame does not hold, a layer range outside it, or a frame-owned resource whose

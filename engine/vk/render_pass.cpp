@@ -40,22 +40,10 @@ RenderPassInfo::RenderPassInfo(const RenderPassDesc& desc) {
         attachments.push_back(description(*desc.depth));
         subpass.pDepthStencilAttachment = &depthRef;
     }
-    for (const PassDependency& p : desc.dependencies) {
-        VkSubpassDependency d{};
-        d.srcSubpass = p.before ? VK_SUBPASS_EXTERNAL : 0;
-        d.dstSubpass = p.before ? 0 : VK_SUBPASS_EXTERNAL;
-        d.srcStageMask = p.srcStages;
-        d.dstStageMask = p.dstStages;
-        d.srcAccessMask = p.srcAccess;
-        d.dstAccessMask = p.dstAccess;
-        dependencies.push_back(d);
-    }
     info.attachmentCount = uint32_t(attachments.size());
     info.pAttachments = attachments.data();
     info.subpassCount = 1;
     info.pSubpasses = &subpass;
-    info.dependencyCount = uint32_t(dependencies.size());
-    info.pDependencies = dependencies.empty() ? nullptr : dependencies.data();
 }
 
 VkRenderPass createRenderPass(VkDevice device, const RenderPassDesc& desc) {

@@ -1,8 +1,9 @@
 // Render passes described as data. Every pass Metamer draws — the spectral depth pre-pass and band
 // passes, the lobe pass, the shadow maps, the tonemap pass, the preview's UI pass — is a
-// RenderPassDesc: its attachments (colour ones first, then depth), how each is loaded, stored and
-// left, and (outside a declared frame) its dependencies on what comes before and after it. This is the one place that turns
-// one into a VkRenderPassCreateInfo; no file outside vk/ fills one.
+// RenderPassDesc: its attachments (colour ones first, then depth), and how each is loaded, stored
+// and left. None carries a subpass dependency: every pass is one of a declared frame
+// (render/frame_pass.h), whose derived barriers order it with what comes before and after. This
+// is the one place that turns one into a VkRenderPassCreateInfo; no file outside vk/ fills one.
 // Tests: engine/vk/render_pass_test.cpp, and every GPU test (validation layers on).
 #pragma once
 
@@ -31,18 +32,9 @@ struct AttachmentDesc {
 AttachmentDesc attachmentFor(VkFormat format, Access access, VkAttachmentLoadOp load,
                              VkAttachmentStoreOp store = VK_ATTACHMENT_STORE_OP_STORE);
 
-// A dependency between the pass's one subpass and what runs before it (before = true: source
-// VK_SUBPASS_EXTERNAL) or after it: for render passes outside a declared frame (the preview's).
-struct PassDependency {
-    bool before = true;
-    VkPipelineStageFlags srcStages = 0, dstStages = 0;
-    VkAccessFlags srcAccess = 0, dstAccess = 0;
-};
-
 struct RenderPassDesc {
     std::vector<AttachmentDesc> colors;   // used as COLOR_ATTACHMENT_OPTIMAL, at indices 0..n−1
     std::optional<AttachmentDesc> depth;  // used as DEPTH_STENCIL_ATTACHMENT_OPTIMAL, after the colours
-    std::vector<PassDependency> dependencies;
 };
 
 // The create-info's parts, kept alive together (pointers into this object).
@@ -51,7 +43,6 @@ struct RenderPassInfo {
     std::vector<VkAttachmentReference> colorRefs;
     VkAttachmentReference depthRef{};
     VkSubpassDescription subpass{};
-    std::vector<VkSubpassDependency> dependencies;
     VkRenderPassCreateInfo info{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO};
     explicit RenderPassInfo(const RenderPassDesc& desc);
     RenderPassInfo(const RenderPassInfo&) = delete;
