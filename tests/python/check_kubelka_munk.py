@@ -19,7 +19,9 @@ import math
 import sys
 
 import numpy as np
-from scipy.integrate import quad, solve_bvp
+from scipy.integrate import solve_bvp
+
+from fresnel_oracle import diffuse_reflectance
 
 prefix = sys.argv[1]
 failures = []
@@ -101,34 +103,19 @@ if max(worst.values()) > 1e-9:
     failures.append("the engine's layers differ from the closed forms beyond 1e-9")
 
 
-# 4. Diffuse Fresnel reflectance: unpolarized Fresnel integrated over a Lambertian hemisphere.
-def fresnel(n1, n2, cos_i):
-    sin_t = n1 / n2 * math.sqrt(max(0.0, 1 - cos_i * cos_i))
-    if sin_t >= 1:
-        return 1.0
-    cos_t = math.sqrt(1 - sin_t * sin_t)
-    rs = (n1 * cos_i - n2 * cos_t) / (n1 * cos_i + n2 * cos_t)
-    rp = (n1 * cos_t - n2 * cos_i) / (n1 * cos_t + n2 * cos_i)
-    return 0.5 * (rs * rs + rp * rp)
-
-
-def diffuse(n1, n2):
-    f = lambda theta: fresnel(n1, n2, math.cos(theta)) * 2 * math.sin(theta) * math.cos(theta)
-    points = [math.asin(n2 / n1)] if n1 > n2 else None
-    return quad(f, 0, math.pi / 2, points=points, epsabs=1e-14, epsrel=1e-13, limit=200)[0]
-
-
+# 4. Diffuse Fresnel reflectance: unpolarized Fresnel integrated over a Lambertian hemisphere
+# (tests/python/fresnel_oracle.py).
 worst_i = worst_e = 0.0
 for r in csv.DictReader(open(prefix + "_interfaces.csv")):
     n = float(r["n"])
-    ri = diffuse(n, 1.0) if n > 1 else 0.0
-    re = diffuse(1.0, n)
+    ri = diffuse_reflectance(n, 1.0) if n > 1 else 0.0
+    re = diffuse_reflectance(1.0, n)
     worst_i = max(worst_i, abs(ri - float(r["internal"])))
     worst_e = max(worst_e, abs(re - float(r["external"])))
     if abs(float(r["k1"]) - ((n - 1) / (n + 1)) ** 2) > 1e-15:
         failures.append(f"k1 at n = {n}")
 print(f"diffuse Fresnel reflectance, n 1-3, against scipy.integrate.quad: internal (k2) |d| {worst_i:.1e}, "
-      f"external |d| {worst_e:.1e}; at n = 1.5: internal {diffuse(1.5, 1.0):.5f}, external {diffuse(1.0, 1.5):.5f}")
+      f"external |d| {worst_e:.1e}; at n = 1.5: internal {diffuse_reflectance(1.5, 1.0):.5f}, external {diffuse_reflectance(1.0, 1.5):.5f}")
 if worst_i > 1e-10 or worst_e > 1e-10:
     failures.append("the diffuse Fresnel reflectances differ beyond 1e-10")
 
