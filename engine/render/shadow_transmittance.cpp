@@ -102,8 +102,7 @@ void SpectralResources::drawShadowTransmittance() {
     const size_t maps = lightPasses.add(FrameResource::madeFor("shadow transmittance", shadowTransmittance.handle(),
                                                                shadowTransmittance.desc().layers, {vk::Access::Sampled}));
     const SceneReads scene = declareSceneReads(lightPasses, false);
-    std::vector<ResourceUse> transmission = scene.geometry;
-    transmission.insert(transmission.end(), scene.shading.begin(), scene.shading.end());
+    std::vector<ResourceUse> transmission = scene.all();
     transmission.push_back({distance, vk::Access::Sampled});
     std::vector<std::unique_ptr<CameraMatrices>> eyes;
     std::vector<std::unique_ptr<SpectralFrameState>> states;

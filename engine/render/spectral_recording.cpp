@@ -159,7 +159,7 @@ void SpectralResources::declareFrame() {
         uses.insert(uses.end(), more.begin(), more.end());
         return uses;
     };
-    std::vector<ResourceUse> shading = with(scene.geometry, scene.shading);
+    const std::vector<ResourceUse> shading = scene.all();
 
     // Zero every layer (background radiance is 0) before the colour passes load it: a transfer, not
     // a render pass's clear — lavapipe (Mesa 22.3) leaks about a target's size of memory per

@@ -188,6 +188,11 @@ private:
     // `transmittanceMaps` — the coloured shadows' maps.
     struct SceneReads {
         std::vector<ResourceUse> geometry, shading;
+        std::vector<ResourceUse> all() const {  // what a shading pass reads: both
+            std::vector<ResourceUse> uses = geometry;
+            uses.insert(uses.end(), shading.begin(), shading.end());
+            return uses;
+        }
     };
     SceneReads declareSceneReads(Frame& f, bool transmittanceMaps) const;
     // The draws the frame's passes record.
