@@ -1,0 +1,115 @@
+#include "radiosity/form_factor.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <vector>
+
+namespace metamer::radiosity {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// The part of the polygon on or above the plane through x with normal n (Sutherland–Hodgman): what
+// a point on a surface can see of it. At most one more vertex than it had.
+std::vector<glm::dvec3> clipToHemisphere(const glm::dvec3& x, const glm::dvec3& n, std::span<const glm::dvec3> polygon) {
+    std::vector<glm::dvec3> out;
+    const size_t m = polygon.size();
+    out.reserve(m + 1);
+    for (size_t k = 0; k < m; ++k) {
+        const glm::dvec3& p = polygon[k];
+        const glm::dvec3& q = polygon[(k + 1) % m];
+        const double hp = glm::dot(n, p - x), hq = glm::dot(n, q - x);
+        if (hp >= 0.0) out.push_back(p);
+        if ((hp >= 0.0) != (hq >= 0.0)) out.push_back(p + (q - p) * (hp / (hp - hq)));
+    }
+    return out;
+}
+
+// Degree-5, 7-point rule on a triangle (Strang & Fix; Dunavant's n = 5): barycentric points and
+// weights summing to 1.
+struct QuadraturePoint {
+    double a, b, c, w;
+};
+constexpr double kA1 = 0.059715871789769820, kB1 = 0.470142064105115090, kW1 = 0.132394152788506181;
+constexpr double kA2 = 0.797426985353087322, kB2 = 0.101286507323456339, kW2 = 0.125939180544827153;
+constexpr std::array<QuadraturePoint, 7> kRule = {{{1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0, 0.225},
+                                                   {kA1, kB1, kB1, kW1},
+                                                   {kB1, kA1, kB1, kW1},
+                                                   {kB1, kB1, kA1, kW1},
+                                                   {kA2, kB2, kB2, kW2},
+                                                   {kB2, kA2, kB2, kW2},
+                                                   {kB2, kB2, kA2, kW2}}};
+
+struct Triangle {
+    glm::dvec3 a, b, c;
+};
+
+double ruleAverage(const Triangle& t, const glm::dvec3& n, std::span<const glm::dvec3> polygon) {
+    double sum = 0.0;
+    for (const QuadraturePoint& q : kRule) sum += q.w * pointToPolygon(q.a * t.a + q.b * t.b + q.c * t.c, n, polygon);
+    return sum;
+}
+
+// The average of the point factor over t, given the rule's estimate `coarse` on t: the four
+// halves' estimates are compared with it and each half refined until they agree to `tolerance`.
+double adaptiveAverage(const Triangle& t, const glm::dvec3& n, std::span<const glm::dvec3> polygon, double coarse,
+                       double tolerance, int depth) {
+    const glm::dvec3 ab = 0.5 * (t.a + t.b), bc = 0.5 * (t.b + t.c), ca = 0.5 * (t.c + t.a);
+    const std::array<Triangle, 4> halves = {{{t.a, ab, ca}, {ab, t.b, bc}, {ca, bc, t.c}, {bc, ca, ab}}};
+    std::array<double, 4> estimates;
+    double fine = 0.0;
+    for (int i = 0; i < 4; ++i) fine += 0.25 * (estimates[i] = ruleAverage(halves[i], n, polygon));
+    if (std::fabs(fine - coarse) <= tolerance || depth >= 16) return fine;
+    double refined = 0.0;
+    for (int i = 0; i < 4; ++i) refined += 0.25 * adaptiveAverage(halves[i], n, polygon, estimates[i], tolerance, depth + 1);
+    return refined;
+}
+
+}  // namespace
+
+glm::dvec3 polygonNormal(std::span<const glm::dvec3> polygon) {
+    glm::dvec3 sum(0.0);
+    for (size_t k = 0; k < polygon.size(); ++k) sum += glm::cross(polygon[k], polygon[(k + 1) % polygon.size()]);
+    const double length = glm::length(sum);
+    return length > 0.0 ? sum / length : glm::dvec3(0.0);
+}
+
+double polygonArea(std::span<const glm::dvec3> polygon) {
+    glm::dvec3 sum(0.0);
+    for (size_t k = 0; k < polygon.size(); ++k) sum += glm::cross(polygon[k], polygon[(k + 1) % polygon.size()]);
+    return 0.5 * glm::length(sum);
+}
+
+double pointToPolygon(const glm::dvec3& x, const glm::dvec3& n, std::span<const glm::dvec3> polygon) {
+    if (polygon.size() < 3) return 0.0;
+    // Seen from behind, or edge-on: nothing of its front side reaches x.
+    const glm::dvec3 front = polygonNormal(polygon);
+    if (!(glm::dot(front, x - polygon[0]) > 0.0)) return 0.0;
+    const std::vector<glm::dvec3> visible = clipToHemisphere(x, n, polygon);
+    if (visible.size() < 3) return 0.0;
+    // Lambert: each edge subtends the angle γ between its end points seen from x, in the plane
+    // whose normal ĝ is the normalized cross product; the polygon faces x, so seen from x it winds
+    // clockwise and the sum comes out negative.
+    double sum = 0.0;
+    for (size_t k = 0; k < visible.size(); ++k) {
+        const glm::dvec3 r0 = visible[k] - x, r1 = visible[(k + 1) % visible.size()] - x;
+        const glm::dvec3 c = glm::cross(r0, r1);
+        const double s = glm::length(c);
+        if (!(s > 0.0)) continue;  // an edge through x or of no length subtends nothing
+        sum += std::atan2(s, glm::dot(r0, r1)) * glm::dot(n, c) / s;
+    }
+    return std::clamp(-sum / (2.0 * kPi), 0.0, 1.0);
+}
+
+double triangleToPolygon(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c,
+                         std::span<const glm::dvec3> polygon, double tolerance) {
+    const std::array<glm::dvec3, 3> receiver{a, b, c};
+    const glm::dvec3 n = polygonNormal(receiver);
+    if (glm::dot(n, n) == 0.0) return 0.0;
+    const Triangle t{a, b, c};
+    return adaptiveAverage(t, n, polygon, ruleAverage(t, n, polygon), tolerance, 0);
+}
+
+}  // namespace metamer::radiosity

@@ -1,0 +1,36 @@
+// Form factors between diffuse surfaces, the geometric coupling of radiosity: how much of the
+// light leaving one surface uniformly (Lambertian) arrives at another, independent of wavelength.
+//   pointToPolygon: from a differential area at x (unit normal n) to a planar polygon, in closed
+//     form (Lambert's contour integral: F = (1/2π) Σ_k γ_k n·ĝ_k over the polygon's edges, the
+//     polygon clipped to x's hemisphere first) — exact for an unoccluded polygon;
+//   triangleToPolygon: from a triangle, the point factor averaged over it by adaptive quadrature
+//     (a degree-5 rule compared with the same rule on the triangle's four halves, subdivided where
+//     they differ), which converges at shared edges where the integrand's slope is unbounded.
+// A polygon is seen from its front only: its vertices counter-clockwise seen from the side its
+// normal points to (the winding of scene/scene.h's meshes); from behind, or from its own plane, the
+// factor is 0. Everything in double. Visibility is not here: these are the unoccluded factors
+// (radiosity/element_coupling.h adds occlusion).
+// Tests: engine/radiosity/form_factor_test.cpp (Howell's catalogue: parallel and perpendicular
+// squares, coaxial disks; reciprocity; a closed cube's rows sum to 1).
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include <span>
+
+namespace metamer::radiosity {
+
+// F from the differential area at x (unit normal n) to the polygon's front side, in [0, 1].
+double pointToPolygon(const glm::dvec3& x, const glm::dvec3& n, std::span<const glm::dvec3> polygon);
+
+// F from the triangle (a, b, c: its front side, counter-clockwise) to the polygon, to within
+// `tolerance` (absolute; the adaptive quadrature stops refining a piece whose two estimates agree
+// to its area's share of it). 0 when either faces away from the other.
+double triangleToPolygon(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c,
+                         std::span<const glm::dvec3> polygon, double tolerance = 1e-10);
+
+// The polygon's unit normal (Newell's method, robust for any planar polygon) and area.
+glm::dvec3 polygonNormal(std::span<const glm::dvec3> polygon);
+double polygonArea(std::span<const glm::dvec3> polygon);
+
+}  // namespace metamer::radiosity
