@@ -1,0 +1,117 @@
+#include "radiosity/element_coupling.h"
+
+#include "core/cpu_count.h"
+#include "core/timing.h"
+#include "radiosity/form_factor.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <thread>
+
+namespace metamer::radiosity {
+
+namespace {
+
+// The 7-point degree-5 rule of form_factor.cpp, as barycentric points and weights.
+constexpr double kA1 = 0.059715871789769820, kB1 = 0.470142064105115090, kW1 = 0.132394152788506181;
+constexpr double kA2 = 0.797426985353087322, kB2 = 0.101286507323456339, kW2 = 0.125939180544827153;
+constexpr std::array<std::array<double, 4>, 7> kRule = {{{1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0, 0.225},
+                                                         {kA1, kB1, kB1, kW1},
+                                                         {kB1, kA1, kB1, kW1},
+                                                         {kB1, kB1, kA1, kW1},
+                                                         {kA2, kB2, kB2, kW2},
+                                                         {kB2, kA2, kB2, kW2},
+                                                         {kB2, kB2, kA2, kW2}}};
+
+// Whether some corner of `a` lies in front of the plane of `b` (normal nb): else nothing a sends
+// or receives crosses to b's front.
+bool anyCornerInFront(const std::array<glm::dvec3, 3>& a, const std::array<glm::dvec3, 3>& b, const glm::dvec3& nb,
+                      double slack) {
+    for (const glm::dvec3& c : a)
+        if (glm::dot(nb, c - b[0]) > slack) return true;
+    return false;
+}
+
+double longestEdge(const std::array<glm::dvec3, 3>& t) {
+    return std::max({glm::length(t[1] - t[0]), glm::length(t[2] - t[1]), glm::length(t[0] - t[2])});
+}
+
+}  // namespace
+
+Coupling formFactorMatrix(std::span<const std::array<glm::dvec3, 3>> elements, const Bvh* occluders,
+                          std::span<const uint32_t> elementSource, const CouplingOptions& options) {
+    const auto t0 = Clock::now();
+    const size_t n = elements.size();
+    Coupling out;
+    out.formFactors = Eigen::MatrixXd::Zero(Eigen::Index(n), Eigen::Index(n));
+    std::vector<glm::dvec3> normal(n), centroid(n);
+    std::vector<double> size(n);
+    for (size_t i = 0; i < n; ++i) {
+        normal[i] = polygonNormal(elements[i]);
+        centroid[i] = (elements[i][0] + elements[i][1] + elements[i][2]) / 3.0;
+        size[i] = longestEdge(elements[i]);
+    }
+    std::atomic<size_t> nextRow{0}, nearPairs{0}, rays{0}, blocked{0};
+    auto work = [&] {
+        size_t myNear = 0, myRays = 0, myBlocked = 0;
+        std::array<glm::dvec3, 7> points;
+        for (size_t i; (i = nextRow.fetch_add(1)) < n;) {
+            const auto& e = elements[i];
+            for (size_t q = 0; q < kRule.size(); ++q)
+                points[q] = kRule[q][0] * e[0] + kRule[q][1] * e[1] + kRule[q][2] * e[2];
+            for (size_t j = 0; j < n; ++j) {
+                if (j == i) continue;
+                // One wholly behind the other's plane, or both in one plane: no exchange.
+                if (!anyCornerInFront(e, elements[j], normal[j], 1e-12 * size[j]) ||
+                    !anyCornerInFront(elements[j], e, normal[i], 1e-12 * size[i]))
+                    continue;
+                const double distance = glm::length(centroid[j] - centroid[i]);
+                const bool near = distance < options.nearRatio * std::max(size[i], size[j]);
+                // Whether each rule point sees the emitter's centroid.
+                std::array<double, 7> seen;
+                seen.fill(1.0);
+                int visible = 7;
+                if (occluders) {
+                    for (size_t q = 0; q < kRule.size(); ++q) {
+                        const glm::dvec3 d = centroid[j] - points[q];
+                        const double length = glm::length(d);
+                        if (!(length > 0.0)) continue;
+                        ++myRays;
+                        const Ray ray{points[q], d / length};
+                        if (occluders->occluded(ray, 1e-9 * length, length * (1.0 - 1e-9), elementSource[i])) {
+                            seen[q] = 0.0;
+                            --visible;
+                            ++myBlocked;
+                        }
+                    }
+                }
+                if (visible == 0) continue;
+                double f = 0.0;
+                if (near) {
+                    ++myNear;
+                    f = triangleToPolygon(e[0], e[1], e[2], elements[j], options.tolerance) * visible / 7.0;
+                } else {
+                    for (size_t q = 0; q < kRule.size(); ++q)
+                        if (seen[q] > 0.0) f += kRule[q][3] * pointToPolygon(points[q], normal[i], elements[j]);
+                }
+                out.formFactors(Eigen::Index(i), Eigen::Index(j)) = f;
+            }
+        }
+        nearPairs += myNear;
+        rays += myRays;
+        blocked += myBlocked;
+    };
+    std::vector<std::thread> pool;
+    const int threads = std::max(1, std::min<int>(usableCpuCount(), int(n / 16) + 1));
+    for (int t = 1; t < threads; ++t) pool.emplace_back(work);
+    work();
+    for (std::thread& t : pool) t.join();
+    out.nearPairs = nearPairs;
+    out.rays = rays;
+    out.blockedRays = blocked;
+    out.seconds = msSince(t0) / 1000.0;
+    return out;
+}
+
+}  // namespace metamer::radiosity

@@ -1,0 +1,39 @@
+// The form-factor matrix of a set of elements with occlusion: F_ij, the irradiance element i
+// receives from element j's unit radiosity (H_i = Σ_j F_ij B_j), for every pair.
+// Each receiver's factor is averaged over a degree-5 rule of 7 points on it, each point's factor to
+// the emitter in closed form (radiosity/form_factor.h) times whether the point sees the emitter's
+// centroid past the occluders (a ray through the scene's BVH). Pairs nearer than `nearRatio` times
+// the larger element's size — neighbours sharing an edge, a box's side and the floor it stands on —
+// are averaged by adaptive quadrature instead, to `tolerance`, where the point factor's slope is
+// unbounded. Pairs that cannot see each other (coplanar, behind one another) cost one test.
+// Computed once per scene, on every core; the same for every band and every spectrum of a sweep.
+// Tests: engine/radiosity/element_coupling_test.cpp (a closed box's rows, reciprocity, occlusion by
+// a plate against its closed form).
+#pragma once
+
+#include "reference/bvh.h"
+
+#include <Eigen/Dense>
+
+#include <array>
+#include <span>
+
+namespace metamer::radiosity {
+
+struct CouplingOptions {
+    double tolerance = 1e-7;  // the adaptive quadrature's, for near pairs (absolute, on F)
+    double nearRatio = 2.0;   // a pair is near when its centroids are closer than this × the larger element's longest edge
+};
+
+struct Coupling {
+    Eigen::MatrixXd formFactors;  // [receiver][emitter]
+    size_t nearPairs = 0, rays = 0, blockedRays = 0;
+    double seconds = 0.0;
+};
+
+// `occluders`: the scene's BVH (null: nothing occludes), whose triangles `elementSource` names
+// for each element (its index in occluders->triangles(), which its own rays do not test against).
+Coupling formFactorMatrix(std::span<const std::array<glm::dvec3, 3>> elements, const Bvh* occluders,
+                          std::span<const uint32_t> elementSource, const CouplingOptions& options = {});
+
+}  // namespace metamer::radiosity
