@@ -42,7 +42,7 @@ public:
     // Bisects until triangle t is split (its slot then holds its first half).
     void split(uint32_t t) {
         const std::array<uint32_t, 3> before = m_.triangles[t];
-        while (m_.triangles[t] == before) {
+        while (m_.triangles[t] == before && !m_.truncated) {
             // Follow the longest edges from t until an edge that is the longest of every triangle
             // around it (or a boundary edge): splitting it keeps the triangles' shapes. The path
             // is finite (edges grow along it); the bound only guards against a broken mesh.
@@ -109,10 +109,10 @@ private:
     // Splits edge (a, b) at its midpoint in every triangle around it, each into two with its winding.
     void bisect(uint32_t a, uint32_t b) {
         const std::vector<uint32_t> triangles = around(a, b);
-        if (m_.triangles.size() + triangles.size() > maxTriangles_)
-            failRuntime("radiosity: refining the scene's surfaces needs more than {} elements (asked for at most {}); "
-                        "give a longer element size",
-                        m_.triangles.size(), maxTriangles_);
+        if (m_.triangles.size() + triangles.size() > maxTriangles_) {
+            m_.truncated = true;
+            return;
+        }
         const uint32_t mid = uint32_t(m_.vertices.size());
         m_.vertices.push_back(0.5 * (m_.vertices[a] + m_.vertices[b]));
         m_.parents.push_back({a, b});
@@ -165,8 +165,8 @@ ElementMesh refineMesh(std::span<const glm::dvec3> positions, std::span<const ui
     const double limit2 = maxEdge * maxEdge;
     // Bisection only shortens edges and keeps a triangle's slot for its first half: sweep the
     // triangles (new ones are appended) until every one is short enough.
-    for (size_t t = 0; t < mesh.triangles.size(); ++t)
-        while (true) {
+    for (size_t t = 0; t < mesh.triangles.size() && !mesh.truncated; ++t)
+        while (!mesh.truncated) {
             const auto [a, b] = refiner.longestEdge(uint32_t(t));
             if (refiner.length2(a, b) <= limit2) break;
             refiner.split(uint32_t(t));
@@ -179,7 +179,7 @@ size_t refineEdges(ElementMesh& mesh, std::span<const std::pair<uint32_t, uint32
     for (const auto& [a, b] : edges) {
         // Every triangle still having the edge is split (at its own longest edge first, which
         // splits the edge itself or shortens the triangle towards it).
-        while (!refiner.around(a, b).empty()) refiner.split(refiner.around(a, b).front());
+        while (!refiner.around(a, b).empty() && !mesh.truncated) refiner.split(refiner.around(a, b).front());
     }
     return refiner.added();
 }

@@ -28,6 +28,7 @@ struct ElementMesh {
     std::vector<std::array<uint32_t, 3>> triangles;     // counter-clockwise seen from the front, as the input's
     std::vector<uint32_t> inputTriangle;                 // [triangle]: the input triangle it is part of
     size_t inputVertices = 0;                            // vertices [0, inputVertices) are the input's
+    bool truncated = false;  // refinement stopped at the triangle limit: some edges are longer than asked
 
     double area(size_t t) const;
     glm::dvec3 normal(size_t t) const;  // unit, from the winding
@@ -36,13 +37,14 @@ struct ElementMesh {
 };
 
 // The mesh (positions, 3 indices per triangle, counter-clockwise from the front) bisected until no
-// edge is longer than maxEdge (metres). Refuses — a runtime error naming the counts — to make more
-// than maxTriangles (the caller has said what fits).
+// edge is longer than maxEdge (metres), or until a bisection would make more than maxTriangles
+// (then `truncated`: the caller says what fits, and refuses).
 ElementMesh refineMesh(std::span<const glm::dvec3> positions, std::span<const uint32_t> indices, double maxEdge,
                        size_t maxTriangles);
 
 // Bisects, conformingly, every triangle that has one of `edges` (pairs of vertex indices, either
-// order), and what the propagation needs; returns how many triangles were added.
+// order), and what the propagation needs, within maxTriangles (else `truncated`); returns how many
+// triangles were added.
 size_t refineEdges(ElementMesh& mesh, std::span<const std::pair<uint32_t, uint32_t>> edges, size_t maxTriangles);
 
 // A per-vertex attribute of the input, on every element vertex (midpoints: the mean of the two).

@@ -52,17 +52,6 @@ void checkOnGrid(const Scene& scene, const SceneOnGrid& g) {
 
 // Bilinear filtering of a texture at texture coordinates uv (docs/physics.md, "Textures"): texel
 // centres at (i + ½)/W, coordinates repeating; `out` gets the texture's channels.
-void bilinear(const TextureOnGrid& t, const glm::dvec2& uv, double* out) {
-    const double px = (uv.x - std::floor(uv.x)) * t.width - 0.5, py = (uv.y - std::floor(uv.y)) * t.height - 0.5;
-    const double x0 = std::floor(px), y0 = std::floor(py), fx = px - x0, fy = py - y0;
-    auto wrap = [](long i, int n) { return int(((i % n) + n) % n); };
-    const int xa = wrap(long(x0), t.width), xb = wrap(long(x0) + 1, t.width);
-    const int ya = wrap(long(y0), t.height), yb = wrap(long(y0) + 1, t.height);
-    const float *t00 = t.texel(xa, ya), *t10 = t.texel(xb, ya), *t01 = t.texel(xa, yb), *t11 = t.texel(xb, yb);
-    for (int c = 0; c < t.channels; ++c)
-        out[c] = (1 - fy) * ((1 - fx) * t00[c] + fx * t10[c]) + fy * ((1 - fx) * t01[c] + fx * t11[c]);
-}
-
 // The triangles of the opaque meshes, or of the transparent ones.
 std::vector<BvhTriangle> trianglesOf(const Scene& scene, const LocalFrame& frame, bool transparent) {
     return Bvh::collectTriangles(scene, frame, [&](const Mesh& mesh) {
@@ -404,7 +393,7 @@ void ReferenceRenderer::shade(const RayHit& hit, const Ray& ray, double* radianc
         const glm::dvec4 t4 = b0 * mesh.tangents[corner[0]] + b1 * mesh.tangents[corner[1]] + b2 * mesh.tangents[corner[2]];
         glm::dvec3 t = glm::dvec3(t4) - n * glm::dot(n, glm::dvec3(t4));
         double m[3];
-        bilinear(onGrid_.textures[size_t(mat.normalTexture)], uv, m);
+        onGrid_.textures[size_t(mat.normalTexture)].bilinear(uv, m);
         glm::dvec3 mv(m[0], m[1], m[2]);
         if (glm::dot(t, t) > 1e-12 && glm::dot(mv, mv) > 1e-12) {
             t = glm::normalize(t);
@@ -422,11 +411,11 @@ void ReferenceRenderer::shade(const RayHit& hit, const Ray& ray, double* radianc
     const bool diffuseTextured = mat.diffuseTexture >= 0, specularTextured = mat.specularTexture >= 0;
     if (diffuseTextured) {
         diffuseTex.resize(bands_);
-        bilinear(onGrid_.textures[size_t(mat.diffuseTexture)], uv, diffuseTex.data());
+        onGrid_.textures[size_t(mat.diffuseTexture)].bilinear(uv, diffuseTex.data());
     }
     if (specularTextured) {
         specularTex.resize(bands_);
-        bilinear(onGrid_.textures[size_t(mat.specularTexture)], uv, specularTex.data());
+        onGrid_.textures[size_t(mat.specularTexture)].bilinear(uv, specularTex.data());
     }
 
     const double gloss = onGrid_.materials[material].gloss;

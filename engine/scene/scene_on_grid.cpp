@@ -454,4 +454,15 @@ SceneOnGrid resampleScene(const Scene& scene, const Grid& grid, CoveragePolicy p
     return out;
 }
 
+void TextureOnGrid::bilinear(const glm::dvec2& uv, double* out) const {
+    const double px = (uv.x - std::floor(uv.x)) * width - 0.5, py = (uv.y - std::floor(uv.y)) * height - 0.5;
+    const double x0 = std::floor(px), y0 = std::floor(py), fx = px - x0, fy = py - y0;
+    auto wrap = [](long i, int n) { return int(((i % n) + n) % n); };
+    const int xa = wrap(long(x0), width), xb = wrap(long(x0) + 1, width);
+    const int ya = wrap(long(y0), height), yb = wrap(long(y0) + 1, height);
+    const float *t00 = texel(xa, ya), *t10 = texel(xb, ya), *t01 = texel(xa, yb), *t11 = texel(xb, yb);
+    for (int c = 0; c < channels; ++c)
+        out[c] = (1 - fy) * ((1 - fx) * t00[c] + fx * t10[c]) + fy * ((1 - fx) * t01[c] + fx * t11[c]);
+}
+
 }  // namespace metamer

@@ -25,6 +25,9 @@ struct TextureOnGrid {
     bool normals = false;
     std::vector<float> data;
     const float* texel(int x, int y) const { return &data[(size_t(y) * width + x) * channels]; }
+    // Every channel at texture coordinates uv, bilinearly between the four nearest texels' centres,
+    // repeating outside [0, 1] (the GPU's sampler in double): into out[channels].
+    void bilinear(const glm::dvec2& uv, double* out) const;
 };
 
 

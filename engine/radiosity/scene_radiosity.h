@@ -1,0 +1,55 @@
+// Diffuse interreflection of a scene, computed once on its grid (docs/physics.md,
+// "Interreflection"): its opaque meshes cut into elements (radiosity/element_mesh.h), their form
+// factors with occlusion (element_coupling.h), what the direct light makes each element send —
+// every light kind, shadows included, and the fluorescence it excites (the E of solver.h) — the
+// radiosity solved in every band with the surfaces' re-emission (solver.h), and the indirect
+// irradiance H at every element vertex (vertex_gather.h), which the renderer interpolates across
+// each element and multiplies by the surface's own reflectance at the pixel (textures included).
+//
+// Each side of an open mesh is its own surface (two-sided shading: a quad lit from behind shows
+// its back); a closed mesh has its outside only. What is not interreflected: the specular lobe
+// (a glossy surface reflects the indirect light diffusely only, by its ρd), and light through
+// transparent objects (a scene with both is refused when it is read).
+// Tests: engine/radiosity/scene_radiosity_test.cpp (a closed room of uniform reflectance under
+// ambient light: the indirect irradiance is ρE/(1 − ρ) everywhere; two facing walls).
+#pragma once
+
+#include "radiosity/element_mesh.h"
+#include "radiosity/element_coupling.h"
+#include "radiosity/solver.h"
+#include "scene/scene.h"
+#include "scene/scene_on_grid.h"
+
+#include <Eigen/Dense>
+
+#include <string>
+#include <vector>
+
+namespace metamer::radiosity {
+
+struct InterreflectionSettings {
+    double elementSize_m = 0.1;  // no element edge longer
+    double tolerance = 1e-4;     // the solve's bound, relative to the largest radiosity
+    size_t maxElements = 6000;   // refuse beyond (the form factors are elements² doubles)
+};
+
+struct MeshInterreflection {
+    ElementMesh elements;  // the mesh refined
+    // [element vertex][band]: the indirect irradiance H, W·m⁻²·nm⁻¹, on the side the mesh's normal
+    // points to, and on its back (empty for a closed mesh). Zero-sized for a mesh left out (transparent).
+    Eigen::MatrixXd front, back;
+};
+
+struct SceneInterreflection {
+    std::vector<MeshInterreflection> meshes;  // [Scene::meshes index]
+    size_t elements = 0;                      // surfaces' elements solved (both sides of open meshes)
+    Coupling coupling;                        // the form factors and what they cost
+    Solution solution;
+    double gatherSeconds = 0.0, totalSeconds = 0.0;
+    std::string describe() const;  // one line for -v: elements, the bound, the times
+};
+
+SceneInterreflection solveInterreflection(const Scene& scene, const SceneOnGrid& spectra,
+                                          const InterreflectionSettings& settings);
+
+}  // namespace metamer::radiosity

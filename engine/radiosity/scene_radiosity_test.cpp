@@ -1,0 +1,79 @@
+// A scene's interreflection end to end (meshes → elements → form factors → direct light → solve →
+// vertices), against the closed forms of a closed room.
+#include "radiosity/scene_radiosity.h"
+
+#include "support/scene_builders.h"
+
+#include <gtest/gtest.h>
+
+using namespace metamer;
+using namespace metamer::radiosity;
+using namespace metamer::test;
+
+namespace {
+
+// The inside of a unit cube of six quads facing in, all of `material`.
+void addRoom(Scene& scene, uint32_t material) {
+    const glm::dvec3 c(0.5);
+    for (const glm::dvec3 n : {glm::dvec3(1, 0, 0), glm::dvec3(-1, 0, 0), glm::dvec3(0, 1, 0), glm::dvec3(0, -1, 0),
+                               glm::dvec3(0, 0, 1), glm::dvec3(0, 0, -1)})
+        scene.meshes.push_back(quad(c - 0.5 * n, n, 1.0, 1.0, material));
+}
+
+Scene roomScene(double rho, double irradiance) {
+    Grid grid;
+    grid.start_nm = 400;
+    grid.end_nm = 700;
+    grid.step_nm = 100;
+    Scene scene = emptyScene(grid, perspectiveCamera(glm::dvec3(0.5, 0.5, 0.9), glm::dvec3(0.5), glm::dvec3(0, 1, 0), 60.0, 32, 32));
+    scene.materials.push_back(lambertian(rho));
+    scene.lights.push_back(ambientLight(constantSpectrum(irradiance)));
+    addRoom(scene, 0);
+    return scene;
+}
+
+}  // namespace
+
+// A closed room of uniform reflectance ρ under an ambient light of irradiance E (which reaches
+// every surface): every inside wall sends ρE directly and receives what every wall sends, so its
+// radiosity is ρE/(1 − ρ) and so is the indirect irradiance at every inside vertex — corners and
+// edges included; the walls' outsides see nothing of each other (0).
+TEST(SceneRadiosity, AClosedRoomUnderAmbientLightIsAFurnace) {
+    const double rho = 0.6, E = 2.0;
+    const Scene scene = roomScene(rho, E);
+    const SceneOnGrid g = onGrid(scene);
+    InterreflectionSettings s;
+    s.elementSize_m = 0.3;
+    s.tolerance = 1e-8;
+    const SceneInterreflection r = solveInterreflection(scene, g, s);
+    std::printf("%s\n", r.describe().c_str());
+    ASSERT_EQ(r.meshes.size(), 6u);
+    const double exact = rho * E / (1.0 - rho);
+    double worst = 0.0;
+    for (const MeshInterreflection& m : r.meshes) {
+        ASSERT_GT(m.front.rows(), 4);
+        ASSERT_EQ(m.back.rows(), m.front.rows());  // quads are open: two sides
+        for (Eigen::Index v = 0; v < m.front.rows(); ++v)
+            for (Eigen::Index b = 0; b < m.front.cols(); ++b) {
+                worst = std::max(worst, std::fabs(m.front(v, b) / exact - 1.0));
+                EXPECT_EQ(m.back(v, b), 0.0);
+            }
+    }
+    std::printf("worst relative deviation of the inside vertices' H: %.2e\n", worst);
+    EXPECT_LT(worst, 1e-5);
+}
+
+// Too many elements are refused before the form factors, naming the key and the memory.
+TEST(SceneRadiosity, TooManyElementsAreRefusedWithTheirMemory) {
+    const Scene scene = roomScene(0.5, 1.0);
+    InterreflectionSettings s;
+    s.elementSize_m = 0.01;
+    s.maxElements = 2000;
+    try {
+        solveInterreflection(scene, onGrid(scene), s);
+        ADD_FAILURE() << "no error";
+    } catch (const Error& e) {
+        EXPECT_NE(e.text().find("interreflection.max_elements"), std::string::npos) << e.text();
+        EXPECT_NE(e.text().find("GiB"), std::string::npos) << e.text();
+    }
+}
