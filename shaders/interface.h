@@ -83,6 +83,14 @@ using mat4 = glm::mat4;
 #define VERTEX_UV 2        // vec2, texture coordinates (u right, v down the image)
 #define VERTEX_TANGENT 3   // vec4: xyz world-space tangent (direction of +u), w: bitangent sign
 #define VERTEX_FLOATS 12
+// Interreflection (shaders built with INDIRECT; docs/physics.md, "Interreflection"): a second
+// vertex buffer of INDIRECT_VEC4 vec4 per vertex at locations VERTEX_INDIRECT …, this pass's bands
+// of the indirect light at the element vertex — H/π, which the surface's own diffuse reflectance
+// multiplies at the fragment, or for a fluorescent surface its whole re-sent radiance
+// (ρd·H + M·H)/π — interpolated to the fragment at VARYING_INDIRECT …, W·sr⁻¹·m⁻²·nm⁻¹.
+#define VERTEX_INDIRECT 4
+#define VARYING_INDIRECT 4
+#define INDIRECT_VEC4 8
 
 // Specialization constants of spectral.frag: the shader is specialized to the scene. Lights are
 // sorted ambient, then directional, then point, then hemisphere, so each kind is a loop without

@@ -59,6 +59,12 @@ layout(location = 1) in vec3 worldNormal;
 layout(location = 2) in vec2 uv;
 layout(location = 3) in vec4 worldTangent;
 
+#ifdef INDIRECT
+// Interreflection: this pass's bands of the indirect light here, interpolated from the element
+// vertices (interface.h, VERTEX_INDIRECT).
+layout(location = VARYING_INDIRECT) in vec4 indirect[INDIRECT_VEC4];
+#endif
+
 layout(location = 0) out vec4 out0;
 #if OUTPUT_COUNT > 1
 layout(location = 1) out vec4 out1;
@@ -343,6 +349,15 @@ void main() {
     // so that neither overflows before their product does.
     if (HAS_FLUORESCENCE && !FLUORESCENCE_SPECTRA && !RESPONSES)
         [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) acc[k] += fluorescence * M.emissionOverLambda[k];
+#ifdef INDIRECT
+    // The indirect light, on the side the elements were solved for (an open surface's other side is
+    // drawn as its own copy; a closed mesh's inside receives none). H/π is reflected by the
+    // surface's own ρd here, textures included; a fluorescent surface's comes whole.
+    if (gl_FrontFacing) {
+        const bool whole = (runtimeValue(M.switches.x) & MATERIAL_FLUORESCENT) != 0u;
+        [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) acc[k] += (whole ? vec4(1.0) : diffuseAt(k)) * indirect[k];
+    }
+#endif
 
     out0 = acc[0];
 #if OUTPUT_COUNT > 1

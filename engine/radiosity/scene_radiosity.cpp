@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 
 namespace metamer::radiosity {
@@ -36,13 +37,15 @@ struct Side {
     bool back = false;
 };
 
+}  // namespace
+
 // M(out, in): radiosity in band `out` per irradiance in band `in` (W·m⁻²·nm⁻¹ per W·m⁻²·nm⁻¹),
 // π times the renderers' fluorescence radiance (reference/cpu_renderer.cpp's terms).
-Eigen::MatrixXd reemission(const MaterialOnGrid& m, const SceneOnGrid& g) {
+Eigen::MatrixXd reemissionMatrix(const MaterialOnGrid& m, const SceneOnGrid& g) {
+    if (!m.fluorescent) return {};
     const size_t n = g.wavelengths_nm.size();
     const double step = g.grid.step_nm;
     Eigen::MatrixXd M = Eigen::MatrixXd::Zero(Eigen::Index(n), Eigen::Index(n));
-    if (!m.fluorescent) return M;
     for (size_t out = 0; out < n; ++out)
         for (size_t in = 0; in < n; ++in)
             M(Eigen::Index(out), Eigen::Index(in)) =
@@ -52,8 +55,6 @@ Eigen::MatrixXd reemission(const MaterialOnGrid& m, const SceneOnGrid& g) {
     return M;
 }
 
-}  // namespace
-
 std::string SceneInterreflection::describe() const {
     return fmt::format("interreflection: {} elements, form factors {:.2f} s ({} near pairs, {} rays), {}, gathered "
                        "at the vertices in {:.2f} s; {:.2f} s in all",
@@ -61,8 +62,27 @@ std::string SceneInterreflection::describe() const {
                        totalSeconds);
 }
 
-SceneInterreflection solveInterreflection(const Scene& scene, const SceneOnGrid& g, const InterreflectionSettings& s) {
+double elementSize(const Scene& scene) {
+    if (scene.interreflection && scene.interreflection->elementSize_m) return *scene.interreflection->elementSize_m;
+    glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+    for (const Mesh& m : scene.meshes) {
+        if (scene.materials[m.material].isTransparent()) continue;
+        for (const glm::dvec3& p : m.positions) {
+            lo = glm::min(lo, p);
+            hi = glm::max(hi, p);
+        }
+    }
+    const double diagonal = glm::all(glm::lessThanEqual(lo, hi)) ? glm::length(hi - lo) : 1.0;
+    return diagonal > 0.0 ? diagonal / 24.0 : 1.0;
+}
+
+SceneInterreflection solveInterreflection(const Scene& scene, const SceneOnGrid& g) {
     const auto t0 = Clock::now();
+    if (!scene.interreflection) failRuntime("solveInterreflection: the scene asks for no interreflection");
+    struct {
+        double elementSize_m, tolerance;
+        size_t maxElements;
+    } const s{elementSize(scene), scene.interreflection->tolerance, size_t(scene.interreflection->maxElements)};
     SceneInterreflection out;
     out.meshes.resize(scene.meshes.size());
     const size_t bands = g.wavelengths_nm.size();
@@ -82,7 +102,7 @@ SceneInterreflection solveInterreflection(const Scene& scene, const SceneOnGrid&
         if (scene.materials[mesh.material].isTransparent()) continue;
         MeshInterreflection& mi = out.meshes[m];
         auto refuse = [&](size_t count) {
-            failInput(Where{scene.file.string(), "interreflection.max_elements"},
+            failInput(scene.interreflection->where.child("max_elements"),
                       "the surfaces make more than {} elements of at most {} m ({} with {}), more than the {} allowed; "
                       "their form factors would take over {:.1f} GiB: give a longer \"element_size\" or raise "
                       "\"max_elements\"",
@@ -91,8 +111,7 @@ SceneInterreflection solveInterreflection(const Scene& scene, const SceneOnGrid&
         };
         mi.elements = refineMesh(mesh.positions, mesh.indices, s.elementSize_m, s.maxElements);
         if (mi.elements.truncated) refuse(made + s.maxElements);
-        made += mi.elements.triangles.size() * (mesh.closed ? 1 : 2);
-        if (made > s.maxElements) refuse(made);
+        made += mi.elements.triangles.size();
         const std::vector<glm::dvec2> uvs =
             mesh.uvs.empty() ? std::vector<glm::dvec2>() : interpolate<glm::dvec2>(mi.elements, mesh.uvs);
         for (int side = 0; side < (mesh.closed ? 1 : 2); ++side)
@@ -111,36 +130,38 @@ SceneInterreflection solveInterreflection(const Scene& scene, const SceneOnGrid&
                 sides.push_back(e);
             }
     }
-    const size_t n = sides.size();
-    out.elements = n;
-    std::vector<std::array<glm::dvec3, 3>> corners(n);
-    std::vector<uint32_t> source(n);
-    for (size_t i = 0; i < n; ++i) {
-        corners[i] = sides[i].corners;
-        source[i] = sides[i].source;
-    }
-    out.coupling = formFactorMatrix(corners, &bvh, source);
-
-    // Every element's reflectance (its texture averaged over the rule's points) and what the
-    // direct light makes it send.
-    Problem p;
-    p.formFactors = std::move(out.coupling.formFactors);
-    p.emission = Eigen::MatrixXd::Zero(Eigen::Index(n), Eigen::Index(bands));
+    // Every side's reflectance (its texture averaged over the rule's points) and what the direct
+    // light makes it send.
+    const size_t all = sides.size();
+    std::vector<double> area(all);
+    std::vector<int> surfaceOf(all);
+    std::vector<SurfaceResponse> surfaces;
+    std::vector<int> materialSurface(g.materials.size(), -1);  // untextured materials share one
+    Eigen::MatrixXd emission = Eigen::MatrixXd::Zero(Eigen::Index(all), Eigen::Index(bands));
     std::vector<double> texel(bands), irradiance(bands);
-    for (size_t i = 0; i < n; ++i) {
+    for (size_t i = 0; i < all; ++i) {
         const Side& e = sides[i];
         const MaterialOnGrid& mat = g.materials[e.material];
         const glm::dvec3 normal = polygonNormal(e.corners);
-        p.area.push_back(polygonArea(e.corners));
-        SurfaceResponse response{mat.diffuse, reemission(mat, g)};
+        area[i] = polygonArea(e.corners);
         if (mat.diffuseTexture >= 0) {
+            SurfaceResponse response{mat.diffuse, {}};  // textured fluorescent materials are refused when read
             std::vector<double> mean(bands, 0.0);
             for (const auto& q : kRule) {
                 g.textures[size_t(mat.diffuseTexture)].bilinear(q[0] * e.uv[0] + q[1] * e.uv[1] + q[2] * e.uv[2], texel.data());
                 for (size_t b = 0; b < bands; ++b) mean[b] += q[3] * texel[b];
             }
             for (size_t b = 0; b < bands; ++b) response.reflectance[b] = std::clamp(response.reflectance[b] * mean[b], 0.0, 1.0);
+            surfaceOf[i] = int(surfaces.size());
+            surfaces.push_back(std::move(response));
+        } else {
+            if (materialSurface[e.material] < 0) {
+                materialSurface[e.material] = int(surfaces.size());
+                surfaces.push_back(SurfaceResponse{mat.diffuse, reemissionMatrix(mat, g)});
+            }
+            surfaceOf[i] = materialSurface[e.material];
         }
+        const SurfaceResponse& response = surfaces[size_t(surfaceOf[i])];
         // The direct irradiance, averaged over the rule's points: each light as the renderers
         // take it (reference/cpu_renderer.cpp, shade), shadows by rays through the BVH.
         std::fill(irradiance.begin(), irradiance.end(), 0.0);
@@ -175,12 +196,45 @@ SceneInterreflection solveInterreflection(const Scene& scene, const SceneOnGrid&
         }
         const Eigen::Map<const Eigen::VectorXd> H(irradiance.data(), Eigen::Index(bands));
         Eigen::VectorXd E = Eigen::Map<const Eigen::VectorXd>(response.reflectance.data(), Eigen::Index(bands)).cwiseProduct(H);
-        if (mat.fluorescent) E += response.reemission * H;
-        p.emission.row(Eigen::Index(i)) = E.transpose();
-        // One surface per element (textures make each its own reflectance).
-        p.surface.push_back(uint32_t(p.surfaces.size()));
-        p.surfaces.push_back(std::move(response));
+        if (response.reemission.size() != 0) E += response.reemission * H;
+        emission.row(Eigen::Index(i)) = E.transpose();
     }
+    // A side that the direct light does not reach, and in front of which no other element lies
+    // (a room's walls seen from outside), neither receives nor sends anything: left out.
+    std::vector<size_t> kept;
+    for (size_t i = 0; i < all; ++i) {
+        bool useful = emission.row(Eigen::Index(i)).cwiseAbs().maxCoeff() > 0.0;
+        const glm::dvec3 normal = polygonNormal(sides[i].corners);
+        const double slack = 1e-12 * std::sqrt(area[i]);
+        for (size_t j = 0; j < all && !useful; ++j)
+            for (const glm::dvec3& c : sides[j].corners)
+                if (j != i && glm::dot(normal, c - sides[i].corners[0]) > slack) {
+                    useful = true;
+                    break;
+                }
+        if (useful) kept.push_back(i);
+    }
+    const size_t n = kept.size();
+    out.elements = n;
+    if (n > s.maxElements)
+        failInput(scene.interreflection->where.child("max_elements"),
+                  "the surfaces make {} elements of at most {} m that take part, more than the {} allowed; their form "
+                  "factors would take {:.1f} GiB: give a longer \"element_size\" or raise \"max_elements\"",
+                  n, s.elementSize_m, s.maxElements, double(n) * double(n) * 8.0 / 1073741824.0);
+    std::vector<std::array<glm::dvec3, 3>> corners(n);
+    std::vector<uint32_t> source(n);
+    Problem p;
+    p.emission = Eigen::MatrixXd(Eigen::Index(n), Eigen::Index(bands));
+    for (size_t k = 0; k < n; ++k) {
+        corners[k] = sides[kept[k]].corners;
+        source[k] = sides[kept[k]].source;
+        p.area.push_back(area[kept[k]]);
+        p.surface.push_back(uint32_t(surfaceOf[kept[k]]));
+        p.emission.row(Eigen::Index(k)) = emission.row(Eigen::Index(kept[k]));
+    }
+    p.surfaces = std::move(surfaces);
+    out.coupling = formFactorMatrix(corners, &bvh, source);
+    p.formFactors = std::move(out.coupling.formFactors);
     out.solution = solve(p, s.tolerance);
 
     // The indirect irradiance at every element vertex, on each side.

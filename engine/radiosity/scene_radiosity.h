@@ -27,12 +27,6 @@
 
 namespace metamer::radiosity {
 
-struct InterreflectionSettings {
-    double elementSize_m = 0.1;  // no element edge longer
-    double tolerance = 1e-4;     // the solve's bound, relative to the largest radiosity
-    size_t maxElements = 6000;   // refuse beyond (the form factors are elements² doubles)
-};
-
 struct MeshInterreflection {
     ElementMesh elements;  // the mesh refined
     // [element vertex][band]: the indirect irradiance H, W·m⁻²·nm⁻¹, on the side the mesh's normal
@@ -49,7 +43,16 @@ struct SceneInterreflection {
     std::string describe() const;  // one line for -v: elements, the bound, the times
 };
 
-SceneInterreflection solveInterreflection(const Scene& scene, const SceneOnGrid& spectra,
-                                          const InterreflectionSettings& settings);
+// A fluorescent material's re-emission on the grid, M(out, in): the radiosity it sends in band
+// `out` per irradiance in band `in` (π × the renderers' fluorescence radiance: Φ·ê(out)/λout·a(in)·λin·Δλ
+// for an excitation/emission pair, D(in, out)·Δλ for a Donaldson matrix); empty for another.
+Eigen::MatrixXd reemissionMatrix(const MaterialOnGrid& material, const SceneOnGrid& spectra);
+
+// The element size the scene asks for, or its default: the opaque objects' bounding-box diagonal
+// over 24 (metres).
+double elementSize(const Scene& scene);
+
+// `scene.interreflection` must be set (its settings are used).
+SceneInterreflection solveInterreflection(const Scene& scene, const SceneOnGrid& spectra);
 
 }  // namespace metamer::radiosity

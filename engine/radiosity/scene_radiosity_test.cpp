@@ -42,10 +42,10 @@ TEST(SceneRadiosity, AClosedRoomUnderAmbientLightIsAFurnace) {
     const double rho = 0.6, E = 2.0;
     const Scene scene = roomScene(rho, E);
     const SceneOnGrid g = onGrid(scene);
-    InterreflectionSettings s;
-    s.elementSize_m = 0.3;
-    s.tolerance = 1e-8;
-    const SceneInterreflection r = solveInterreflection(scene, g, s);
+    EXPECT_NEAR(elementSize(scene), std::sqrt(3.0) / 24.0, 1e-12);  // the default: the room's diagonal / 24
+    Scene lit = scene;
+    lit.interreflection = Interreflection{0.3, 1e-8, 6000, Where{"room", "interreflection"}};
+    const SceneInterreflection r = solveInterreflection(lit, g);
     std::printf("%s\n", r.describe().c_str());
     ASSERT_EQ(r.meshes.size(), 6u);
     const double exact = rho * E / (1.0 - rho);
@@ -65,12 +65,10 @@ TEST(SceneRadiosity, AClosedRoomUnderAmbientLightIsAFurnace) {
 
 // Too many elements are refused before the form factors, naming the key and the memory.
 TEST(SceneRadiosity, TooManyElementsAreRefusedWithTheirMemory) {
-    const Scene scene = roomScene(0.5, 1.0);
-    InterreflectionSettings s;
-    s.elementSize_m = 0.01;
-    s.maxElements = 2000;
+    Scene scene = roomScene(0.5, 1.0);
+    scene.interreflection = Interreflection{0.01, 1e-4, 2000, Where{"room", "interreflection"}};
     try {
-        solveInterreflection(scene, onGrid(scene), s);
+        solveInterreflection(scene, onGrid(scene));
         ADD_FAILURE() << "no error";
     } catch (const Error& e) {
         EXPECT_NE(e.text().find("interreflection.max_elements"), std::string::npos) << e.text();

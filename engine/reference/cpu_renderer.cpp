@@ -76,6 +76,10 @@ ReferenceRenderer::ReferenceRenderer(const Scene& scene, const SceneOnGrid& onGr
     if (options_.threads < 0)
         failInput(Where{"", "threads", 0}, "thread count {} is negative", options_.threads);
     checkOnGrid(scene, onGrid);
+    if (scene.interreflection)
+        failInput(scene.interreflection->where,
+                  "the CPU reference does not draw interreflection yet (issue 47): render with --backend gpu, or remove "
+                  "the key");
 
     const Camera& cam = camera_;
     Where camWhere{scene.file.string(), "camera", 0};

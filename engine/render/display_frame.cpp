@@ -13,7 +13,7 @@ SpectralPassOptions responseOptions(SpectralPassOptions options, const TonemapPl
     if (plan.detector.weights.size() > TONEMAP_MAX_CHANNELS)
         failInput(Where{"", "--detector"}, "{} channels; the display path takes at most {}", plan.detector.weights.size(),
                   TONEMAP_MAX_CHANNELS);
-    if (!scene.hasTransparency()) options.responseWeights = plan.detector.weights;
+    if (!scene.displayNeedsBands()) options.responseWeights = plan.detector.weights;
     options.sampled = true;
     return options;
 }

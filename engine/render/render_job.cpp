@@ -471,9 +471,10 @@ RenderJobResult runRenderJob(const RenderJob& job) {
     // detector's quick look the CIE 1931 observer's.
     const bool quickLook = files.png && planPtr && planPtr->mode == TonemapMode::ResponsesOnly;
     const bool needsBands = files.cube || files.edges || !display || job.backend == Backend::Cpu;
-    // A scene with transparent objects draws its bands for the display image too (display_frame.cpp):
-    // its memory is counted as the cube path's (the cube itself is not held, so this errs high).
-    const bool drawsBands = needsBands || scene.hasTransparency();
+    // A scene with transparent objects or interreflection draws its bands for the display image too
+    // (display_frame.cpp): its memory is counted as the cube path's (the cube itself is not held,
+    // so this errs high).
+    const bool drawsBands = needsBands || scene.displayNeedsBands();
     const RenderMemory memory =
         estimateRenderMemory(W, H, loaded->grid.bands(), job.ssaa, job.backend, display, drawsBands);
     const RenderMemory perRow = estimateRenderMemory(W, 1, channels, job.ssaa, job.backend, display, drawsBands);

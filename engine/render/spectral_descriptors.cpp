@@ -179,6 +179,9 @@ void SpectralResources::createLayouts() {
     }
 
     vert = vk::OwnedShaderModule(d, vk::createShaderModule(d, spectralVertex().code, spectralVertex().bytes));
+    if (!packed.indirect.empty())
+        vertIndirect = vk::OwnedShaderModule(d, vk::createShaderModule(d, spectralIndirectVertex().code,
+                                                                        spectralIndirectVertex().bytes));
 }
 
 

@@ -125,11 +125,19 @@ uint32_t materialSwitches(const MaterialOnGrid& m, bool specular) {
            (m.isFilter() ? MATERIAL_FILTER : 0u) | (m.isMedium() ? MATERIAL_MEDIUM : 0u) | (m.isSlab() ? MATERIAL_SLAB : 0u);
 }
 
-PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes, const LocalFrame& frame) {
+PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes, const LocalFrame& frame,
+                 const radiosity::SceneInterreflection* interreflection) {
     checkMeshes(scene);  // the vertex and index arrays below are read as they promise
     PackedScene p;
-    for (const auto& mesh : scene.meshes) {
+    std::vector<std::vector<float>> indirect;  // per vertex, with interreflection
+    for (size_t m = 0; m < scene.meshes.size(); ++m) {
+        const Mesh& mesh = scene.meshes[m];
         if (mesh.indices.empty()) continue;
+        if (interreflection && !interreflection->meshes[m].elements.triangles.empty()) {
+            indirect.resize(p.vertices.size());
+            packIndirectMesh(p, indirect, scene, g, frame, m, interreflection->meshes[m]);
+            continue;
+        }
         PackedDraw d{uint32_t(p.indices.size()), uint32_t(mesh.indices.size()), int32_t(p.vertices.size()), mesh.material};
         d.closed = mesh.closed;
         d.transparent = scene.materials[mesh.material].isTransparent();
@@ -179,6 +187,10 @@ PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes, const Loc
         }
         d.indexCount = uint32_t(p.indices.size()) - d.firstIndex;
         p.draws.push_back(d);
+    }
+    if (interreflection) {
+        indirect.resize(p.vertices.size());
+        layOutIndirect(p, indirect, passes);
     }
     // Lights sorted by kind (the shader loops over each kind without branching).
     const std::vector<size_t> order = lightOrder(scene, p);

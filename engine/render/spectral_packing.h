@@ -5,6 +5,7 @@
 #pragma once
 
 #include "interface.h"
+#include "radiosity/scene_radiosity.h"
 #include "render/shadow_maps.h"
 #include "scene/local_frame.h"
 #include "scene/scene.h"
@@ -24,6 +25,7 @@ struct PackedDraw {
     uint32_t material;
     bool closed = false;
     bool transparent = false;  // a filter or medium: drawn by the transmission pass only
+    bool alwaysCull = false;   // one side of an interreflected open mesh: its back faces are culled always
     glm::vec3 lower{0.0f}, upper{0.0f};
 };
 
@@ -32,6 +34,9 @@ struct PackedScene {
     std::vector<gpu::SpectralVertex> vertices;
     std::vector<uint32_t> indices;
     std::vector<PackedDraw> draws;
+    // Interreflection (render/indirect_packing.h): the indirect light per pass and vertex,
+    // [pass][vertex][INDIRECT_VEC4], drawn by the INDIRECT programs; empty without.
+    std::vector<glm::vec4> indirect;
     int ambient = 0, directional = 0, point = 0, hemisphere = 0;  // light counts, in this order in every block
     // The first shadowedDirectional directional and shadowedPoint point lights cast shadows; bit i
     // of hemispherePaired: hemisphere light i's up is exactly opposite light i − 1's (interface.h).
@@ -87,9 +92,25 @@ uint32_t materialSwitches(const MaterialOnGrid& m, bool specular);
 void scatterBands(const std::vector<double>& values, int pass, glm::vec4* dst);
 
 // The scene packed for `passes` passes of BANDS_PER_PASS bands, its positions in `frame`
-// (scene/local_frame.h). Input errors (lights or fluorescence beyond float32's range) name the
-// scene's key.
-PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes, const LocalFrame& frame);
+// (scene/local_frame.h); with `interreflection`, its opaque meshes as their elements and their
+// indirect light (render/indirect_packing.h). Input errors (lights or fluorescence beyond
+// float32's range) name the scene's key.
+PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes, const LocalFrame& frame,
+                 const radiosity::SceneInterreflection* interreflection = nullptr);
+
+// Interreflection as the spectral pass draws it (render/indirect_packing.cpp; docs/physics.md,
+// "Interreflection"): each opaque mesh replaced by its elements (radiosity/scene_radiosity.h) —
+// their vertices with the mesh's normals, texture coordinates and tangents interpolated — and an
+// open mesh's two sides as two copies, each drawn with its back faces culled (the back copy wound
+// the other way, its normals and tangent frame turned over), so that every fragment shows the side
+// whose indirect light it has; and per vertex and pass the INDIRECT_VEC4 vec4 of that light
+// (shaders/interface.h, VERTEX_INDIRECT): H/π, or for a fluorescent surface (ρd·H + M·H)/π.
+// packIndirectMesh appends mesh m's elements to p's vertices, indices and draws, and their light to
+// `perVertex` [emitted vertex][band]; layOutIndirect makes p.indirect from it, [pass][vertex][vec4].
+void packIndirectMesh(PackedScene& p, std::vector<std::vector<float>>& perVertex, const Scene& scene,
+                      const SceneOnGrid& g, const LocalFrame& frame, size_t m,
+                      const radiosity::MeshInterreflection& elements);
+void layOutIndirect(PackedScene& p, const std::vector<std::vector<float>>& perVertex, int passes);
 
 // The scene packed for the response pass: one pass whose outputs are the channels of a detector
 // with `weights` [channel][band of g.grid] (at most 4·RESPONSE_VEC4 channels): every material's

@@ -7,6 +7,7 @@
 #include "render/target_readback.h"
 
 #include <chrono>
+#include <optional>
 
 namespace metamer {
 
@@ -24,7 +25,7 @@ std::string SpectralPassPlan::describe() const {
                        hasSpecular ? "on" : "off",
                        !hasFluorescence ? "off" : fluorescenceSpectra ? "on (per-light spectra)" : "on (rank one)", ssaa,
                        mappedReadback ? "mapping a linear image" : "copy") +
-           (frame.empty() ? "" : "; the frame: " + frame);
+           (frame.empty() ? "" : "; the frame: " + frame) + (interreflection.empty() ? "" : "; " + interreflection);
 }
 
 struct SpectralPass::Impl {
@@ -38,6 +39,8 @@ struct SpectralPass::Impl {
     int rows = 0, columns = 0;
     int tileColumn = 0, tileRow = 0;  // the tile's top-left pixel
     std::unique_ptr<SpectralResources> resources;
+    // The scene's interreflection, solved once for the pass (radiosity/scene_radiosity.h).
+    std::optional<radiosity::SceneInterreflection> interreflection;
     // The full image's view-projection, scaled and shifted so that the tile fills the target.
     void placeTile() {
         // Columns [c0, c0 + C) of a W-column image span clip-space x in [−1 + 2·c0/W, −1 + 2·(c0 + C)/W],
@@ -90,8 +93,18 @@ SpectralPass::SpectralPass(vk::Context& ctx, const Scene& scene, const SceneOnGr
         failInput(Where{scene.file.string(), "lights"}, "{} lights; the GPU path supports at most {}",
                   scene.lights.size(), MAX_LIGHTS);
     m.frame = localFrameFor(scene, scene.camera);
+    if (scene.interreflection) {
+        // The response pass would sum the detector over materials and lights only: it cannot draw
+        // the indirect light, which the band programs add (render/display_frame.cpp draws bands).
+        if (p.responses)
+            failRuntime("the response pass cannot show interreflection: render bands (render/display_frame.cpp does)");
+        const auto ti = Clock::now();
+        m.interreflection = radiosity::solveInterreflection(scene, spectra);
+        timings_.interreflection_ms = msSince(ti);
+        p.interreflection = m.interreflection->describe();
+    }
     m.packed = p.responses ? packResponses(scene, spectra, options.responseWeights, m.frame)
-                           : pack(scene, spectra, p.passes, m.frame);
+                           : pack(scene, spectra, p.passes, m.frame, m.interreflection ? &*m.interreflection : nullptr);
     p.fluorescenceSpectra = m.packed.fluorescenceSpectra;
     p.shadowLayers = int(m.packed.shadowMaps.layers.size());
     m.camera = cameraMatrices(scene.camera, scene, m.frame);

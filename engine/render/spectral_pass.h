@@ -24,7 +24,8 @@
 namespace metamer {
 
 struct SpectralPassTimings {
-    double upload_ms = 0;    // buffers, images, pipelines, and the shadow maps
+    double upload_ms = 0;    // buffers, images, pipelines, the shadow maps, and the interreflection
+    double interreflection_ms = 0;  // of which solving the interreflection (once per scene; 0 without)
     double shadow_ms = 0;    // of which the shadow maps' depth passes (once per scene; 0 without shadowing lights)
     double shading_ms = 0;   // submit to fence
     double readback_ms = 0;  // layered target → pixel-interleaved cube (and ssaa filter)

@@ -60,13 +60,16 @@ VkPipeline SpectralResources::makePipeline(const vk::SharedHandle<VkRenderPass>&
     for (uint32_t id = 0; id < kIds; ++id) entries[id] = {id, id * 4, 4};
     VkSpecializationInfo si{kIds, entries, sizeof(spec), &spec};
     bool prePass = attachments == 0;
+    // Interreflection's band passes add the indirect light (the INDIRECT programs, a second vertex
+    // buffer); the pre-pass, the lobe pass and the response pass do not read it.
+    const bool indirect = !packed.indirect.empty() && !prePass && lobeMode != LOBE_WRITE && !plan.responses;
     vk::GraphicsPipelineDesc d;
     d.cullMode = v.cullBackFaces ? VK_CULL_MODE_BACK_BIT : VK_CULL_MODE_NONE;
     d.renderPass = renderPass.get();
     d.layout = pipelineLayout.get();
-    d.vertex = vert.get();
+    d.vertex = indirect ? vertIndirect.get() : vert.get();
     d.fragmentSpecialization = &si;
-    spectralVertexInput(d);
+    spectralVertexInput(d, indirect);
     d.width = plan.targetWidth;
     d.height = plan.targetHeight;
     d.colorAttachments = attachments;
@@ -78,15 +81,16 @@ VkPipeline SpectralResources::makePipeline(const vk::SharedHandle<VkRenderPass>&
     // Everything the pipeline depends on is in its key (the render pass and layout are shared, so
     // their handles name their descriptions).
     const std::string key =
-        fmt::format("spectral.pipeline attachments={} writesDepth={} cull={} {}x{} pass={} layout={} spec={}", attachments,
-                    writesDepth, int(d.cullMode), d.width, d.height, static_cast<void*>(renderPass.get()),
-                    static_cast<void*>(pipelineLayout.get()), vk::keyBytes(&spec, sizeof spec));
+        fmt::format("spectral.pipeline attachments={} writesDepth={} cull={} indirect={} {}x{} pass={} layout={} spec={}",
+                    attachments, writesDepth, int(d.cullMode), indirect, d.width, d.height,
+                    static_cast<void*>(renderPass.get()), static_cast<void*>(pipelineLayout.get()),
+                    vk::keyBytes(&spec, sizeof spec));
     pipelines.push_back(ctx.objects().pipeline(
         key,
         [&] {
             VkShaderModule frag = VK_NULL_HANDLE;
             if (!prePass) {
-                const SpirvCode fragCode = spectralFragment(attachments);
+                const SpirvCode fragCode = indirect ? spectralIndirectFragment(attachments) : spectralFragment(attachments);
                 frag = vk::createShaderModule(ctx.device(), fragCode.code, fragCode.bytes);
             }
             const vk::OwnedShaderModule fragModule(ctx.device(), frag);  // the pipeline keeps what it needs
@@ -115,8 +119,9 @@ void SpectralResources::classifyDraws() {
                   (on & MATERIAL_NORMAL_TEXTURE) != 0, false};
         materialVariant.push_back(index(v));
         materialCulledVariant.push_back(-1);
-        const bool closedMesh = std::any_of(packed.draws.begin(), packed.draws.end(),
-                                            [&](const PackedDraw& d) { return d.closed && d.material == m; });
+        const bool closedMesh = std::any_of(packed.draws.begin(), packed.draws.end(), [&](const PackedDraw& d) {
+            return (d.closed || d.alwaysCull) && d.material == m;
+        });
         if (closedMesh) {
             v.cullBackFaces = true;
             materialCulledVariant.back() = int32_t(index(v));

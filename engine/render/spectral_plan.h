@@ -49,6 +49,7 @@ struct SpectralPassPlan {
     uint32_t targetWidth = 0, targetHeight = 0;  // render-target size (× ssaa)
     bool mappedReadback = false;
     std::string frame;  // the frame's declared passes in order (SpectralResources::describeFrame)
+    std::string interreflection;  // what solving the scene's interreflection took (empty without)
     size_t targetBytes = 0;  // the layered colour target
     std::string describe() const;
 };

@@ -11,6 +11,7 @@ bool SpectralFrameState::cullable(const PackedDraw& d) const {
     // A closed mesh's back faces are hidden while the camera sees it whole from outside: every
     // corner of its bounds in front of the near plane (so that the plane cuts none of it open and
     // the camera is not inside). A margin covers the bounds' rounding to float.
+    if (d.alwaysCull) return true;  // one side of an interreflected open mesh, its other side a copy of its own
     if (!d.closed) return false;
     for (int corner = 0; corner < 8; ++corner) {
         const glm::vec3 p(corner & 1 ? d.upper.x : d.lower.x, corner & 2 ? d.upper.y : d.lower.y,
@@ -57,6 +58,11 @@ void SpectralResources::drawDepth(VkCommandBuffer cmd, const SpectralFrameState&
 void SpectralResources::drawScene(VkCommandBuffer cmd, const SpectralFrameState& f, const std::vector<VkPipeline>& pipes,
                                   size_t p, VkDescriptorSet set0, bool specularOnly) const {
     bindGeometry(cmd, f);
+    if (!specularOnly && indirectBuffer.handle() != VK_NULL_HANDLE && !plan.responses) {
+        const VkBuffer b = indirectBuffer.handle();
+        const VkDeviceSize offset = p * indirectPassBytes;
+        vkCmdBindVertexBuffers(cmd, 1, 1, &b, &offset);
+    }
     const size_t materials = packed.materials.size() / passes.size();
     VkPipeline bound = VK_NULL_HANDLE;
     for (const PackedDraw& d : packed.draws) {
@@ -120,6 +126,7 @@ SpectralResources::SceneReads SpectralResources::declareSceneReads(Frame& f, boo
     };
     buffer(reads.geometry, "vertices", vertexBuffer, vk::Access::VertexInput);
     buffer(reads.geometry, "indices", indexBuffer, vk::Access::VertexInput);
+    buffer(reads.geometry, "indirect light", indirectBuffer, vk::Access::VertexInput);
     const struct {
         const char* name;
         const vk::Buffer& buffer;

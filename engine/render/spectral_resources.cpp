@@ -87,6 +87,12 @@ void SpectralResources::createBuffers() {
         indexBuffer = vk::Buffer(ctx, packed.indices.size() * 4, VK_BUFFER_USAGE_INDEX_BUFFER_BIT, "indices");
         indexBuffer.upload(packed.indices.data(), packed.indices.size() * 4);
     }
+    if (!packed.indirect.empty()) {
+        const VkDeviceSize bytes = packed.indirect.size() * sizeof(glm::vec4);
+        indirectBuffer = vk::Buffer(ctx, bytes, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, "indirect light");
+        indirectBuffer.upload(packed.indirect.data(), bytes);
+        indirectPassBytes = bytes / VkDeviceSize(std::max(1, plan.passes));
+    }
     lightBuffer = uniforms(&packed.lights, sizeof(gpu::GpuLightBlock), 1, sizeof(gpu::GpuLightBlock), "lights");
     lightSpectraStride = aligned(sizeof(gpu::GpuLightSpectraBlock));
     lightSpectraBuffer = uniforms(packed.lightSpectra.data(), sizeof(gpu::GpuLightSpectraBlock),

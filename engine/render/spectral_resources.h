@@ -88,6 +88,9 @@ struct SpectralResources {
 
     vk::Buffer vertexBuffer, indexBuffer, lightBuffer, lightSpectraBuffer, materialBuffer, fluorescenceBuffer,
         responseBuffer, readbackBuffer, lobeTableBuffer;
+    // Interreflection: packed.indirect, bound as vertex buffer 1 at pass p's part (indirectPassBytes each).
+    vk::Buffer indirectBuffer;
+    VkDeviceSize indirectPassBytes = 0;
     vk::OwnedBufferView lobeTableView;  // the lobe tables as a texel buffer of RGBA32UI
     // Dynamic-offset strides.
     VkDeviceSize lightSpectraStride = 0, materialStride = 0, fluorescenceStride = 0, responseStride = 0;
@@ -116,7 +119,7 @@ struct SpectralResources {
     vk::Image lobeWeights;
     VkDescriptorSet lobeDescriptorSet = VK_NULL_HANDLE;
     std::vector<VkDescriptorSet> materialSets;
-    vk::OwnedShaderModule vert;
+    vk::OwnedShaderModule vert, vertIndirect;  // spectral.vert, and its INDIRECT build with interreflection
     std::vector<vk::SharedHandle<VkRenderPass>> renderPasses;  // the depth pre-pass's, then one per attachment count
     std::vector<vk::SharedHandle<VkPipeline>> pipelines;
     // The band passes share a depth pre-pass, so that each shades a pixel once whatever the

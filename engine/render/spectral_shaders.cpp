@@ -21,6 +21,15 @@
 #include "transmit.frag.7.spv.h"
 #include "transmit.frag.8.spv.h"
 #include "spectral.vert.spv.h"
+#include "spectral.frag.1.indirect.spv.h"
+#include "spectral.frag.2.indirect.spv.h"
+#include "spectral.frag.3.indirect.spv.h"
+#include "spectral.frag.4.indirect.spv.h"
+#include "spectral.frag.5.indirect.spv.h"
+#include "spectral.frag.6.indirect.spv.h"
+#include "spectral.frag.7.indirect.spv.h"
+#include "spectral.frag.8.indirect.spv.h"
+#include "spectral.vert.indirect.spv.h"
 
 namespace metamer {
 
@@ -32,6 +41,17 @@ const SpirvCode kSpectralFrag[MAX_OUTPUTS] = {
     {kSpirv_spectral_frag_3, sizeof(kSpirv_spectral_frag_3)}, {kSpirv_spectral_frag_4, sizeof(kSpirv_spectral_frag_4)},
     {kSpirv_spectral_frag_5, sizeof(kSpirv_spectral_frag_5)}, {kSpirv_spectral_frag_6, sizeof(kSpirv_spectral_frag_6)},
     {kSpirv_spectral_frag_7, sizeof(kSpirv_spectral_frag_7)}, {kSpirv_spectral_frag_8, sizeof(kSpirv_spectral_frag_8)},
+};
+// spectral.frag's INDIRECT builds likewise.
+const SpirvCode kSpectralIndirectFrag[MAX_OUTPUTS] = {
+    {kSpirv_spectral_frag_1_indirect, sizeof(kSpirv_spectral_frag_1_indirect)},
+    {kSpirv_spectral_frag_2_indirect, sizeof(kSpirv_spectral_frag_2_indirect)},
+    {kSpirv_spectral_frag_3_indirect, sizeof(kSpirv_spectral_frag_3_indirect)},
+    {kSpirv_spectral_frag_4_indirect, sizeof(kSpirv_spectral_frag_4_indirect)},
+    {kSpirv_spectral_frag_5_indirect, sizeof(kSpirv_spectral_frag_5_indirect)},
+    {kSpirv_spectral_frag_6_indirect, sizeof(kSpirv_spectral_frag_6_indirect)},
+    {kSpirv_spectral_frag_7_indirect, sizeof(kSpirv_spectral_frag_7_indirect)},
+    {kSpirv_spectral_frag_8_indirect, sizeof(kSpirv_spectral_frag_8_indirect)},
 };
 // transmit.frag likewise.
 const SpirvCode kTransmitFrag[MAX_OUTPUTS] = {
@@ -53,16 +73,21 @@ SpirvCode spectralFragment(uint32_t attachments) { return kSpectralFrag[variantI
 SpirvCode transmitFragment(uint32_t attachments) { return kTransmitFrag[variantIndex(attachments)]; }
 SpirvCode opaqueDistanceFragment() { return {kSpirv_opaque_distance_frag, sizeof(kSpirv_opaque_distance_frag)}; }
 SpirvCode spectralVertex() { return {kSpirv_spectral_vert, sizeof(kSpirv_spectral_vert)}; }
+SpirvCode spectralIndirectFragment(uint32_t attachments) { return kSpectralIndirectFrag[variantIndex(attachments)]; }
+SpirvCode spectralIndirectVertex() { return {kSpirv_spectral_vert_indirect, sizeof(kSpirv_spectral_vert_indirect)}; }
 
 // spectral.vert's vertex input: one interleaved buffer of gpu::SpectralVertex.
-void spectralVertexInput(vk::GraphicsPipelineDesc& d) {
+void spectralVertexInput(vk::GraphicsPipelineDesc& d, bool indirect) {
     using V = gpu::SpectralVertex;
     d.bindings = {{0, sizeof(V), VK_VERTEX_INPUT_RATE_VERTEX}};
     d.attributes = {{VERTEX_POSITION, 0, VK_FORMAT_R32G32B32_SFLOAT, uint32_t(offsetof(V, position))},
                     {VERTEX_NORMAL, 0, VK_FORMAT_R32G32B32_SFLOAT, uint32_t(offsetof(V, normal))},
                     {VERTEX_UV, 0, VK_FORMAT_R32G32_SFLOAT, uint32_t(offsetof(V, uv))},
                     {VERTEX_TANGENT, 0, VK_FORMAT_R32G32B32A32_SFLOAT, uint32_t(offsetof(V, tangent))}};
+    if (!indirect) return;
+    d.bindings.push_back({1, INDIRECT_VEC4 * 16, VK_VERTEX_INPUT_RATE_VERTEX});
+    for (uint32_t k = 0; k < INDIRECT_VEC4; ++k)
+        d.attributes.push_back({VERTEX_INDIRECT + k, 1, VK_FORMAT_R32G32B32A32_SFLOAT, 16 * k});
 }
-
 
 }  // namespace metamer

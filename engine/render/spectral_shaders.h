@@ -1,6 +1,6 @@
 // The spectral frame's shaders as compiled into the binary (build/shaders/*.spv.h, glslang at
 // build time): spectral.frag and transmit.frag once per colour-attachment count, opaque_distance.frag,
-// spectral.vert and its vertex input. One place that includes the SPIR-V arrays, so each is in the
+// spectral.vert and its vertex input, and the INDIRECT builds of both. One place that includes the SPIR-V arrays, so each is in the
 // binary once. Used by render/spectral_pipelines.cpp and render/shadow_transmittance.cpp.
 // Tests: through render/spectral_pass.h's (every GPU test).
 #pragma once
@@ -18,11 +18,15 @@ struct SpirvCode {
 };
 
 SpirvCode spectralFragment(uint32_t attachments);  // spectral.frag with OUTPUT_COUNT attachments (1..8)
+// The band programs that add interreflection's indirect light (built with INDIRECT; interface.h).
+SpirvCode spectralIndirectFragment(uint32_t attachments);
+SpirvCode spectralIndirectVertex();
 SpirvCode transmitFragment(uint32_t attachments);  // transmit.frag likewise
 SpirvCode opaqueDistanceFragment();
 SpirvCode spectralVertex();
 
-// spectral.vert's vertex input: one interleaved buffer of gpu::SpectralVertex.
-void spectralVertexInput(vk::GraphicsPipelineDesc& d);
+// spectral.vert's vertex input: one interleaved buffer of gpu::SpectralVertex; with `indirect`,
+// a second of INDIRECT_VEC4 vec4 per vertex (binding 1) for the INDIRECT programs.
+void spectralVertexInput(vk::GraphicsPipelineDesc& d, bool indirect = false);
 
 }  // namespace metamer

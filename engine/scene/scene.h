@@ -217,9 +217,19 @@ struct OutputSettings {
     Where where;                                     // the "output" key
 };
 
+// The scene's "interreflection" block (docs/scene-format.md, "Interreflection"): light that bounces
+// between the diffuse surfaces, solved once per scene by radiosity/scene_radiosity.h.
+struct Interreflection {
+    std::optional<double> elementSize_m;  // no element edge longer; default: the objects' bounding-box diagonal / 24
+    double tolerance = 1e-4;              // the solve's bound on the remaining error, relative to the largest radiosity
+    int maxElements = 6000;               // refused beyond (the form factors take elements² × 8 bytes)
+    Where where;                          // the "interreflection" key
+};
+
 struct Scene {
     std::filesystem::path file;  // the scene file, for messages
     OutputSettings output;
+    std::optional<Interreflection> interreflection;  // absent: light scatters once, as always
     Grid grid;
     Camera camera;
     std::vector<Light> lights;
@@ -232,6 +242,10 @@ struct Scene {
     bool hasTextures() const;  // diffuse or specular maps, a paint's thickness map included
     bool hasNormalMaps() const;
     bool hasTransparency() const;  // any filter or absorbing medium
+    // Whether the display image must come from bands, not the response pass: radiance through a
+    // filter is not linear in each material's spectra, and interreflection's indirect light is
+    // drawn by the band programs only (render/display_frame.cpp).
+    bool displayNeedsBands() const { return hasTransparency() || interreflection.has_value(); }
     size_t triangleCount() const;
 };
 

@@ -36,7 +36,7 @@ public:
     Scene load(const Json& doc) {
         Where root{reader_.file().string()};
         asObject(doc, root);
-        checkKeys(doc, root, {"description", "grid", "camera", "lights", "materials", "objects", "output"});
+        checkKeys(doc, root, {"description", "grid", "camera", "lights", "materials", "objects", "output", "interreflection"});
         scene().file = reader_.file();
         if (const Json* d = find(doc, "description")) string(*d, root.child("description"));
         if (const Json* g = find(doc, "grid")) readGrid(*g, root.child("grid"));
@@ -62,6 +62,7 @@ public:
             const Json& objects = asArray(*o, root.child("objects"));
             for (size_t i = 0; i < objects.size(); ++i) readObject(objects[i], root.child("objects").index(i));
         }
+        if (const Json* i = find(doc, "interreflection")) readInterreflection(*i, root.child("interreflection"));
         if (scene().lights.empty()) warn(root.child("lights"), "the scene has no lights; it will render black");
         if (scene().meshes.empty()) warn(root.child("objects"), "the scene has no objects");
         for (size_t i = 0; i < declaredMaterials_; ++i)
@@ -84,6 +85,34 @@ private:
     }
 
     // Names (detector, adaptation, display) are checked by the display path, which knows them.
+    // "interreflection": true (the defaults), false (off), or an object of the settings. After the
+    // materials: the combinations the solve does not model are refused here, naming both keys.
+    void readInterreflection(const Json& v, const Where& w) {
+        if (v.is_boolean()) {
+            if (v.get<bool>()) scene().interreflection = Interreflection{std::nullopt, 1e-4, 6000, w};
+            return;
+        }
+        asObject(v, w);
+        checkKeys(v, w, {"element_size", "tolerance", "max_elements"});
+        Interreflection r;
+        r.where = w;
+        if (const Json* e = find(v, "element_size")) r.elementSize_m = numberIn(*e, w.child("element_size"), 0, 1e6, true, false, "m");
+        if (const Json* t = find(v, "tolerance")) r.tolerance = numberIn(*t, w.child("tolerance"), 1e-12, 0.1, false, false);
+        if (const Json* m = find(v, "max_elements")) r.maxElements = integerIn(*m, w.child("max_elements"), 1, 50000);
+        for (const Material& m : scene().materials) {
+            const Where mw = Where{reader_.file().string(), "materials"}.child(m.name);
+            if (m.isTransparent())
+                failInput(w, "not modelled together with the transparent material {} ({}): light through a filter, "
+                          "medium or slab does not bounce in this renderer; remove one of the two",
+                          m.name, mw.key);
+            if (m.fluorescence && m.textures.diffuse >= 0)
+                failInput(w, "not modelled together with {}, a fluorescent material with a diffuse texture (its "
+                          "re-emission of the indirect light would need the texture at every element); remove one",
+                          mw.key);
+        }
+        scene().interreflection = r;
+    }
+
     void readOutput(const Json& v, const Where& w) {
         asObject(v, w);
         checkKeys(v, w, {"detector", "adaptation", "display", "bits", "integration", "xyz", "write", "format"});
