@@ -73,7 +73,9 @@ Coupling formFactorMatrix(std::span<const std::array<glm::dvec3, 3>> elements, c
                 seen.fill(1.0);
                 int visible = 7;
                 if (occluders) {
-                    for (size_t q = 0; q < kRule.size(); ++q) {
+                    // Near pairs: a ray from each rule point (their partial shadows matter); far
+                    // ones: one, from the receiver's centroid (the rule's first point).
+                    for (size_t q = 0; q < (near ? kRule.size() : 1); ++q) {
                         const glm::dvec3 d = centroid[j] - points[q];
                         const double length = glm::length(d);
                         if (!(length > 0.0)) continue;
@@ -86,6 +88,7 @@ Coupling formFactorMatrix(std::span<const std::array<glm::dvec3, 3>> elements, c
                         }
                     }
                 }
+                if (!near && seen[0] == 0.0) continue;
                 if (visible == 0) continue;
                 double f = 0.0;
                 if (near) {
@@ -93,7 +96,7 @@ Coupling formFactorMatrix(std::span<const std::array<glm::dvec3, 3>> elements, c
                     f = triangleToPolygon(e[0], e[1], e[2], elements[j], options.tolerance) * visible / 7.0;
                 } else {
                     for (size_t q = 0; q < kRule.size(); ++q)
-                        if (seen[q] > 0.0) f += kRule[q][3] * pointToPolygon(points[q], normal[i], elements[j]);
+                        if (seen[q] > 0.0) f += kRule[q][3] * pointToTriangle(points[q], normal[i], elements[j], normal[j]);
                 }
                 out.formFactors(Eigen::Index(i), Eigen::Index(j)) = f;
             }

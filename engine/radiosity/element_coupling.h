@@ -1,11 +1,13 @@
 // The form-factor matrix of a set of elements with occlusion: F_ij, the irradiance element i
 // receives from element j's unit radiosity (H_i = Σ_j F_ij B_j), for every pair.
 // Each receiver's factor is averaged over a degree-5 rule of 7 points on it, each point's factor to
-// the emitter in closed form (radiosity/form_factor.h) times whether the point sees the emitter's
-// centroid past the occluders (a ray through the scene's BVH). Pairs nearer than `nearRatio` times
-// the larger element's size — neighbours sharing an edge, a box's side and the floor it stands on —
-// are averaged by adaptive quadrature instead, to `tolerance`, where the point factor's slope is
-// unbounded. Pairs that cannot see each other (coplanar, behind one another) cost one test.
+// the emitter in closed form (radiosity/form_factor.h), if the receiver's centroid sees the
+// emitter's past the occluders (one ray through the scene's BVH). Pairs nearer than `nearRatio`
+// times the larger element's size — neighbours sharing an edge, a box's side and the floor it stands
+// on — are averaged by adaptive quadrature instead, to `tolerance`, where the point factor's slope
+// is unbounded, and take the share of the rule's points that see the emitter's centroid (7 rays),
+// where partial shadows matter most. Pairs that cannot see each other (coplanar, behind one
+// another) cost one test.
 // Computed once per scene, on every core; the same for every band and every spectrum of a sweep.
 // Tests: engine/radiosity/element_coupling_test.cpp (a closed box's rows, reciprocity, occlusion by
 // a plate against its closed form).
@@ -21,7 +23,7 @@
 namespace metamer::radiosity {
 
 struct CouplingOptions {
-    double tolerance = 1e-7;  // the adaptive quadrature's, for near pairs (absolute, on F)
+    double tolerance = 1e-6;  // the adaptive quadrature's, for near pairs (absolute, on F)
     double nearRatio = 2.0;   // a pair is near when its centroids are closer than this × the larger element's longest edge
 };
 

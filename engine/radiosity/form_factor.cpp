@@ -46,15 +46,29 @@ struct Triangle {
     glm::dvec3 a, b, c;
 };
 
-double ruleAverage(const Triangle& t, const glm::dvec3& n, std::span<const glm::dvec3> polygon) {
+// The emitter, with its front normal found once: a triangle takes the allocation-free path.
+struct Emitter {
+    std::span<const glm::dvec3> polygon;
+    std::array<glm::dvec3, 3> triangle{};
+    glm::dvec3 front{0.0};
+    bool isTriangle = false;
+    explicit Emitter(std::span<const glm::dvec3> p) : polygon(p), front(polygonNormal(p)), isTriangle(p.size() == 3) {
+        if (isTriangle) triangle = {p[0], p[1], p[2]};
+    }
+    double from(const glm::dvec3& x, const glm::dvec3& n) const {
+        return isTriangle ? pointToTriangle(x, n, triangle, front) : pointToPolygon(x, n, polygon);
+    }
+};
+
+double ruleAverage(const Triangle& t, const glm::dvec3& n, const Emitter& emitter) {
     double sum = 0.0;
-    for (const QuadraturePoint& q : kRule) sum += q.w * pointToPolygon(q.a * t.a + q.b * t.b + q.c * t.c, n, polygon);
+    for (const QuadraturePoint& q : kRule) sum += q.w * emitter.from(q.a * t.a + q.b * t.b + q.c * t.c, n);
     return sum;
 }
 
 // The average of the point factor over t, given the rule's estimate `coarse` on t: the four
 // halves' estimates are compared with it and each half refined until they agree to `tolerance`.
-double adaptiveAverage(const Triangle& t, const glm::dvec3& n, std::span<const glm::dvec3> polygon, double coarse,
+double adaptiveAverage(const Triangle& t, const glm::dvec3& n, const Emitter& polygon, double coarse,
                        double tolerance, int depth) {
     const glm::dvec3 ab = 0.5 * (t.a + t.b), bc = 0.5 * (t.b + t.c), ca = 0.5 * (t.c + t.a);
     const std::array<Triangle, 4> halves = {{{t.a, ab, ca}, {ab, t.b, bc}, {ca, bc, t.c}, {bc, ca, ab}}};
@@ -80,6 +94,41 @@ double polygonArea(std::span<const glm::dvec3> polygon) {
     glm::dvec3 sum(0.0);
     for (size_t k = 0; k < polygon.size(); ++k) sum += glm::cross(polygon[k], polygon[(k + 1) % polygon.size()]);
     return 0.5 * glm::length(sum);
+}
+
+namespace {
+
+// Lambert's sum over the closed polygon's edges (at most 4 vertices here), F = −Σ/2π.
+double lambertSum(const glm::dvec3& x, const glm::dvec3& n, const glm::dvec3* v, int count) {
+    double sum = 0.0;
+    for (int k = 0; k < count; ++k) {
+        const glm::dvec3 r0 = v[k] - x, r1 = v[(k + 1) % count] - x;
+        const glm::dvec3 c = glm::cross(r0, r1);
+        const double s = glm::length(c);
+        if (!(s > 0.0)) continue;
+        sum += std::atan2(s, glm::dot(r0, r1)) * glm::dot(n, c) / s;
+    }
+    return std::clamp(-sum / (2.0 * kPi), 0.0, 1.0);
+}
+
+}  // namespace
+
+double pointToTriangle(const glm::dvec3& x, const glm::dvec3& n, const std::array<glm::dvec3, 3>& t,
+                       const glm::dvec3& front) {
+    if (!(glm::dot(front, x - t[0]) > 0.0)) return 0.0;
+    const double h[3] = {glm::dot(n, t[0] - x), glm::dot(n, t[1] - x), glm::dot(n, t[2] - x)};
+    const bool above[3] = {h[0] >= 0.0, h[1] >= 0.0, h[2] >= 0.0};
+    if (!above[0] && !above[1] && !above[2]) return 0.0;
+    if (above[0] && above[1] && above[2]) return lambertSum(x, n, t.data(), 3);
+    // Clipped to x's hemisphere: a triangle cut by a plane leaves at most 4 vertices.
+    glm::dvec3 v[4];
+    int count = 0;
+    for (int k = 0; k < 3; ++k) {
+        const int k1 = (k + 1) % 3;
+        if (above[k]) v[count++] = t[size_t(k)];
+        if (above[k] != above[k1]) v[count++] = t[size_t(k)] + (t[size_t(k1)] - t[size_t(k)]) * (h[k] / (h[k] - h[k1]));
+    }
+    return count >= 3 ? lambertSum(x, n, v, count) : 0.0;
 }
 
 double pointToPolygon(const glm::dvec3& x, const glm::dvec3& n, std::span<const glm::dvec3> polygon) {
@@ -109,7 +158,8 @@ double triangleToPolygon(const glm::dvec3& a, const glm::dvec3& b, const glm::dv
     const glm::dvec3 n = polygonNormal(receiver);
     if (glm::dot(n, n) == 0.0) return 0.0;
     const Triangle t{a, b, c};
-    return adaptiveAverage(t, n, polygon, ruleAverage(t, n, polygon), tolerance, 0);
+    const Emitter emitter(polygon);
+    return adaptiveAverage(t, n, emitter, ruleAverage(t, n, emitter), tolerance, 0);
 }
 
 }  // namespace metamer::radiosity

@@ -16,12 +16,18 @@
 
 #include <glm/glm.hpp>
 
+#include <array>
 #include <span>
 
 namespace metamer::radiosity {
 
 // F from the differential area at x (unit normal n) to the polygon's front side, in [0, 1].
 double pointToPolygon(const glm::dvec3& x, const glm::dvec3& n, std::span<const glm::dvec3> polygon);
+
+// The same for a triangle whose unit front normal is known, without allocating: the form factors
+// of a scene's elements are billions of these.
+double pointToTriangle(const glm::dvec3& x, const glm::dvec3& n, const std::array<glm::dvec3, 3>& triangle,
+                       const glm::dvec3& front);
 
 // F from the triangle (a, b, c: its front side, counter-clockwise) to the polygon, to within
 // `tolerance` (absolute; the adaptive quadrature stops refining a piece whose two estimates agree

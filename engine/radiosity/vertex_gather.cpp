@@ -13,8 +13,11 @@ Eigen::MatrixXd gatherFactors(std::span<const GatherPoint> points, std::span<con
                               const Bvh* occluders) {
     const size_t m = points.size(), n = elements.size();
     Eigen::MatrixXd W = Eigen::MatrixXd::Zero(Eigen::Index(m), Eigen::Index(n));
-    std::vector<glm::dvec3> centroid(n);
-    for (size_t j = 0; j < n; ++j) centroid[j] = (elements[j][0] + elements[j][1] + elements[j][2]) / 3.0;
+    std::vector<glm::dvec3> centroid(n), front(n);
+    for (size_t j = 0; j < n; ++j) {
+        centroid[j] = (elements[j][0] + elements[j][1] + elements[j][2]) / 3.0;
+        front[j] = polygonNormal(elements[j]);
+    }
     std::atomic<size_t> next{0};
     auto work = [&] {
         for (size_t p; (p = next.fetch_add(1)) < m;) {
@@ -22,7 +25,7 @@ Eigen::MatrixXd gatherFactors(std::span<const GatherPoint> points, std::span<con
             // A hair inside its own surface: far below any element, far above rounding.
             const glm::dvec3 x = g.position + 1e-7 * g.inside;
             for (size_t j = 0; j < n; ++j) {
-                const double f = pointToPolygon(x, g.normal, elements[j]);
+                const double f = pointToTriangle(x, g.normal, elements[j], front[j]);
                 if (f == 0.0) continue;
                 if (occluders) {
                     const glm::dvec3 d = centroid[j] - x;
