@@ -37,6 +37,15 @@ struct Side {
     bool back = false;
 };
 
+// The solid angle of triangle t seen from o (Van Oosterom & Strackee 1983), sr.
+double solidAngle(const std::array<glm::dvec3, 3>& t, const glm::dvec3& o) {
+    const glm::dvec3 a = t[0] - o, b = t[1] - o, c = t[2] - o;
+    const double la = glm::length(a), lb = glm::length(b), lc = glm::length(c);
+    const double numerator = std::fabs(glm::dot(a, glm::cross(b, c)));
+    const double denominator = la * lb * lc + glm::dot(a, b) * lc + glm::dot(a, c) * lb + glm::dot(b, c) * la;
+    return 2.0 * std::atan2(numerator, denominator);
+}
+
 }  // namespace
 
 // M(out, in): radiosity in band `out` per irradiance in band `in` (W·m⁻²·nm⁻¹ per W·m⁻²·nm⁻¹),
@@ -162,9 +171,26 @@ SceneInterreflection solveInterreflection(const Scene& scene, const SceneOnGrid&
             surfaceOf[i] = materialSurface[e.material];
         }
         const SurfaceResponse& response = surfaces[size_t(surfaceOf[i])];
-        // The direct irradiance, averaged over the rule's points: each light as the renderers
-        // take it (reference/cpu_renderer.cpp, shade), shadows by rays through the BVH.
+        // The direct irradiance averaged over the element: each light as the renderers take it
+        // (reference/cpu_renderer.cpp, shade), shadows by rays through the BVH from the rule's
+        // points. A point light's unoccluded average is exact, I·Ω/A (Ω the element's solid angle
+        // from the light: ∫ cos θ/d² dA), where a surface near the light peaks far too sharply for
+        // a rule: times the share of the rule's points it reaches.
         std::fill(irradiance.begin(), irradiance.end(), 0.0);
+        for (size_t l = 0; l < scene.lights.size(); ++l) {
+            const Light& light = scene.lights[l];
+            if (light.type != Light::Type::Point || !(glm::dot(normal, light.position - e.corners[0]) > 0.0)) continue;
+            double reached = 0.0;
+            for (const auto& q : kRule) {
+                const glm::dvec3 x = q[0] * e.corners[0] + q[1] * e.corners[1] + q[2] * e.corners[2];
+                const glm::dvec3 d = light.position - x;
+                const double reach = glm::length(d);
+                if (reach > 0.0 && (!light.castsShadows() || !bvh.occluded(Ray{x, d / reach}, 1e-9, reach * (1.0 - 1e-12), e.source)))
+                    reached += q[3];
+            }
+            const double average = solidAngle(e.corners, light.position) / area[i] * reached;
+            for (size_t b = 0; b < bands; ++b) irradiance[b] += average * g.lights[l][b];
+        }
         for (const auto& q : kRule) {
             const glm::dvec3 x = q[0] * e.corners[0] + q[1] * e.corners[1] + q[2] * e.corners[2];
             for (size_t l = 0; l < scene.lights.size(); ++l) {
@@ -174,22 +200,15 @@ SceneInterreflection solveInterreflection(const Scene& scene, const SceneOnGrid&
                     geometric = 1.0;
                 } else if (light.type == Light::Type::Hemisphere) {
                     geometric = kPi * (1.0 + glm::dot(normal, light.up)) / 2.0;
-                } else {
-                    glm::dvec3 w;
-                    double falloff = 1.0, reach = std::numeric_limits<double>::infinity();
-                    if (light.type == Light::Type::Directional) {
-                        w = -glm::normalize(light.direction);
-                    } else {
-                        const glm::dvec3 d = light.position - x;
-                        reach = glm::length(d);
-                        if (!(reach > 0.0)) continue;
-                        w = d / reach;
-                        falloff = 1.0 / (reach * reach);
-                    }
+                } else if (light.type == Light::Type::Directional) {
+                    const glm::dvec3 w = -glm::normalize(light.direction);
                     const double cosine = glm::dot(normal, w);
                     if (cosine <= 0.0) continue;
-                    if (light.castsShadows() && bvh.occluded(Ray{x, w}, 1e-9, reach * (1.0 - 1e-12), e.source)) continue;
-                    geometric = cosine * falloff;
+                    if (light.castsShadows() && bvh.occluded(Ray{x, w}, 1e-9, std::numeric_limits<double>::infinity(), e.source))
+                        continue;
+                    geometric = cosine;
+                } else {
+                    continue;  // point lights: above
                 }
                 for (size_t b = 0; b < bands; ++b) irradiance[b] += q[3] * geometric * g.lights[l][b];
             }

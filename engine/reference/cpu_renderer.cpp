@@ -76,10 +76,6 @@ ReferenceRenderer::ReferenceRenderer(const Scene& scene, const SceneOnGrid& onGr
     if (options_.threads < 0)
         failInput(Where{"", "threads", 0}, "thread count {} is negative", options_.threads);
     checkOnGrid(scene, onGrid);
-    if (scene.interreflection)
-        failInput(scene.interreflection->where,
-                  "the CPU reference does not draw interreflection yet (issue 47): render with --backend gpu, or remove "
-                  "the key");
 
     const Camera& cam = camera_;
     Where camWhere{scene.file.string(), "camera", 0};
@@ -162,6 +158,86 @@ ReferenceRenderer::ReferenceRenderer(const Scene& scene, const SceneOnGrid& onGr
                     mat.quantum_yield / kPi * mat.emission[b] / onGrid.wavelengths_nm[b] * s;
         }
     }
+    // Interreflection, the reference's own way (reference/indirect_light.h): patches half the
+    // scene's element size (or its opaque objects' diagonal / 48), 32 × 32 strata.
+    if (scene.interreflection) {
+        glm::dvec3 lo(INFINITY), hi(-INFINITY);
+        for (const BvhTriangle& t : bvh_.triangles())
+            for (const glm::dvec3& p : {t.p0, t.p1, t.p2}) {
+                lo = glm::min(lo, p);
+                hi = glm::max(hi, p);
+            }
+        const double diagonal = bvh_.triangles().empty() ? 1.0 : std::max(1e-12, glm::length(hi - lo));
+        const double patch = scene.interreflection->elementSize_m ? frame_.length(*scene.interreflection->elementSize_m) / 2.0
+                                                                  : diagonal / 48.0;
+        indirect_ = std::make_unique<IndirectLight>(
+            scene, onGrid, bvh_,
+            [this](uint32_t t, const glm::dvec3& p, const glm::dvec3& n, const glm::dvec2& uv, double* out) {
+                directRadiosity(t, p, n, uv, out);
+            },
+            patch, 32);
+    }
+}
+
+void ReferenceRenderer::directRadiosity(uint32_t triangle, const glm::dvec3& p, const glm::dvec3& n, const glm::dvec2& uv,
+                                        double* out) const {
+    const uint32_t material = scene_.meshes[bvh_.triangles()[triangle].mesh].material;
+    const MaterialOnGrid& mat = onGrid_.materials[material];
+    std::vector<double> texel(static_cast<size_t>(bands_), 1.0);
+    if (mat.diffuseTexture >= 0) onGrid_.textures[size_t(mat.diffuseTexture)].bilinear(uv, texel.data());
+    std::fill(out, out + bands_, 0.0);
+    for (size_t l = 0; l < scene_.lights.size(); ++l) {
+        const Light& light = scene_.lights[l];
+        double g = 0.0;  // as shade()'s gDiffuse
+        if (light.type == Light::Type::Ambient) {
+            g = 1.0;
+        } else if (light.type == Light::Type::Hemisphere) {
+            g = kPi * (1.0 + glm::dot(n, light.up)) / 2.0;
+        } else {
+            glm::dvec3 w;
+            double falloff = 1.0;
+            if (light.type == Light::Type::Directional) {
+                w = -glm::normalize(light.direction);
+            } else {
+                const glm::dvec3 toLight = lightPositions_[l] - p;
+                const double d2 = glm::dot(toLight, toLight);
+                if (!(d2 > 0.0)) continue;
+                w = toLight / std::sqrt(d2);
+                falloff = frame_.inverseSquareUnit() / d2;
+            }
+            const double cosI = glm::dot(n, w);
+            if (cosI <= 0.0) continue;
+            if (shadowBit_[l] >= 0 && inShadow(l, p, w, triangle)) continue;
+            g = cosI * falloff;
+        }
+        const size_t o = termOffset(material, l);
+        for (int b = 0; b < bands_; ++b) out[b] += kPi * g * (diffuseTerm_[o + b] * texel[size_t(b)] + fluorescenceTerm_[o + b]);
+    }
+}
+
+void ReferenceRenderer::addIndirect(uint32_t material, uint32_t triangle, const glm::dvec3& p, const glm::dvec3& n,
+                                    const double* diffuseTexture, double* radiance) const {
+    const MaterialOnGrid& mat = onGrid_.materials[material];
+    std::vector<double> H(static_cast<size_t>(bands_));
+    indirect_->irradiance(p, n, triangle, H.data());
+    for (int b = 0; b < bands_; ++b)
+        radiance[b] += mat.diffuse[size_t(b)] * (diffuseTexture ? diffuseTexture[b] : 1.0) * H[size_t(b)] / kPi;
+    if (!mat.fluorescent) return;
+    // What H excites, as the direct light's terms: a Donaldson matrix's (1/π)·Σᵢ D(λi, λ)·H(λi)·Δλ,
+    // a pair's (Φ/π)·ê(λ)/λ·Σ a·H·λ·Δλ.
+    const double step = onGrid_.grid.step_nm;
+    if (mat.isMatrix()) {
+        for (int out = 0; out < bands_; ++out) {
+            double sum = 0.0;
+            for (int in = 0; in < bands_; ++in) sum += mat.donaldson[size_t(in) * size_t(bands_) + size_t(out)] * H[size_t(in)];
+            radiance[out] += sum * step / kPi;
+        }
+        return;
+    }
+    double absorbed = 0.0;
+    for (int b = 0; b < bands_; ++b) absorbed += mat.excitation[size_t(b)] * H[size_t(b)] * onGrid_.wavelengths_nm[size_t(b)] * step;
+    for (int b = 0; b < bands_; ++b)
+        radiance[b] += mat.quantum_yield / kPi * mat.emission[size_t(b)] / onGrid_.wavelengths_nm[size_t(b)] * absorbed;
 }
 
 Ray ReferenceRenderer::cameraRay(double px, double py) const {
@@ -500,6 +576,9 @@ void ReferenceRenderer::shade(const RayHit& hit, const Ray& ray, double* radianc
             for (int b = 0; b < bands_; ++b) radiance[b] += gDiffuse * f[b];
         }
     }
+    // The light that bounced, on the side the eye sees (n faces it); a closed mesh's inside gets none.
+    if (indirect_ && (glm::dot(ng, v) >= 0.0 || !mesh.closed))
+        addIndirect(material, hit.index, p, n, diffuseTextured ? diffuseTex.data() : nullptr, radiance);
 }
 
 int32_t ReferenceRenderer::pixel(int x, int y, double* radiance, uint64_t* blocked, uint32_t* crossings) const {

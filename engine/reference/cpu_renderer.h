@@ -1,5 +1,6 @@
 // The CPU reference renderer: ray casting in double precision, one ray per sub-sample, local
-// illumination (one scattering event: no interreflection), with exact shadow rays through the BVH
+// illumination (one scattering event; with the scene's interreflection key, the indirect light of
+// reference/indirect_light.h added), with exact shadow rays through the BVH
 // for directional and point lights. Rays pass straight through transparent objects (filters and
 // absorbing media), which multiply what is behind them band by band; so do shadow rays (coloured
 // shadows), and fluorescence is excited by the filtered light. It shares only the Scene model and the
@@ -10,12 +11,14 @@
 #include "reference/lobe_table.h"
 
 #include "reference/bvh.h"
+#include "reference/indirect_light.h"
 #include "scene/scene.h"
 #include "scene/scene_on_grid.h"
 #include "spectral/cube.h"
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <vector>
 
 namespace metamer {
@@ -104,6 +107,15 @@ private:
                             uint32_t& signature) const;
     // The material's fluorescence per unit geometric factor under light l filtered by tau (per band).
     void filteredFluorescence(uint32_t material, size_t l, const double* tau, double* out) const;
+    // What the direct light makes the surface at p send diffusely (normal n, on BVH triangle
+    // `triangle`, texture coordinates uv): π × its diffuse and fluorescent radiance, per band — the
+    // E of the interreflection (reference/indirect_light.h).
+    void directRadiosity(uint32_t triangle, const glm::dvec3& p, const glm::dvec3& n, const glm::dvec2& uv,
+                         double* out) const;
+    // The indirect light's radiance at a shaded point, added to `radiance`: ρd·H/π and the
+    // fluorescence H excites.
+    void addIndirect(uint32_t material, uint32_t triangle, const glm::dvec3& p, const glm::dvec3& n,
+                     const double* diffuseTexture, double* radiance) const;
 
     const Scene& scene_;
     const SceneOnGrid& onGrid_;
@@ -131,6 +143,7 @@ private:
     std::vector<bool> pairedHemisphere_;               // per light: pairedWithPreviousHemisphere
     std::vector<std::shared_ptr<const LobeTable>> lobeTables_;  // per material: its lobe table, or null
     double sceneScale_ = 1.0;                          // the largest coordinate's magnitude, frame units
+    std::unique_ptr<IndirectLight> indirect_;          // with the scene's interreflection
     size_t termOffset(uint32_t material, size_t light) const {
         return (static_cast<size_t>(material) * onGrid_.lights.size() + light) * bands_;
     }
