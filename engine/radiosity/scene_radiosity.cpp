@@ -37,6 +37,14 @@ struct Side {
     bool back = false;
 };
 
+// What the solve takes of a reflectance: each band within [0, 1]. A reduced mode's channels can
+// be negative (an rgb channel of a saturated colour), and a spectral ρ above 1 (warned about when
+// read) would make the equation diverge; the direct light and the pixel's own ρ stay as they are.
+std::vector<double> clampedReflectance(std::vector<double> rho) {
+    for (double& r : rho) r = std::clamp(r, 0.0, 1.0);
+    return rho;
+}
+
 // The solid angle of triangle t seen from o (Van Oosterom & Strackee 1983), sr.
 double solidAngle(const std::array<glm::dvec3, 3>& t, const glm::dvec3& o) {
     const glm::dvec3 a = t[0] - o, b = t[1] - o, c = t[2] - o;
@@ -154,7 +162,7 @@ SceneInterreflection solveInterreflection(const Scene& scene, const SceneOnGrid&
         const glm::dvec3 normal = polygonNormal(e.corners);
         area[i] = polygonArea(e.corners);
         if (mat.diffuseTexture >= 0) {
-            SurfaceResponse response{mat.diffuse, {}};  // textured fluorescent materials are refused when read
+            SurfaceResponse response{clampedReflectance(mat.diffuse), {}};  // textured fluorescent ones are refused when read
             std::vector<double> mean(bands, 0.0);
             for (const auto& q : kRule) {
                 g.textures[size_t(mat.diffuseTexture)].bilinear(q[0] * e.uv[0] + q[1] * e.uv[1] + q[2] * e.uv[2], texel.data());
@@ -166,7 +174,7 @@ SceneInterreflection solveInterreflection(const Scene& scene, const SceneOnGrid&
         } else {
             if (materialSurface[e.material] < 0) {
                 materialSurface[e.material] = int(surfaces.size());
-                surfaces.push_back(SurfaceResponse{mat.diffuse, reemissionMatrix(mat, g)});
+                surfaces.push_back(SurfaceResponse{clampedReflectance(mat.diffuse), reemissionMatrix(mat, g)});
             }
             surfaceOf[i] = materialSurface[e.material];
         }

@@ -100,8 +100,9 @@ IndirectLight::IndirectLight(const Scene& scene, const SceneOnGrid& g, const Bvh
                                                             patchCorners[p][2] - patchCorners[p][0])));
                 triangle_.push_back(t);
                 if (mat.diffuseTexture >= 0) g.textures[size_t(mat.diffuseTexture)].bilinear(uv[p], texel.data());
+                // Within [0, 1], as the GPU path's solve takes it (docs/physics.md, "Interreflection").
                 for (int b = 0; b < bands_; ++b)
-                    reflectance.push_back(mat.diffuse[size_t(b)] * (mat.diffuseTexture >= 0 ? texel[size_t(b)] : 1.0));
+                    reflectance.push_back(std::clamp(mat.diffuse[size_t(b)] * (mat.diffuseTexture >= 0 ? texel[size_t(b)] : 1.0), 0.0, 1.0));
                 // The direct light averaged over the patch: the centroids of its cut into
                 // kSamples² equal parts (a point light near a surface peaks sharply).
                 std::fill(e.begin(), e.end(), 0.0);
