@@ -172,6 +172,7 @@ struct GpuLightSpectraBlock {
 #define MATERIAL_FILTER 32u           // a thin sheet: multiplies what is behind it by transmittance[]
 #define MATERIAL_MEDIUM 64u           // an absorbing medium in a closed mesh: by exp2(−attenuation[]·ℓ)
 #define MATERIAL_SLAB 128u            // a dielectric slab: Fresnel with ior[], internal exp2(−attenuation[]/cos θt)
+#define MATERIAL_EMITTER 256u         // self-luminous: its front adds emitted[] (the band programs only)
 
 struct GpuMaterialBlock {
     vec4 diffuse[MAX_OUTPUTS];             // ρd
@@ -194,6 +195,8 @@ struct GpuMaterialBlock {
     vec4 transmittance[MAX_OUTPUTS];
     vec4 attenuation[MAX_OUTPUTS];
     vec4 ior[MAX_OUTPUTS];
+    // A self-luminous surface's radiance L_e, W·sr⁻¹·m⁻²·nm⁻¹, seen on its front; 0 else.
+    vec4 emitted[MAX_OUTPUTS];
 };
 
 // The response pass (SPEC_RESPONSES): every term's geometric factor is independent of wavelength,
@@ -342,7 +345,7 @@ static_assert(sizeof(GpuLightBlock) == 32 * MAX_LIGHTS, "std140 layout");
 static_assert(sizeof(GpuShadowBlock) == 64 * MAX_SHADOW_LAYERS, "std140 layout");
 static_assert(sizeof(ShadowPushConstants) == 64, "push constants must match GLSL");
 static_assert(sizeof(GpuLightSpectraBlock) == 16384, "must fit the minimum maxUniformBufferRange");
-static_assert(sizeof(GpuMaterialBlock) == 16 * (6 * MAX_OUTPUTS + 3 + MAX_LIGHTS / 4), "std140 layout");
+static_assert(sizeof(GpuMaterialBlock) == 16 * (7 * MAX_OUTPUTS + 3 + MAX_LIGHTS / 4), "std140 layout");
 static_assert(sizeof(GpuFluorescenceBlock) == 16384, "must fit the minimum maxUniformBufferRange");
 static_assert(sizeof(GpuResponseBlock) <= 16384, "must fit the minimum maxUniformBufferRange");
 static_assert(4 * RESPONSE_VEC4 == TONEMAP_MAX_CHANNELS, "the response pass carries every detector channel");

@@ -349,6 +349,9 @@ void main() {
     // so that neither overflows before their product does.
     if (HAS_FLUORESCENCE && !FLUORESCENCE_SPECTRA && !RESPONSES)
         [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) acc[k] += fluorescence * M.emissionOverLambda[k];
+    // A self-luminous surface's own radiance, on its front (the side its winding faces).
+    if (!RESPONSES && gl_FrontFacing && (runtimeValue(M.switches.x) & MATERIAL_EMITTER) != 0u)
+        [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) acc[k] += M.emitted[k];
 #ifdef INDIRECT
     // The indirect light, on the side the elements were solved for (an open surface's other side is
     // drawn as its own copy; a closed mesh's inside receives none). H/π is reflected by the

@@ -98,8 +98,8 @@ TEST(FrameBarriers, EveryBundledSceneDrawsCleanlyThroughItsDeclaredFrames) {
         EXPECT_TRUE(t.stateAtEnd(0) == bands.targetState());
 
         // The response pass's frame (what a PNG-only render and the preview draw), unless the
-        // scene's transparent objects make the display image come from bands.
-        if (!scene.hasTransparency()) {
+        // scene's transparent objects, interreflection or emitters make the display image come from bands.
+        if (!scene.displayNeedsBands()) {
             SpectralPassOptions ro;
             ro.sampled = true;
             ro.responseWeights = plan.detector.weights;

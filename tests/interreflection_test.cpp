@@ -56,6 +56,33 @@ TEST(Interreflection, AClosedRoomIsAFurnaceOnTheGpu) {
     }
 }
 
+// The furnace itself: a closed room whose every wall emits L_e from its inside and reflects
+// ρ. Each wall sends B = πL_e + ρB, so B = πL_e/(1 − ρ), and every pixel sees B/π = L_e/(1 − ρ) — the
+// emitted L_e, per pixel, plus the indirect ρH/π — on both renderers, each its own way.
+TEST(Interreflection, AClosedRoomOfEmittingWallsIsAFurnaceOnBothRenderers) {
+    const double rho = 0.6;
+    Scene s = closedRoom(rho, constantSpectrum(0.0), 0.25);
+    s.lights.clear();
+    s.materials[0] = emitting(s.materials[0], gaussianSpectrum(520, 60, 3.0, 300, 800, 1));
+    const SceneOnGrid g = onGrid(s);
+    const uint32_t before = gpu().validationErrors();
+    SpectralPass pass(gpu(), s, g);
+    const SpectralCube cube = pass.render();
+    EXPECT_NO_VALIDATION_ERRORS(before);
+    s.camera.width = s.camera.height = 8;
+    const ReferenceImage image = renderReference(s, g);
+    for (const SpectralCube* c : {&cube, &image.cube}) {
+        double worst = 0.0;
+        for (int y = 0; y < c->height; ++y)
+            for (int x = 0; x < c->width; ++x)
+                for (int b = 0; b < c->bands(); ++b) {
+                    const double expected = g.materials[0].emitted[size_t(b)] / (1.0 - rho);
+                    worst = std::max(worst, std::fabs(c->at(x, y, b) / expected - 1.0));
+                }
+        EXPECT_LT(worst, c == &cube ? 2e-5 : 1e-6) << (c == &cube ? "GPU" : "reference");
+    }
+}
+
 // Without the key nothing changes (the same scene without it renders the direct light only: ρE/π).
 TEST(Interreflection, WithoutTheKeyOnlyTheDirectLight) {
     Scene s = closedRoom(0.7, constantSpectrum(1.0), 0.5);

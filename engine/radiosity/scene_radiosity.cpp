@@ -120,7 +120,7 @@ SceneInterreflection solveInterreflection(const Scene& scene, const SceneOnGrid&
         MeshInterreflection& mi = out.meshes[m];
         auto refuse = [&](size_t count) {
             failInput(scene.interreflection->where.child("max_elements"),
-                      "the surfaces make more than {} elements of at most {} m ({} with {}), more than the {} allowed; "
+                      "the surfaces make more than {} elements of at most {:.4g} m ({} with {}), more than the {} allowed; "
                       "their form factors would take over {:.1f} GiB: give a longer \"element_size\" or raise "
                       "\"max_elements\"",
                       count, s.elementSize_m, count, mesh.name, s.maxElements,
@@ -224,6 +224,9 @@ SceneInterreflection solveInterreflection(const Scene& scene, const SceneOnGrid&
         const Eigen::Map<const Eigen::VectorXd> H(irradiance.data(), Eigen::Index(bands));
         Eigen::VectorXd E = Eigen::Map<const Eigen::VectorXd>(response.reflectance.data(), Eigen::Index(bands)).cwiseProduct(H);
         if (response.reemission.size() != 0) E += response.reemission * H;
+        // A self-luminous surface's front sends π·L_e besides (the exitance of a Lambertian emitter).
+        if (mat.isEmitter() && !e.back)
+            for (size_t b = 0; b < bands; ++b) E[Eigen::Index(b)] += kPi * mat.emitted[b];
         emission.row(Eigen::Index(i)) = E.transpose();
     }
     // A side that the direct light does not reach, and in front of which no other element lies
@@ -245,7 +248,7 @@ SceneInterreflection solveInterreflection(const Scene& scene, const SceneOnGrid&
     out.elements = n;
     if (n > s.maxElements)
         failInput(scene.interreflection->where.child("max_elements"),
-                  "the surfaces make {} elements of at most {} m that take part, more than the {} allowed; their form "
+                  "the surfaces make {} elements of at most {:.4g} m that take part, more than the {} allowed; their form "
                   "factors would take {:.1f} GiB: give a longer \"element_size\" or raise \"max_elements\"",
                   n, s.elementSize_m, s.maxElements, double(n) * double(n) * 8.0 / 1073741824.0);
     std::vector<std::array<glm::dvec3, 3>> corners(n);
@@ -260,6 +263,7 @@ SceneInterreflection solveInterreflection(const Scene& scene, const SceneOnGrid&
         p.emission.row(Eigen::Index(k)) = emission.row(Eigen::Index(kept[k]));
     }
     p.surfaces = std::move(surfaces);
+    out.area = p.area;
     out.coupling = formFactorMatrix(corners, &bvh, source);
     p.formFactors = std::move(out.coupling.formFactors);
     out.solution = solve(p, s.tolerance);

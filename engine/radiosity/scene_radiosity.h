@@ -37,6 +37,7 @@ struct MeshInterreflection {
 struct SceneInterreflection {
     std::vector<MeshInterreflection> meshes;  // [Scene::meshes index]
     size_t elements = 0;                      // surfaces' elements solved (both sides of open meshes)
+    std::vector<double> area;                 // theirs, m² (in the order of solution.radiosity's rows)
     Coupling coupling;                        // the form factors and what they cost
     Solution solution;
     double gatherSeconds = 0.0, totalSeconds = 0.0;

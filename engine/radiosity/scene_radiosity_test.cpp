@@ -12,6 +12,8 @@ using namespace metamer::test;
 
 namespace {
 
+constexpr double kPi = 3.14159265358979323846;
+
 // The inside of a unit cube of six quads facing in, all of `material`.
 void addRoom(Scene& scene, uint32_t material) {
     const glm::dvec3 c(0.5);
@@ -61,6 +63,31 @@ TEST(SceneRadiosity, AClosedRoomUnderAmbientLightIsAFurnace) {
     }
     std::printf("worst relative deviation of the inside vertices' H: %.2e\n", worst);
     EXPECT_LT(worst, 1e-5);
+}
+
+// Emission on one wall only (a self-luminous floor, L_e from its inside): what every wall sends
+// sums to what is emitted plus ρ × what arrives, and in a closed room what arrives is what is sent
+// (rows of F sum to 1; A_i F_ij = A_j F_ji), so the area-weighted mean radiosity is mean(E)/(1 − ρ),
+// E = πL_e on the floor's sixth of the area. The floor itself sends more than the mean; the ceiling less.
+TEST(SceneRadiosity, OneEmittingWallMakesTheMeanRadiosityMeanEOverOneMinusRho) {
+    const double rho = 0.7, Le = 2.0;
+    Scene scene = roomScene(rho, 0.0);
+    scene.lights.clear();
+    scene.materials.push_back(emitting(lambertian(rho, "floor"), constantSpectrum(Le)));
+    scene.meshes[2].material = 1;  // the floor (normal +y)
+    scene.interreflection = Interreflection{0.25, 1e-10, 6000, Where{"room", "interreflection"}};
+    const SceneOnGrid g = onGrid(scene);
+    const SceneInterreflection r = solveInterreflection(scene, g);
+    ASSERT_EQ(r.area.size(), size_t(r.solution.radiosity.rows()));
+    double sent = 0.0, area = 0.0;
+    for (size_t i = 0; i < r.area.size(); ++i) {
+        sent += r.area[i] * r.solution.radiosity(Eigen::Index(i), 0);
+        area += r.area[i];
+    }
+    const double expected = kPi * Le / 6.0 / (1.0 - rho);
+    std::printf("mean radiosity %.10f, mean(E)/(1 - rho) %.10f: %.2e\n", sent / area, expected, sent / area / expected - 1.0);
+    EXPECT_NEAR(area, 6.0, 1e-12);  // the walls' outsides take no part
+    EXPECT_NEAR(sent / area / expected, 1.0, 1e-6);
 }
 
 // Too many elements are refused before the form factors, naming the key and the memory.

@@ -576,6 +576,9 @@ void ReferenceRenderer::shade(const RayHit& hit, const Ray& ray, double* radianc
             for (int b = 0; b < bands_; ++b) radiance[b] += gDiffuse * f[b];
         }
     }
+    // A self-luminous surface's own radiance, seen on its front (the side its winding faces).
+    if (mat.isEmitter() && glm::dot(ng, v) > 0.0)
+        for (int b = 0; b < bands_; ++b) radiance[b] += mat.emitted[size_t(b)];
     // The light that bounced, on the side the eye sees (n faces it); a closed mesh's inside gets none.
     if (indirect_ && (glm::dot(ng, v) >= 0.0 || !mesh.closed))
         addIndirect(material, hit.index, p, n, diffuseTextured ? diffuseTex.data() : nullptr, radiance);

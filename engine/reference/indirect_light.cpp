@@ -115,6 +115,9 @@ IndirectLight::IndirectLight(const Scene& scene, const SceneOnGrid& g, const Bvh
                             direct(t, (1.0 - u - v) * c[0] + u * c[1] + v * c[2], flip * shading[p], uv[p], sample.data());
                             for (int b = 0; b < bands_; ++b) e[size_t(b)] += sample[size_t(b)] / (kSamples * kSamples);
                         }
+                // A self-luminous surface's front sends π·L_e besides (a Lambertian emitter's exitance).
+                if (mat.isEmitter() && side == 0)
+                    for (int b = 0; b < bands_; ++b) e[size_t(b)] += kPi * mat.emitted[size_t(b)];
                 emission.insert(emission.end(), e.begin(), e.end());
             }
     }

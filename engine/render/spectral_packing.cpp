@@ -122,7 +122,8 @@ uint32_t materialSwitches(const MaterialOnGrid& m, bool specular) {
     return (m.fluorescent ? MATERIAL_FLUORESCENT : 0u) | (specular ? MATERIAL_SPECULAR : 0u) |
            (m.diffuseTexture >= 0 ? MATERIAL_DIFFUSE_TEXTURE : 0u) |
            (m.specularTexture >= 0 ? MATERIAL_SPECULAR_TEXTURE : 0u) | (m.normalTexture >= 0 ? MATERIAL_NORMAL_TEXTURE : 0u) |
-           (m.isFilter() ? MATERIAL_FILTER : 0u) | (m.isMedium() ? MATERIAL_MEDIUM : 0u) | (m.isSlab() ? MATERIAL_SLAB : 0u);
+           (m.isFilter() ? MATERIAL_FILTER : 0u) | (m.isMedium() ? MATERIAL_MEDIUM : 0u) | (m.isSlab() ? MATERIAL_SLAB : 0u) |
+           (m.isEmitter() ? MATERIAL_EMITTER : 0u);
 }
 
 PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes, const LocalFrame& frame,
@@ -322,6 +323,7 @@ PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes, const Loc
             scatterBands(m.transmittance, pass, b.transmittance);
             scatterBands(attenuation, pass, b.attenuation);
             scatterBands(m.ior, pass, b.ior);
+            scatterBands(m.emitted, pass, b.emitted);
             // Past the grid's last band a slab is air (n = 1: nothing reflected, all transmitted),
             // so that the padding lanes stay finite for the tonemap pass, which reads whole layers.
             if (m.isSlab())

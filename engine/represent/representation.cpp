@@ -332,6 +332,8 @@ SceneOnGrid represent(const SceneOnGrid& spectra, const Representation& r, const
         // computes. So: project the lights here, the rendered pixels after (projectCube).
         SceneOnGrid out = spectra;
         for (auto& e : out.lights) e = project(r, e);
+        for (auto& m : out.materials)  // an emitted radiance is a light
+            if (m.isEmitter()) m.emitted = project(r, m.emitted);
         return out;
     }
     if (r.mode.spectral()) return spectra;
@@ -358,6 +360,10 @@ SceneOnGrid represent(const SceneOnGrid& spectra, const Representation& r, const
                 case MaterialSpectrum::Absorbance:
                 case MaterialSpectrum::Index:
                     if (!values.empty()) values = metamer::apply(r.reflectanceAnalysis, values);
+                    return;
+                // An emitted radiance is a light in the mode's light channels.
+                case MaterialSpectrum::Radiance:
+                    if (!values.empty()) values = metamer::apply(r.lightAnalysis, values);
                     return;
                 case MaterialSpectrum::Absorptance:
                 case MaterialSpectrum::Emission:

@@ -1,6 +1,6 @@
 // Opaque materials (docs/scene-format.md, "Materials"): a Lambertian "diffuse" and a Blinn–Phong
-// "specular" with its "gloss", their "textures" (and a normal or bump map), and "fluorescence" as an
-// excitation/emission pair or a Donaldson matrix. A paint is an opaque material whose body
+// "specular" with its "gloss", their "textures" (and a normal or bump map), "fluorescence" as an
+// excitation/emission pair or a Donaldson matrix, and an "emitted_radiance" (a self-luminous surface). A paint is an opaque material whose body
 // reflectance comes from its layers (scene/material_reader_paint.cpp).
 // Tests: engine/scene/material_reader_opaque_test.cpp, engine/scene/scene_json_test.cpp
 // (FullSceneLoadsWithTheRightValues), engine/scene/scene_donaldson_test.cpp,
@@ -34,7 +34,8 @@ MaterialTextures readTextures(SceneReader& r, const Json& v, const Where& w) {
 }  // namespace
 
 Material readOpaqueMaterial(SceneReader& r, Material m, const Json& v, const Where& w) {
-    checkKeys(v, w, {"diffuse", "specular", "gloss", "fluorescence", "textures", "layers", "substrate", "surface"});
+    checkKeys(v, w, {"diffuse", "specular", "gloss", "fluorescence", "textures", "layers", "substrate", "surface",
+                     "emitted_radiance"});
     if (const Json* t = find(v, "textures")) m.textures = readTextures(r, *t, w.child("textures"));
     if (find(v, "layers")) {
         readPaint(r, m, v, w);
@@ -95,6 +96,18 @@ Material readOpaqueMaterial(SceneReader& r, Material m, const Json& v, const Whe
                                         fw.child("quantum_yield"), 0, 1, false, false);
         }
         m.fluorescence = std::move(fl);
+    }
+    if (const Json* e = find(v, "emitted_radiance")) {
+        // "emitted_radiance": {"spectrum": S, "scale": k}, as a light's: L_e = S × k, W·sr⁻¹·m⁻²·nm⁻¹.
+        const Where ew = w.child("emitted_radiance");
+        asObject(*e, ew);
+        checkKeys(*e, ew, {"spectrum", "scale"}, "an emitted radiance");
+        Material::Emitter emitter;
+        emitter.where = ew;
+        emitter.spectrum = r.spectrum(require(*e, ew, "spectrum", "a spectrum, W·sr⁻¹·m⁻²·nm⁻¹ × scale"),
+                                      ew.child("spectrum"), SpectrumKind::Light);
+        if (const Json* k = find(*e, "scale")) emitter.scale = numberIn(*k, ew.child("scale"), 0, INFINITY, false, true);
+        m.emitter = std::move(emitter);
     }
     return m;
 }

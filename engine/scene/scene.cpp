@@ -20,6 +20,12 @@ bool Scene::hasTransparency() const {
     return false;
 }
 
+bool Scene::hasEmitters() const {
+    for (const auto& m : materials)
+        if (m.emitter) return true;
+    return false;
+}
+
 bool Scene::hasTextures() const {
     for (const auto& m : materials)
         if (m.textures.diffuse >= 0 || m.textures.specular >= 0 || (m.paint && m.paint->thicknessMap() >= 0))

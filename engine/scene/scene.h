@@ -173,6 +173,16 @@ struct Material {
         }
     };
     std::optional<Paint> paint;
+    // A self-luminous surface (a lamp's diffuser, a lit panel): radiance L_e(λ) = spectrum × scale
+    // in W·sr⁻¹·m⁻²·nm⁻¹, the same in every direction of its front (the side its normal points to;
+    // a closed mesh's outside), added to what it reflects. It lights the other surfaces through
+    // interreflection only (docs/physics.md, "Interreflection"); without it, it is only seen.
+    struct Emitter {
+        SceneSpectrum spectrum;
+        double scale = 1.0;
+        Where where;  // the "emitted_radiance" key
+    };
+    std::optional<Emitter> emitter;
 
     bool isPaint() const { return paint.has_value(); }
     // Textures read with the object's texture coordinates (a paint's thickness map among them).
@@ -242,10 +252,11 @@ struct Scene {
     bool hasTextures() const;  // diffuse or specular maps, a paint's thickness map included
     bool hasNormalMaps() const;
     bool hasTransparency() const;  // any filter or absorbing medium
+    bool hasEmitters() const;      // any material with emitted radiance
     // Whether the display image must come from bands, not the response pass: radiance through a
     // filter is not linear in each material's spectra, and interreflection's indirect light is
-    // drawn by the band programs only (render/display_frame.cpp).
-    bool displayNeedsBands() const { return hasTransparency() || interreflection.has_value(); }
+    // and emitted radiance are drawn by the band programs only (render/display_frame.cpp).
+    bool displayNeedsBands() const { return hasTransparency() || interreflection.has_value() || hasEmitters(); }
     size_t triangleCount() const;
 };
 

@@ -63,7 +63,14 @@ public:
             for (size_t i = 0; i < objects.size(); ++i) readObject(objects[i], root.child("objects").index(i));
         }
         if (const Json* i = find(doc, "interreflection")) readInterreflection(*i, root.child("interreflection"));
-        if (scene().lights.empty()) warn(root.child("lights"), "the scene has no lights; it will render black");
+        if (scene().lights.empty() && !scene().hasEmitters())
+            warn(root.child("lights"), "the scene has no lights; it will render black");
+        // An emitting surface lights the others only by interreflection.
+        if (!scene().interreflection)
+            for (const Material& m : scene().materials)
+                if (m.emitter)
+                    warn(m.emitter->where, "this surface is seen glowing but lights nothing else: the scene has no "
+                                           "\"interreflection\"");
         if (scene().meshes.empty()) warn(root.child("objects"), "the scene has no objects");
         for (size_t i = 0; i < declaredMaterials_; ++i)
             if (!used_[i]) warn(root.child("materials").child(scene().materials[i].name), "material is not used by any object");
@@ -88,17 +95,18 @@ private:
     // "interreflection": true (the defaults), false (off), or an object of the settings. After the
     // materials: the combinations the solve does not model are refused here, naming both keys.
     void readInterreflection(const Json& v, const Where& w) {
-        if (v.is_boolean()) {
-            if (v.get<bool>()) scene().interreflection = Interreflection{std::nullopt, 1e-4, 6000, w};
-            return;
-        }
-        asObject(v, w);
-        checkKeys(v, w, {"element_size", "tolerance", "max_elements"});
         Interreflection r;
         r.where = w;
-        if (const Json* e = find(v, "element_size")) r.elementSize_m = numberIn(*e, w.child("element_size"), 0, 1e6, true, false, "m");
-        if (const Json* t = find(v, "tolerance")) r.tolerance = numberIn(*t, w.child("tolerance"), 1e-12, 0.1, false, false);
-        if (const Json* m = find(v, "max_elements")) r.maxElements = integerIn(*m, w.child("max_elements"), 1, 50000);
+        if (v.is_boolean()) {
+            if (!v.get<bool>()) return;
+        } else {
+            asObject(v, w);
+            checkKeys(v, w, {"element_size", "tolerance", "max_elements"});
+            if (const Json* e = find(v, "element_size"))
+                r.elementSize_m = numberIn(*e, w.child("element_size"), 0, 1e6, true, false, "m");
+            if (const Json* t = find(v, "tolerance")) r.tolerance = numberIn(*t, w.child("tolerance"), 1e-12, 0.1, false, false);
+            if (const Json* m = find(v, "max_elements")) r.maxElements = integerIn(*m, w.child("max_elements"), 1, 50000);
+        }
         for (const Material& m : scene().materials) {
             const Where mw = Where{reader_.file().string(), "materials"}.child(m.name);
             if (m.isTransparent())

@@ -432,6 +432,15 @@ SceneOnGrid resampleScene(const Scene& scene, const Grid& grid, CoveragePolicy p
                                  "and absorbs more than the light it receives",
                                  worst, worstNm));
         }
+        if (m.emitter) {
+            g.emitted = onGrid(m.emitter->spectrum, grid, policy, gaps);
+            for (double& v : g.emitted) {
+                v *= m.emitter->scale;
+                if (!std::isfinite(v))
+                    failInput(m.emitter->spectrum.where, "spectrum '{}' × scale {:g} overflows a double",
+                              m.emitter->spectrum.spectrum.source, m.emitter->scale);
+            }
+        }
         if (m.transmittance) g.transmittance = onGrid(*m.transmittance, grid, policy, gaps);
         if (m.slab) {
             g.slabThickness = m.slab->thickness_m;

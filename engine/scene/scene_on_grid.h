@@ -59,6 +59,9 @@ struct MaterialOnGrid {
     std::vector<double> ior;
     std::vector<double> slabAbsorbance;
     double slabThickness = 0.0;
+    // A self-luminous surface's radiance L_e per band (× its scale), W·sr⁻¹·m⁻²·nm⁻¹; empty else.
+    std::vector<double> emitted;
+    bool isEmitter() const { return !emitted.empty(); }
     bool isFilter() const { return !transmittance.empty(); }
     bool isMedium() const { return !absorbance.empty(); }
     bool isSlab() const { return !ior.empty(); }
@@ -75,6 +78,7 @@ enum class MaterialSpectrum {
     Transmittance,  // a sheet's T(λ): 0..1 per band, multiplies what is seen through it
     Absorbance,     // a medium's or a slab's a(λ), m⁻¹ per band, decadic
     Index,          // a slab's refractive index n(λ) per band
+    Radiance,       // a surface's emitted radiance, W·sr⁻¹·m⁻²·nm⁻¹ per band: transforms as a light
 };
 
 // The one seam for a material's spectra: calls f(array, kind, name) for every per-band array of
@@ -92,6 +96,7 @@ void forEachSpectrum(Material& m, F&& f) {
     f(m.absorbance, MaterialSpectrum::Absorbance, "absorbance");
     f(m.ior, MaterialSpectrum::Index, "ior");
     f(m.slabAbsorbance, MaterialSpectrum::Absorbance, "slabAbsorbance");
+    f(m.emitted, MaterialSpectrum::Radiance, "emitted");
 }
 
 struct SceneOnGrid {

@@ -29,7 +29,7 @@ constexpr size_t memberCount() {
 // the representation modes (which transform a copy through it) would pass it through untouched,
 // in wavelengths the mode's renderers do not use. Update the count, and the visitor, together.
 TEST(MaterialOnGrid, EveryFieldIsKnownToTheSpectrumVisitor) {
-    static_assert(memberCount<MaterialOnGrid>() == 16,
+    static_assert(memberCount<MaterialOnGrid>() == 17,
                   "MaterialOnGrid gained or lost a field: visit it in forEachSpectrum (scene_on_grid.h) if it is "
                   "per band, then update this count");
     MaterialOnGrid m;
@@ -40,11 +40,11 @@ TEST(MaterialOnGrid, EveryFieldIsKnownToTheSpectrumVisitor) {
         arrays.insert(&v);
     });
     EXPECT_EQ(names, (std::set<std::string>{"diffuse", "specular", "excitation", "emission", "donaldson", "transmittance",
-                                             "absorbance", "ior", "slabAbsorbance"}));
-    EXPECT_EQ(arrays.size(), 9u);  // nine distinct members
+                                             "absorbance", "ior", "slabAbsorbance", "emitted"}));
+    EXPECT_EQ(arrays.size(), 10u);  // ten distinct members
     // The same through a const material.
     const MaterialOnGrid& c = m;
     size_t visited = 0;
     forEachSpectrum(c, [&](const std::vector<double>&, MaterialSpectrum, const char*) { ++visited; });
-    EXPECT_EQ(visited, 9u);
+    EXPECT_EQ(visited, 10u);
 }

@@ -2,6 +2,7 @@
 
 #include "color/cie_xyz.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace metamer {
@@ -40,6 +41,37 @@ ReferenceWhite referenceWhite(const Scene& scene, const SceneOnGrid& spectra, co
                 factor /= glm::dot(light.position - scene.camera.target, light.position - scene.camera.target);
             w.terms = {{light.spectrum.spectrum, factor}};
             w.source = fmt::format("lights.{} ({}, {})", l, light.spectrum.spectrum.source, how);
+        }
+    }
+    // A self-luminous surface is a light too: L_e·Σ A·cos θ/d² over its triangles facing the camera
+    // target (each a small source seen at normal incidence).
+    for (size_t m = 0; m < scene.materials.size(); ++m) {
+        const Material& material = scene.materials[m];
+        if (!material.emitter) continue;
+        double factor = 0.0, nearest = INFINITY;
+        for (const Mesh& mesh : scene.meshes) {
+            if (mesh.material != m) continue;
+            for (size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
+                const glm::dvec3 a = mesh.positions[mesh.indices[t]], b = mesh.positions[mesh.indices[t + 1]],
+                                 c = mesh.positions[mesh.indices[t + 2]];
+                const glm::dvec3 areaNormal = 0.5 * glm::cross(b - a, c - a);  // area × the front's normal
+                const glm::dvec3 toTarget = scene.camera.target - (a + b + c) / 3.0;
+                const double d2 = glm::dot(toTarget, toTarget);
+                if (!(d2 > 0.0)) continue;
+                factor += std::max(0.0, glm::dot(areaNormal, toTarget)) / (d2 * std::sqrt(d2));
+                nearest = std::min(nearest, std::sqrt(d2));
+            }
+        }
+        const std::vector<double>& radiance = spectra.materials[m].emitted;
+        std::vector<double> e(radiance.size());
+        for (size_t b = 0; b < e.size(); ++b) e[b] = radiance[b] * factor;
+        const double y = luminanceOf(e, cmf);
+        if (y > best) {
+            best = y;
+            w.irradiance = e;
+            w.terms = {{material.emitter->spectrum.spectrum, material.emitter->scale * factor}};
+            w.source = fmt::format("materials.{} (its emitted radiance {}, at the camera target, {:.3g} m away)",
+                                   material.name, material.emitter->spectrum.spectrum.source, nearest);
         }
     }
     if (best <= 0.0) {

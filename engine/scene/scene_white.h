@@ -11,7 +11,8 @@
 namespace metamer {
 
 // The brightest (by CIE 1931 Y) non-ambient light at normal incidence: a directional light's E(λ);
-// a point light's I(λ)/d² at the camera target's distance. With only ambient lights, their sum;
+// a point light's I(λ)/d² at the camera target's distance; a self-luminous material's L_e(λ)·Σ A·cos θ/d²
+// over its triangles (each a small source) at the camera target. With only ambient lights, their sum;
 // with none, an equal-energy white (and a warning).
 ReferenceWhite referenceWhite(const Scene& scene, const SceneOnGrid& spectra, const SpectrumLibrary& library);
 

@@ -68,6 +68,16 @@ inline Material lambertian(double rho, std::string name = "lambertian") {
     return lambertian(constantSpectrum(rho), std::move(name));
 }
 
+// A Lambertian surface that also emits radiance L_e(λ) × scale from its front (scene/scene.h, Material::Emitter).
+inline Material emitting(Material m, Spectrum radiance, double scale = 1.0) {
+    Material::Emitter e;
+    e.spectrum = sceneSpectrum(std::move(radiance), SpectrumKind::Light, "materials." + m.name + ".emitted_radiance.spectrum");
+    e.scale = scale;
+    e.where = Where{"test", "materials." + m.name + ".emitted_radiance"};
+    m.emitter = std::move(e);
+    return m;
+}
+
 // A thin sheet that transmits T(λ) per crossing and reflects nothing (scene/scene.h).
 inline Material filterSheet(Spectrum transmittance, std::string name = "filter") {
     Material m = lambertian(0.0, name);

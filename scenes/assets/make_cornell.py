@@ -1,0 +1,129 @@
+#!/usr/bin/env python3
+"""Generates cornell-box.gltf: the geometry of the Cornell box as the Cornell University Program of
+Computer Graphics published it ("Cornell Box Data", www.graphics.cornell.edu/online/box/data.html),
+millimetres there, metres here, in its own right-handed frame (y up, the camera at z = -0.8 looking
+down +z, so +x is to the left in the picture: the red wall). One glTF mesh per surface group, each
+naming its material ("white", "red", "green", "light"), which scenes/cornell-box.json overrides with
+the measured spectra (spectra/cornell/). Facts of that dataset, not code from it; two departures,
+both said in docs/scene-format.md ("Bundled scenes"):
+  * the light sits 0.1 mm below the ceiling (548.7 mm, not 548.8), so that the two are not coplanar;
+  * each block gets a bottom face on the floor, so that it is a closed solid.
+Faces are wound so that their normals point into the room (the light's down, the blocks' out),
+whatever order the data lists their corners in. No vertex normals, and no vertex shared between faces: the loader gives each face its own normal.
+Standard library only: python3 scenes/assets/make_cornell.py"""
+
+import base64
+import json
+import os
+import struct
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+# Quads as published, mm.
+FLOOR = [(552.8, 0.0, 0.0), (0.0, 0.0, 0.0), (0.0, 0.0, 559.2), (549.6, 0.0, 559.2)]
+CEILING = [(556.0, 548.8, 0.0), (556.0, 548.8, 559.2), (0.0, 548.8, 559.2), (0.0, 548.8, 0.0)]
+BACK_WALL = [(549.6, 0.0, 559.2), (0.0, 0.0, 559.2), (0.0, 548.8, 559.2), (556.0, 548.8, 559.2)]
+GREEN_WALL = [(0.0, 0.0, 559.2), (0.0, 0.0, 0.0), (0.0, 548.8, 0.0), (0.0, 548.8, 559.2)]
+RED_WALL = [(552.8, 0.0, 0.0), (549.6, 0.0, 559.2), (556.0, 548.8, 559.2), (556.0, 548.8, 0.0)]
+LIGHT_Y = 548.7  # published: 548.8, the ceiling's height
+LIGHT = [(343.0, LIGHT_Y, 227.0), (343.0, LIGHT_Y, 332.0), (213.0, LIGHT_Y, 332.0), (213.0, LIGHT_Y, 227.0)]
+SHORT_TOP = [(130.0, 165.0, 65.0), (82.0, 165.0, 225.0), (240.0, 165.0, 272.0), (290.0, 165.0, 114.0)]
+TALL_TOP = [(423.0, 330.0, 247.0), (265.0, 330.0, 296.0), (314.0, 330.0, 456.0), (472.0, 330.0, 406.0)]
+ROOM_CENTRE = (278.0, 274.4, 279.6)
+
+
+def sub(a, b):
+    return tuple(x - y for x, y in zip(a, b))
+
+
+def cross(a, b):
+    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+
+
+def dot(a, b):
+    return sum(x * y for x, y in zip(a, b))
+
+
+def facing(quad, towards):
+    """The quad's corners in the order whose normal (right-handed) points at `towards`."""
+    n = cross(sub(quad[1], quad[0]), sub(quad[2], quad[0]))
+    centre = tuple(sum(c[i] for c in quad) / 4 for i in range(3))
+    return quad if dot(n, sub(towards, centre)) > 0 else quad[::-1]
+
+
+def block(top, outward=True):
+    """A block standing on the floor: its top, four sides and a bottom, wound outwards."""
+    bottom = [(x, 0.0, z) for x, _, z in top]
+    centre = tuple(sum(c[i] for c in top) / 4 for i in range(3))
+    centre = (centre[0], top[0][1] / 2, centre[2])
+    quads = [top, bottom] + [[bottom[i], bottom[(i + 1) % 4], top[(i + 1) % 4], top[i]] for i in range(4)]
+    away = []
+    for q in quads:
+        c = tuple(sum(p[i] for p in q) / 4 for i in range(3))
+        away.append(facing(q, tuple(2 * ci - oi for ci, oi in zip(c, centre))))  # a point beyond the face
+    return away
+
+
+def mesh(quads):
+    """Positions (m) and triangle indices; each face its own vertices, so that the loader gives
+    each its flat normal (a block's edges stay sharp)."""
+    positions, indices = [], []
+    for q in quads:
+        base = len(positions)
+        positions += [tuple(c / 1000.0 for c in p) for p in q]
+        indices += [base, base + 1, base + 2, base, base + 2, base + 3]
+    return positions, indices
+
+
+def main():
+    below = (278.0, 0.0, 279.6)
+    groups = [
+        ("room", "white", [facing(q, ROOM_CENTRE) for q in (FLOOR, CEILING, BACK_WALL)]),
+        ("short_block", "white", block(SHORT_TOP)),
+        ("tall_block", "white", block(TALL_TOP)),
+        ("red_wall", "red", [facing(RED_WALL, ROOM_CENTRE)]),
+        ("green_wall", "green", [facing(GREEN_WALL, ROOM_CENTRE)]),
+        ("light", "light", [facing(LIGHT, below)]),
+    ]
+    materials = ["white", "red", "green", "light"]
+    blob, views, accessors, meshes = bytearray(), [], [], []
+
+    def add(values, fmt, count, type_, ctype, target, minmax=None):
+        while len(blob) % 4:
+            blob.append(0)
+        offset = len(blob)
+        blob.extend(struct.pack("<%d%s" % (len(values), fmt), *values))
+        views.append({"buffer": 0, "byteOffset": offset, "byteLength": len(blob) - offset, "target": target})
+        acc = {"bufferView": len(views) - 1, "componentType": ctype, "count": count, "type": type_}
+        if minmax:
+            acc["min"], acc["max"] = minmax
+        accessors.append(acc)
+        return len(accessors) - 1
+
+    for name, material, quads in groups:
+        positions, indices = mesh(quads)
+        lo = [min(p[i] for p in positions) for i in range(3)]
+        hi = [max(p[i] for p in positions) for i in range(3)]
+        pos = add([c for p in positions for c in p], "f", len(positions), "VEC3", 5126, 34962, (lo, hi))
+        idx = add(indices, "I", len(indices), "SCALAR", 5125, 34963)
+        meshes.append({"name": name, "primitives": [{"attributes": {"POSITION": pos}, "indices": idx,
+                                                      "material": materials.index(material)}]})
+    doc = {
+        "asset": {"version": "2.0", "generator": "metamer scenes/assets/make_cornell.py"},
+        "scene": 0,
+        "scenes": [{"nodes": list(range(len(meshes)))}],
+        "nodes": [{"name": m["name"], "mesh": i} for i, m in enumerate(meshes)],
+        "materials": [{"name": m} for m in materials],
+        "meshes": meshes,
+        "buffers": [{"byteLength": len(blob),
+                     "uri": "data:application/octet-stream;base64," + base64.b64encode(bytes(blob)).decode()}],
+        "bufferViews": views,
+        "accessors": accessors,
+    }
+    with open(os.path.join(HERE, "cornell-box.gltf"), "w", newline="\n") as f:
+        json.dump(doc, f, indent=1)
+        f.write("\n")
+
+
+if __name__ == "__main__":
+    main()
