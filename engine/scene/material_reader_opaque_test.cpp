@@ -1,5 +1,7 @@
-// Opaque materials' bad inputs (scene/material_reader_opaque.cpp): diffuse, gloss, fluorescence.
+// Opaque materials' bad inputs (scene/material_reader_opaque.cpp): diffuse, gloss, fluorescence,
+// emitted radiance.
 #include "scene/scene_json_test_util.h"
+#include "support/capture_warnings.h"
 
 #include <gtest/gtest.h>
 
@@ -28,6 +30,39 @@ const BadCase kBadCases[] = {
      "materials.brightener.fluorescence.emission", "must be sampled data"},
     {"ExcitationUnknown", [](Json& d) { d["materials"]["brightener"]["fluorescence"]["excitation"] = "fluorescent/brightener_x"; },
      "materials.brightener.fluorescence.excitation", "did you mean 'fluorescent/brightener_ex'?"},
+    {"EmittedRadianceNotAnObject", [](Json& d) { d["materials"]["white"]["emitted_radiance"] = "illuminants/D65"; },
+     "materials.white.emitted_radiance", "expected an object"},
+    {"EmittedRadianceSpectrumMissing", [](Json& d) { d["materials"]["white"]["emitted_radiance"] = parse(R"({"scale": 2})"); },
+     "materials.white.emitted_radiance.spectrum", "missing required key"},
+    {"EmittedRadianceNegativeScale",
+     [](Json& d) { d["materials"]["white"]["emitted_radiance"] = parse(R"({"spectrum": "illuminants/D65", "scale": -1})"); },
+     "materials.white.emitted_radiance.scale", "outside the allowed range"},
+    {"EmittedRadianceKeyTypo",
+     [](Json& d) { d["materials"]["white"]["emitted_radiance"] = parse(R"({"spectrum": "illuminants/D65", "scal": 1})"); },
+     "materials.white.emitted_radiance.scal", "did you mean 'scale'?"},
 };
 
 INSTANTIATE_TEST_SUITE_P(All, SceneJsonBad, ::testing::ValuesIn(kBadCases), badCaseName);
+
+// An emitter is read as a light's spectrum × scale; without interreflection it lights nothing else,
+// which the scene says when it is read (and with the key, it does not).
+TEST(OpaqueMaterial, EmittedRadianceIsReadAndWarnedAboutWithoutInterreflection) {
+    Json doc = baseScene();
+    doc["materials"]["white"]["emitted_radiance"] = parse(R"({"spectrum": "illuminants/D65", "scale": 0.25})");
+    {
+        CaptureWarnings warnings;
+        const Scene s = load(doc);
+        ASSERT_TRUE(s.materials[1].emitter.has_value());
+        EXPECT_EQ(s.materials[1].emitter->scale, 0.25);
+        EXPECT_EQ(s.materials[1].emitter->spectrum.spectrum.source, "illuminants/D65");
+        EXPECT_TRUE(s.hasEmitters());
+        EXPECT_TRUE(s.displayNeedsBands());
+        ASSERT_EQ(warnings.lines().size(), 1u);
+        EXPECT_NE(warnings.lines()[0].find("materials.white.emitted_radiance"), std::string::npos) << warnings.lines()[0];
+        EXPECT_NE(warnings.lines()[0].find("lights nothing else"), std::string::npos) << warnings.lines()[0];
+    }
+    doc["interreflection"] = true;
+    CaptureWarnings warnings;
+    load(doc);
+    EXPECT_TRUE(warnings.lines().empty());
+}
