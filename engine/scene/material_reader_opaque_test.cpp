@@ -36,7 +36,7 @@ const BadCase kBadCases[] = {
      "materials.white.emitted_radiance.spectrum", "missing required key"},
     {"EmittedRadianceNegativeScale",
      [](Json& d) { d["materials"]["white"]["emitted_radiance"] = parse(R"({"spectrum": "illuminants/D65", "scale": -1})"); },
-     "materials.white.emitted_radiance.scale", "outside the allowed range"},
+     "materials.white.emitted_radiance.scale", "must be ≥ 0, got -1"},
     {"EmittedRadianceKeyTypo",
      [](Json& d) { d["materials"]["white"]["emitted_radiance"] = parse(R"({"spectrum": "illuminants/D65", "scal": 1})"); },
      "materials.white.emitted_radiance.scal", "did you mean 'scale'?"},
