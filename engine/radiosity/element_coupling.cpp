@@ -46,28 +46,33 @@ Coupling formFactorMatrix(std::span<const std::array<glm::dvec3, 3>> elements, c
     Coupling out;
     out.formFactors = Eigen::MatrixXd::Zero(Eigen::Index(n), Eigen::Index(n));
     std::vector<glm::dvec3> normal(n), centroid(n);
-    std::vector<double> size(n);
+    std::vector<double> size(n), area(n);
     for (size_t i = 0; i < n; ++i) {
+        area[i] = polygonArea(elements[i]);
         normal[i] = polygonNormal(elements[i]);
         centroid[i] = (elements[i][0] + elements[i][1] + elements[i][2]) / 3.0;
         size[i] = longestEdge(elements[i]);
     }
+    // Every element's rule points, for whichever pair it receives in.
+    std::vector<std::array<glm::dvec3, 7>> points(n);
+    for (size_t i = 0; i < n; ++i)
+        for (size_t q = 0; q < kRule.size(); ++q)
+            points[i][q] = kRule[q][0] * elements[i][0] + kRule[q][1] * elements[i][1] + kRule[q][2] * elements[i][2];
     std::atomic<size_t> nextRow{0}, nearPairs{0}, rays{0}, blocked{0};
     auto work = [&] {
         size_t myNear = 0, myRays = 0, myBlocked = 0;
-        std::array<glm::dvec3, 7> points;
         for (size_t i; (i = nextRow.fetch_add(1)) < n;) {
-            const auto& e = elements[i];
-            for (size_t q = 0; q < kRule.size(); ++q)
-                points[q] = kRule[q][0] * e[0] + kRule[q][1] * e[1] + kRule[q][2] * e[2];
-            for (size_t j = 0; j < n; ++j) {
-                if (j == i) continue;
+            // Each pair once, with the smaller element as the receiver (the rule averages over it;
+            // the emitter is exact); the other direction by reciprocity, A_r F_rs = A_s F_sr.
+            for (size_t j = i + 1; j < n; ++j) {
+                const size_t r = area[i] <= area[j] ? i : j, s = r == i ? j : i;
+                const auto& receiver = elements[r];
                 // One wholly behind the other's plane, or both in one plane: no exchange.
-                if (!anyCornerInFront(e, elements[j], normal[j], 1e-12 * size[j]) ||
-                    !anyCornerInFront(elements[j], e, normal[i], 1e-12 * size[i]))
+                if (!anyCornerInFront(receiver, elements[s], normal[s], 1e-12 * size[s]) ||
+                    !anyCornerInFront(elements[s], receiver, normal[r], 1e-12 * size[r]))
                     continue;
-                const double distance = glm::length(centroid[j] - centroid[i]);
-                const bool near = distance < options.nearRatio * std::max(size[i], size[j]);
+                const double distance = glm::length(centroid[s] - centroid[r]);
+                const bool near = distance < options.nearRatio * std::max(size[r], size[s]);
                 // Whether each rule point sees the emitter's centroid.
                 std::array<double, 7> seen;
                 seen.fill(1.0);
@@ -76,12 +81,12 @@ Coupling formFactorMatrix(std::span<const std::array<glm::dvec3, 3>> elements, c
                     // Near pairs: a ray from each rule point (their partial shadows matter); far
                     // ones: one, from the receiver's centroid (the rule's first point).
                     for (size_t q = 0; q < (near ? kRule.size() : 1); ++q) {
-                        const glm::dvec3 d = centroid[j] - points[q];
+                        const glm::dvec3 d = centroid[s] - points[r][q];
                         const double length = glm::length(d);
                         if (!(length > 0.0)) continue;
                         ++myRays;
-                        const Ray ray{points[q], d / length};
-                        if (occluders->occluded(ray, 1e-9 * length, length * (1.0 - 1e-9), elementSource[i])) {
+                        const Ray ray{points[r][q], d / length};
+                        if (occluders->occluded(ray, 1e-9 * length, length * (1.0 - 1e-9), elementSource[r])) {
                             seen[q] = 0.0;
                             --visible;
                             ++myBlocked;
@@ -93,12 +98,13 @@ Coupling formFactorMatrix(std::span<const std::array<glm::dvec3, 3>> elements, c
                 double f = 0.0;
                 if (near) {
                     ++myNear;
-                    f = triangleToPolygon(e[0], e[1], e[2], elements[j], options.tolerance) * visible / 7.0;
+                    f = triangleToPolygon(receiver[0], receiver[1], receiver[2], elements[s], options.tolerance) * visible / 7.0;
                 } else {
                     for (size_t q = 0; q < kRule.size(); ++q)
-                        if (seen[q] > 0.0) f += kRule[q][3] * pointToTriangle(points[q], normal[i], elements[j], normal[j]);
+                        if (seen[q] > 0.0) f += kRule[q][3] * pointToTriangle(points[r][q], normal[r], elements[s], normal[s]);
                 }
-                out.formFactors(Eigen::Index(i), Eigen::Index(j)) = f;
+                out.formFactors(Eigen::Index(r), Eigen::Index(s)) = f;
+                out.formFactors(Eigen::Index(s), Eigen::Index(r)) = f * area[r] / area[s];
             }
         }
         nearPairs += myNear;

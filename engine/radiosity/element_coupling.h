@@ -8,7 +8,8 @@
 // is unbounded, and take the share of the rule's points that see the emitter's centroid (7 rays),
 // where partial shadows matter most. Pairs that cannot see each other (coplanar, behind one
 // another) cost one test.
-// Computed once per scene, on every core; the same for every band and every spectrum of a sweep.
+// Each pair is computed once, from the element listed first; the other direction follows by
+// reciprocity (A_j F_ji = A_i F_ij, exactly). Computed once per scene, on every core; the same for every band and every spectrum of a sweep.
 // Tests: engine/radiosity/element_coupling_test.cpp (a closed box's rows, reciprocity, occlusion by
 // a plate against its closed form).
 #pragma once

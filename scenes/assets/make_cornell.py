@@ -75,9 +75,10 @@ def mesh(quads):
     return positions, indices
 
 
-def main():
+def groups():
+    """(mesh name, material, its quads in mm, wound to face the room) — ci/mitsuba_cornell.py reads these too."""
     below = (278.0, 0.0, 279.6)
-    groups = [
+    return [
         ("room", "white", [facing(q, ROOM_CENTRE) for q in (FLOOR, CEILING, BACK_WALL)]),
         ("short_block", "white", block(SHORT_TOP)),
         ("tall_block", "white", block(TALL_TOP)),
@@ -85,6 +86,9 @@ def main():
         ("green_wall", "green", [facing(GREEN_WALL, ROOM_CENTRE)]),
         ("light", "light", [facing(LIGHT, below)]),
     ]
+
+
+def main():
     materials = ["white", "red", "green", "light"]
     blob, views, accessors, meshes = bytearray(), [], [], []
 
@@ -100,7 +104,7 @@ def main():
         accessors.append(acc)
         return len(accessors) - 1
 
-    for name, material, quads in groups:
+    for name, material, quads in groups():
         positions, indices = mesh(quads)
         lo = [min(p[i] for p in positions) for i in range(3)]
         hi = [max(p[i] for p in positions) for i in range(3)]
