@@ -133,3 +133,30 @@ TEST(PreviewSettings, TransparentObjectControlsSetKeysThatLoad) {
     EXPECT_DOUBLE_EQ(named(edited, "rhodamine").dyes[0].concentration, 1e-5);
     EXPECT_EQ(absorbanceKey(named(s, "tinted_glass")), "materials.tinted_glass.absorbance");
 }
+
+// The interreflection switch undoes its own override rather than piling them up, and what it sets
+// loads: on a scene without the key, on then off leaves nothing; on a scene with it, off then on
+// brings the file's settings back.
+TEST(PreviewSettings, TheInterreflectionSwitchTogglesAndLoads) {
+    const SpectrumLibrary library;
+    std::vector<std::string> o;
+    setInterreflection(o, true);
+    EXPECT_EQ(o, (std::vector<std::string>{"interreflection=true"}));
+    const fs::path plain = fs::path(METAMER_SOURCE_DIR) / "scenes" / "colorchecker.json";
+    EXPECT_FALSE(loadScene(plain, library).interreflection.has_value());
+    EXPECT_TRUE(loadScene(plain, library, o).interreflection.has_value());
+    setInterreflection(o, false);
+    EXPECT_TRUE(o.empty());
+
+    const fs::path cornell = fs::path(METAMER_SOURCE_DIR) / "scenes" / "cornell-box.json";
+    setInterreflection(o, false);
+    EXPECT_EQ(o, (std::vector<std::string>{"interreflection=false"}));
+    EXPECT_FALSE(loadScene(cornell, library, o).interreflection.has_value());
+    setInterreflection(o, true);
+    EXPECT_TRUE(o.empty());
+    setOverride(o, "interreflection.element_size", "0.14");
+    const Scene coarser = loadScene(cornell, library, o);
+    ASSERT_TRUE(coarser.interreflection.has_value());
+    EXPECT_DOUBLE_EQ(*coarser.interreflection->elementSize_m, 0.14);
+    EXPECT_DOUBLE_EQ(coarser.interreflection->tolerance, 1e-5);  // the file's other settings stay
+}

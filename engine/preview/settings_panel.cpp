@@ -2,6 +2,7 @@
 #include "color/detector_registry.h"
 
 #include "color/detector.h"
+#include "radiosity/scene_radiosity.h"
 
 #include <imgui.h>
 
@@ -49,6 +50,15 @@ void setOverride(std::vector<std::string>& overrides, const std::string& key, co
         overrides.erase(it);
     }
     overrides.push_back(prefix + value);
+}
+
+void setInterreflection(std::vector<std::string>& overrides, bool on) {
+    const std::string undo = on ? "interreflection=false" : "interreflection=true";
+    const auto it = std::find(overrides.begin(), overrides.end(), undo);
+    if (it != overrides.end())
+        overrides.erase(it);
+    else
+        setOverride(overrides, "interreflection", on ? "true" : "false");
 }
 
 Grid gridWithStep(const Grid& grid, double step_nm) {
@@ -211,6 +221,30 @@ bool SettingsPanel::draw(const View& view, RenderJob& job) {
                 ImGui::PopID();
             }
             ImGui::PopID();
+        }
+    }
+
+    if (ImGui::CollapsingHeader("Interreflection", ImGuiTreeNodeFlags_DefaultOpen)) {
+        // Light that bounces: on or off, and its element size halved or doubled (the form factors
+        // are computed again; a light's spectrum change above re-solves them).
+        bool on = scene.interreflection.has_value();
+        if (ImGui::Checkbox("light bounces", &on)) {
+            setInterreflection(job.overrides, on);
+            changed = true;
+        }
+        if (scene.interreflection) {
+            const double size = radiosity::elementSize(scene);
+            ImGui::Text("elements \u2264 %.4g m", size);
+            ImGui::SameLine();
+            if (ImGui::SmallButton("\u00d7\u00bd")) {  // ×½
+                setOverride(job.overrides, "interreflection.element_size", fmt::format("{:.9g}", size * 0.5));
+                changed = true;
+            }
+            ImGui::SameLine();
+            if (ImGui::SmallButton("\u00d72")) {  // ×2
+                setOverride(job.overrides, "interreflection.element_size", fmt::format("{:.9g}", size * 2.0));
+                changed = true;
+            }
         }
     }
 

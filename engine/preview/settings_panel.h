@@ -1,6 +1,7 @@
 // The live controls of one view: each light's spectrum (from the library) and scale, each
 // transparent material's filter or medium spectrum and dye concentrations, the detector,
-// chromatic adaptation, display model, representation mode and grid step. They edit a copy of
+// chromatic adaptation, display model, representation mode and grid step, and interreflection
+// (on or off, its element size). They edit a copy of
 // the view's RenderJob; the session hands the edited job to View::update(), which re-renders.
 // Tests: engine/preview/preview_settings_test.cpp.
 #pragma once
@@ -30,6 +31,12 @@ std::string dyeConcentrationKey(const Material& m, size_t dye);
 // concentration ("materials.NAME.layers.L.pigments.P.concentration").
 std::string layerThicknessKey(const Material& m, size_t layer);
 std::string pigmentConcentrationKey(const Material& m, size_t layer, size_t pigment);
+
+// The interreflection switch: off removes an "interreflection=true" the panel added (the file has
+// no such key) or adds "interreflection=false"; on removes an "interreflection=false" (the file's
+// own settings come back) or adds "interreflection=true". Element size edits are
+// "interreflection.element_size" overrides (setOverride).
+void setInterreflection(std::vector<std::string>& overrides, bool on);
 
 class SettingsPanel {
 public:
