@@ -11,6 +11,7 @@ import contextlib
 import difflib
 import functools
 import inspect
+import json
 import os
 import tempfile
 from typing import Any, Callable, Literal, Mapping, Optional, Sequence, TypeVar, Union
@@ -225,7 +226,18 @@ def render(
     readback: Literal["auto", "map", "copy"] = "auto",
     progress: Union[Callable[[int, int], Any], Any, None] = None,
     interruptible: bool = True,
+    interreflection: Union[bool, Mapping[str, Any], None] = None,
 ) -> _metamer.Render:
+    if interreflection is not None:
+        # The scene's "interreflection" key, set after the other overrides (so it wins).
+        value = dict(interreflection) if isinstance(interreflection, Mapping) else interreflection
+        if not isinstance(value, (bool, dict)):
+            raise TypeError(f"interreflection: expected True, False or a dict of its settings, got {value!r}")
+        if overrides is None or isinstance(overrides, Mapping):
+            overrides = {**(overrides or {}), "interreflection": value}
+        else:
+            overrides = ([overrides] if isinstance(overrides, str) else list(overrides)) + [
+                "interreflection=" + json.dumps(value)]
     if isinstance(scene, Mapping):
         scene = _scene_values(dict(scene), "scene")
     if isinstance(overrides, Mapping):

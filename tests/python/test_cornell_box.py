@@ -1,0 +1,85 @@
+"""The bundled Cornell box (scenes/cornell-box.json; issue 47, docs/physics.md "Interreflection")
+through the Python module: the interreflection keyword against the overrides it stands for, and
+Metamer's noise-free interreflection against Mitsuba 3's path-traced reference, rendered once by
+ci/mitsuba_cornell.py and stored with its measured noise in tests/data/cornell/ (a converged path
+tracer costs many minutes, which CI does not pay). Run by CTest (test `python_cornell`) with
+validation layers on.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import metamer
+
+REPO = Path(__file__).resolve().parents[2]
+SCENE = REPO / "scenes" / "cornell-box.json"
+DATA = REPO / "tests" / "data" / "cornell"
+
+
+def small(**keywords):
+    return metamer.render(SCENE, overrides={"camera.width": 32, "camera.height": 32}, **keywords)
+
+
+def test_the_keyword_is_the_override_and_off_leaves_only_the_light():
+    with_keyword = small(interreflection={"element_size": 0.14})
+    # The keyword is the whole key (the file's tolerance gives way to the default); an override of
+    # one setting keeps the others.
+    with_override = metamer.render(SCENE, overrides={"camera.width": 32, "camera.height": 32,
+                                                     "interreflection": {"element_size": 0.14}})
+    np.testing.assert_array_equal(with_keyword.cube, with_override.cube)
+    one_setting = metamer.render(SCENE, overrides=["camera.width=32", "camera.height=32",
+                                                   "interreflection.element_size=0.14"])
+    assert np.abs(one_setting.cube - with_keyword.cube).max() > 0  # a tolerance of 1e-5, not 1e-4
+    np.testing.assert_allclose(one_setting.cube, with_keyword.cube, rtol=1e-3, atol=1e-6)
+    off = small(interreflection=False).cube
+    # Lit only by its emitter, the box is black without interreflection but where the light is seen.
+    seen = off.max(axis=2) > 0
+    assert 0 < seen.sum() < 0.05 * seen.size
+    assert (with_keyword.cube[~seen].sum(axis=1) > 0).mean() > 0.9
+    with pytest.raises(TypeError, match="interreflection"):
+        small(interreflection="yes")
+
+
+def band_regions(wavelengths):
+    return {f"{lo}-{hi}": (wavelengths >= lo) & (wavelengths <= hi) for lo, hi in ((405, 495), (500, 595), (600, 695))}
+
+
+def test_agrees_with_mitsuba_within_its_noise():
+    reference = np.load(DATA / "mitsuba.npz")
+    info = json.loads((DATA / "mitsuba.json").read_text())
+    mean, error = reference["mean"].astype(np.float64), reference["error"].astype(np.float64)
+    height, width, _ = mean.shape
+    # Mitsuba's pixels are box-filtered: each the mean over its area; 4 × 4 samples a pixel here.
+    r = metamer.render(SCENE, overrides={"camera.width": width, "camera.height": height}, ssaa=4)
+    ours = np.asarray(r.cube, dtype=np.float64)
+    wavelengths = np.asarray(r.wavelengths_nm)
+    bands = np.searchsorted(wavelengths, reference["wavelengths_nm"])
+    ours = ours[..., bands]
+    # Compare where the box is seen and the light is not (its edge pixels are mostly emitter), and
+    # away from the image's border.
+    light = mean.max(axis=2) > 0.5
+    near_light = np.zeros_like(light)
+    for dy in (-1, 0, 1):
+        for dx in (-1, 0, 1):
+            near_light |= np.roll(np.roll(light, dy, 0), dx, 1)
+    keep = (mean.mean(axis=2) > 0) & ~near_light
+    keep[[0, -1], :] = keep[:, [0, -1]] = False
+    lines = []
+    for name, sel in band_regions(reference["wavelengths_nm"]).items():
+        relative = np.abs(ours[..., sel] / mean[..., sel] - 1)[keep]
+        sigmas = np.abs(ours[..., sel] - mean[..., sel])[keep] / np.maximum(error[..., sel][keep], 1e-30)
+        noise = (error[..., sel] / mean[..., sel])[keep]
+        lines.append((name, np.median(relative), np.percentile(relative, 99), np.median(sigmas), np.median(noise)))
+    print(f"\nMetamer (GPU, ssaa 4) against Mitsuba {info['version']} {info['variant']}, {info['spp_total']} spp, "
+          f"{keep.sum()} pixels:")
+    for name, med, p99, sig, noise in lines:
+        print(f"  {name} nm: |ours/mitsuba - 1| median {med:.4f}, p99 {p99:.4f}; median |difference| {sig:.2f} "
+              f"of Mitsuba's standard error (its relative noise: median {noise:.4f})")
+    for name, med, p99, sig, noise in lines:
+        assert med < 0.02, name
+        assert p99 < 0.15, name
