@@ -88,9 +88,14 @@ using mat4 = glm::mat4;
 // of the indirect light at the element vertex — H/π, which the surface's own diffuse reflectance
 // multiplies at the fragment, or for a fluorescent surface its whole re-sent radiance
 // (ρd·H + M·H)/π — interpolated to the fragment at VARYING_INDIRECT …, W·sr⁻¹·m⁻²·nm⁻¹.
+// After them, one vec4 more (INDIRECT_SHARE, the same in every pass): each emitter's share D/U of
+// its direct light that reaches the vertex (GpuLightBlock's emitters, drawn per pixel; the H above
+// then leaves their direct light out).
 #define VERTEX_INDIRECT 4
 #define VARYING_INDIRECT 4
 #define INDIRECT_VEC4 8
+#define INDIRECT_SHARE INDIRECT_VEC4                // its index in the record
+#define INDIRECT_RECORD_VEC4 (INDIRECT_VEC4 + 1)    // vec4 per vertex and pass
 
 // Specialization constants of spectral.frag: the shader is specialized to the scene. Lights are
 // sorted ambient, then directional, then point, then hemisphere, so each kind is a loop without
@@ -140,8 +145,18 @@ struct GpuLight {
                   // SPEC_SHADOWED_*, not this value (see there)
 };
 
+// Self-luminous surfaces whose direct light the INDIRECT programs draw per pixel (docs/physics.md,
+// "Interreflection"): at most MAX_EMITTERS materials with MAX_EMITTER_TRIANGLES front triangles in
+// all (radiosity/scene_radiosity.h). Each triangle's corners in the local frame, counter-clockwise
+// seen from its front; corner 0's w is its emitter's index e, whose radiance L_e for this pass's
+// bands is GpuLightSpectraBlock::lightBands[(emitters.z + e)·MAX_OUTPUTS + k].
+#define MAX_EMITTERS 4
+#define MAX_EMITTER_TRIANGLES 64
+
 struct GpuLightBlock {
     GpuLight lights[MAX_LIGHTS];
+    vec4 emitterCorners[3 * MAX_EMITTER_TRIANGLES];
+    uvec4 emitters;  // x: triangles, y: emitters, z: their first entry in the light spectra (the scene's light count)
 };
 
 // World → clip of every shadow-map layer (depth 0..1, x and y to the layer's texture coordinates
@@ -341,7 +356,8 @@ static_assert(TONEMAP_SPEC_CHANNELS == 0 && TONEMAP_SPEC_LAYERS == 1 && TONEMAP_
               "TonemapSpecialization's fields are in id order");
 
 static_assert(sizeof(TonemapParams) == 16 * 20 + 16, "std140 layout");
-static_assert(sizeof(GpuLightBlock) == 32 * MAX_LIGHTS, "std140 layout");
+static_assert(sizeof(GpuLightBlock) == 32 * MAX_LIGHTS + 48 * MAX_EMITTER_TRIANGLES + 16, "std140 layout");
+static_assert(sizeof(GpuLightBlock) <= 16384, "must fit the minimum maxUniformBufferRange");
 static_assert(sizeof(GpuShadowBlock) == 64 * MAX_SHADOW_LAYERS, "std140 layout");
 static_assert(sizeof(ShadowPushConstants) == 64, "push constants must match GLSL");
 static_assert(sizeof(GpuLightSpectraBlock) == 16384, "must fit the minimum maxUniformBufferRange");

@@ -61,8 +61,33 @@ layout(location = 3) in vec4 worldTangent;
 
 #ifdef INDIRECT
 // Interreflection: this pass's bands of the indirect light here, interpolated from the element
-// vertices (interface.h, VERTEX_INDIRECT).
-layout(location = VARYING_INDIRECT) in vec4 indirect[INDIRECT_VEC4];
+// vertices, and each emitter's share of its direct light (interface.h, VERTEX_INDIRECT).
+layout(location = VARYING_INDIRECT) in vec4 indirect[INDIRECT_RECORD_VEC4];
+
+// The form factor from the point x (unit normal n) to triangle (a, b, c) seen from its front, in
+// closed form (Lambert): the part of it above x's horizon, Σ over its edges of the angle each
+// subtends times the cosine of its plane with n, over 2π (radiosity/form_factor.cpp, in double).
+float pointToTriangle(vec3 x, vec3 n, vec3 a, vec3 b, vec3 c) {
+    vec3 front = cross(b - a, c - a);
+    if (!(dot(front, x - a) > 0.0)) return 0.0;
+    vec3 t[3] = vec3[3](a, b, c);
+    float h[3] = float[3](dot(n, a - x), dot(n, b - x), dot(n, c - x));
+    vec3 v[4];
+    int count = 0;
+    for (int k = 0; k < 3; ++k) {  // clipped to x's hemisphere: at most 4 corners
+        int k1 = (k + 1) % 3;
+        if (h[k] >= 0.0) v[count++] = t[k];
+        if ((h[k] >= 0.0) != (h[k1] >= 0.0)) v[count++] = t[k] + (t[k1] - t[k]) * (h[k] / (h[k] - h[k1]));
+    }
+    float sum = 0.0;
+    for (int k = 0; k < count; ++k) {
+        vec3 r0 = v[k] - x, r1 = v[(k + 1) % count] - x;
+        vec3 g = cross(r0, r1);
+        float s = length(g);
+        if (s > 0.0) sum += atan(s, dot(r0, r1)) * dot(n, g) / s;
+    }
+    return count >= 3 ? clamp(-sum * 0.15915494309189535, 0.0, 1.0) : 0.0;  // −Σ/2π
+}
 #endif
 
 layout(location = 0) out vec4 out0;
@@ -359,6 +384,20 @@ void main() {
     if (gl_FrontFacing) {
         const bool whole = (runtimeValue(M.switches.x) & MATERIAL_FLUORESCENT) != 0u;
         [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) acc[k] += (whole ? vec4(1.0) : diffuseAt(k)) * indirect[k];
+        // The emitters' direct light, per pixel: L_e × the unoccluded form factor here (closed
+        // form) × the share that reaches past the occluders, interpolated from the vertices (0 on
+        // a fluorescent surface, whose vertices carry it whole).
+        vec4 factor = vec4(0.0);
+        for (uint t = 0u; t < L.emitters.x; ++t) {
+            vec4 a = L.emitterCorners[3u * t];
+            factor[int(a.w)] += pointToTriangle(worldPosition, n, a.xyz, L.emitterCorners[3u * t + 1u].xyz,
+                                                L.emitterCorners[3u * t + 2u].xyz);
+        }
+        factor *= indirect[INDIRECT_SHARE];
+        for (uint e = 0u; e < L.emitters.y; ++e) {
+            uint first = (L.emitters.z + e) * uint(MAX_OUTPUTS);
+            [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) acc[k] += diffuseAt(k) * factor[e] * E.lightBands[first + uint(k)];
+        }
     }
 #endif
 

@@ -15,8 +15,8 @@ layout(location = 2) out vec2 uv;
 layout(location = 3) out vec4 worldTangent;
 #ifdef INDIRECT
 // Interreflection's indirect light at the vertex, passed on to be interpolated (interface.h).
-layout(location = VERTEX_INDIRECT) in vec4 inIndirect[INDIRECT_VEC4];
-layout(location = VARYING_INDIRECT) out vec4 indirect[INDIRECT_VEC4];
+layout(location = VERTEX_INDIRECT) in vec4 inIndirect[INDIRECT_RECORD_VEC4];
+layout(location = VARYING_INDIRECT) out vec4 indirect[INDIRECT_RECORD_VEC4];
 #endif
 
 layout(push_constant) uniform Push { SpectralPushConstants pc; };
@@ -30,7 +30,7 @@ void main() {
     uv = inUv;
     worldTangent = inTangent;
 #ifdef INDIRECT
-    for (int k = 0; k < INDIRECT_VEC4; ++k) indirect[k] = inIndirect[k];
+    for (int k = 0; k < INDIRECT_RECORD_VEC4; ++k) indirect[k] = inIndirect[k];
 #endif
     gl_Position = pc.viewProjection * vec4(inPosition, 1.0);
 }

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <span>
 
 namespace metamer::radiosity {
 
@@ -73,10 +74,16 @@ Eigen::MatrixXd reemissionMatrix(const MaterialOnGrid& m, const SceneOnGrid& g) 
 }
 
 std::string SceneInterreflection::describe() const {
-    return fmt::format("interreflection: {} elements, form factors {:.2f} s ({} near pairs, {} rays), {}, gathered "
-                       "at the vertices in {:.2f} s; {:.2f} s in all",
-                       elements, coupling.seconds, coupling.nearPairs, coupling.rays, solution.describe(), gatherSeconds,
-                       totalSeconds);
+    std::string refined;
+    if (!refinement.empty()) {
+        refined = ", refined";
+        for (size_t r : refinement) refined += fmt::format(" +{}", r);
+        if (refinementStopped) refined += " (stopped at max_elements)";
+    }
+    return fmt::format("interreflection: {} elements{}, form factors {:.2f} s ({} near pairs, {} rays in the last pass), "
+                       "{}, gathered at the vertices in {:.2f} s; {:.2f} s in all",
+                       elements, refined, formFactorSeconds, coupling.nearPairs, coupling.rays, solution.describe(),
+                       gatherSeconds, totalSeconds);
 }
 
 double elementSize(const Scene& scene) {
@@ -93,42 +100,131 @@ double elementSize(const Scene& scene) {
     return diagonal > 0.0 ? diagonal / 24.0 : 1.0;
 }
 
-SceneInterreflection solveInterreflection(const Scene& scene, const SceneOnGrid& g) {
-    const auto t0 = Clock::now();
-    if (!scene.interreflection) failRuntime("solveInterreflection: the scene asks for no interreflection");
-    struct {
-        double elementSize_m, tolerance;
-        size_t maxElements;
-    } const s{elementSize(scene), scene.interreflection->tolerance, size_t(scene.interreflection->maxElements)};
-    SceneInterreflection out;
-    out.meshes.resize(scene.meshes.size());
-    const size_t bands = g.wavelengths_nm.size();
-    // The opaque surfaces occlude; the BVH's order is its own, so find each input triangle in it.
-    const Bvh bvh(Bvh::collectTriangles(scene, LocalFrame{}, [&](const Mesh& m) {
-        return !scene.materials[m.material].isTransparent();
-    }));
-    std::map<std::pair<uint32_t, uint32_t>, uint32_t> bvhIndex;
-    for (uint32_t i = 0; i < bvh.triangles().size(); ++i)
-        bvhIndex[{bvh.triangles()[i].mesh, bvh.triangles()[i].triangle}] = i;
+namespace {
 
-    // Elements: each opaque mesh refined; its front, and its back unless it is closed.
+struct Settings {
+    double elementSize_m, tolerance;
+    size_t maxElements;
+};
+
+// The scene's opaque surfaces, as the BVH that occludes and each input triangle's place in it.
+struct Occluders {
+    const Bvh& bvh;
+    const std::map<std::pair<uint32_t, uint32_t>, uint32_t>& index;  // (mesh, triangle) → BVH triangle
+};
+
+// Everything but the elements themselves, on out.meshes[·].elements as they are: the sides, their
+// reflectance and direct light, the form factors, the solve and the vertices' H.
+// H at the midpoints of a mesh's element edges, on each side: what refinement compares with the
+// interpolation of H between the edge's ends.
+struct EdgeMidpoints {
+    std::vector<std::pair<uint32_t, uint32_t>> edges;  // each once, (a, b) with a < b
+    Eigen::MatrixXd front, back;                       // [edge][band], as MeshInterreflection's
+    Eigen::MatrixXd frontDirect, backDirect, frontUnoccluded, backUnoccluded;  // [edge][emitter]
+    Eigen::MatrixXd frontBuried, backBuried;                                   // [edge][0]: 1 inside a solid
+};
+
+// Per gather point: H without the emitters' direct light, and per emitter D and U
+// (MeshInterreflection). `emitterOf`: each element's emitter, −1 for none.
+struct Gathered {
+    Eigen::MatrixXd H, direct, unoccluded;
+    Eigen::MatrixXd buried;  // [point][0]: 1 inside a closed solid (vertex_gather.h, buriedPoints)
+};
+Gathered gather(std::span<const GatherPoint> points, std::span<const std::array<glm::dvec3, 3>> corners, const Bvh& bvh,
+                const Eigen::MatrixXd& radiosity, const std::vector<int>& emitterOf,
+                const std::vector<EmitterGeometry>& emitters, const SceneOnGrid& g, const std::vector<char>& closed) {
+    const Eigen::MatrixXd W = gatherFactors(points, corners, &bvh);
+    Gathered out;
+    const std::vector<char> buried = buriedPoints(points, bvh, closed);
+    out.buried = Eigen::MatrixXd::Zero(Eigen::Index(points.size()), 1);
+    for (size_t p = 0; p < points.size(); ++p) out.buried(Eigen::Index(p), 0) = buried[p];
+    if (emitters.empty()) {
+        out.H = W * radiosity;
+        return out;
+    }
+    const Eigen::Index n = Eigen::Index(corners.size()), count = Eigen::Index(emitters.size());
+    Eigen::MatrixXd bounced = radiosity, share = Eigen::MatrixXd::Zero(n, count);
+    for (Eigen::Index j = 0; j < n; ++j)
+        if (const int e = emitterOf[size_t(j)]; e >= 0) {
+            share(j, e) = 1.0;
+            const std::vector<double>& Le = g.materials[emitters[size_t(e)].material].emitted;
+            for (Eigen::Index b = 0; b < bounced.cols(); ++b) bounced(j, b) -= kPi * Le[size_t(b)];
+        }
+    out.H = W * bounced;
+    out.direct = W * share;
+    out.unoccluded = Eigen::MatrixXd::Zero(Eigen::Index(points.size()), count);
+    for (size_t p = 0; p < points.size(); ++p) {
+        // Where the gather evaluates the point (vertex_gather.cpp): a hair inside its own surface,
+        // so that U at the foot of an emitting wall is the limit the pixels beside it approach.
+        const glm::dvec3 x = points[p].position + 1e-7 * points[p].inside;
+        for (size_t e = 0; e < emitters.size(); ++e)
+            for (const auto& t : emitters[e].triangles)
+                out.unoccluded(Eigen::Index(p), Eigen::Index(e)) += pointToTriangle(x, points[p].normal, t, polygonNormal(t));
+    }
+    return out;
+}
+
+// Rows of `values` not `known` take the mean of the known rows of the vertices they share an element
+// with, spreading outwards pass by pass (a vertex deep under a box takes its edge's); a row with no
+// known vertex in reach keeps its value.
+void fillFromNeighbours(Eigen::MatrixXd& values, Eigen::Array<bool, Eigen::Dynamic, Eigen::Dynamic> known,
+                        const ElementMesh& mesh) {
+    for (int pass = 0; pass < 64 && !known.all(); ++pass) {
+        Eigen::MatrixXd sum = Eigen::MatrixXd::Zero(values.rows(), values.cols()), count = sum;
+        for (const auto& t : mesh.triangles)
+            for (uint32_t a : t)
+                for (uint32_t b : t)
+                    for (Eigen::Index c = 0; c < values.cols(); ++c)
+                        if (a != b && !known(a, c) && known(b, c)) {
+                            sum(a, c) += values(b, c);
+                            count(a, c) += 1.0;
+                        }
+        if ((count.array() == 0.0).all()) break;
+        for (Eigen::Index v = 0; v < values.rows(); ++v)
+            for (Eigen::Index c = 0; c < values.cols(); ++c)
+                if (count(v, c) > 0.0) {
+                    values(v, c) = sum(v, c) / count(v, c);
+                    known(v, c) = true;
+                }
+    }
+}
+
+// A buried vertex's H (it gathers nothing) is its unburied neighbours': the pixels on the visible
+// part of its elements interpolate it.
+void fillBuried(Eigen::MatrixXd& H, const Eigen::MatrixXd& buried, const ElementMesh& mesh) {
+    if (H.rows() == 0 || !(buried.array() > 0.0).any()) return;
+    fillFromNeighbours(H, (buried.col(0).array() == 0.0).replicate(1, H.cols()), mesh);
+}
+
+// Each vertex's share D/U of each emitter's direct light. Where the emitter sends nothing (U = 0: a
+// wall's vertex at the height of a ceiling light's plane) or the vertex is buried, the share is
+// undefined, yet the pixels beside it interpolate it: it takes its neighbours' (fillFromNeighbours),
+// else 1 (nothing found in the way).
+Eigen::MatrixXd emitterShares(const Eigen::MatrixXd& D, const Eigen::MatrixXd& U, const Eigen::MatrixXd& buried,
+                              const ElementMesh& mesh) {
+    constexpr double kReached = 1e-12;  // a form factor below this is no light at all
+    Eigen::MatrixXd S = Eigen::MatrixXd::Ones(U.rows(), U.cols());
+    Eigen::Array<bool, Eigen::Dynamic, Eigen::Dynamic> known(U.rows(), U.cols());
+    for (Eigen::Index v = 0; v < U.rows(); ++v)
+        for (Eigen::Index e = 0; e < U.cols(); ++e) {
+            known(v, e) = U(v, e) > kReached && buried(v, 0) == 0.0;
+            if (known(v, e)) S(v, e) = D(v, e) / U(v, e);
+        }
+    fillFromNeighbours(S, known, mesh);
+    return S;
+}
+
+void solveOn(const Scene& scene, const SceneOnGrid& g, const Occluders& occluders, const Settings& s,
+             SceneInterreflection& out, std::vector<EdgeMidpoints>* midpoints) {
+    const Bvh& bvh = occluders.bvh;
+    const auto& bvhIndex = occluders.index;
+    const size_t bands = g.wavelengths_nm.size();
+    // Sides: each refined mesh's front, and its back unless it is closed.
     std::vector<Side> sides;
-    size_t made = 0;
     for (size_t m = 0; m < scene.meshes.size(); ++m) {
         const Mesh& mesh = scene.meshes[m];
         if (scene.materials[mesh.material].isTransparent()) continue;
         MeshInterreflection& mi = out.meshes[m];
-        auto refuse = [&](size_t count) {
-            failInput(scene.interreflection->where.child("max_elements"),
-                      "the surfaces make more than {} elements of at most {:.4g} m ({} with {}), more than the {} allowed; "
-                      "their form factors would take over {:.1f} GiB: give a longer \"element_size\" or raise "
-                      "\"max_elements\"",
-                      count, s.elementSize_m, count, mesh.name, s.maxElements,
-                      double(count) * double(count) * 8.0 / 1073741824.0);
-        };
-        mi.elements = refineMesh(mesh.positions, mesh.indices, s.elementSize_m, s.maxElements);
-        if (mi.elements.truncated) refuse(made + s.maxElements);
-        made += mi.elements.triangles.size();
         const std::vector<glm::dvec2> uvs =
             mesh.uvs.empty() ? std::vector<glm::dvec2>() : interpolate<glm::dvec2>(mi.elements, mesh.uvs);
         for (int side = 0; side < (mesh.closed ? 1 : 2); ++side)
@@ -264,14 +360,21 @@ SceneInterreflection solveInterreflection(const Scene& scene, const SceneOnGrid&
     }
     p.surfaces = std::move(surfaces);
     out.area = p.area;
+    // The elements on the front of each emitter drawn per pixel.
+    std::vector<int> emitterOf(n, -1);
+    for (size_t k = 0; k < n; ++k)
+        for (size_t e = 0; e < out.emitters.size(); ++e)
+            if (!sides[kept[k]].back && sides[kept[k]].material == out.emitters[e].material) emitterOf[k] = int(e);
     out.coupling = formFactorMatrix(corners, &bvh, source);
+    out.formFactorSeconds += out.coupling.seconds;
     p.formFactors = std::move(out.coupling.formFactors);
     out.solution = solve(p, s.tolerance);
 
     // The indirect irradiance at every element vertex, on each side.
     const auto tg = Clock::now();
     std::vector<GatherPoint> points;
-    std::vector<std::pair<size_t, int>> owner;  // (mesh, side) of each point, in order
+    std::vector<std::pair<size_t, int>> owner, edgeOwner;  // (mesh, sides) of each mesh's points, in order
+    std::vector<GatherPoint> edgePoints;
     for (size_t m = 0; m < out.meshes.size(); ++m) {
         const Mesh& mesh = scene.meshes[m];
         const ElementMesh& em = out.meshes[m].elements;
@@ -281,43 +384,228 @@ SceneInterreflection solveInterreflection(const Scene& scene, const SceneOnGrid&
         // Per vertex: the mean of its elements' centroids (where "inside" points), a face normal
         // where the mesh has none, and one of its triangles (which its rays skip).
         std::vector<glm::dvec3> centroidSum(em.vertices.size(), glm::dvec3(0.0)), faceNormal(em.vertices.size(), glm::dvec3(0.0));
-        std::vector<uint32_t> anyTriangle(em.vertices.size(), 0);
+        std::vector<uint32_t> anyTriangle(em.vertices.size(), 0), uses(em.vertices.size(), 0);
         for (size_t t = 0; t < em.triangles.size(); ++t)
             for (uint32_t v : em.triangles[t]) {
+                ++uses[v];
                 centroidSum[v] += em.centroid(t);
                 faceNormal[v] += em.normal(t) * em.area(t);
                 anyTriangle[v] = bvhIndex.at({uint32_t(m), em.inputTriangle[t]});
             }
+        auto unitNormal = [&](size_t v) {
+            const glm::dvec3 normal = normals.empty() ? faceNormal[v] : normals[v];
+            const double length = glm::length(normal);
+            return length > 0.0 ? normal / length : glm::dvec3(0.0, 0.0, 1.0);
+        };
         for (int side = 0; side < (mesh.closed ? 1 : 2); ++side)
             for (size_t v = 0; v < em.vertices.size(); ++v) {
-                glm::dvec3 normal = normals.empty() ? faceNormal[v] : normals[v];
-                const double length = glm::length(normal);
-                normal = length > 0.0 ? normal / length : glm::dvec3(0.0, 0.0, 1.0);
                 GatherPoint gp;
                 gp.position = em.vertices[v];
-                gp.normal = side == 0 ? normal : -normal;
-                const double uses = double(std::count_if(em.triangles.begin(), em.triangles.end(), [&](const auto& t) {
-                    return t[0] == v || t[1] == v || t[2] == v;
-                }));
-                gp.inside = uses > 0 ? centroidSum[v] / uses - em.vertices[v] : glm::dvec3(0.0);
+                gp.normal = side == 0 ? unitNormal(v) : -unitNormal(v);
+                gp.inside = uses[v] > 0 ? centroidSum[v] / double(uses[v]) - em.vertices[v] : glm::dvec3(0.0);
                 gp.source = anyTriangle[v];
                 points.push_back(gp);
             }
         owner.push_back({m, mesh.closed ? 1 : 2});
-    }
-    const Eigen::MatrixXd W = gatherFactors(points, corners, &bvh);
-    const Eigen::MatrixXd H = W * out.solution.radiosity;
-    Eigen::Index row = 0;
-    for (const auto& [m, sidesOfMesh] : owner) {
-        const Eigen::Index count = Eigen::Index(out.meshes[m].elements.vertices.size());
-        out.meshes[m].front = H.middleRows(row, count);
-        row += count;
-        if (sidesOfMesh == 2) {
-            out.meshes[m].back = H.middleRows(row, count);
-            row += count;
+        if (midpoints) {
+            // Each edge's midpoint, a hair into one of its triangles.
+            EdgeMidpoints& e = (*midpoints)[m];
+            e = {};
+            std::map<std::pair<uint32_t, uint32_t>, uint32_t> triangleOf;
+            for (size_t t = 0; t < em.triangles.size(); ++t)
+                for (int k = 0; k < 3; ++k) {
+                    const uint32_t a = em.triangles[t][size_t(k)], b = em.triangles[t][size_t((k + 1) % 3)];
+                    triangleOf.emplace(std::pair{std::min(a, b), std::max(a, b)}, uint32_t(t));
+                }
+            for (const auto& [edge, t] : triangleOf) e.edges.push_back(edge);
+            for (int side = 0; side < (mesh.closed ? 1 : 2); ++side)
+                for (const auto& [edge, t] : triangleOf) {
+                    const auto [a, b] = edge;
+                    GatherPoint gp;
+                    gp.position = 0.5 * (em.vertices[a] + em.vertices[b]);
+                    const glm::dvec3 normal = glm::normalize(unitNormal(a) + unitNormal(b));
+                    gp.normal = side == 0 ? normal : -normal;
+                    gp.inside = em.centroid(t) - gp.position;
+                    gp.source = bvhIndex.at({uint32_t(m), em.inputTriangle[t]});
+                    edgePoints.push_back(gp);
+                }
+            edgeOwner.push_back({m, mesh.closed ? 1 : 2});
         }
     }
-    out.gatherSeconds = msSince(tg) / 1000.0;
+    // Rows of a gathered matrix to each mesh's sides, in the order the points were made.
+    auto split = [](const Eigen::MatrixXd& all, Eigen::Index& row, Eigen::Index count, int sidesOfMesh,
+                    Eigen::MatrixXd& front, Eigen::MatrixXd& back) {
+        if (all.size() == 0) return;
+        front = all.middleRows(row, count);
+        if (sidesOfMesh == 2) back = all.middleRows(row + count, count);
+        row += count * sidesOfMesh;
+    };
+    std::vector<char> closed(scene.meshes.size());
+    for (size_t m = 0; m < scene.meshes.size(); ++m) closed[m] = scene.meshes[m].closed;
+    const Gathered at = gather(points, corners, bvh, out.solution.radiosity, emitterOf, out.emitters, g, closed);
+    Eigen::Index rows[4] = {0, 0, 0, 0};
+    for (const auto& [m, sidesOfMesh] : owner) {
+        MeshInterreflection& mi = out.meshes[m];
+        const Eigen::Index count = Eigen::Index(mi.elements.vertices.size());
+        split(at.H, rows[0], count, sidesOfMesh, mi.front, mi.back);
+        split(at.direct, rows[1], count, sidesOfMesh, mi.frontDirect, mi.backDirect);
+        split(at.unoccluded, rows[2], count, sidesOfMesh, mi.frontUnoccluded, mi.backUnoccluded);
+        Eigen::MatrixXd frontBuried, backBuried;
+        split(at.buried, rows[3], count, sidesOfMesh, frontBuried, backBuried);
+        fillBuried(mi.front, frontBuried, mi.elements);
+        if (sidesOfMesh == 2) fillBuried(mi.back, backBuried, mi.elements);
+        if (!out.emitters.empty()) {
+            mi.frontShare = emitterShares(mi.frontDirect, mi.frontUnoccluded, frontBuried, mi.elements);
+            if (sidesOfMesh == 2) mi.backShare = emitterShares(mi.backDirect, mi.backUnoccluded, backBuried, mi.elements);
+        }
+    }
+    if (midpoints) {
+        const Gathered mid = gather(edgePoints, corners, bvh, out.solution.radiosity, emitterOf, out.emitters, g, closed);
+        std::fill(rows, rows + 4, 0);
+        for (const auto& [m, sidesOfMesh] : edgeOwner) {
+            EdgeMidpoints& e = (*midpoints)[m];
+            const Eigen::Index count = Eigen::Index(e.edges.size());
+            split(mid.H, rows[0], count, sidesOfMesh, e.front, e.back);
+            split(mid.direct, rows[1], count, sidesOfMesh, e.frontDirect, e.backDirect);
+            split(mid.unoccluded, rows[2], count, sidesOfMesh, e.frontUnoccluded, e.backUnoccluded);
+            split(mid.buried, rows[3], count, sidesOfMesh, e.frontBuried, e.backBuried);
+        }
+    }
+    out.gatherSeconds += msSince(tg) / 1000.0;
+}
+
+// How far the renderer's reconstruction along edge k of a mesh — H interpolated, plus each
+// emitter's πL_e × its share interpolated × U at the point — misses what is gathered at the edge's
+// midpoint, Σ over bands, and that value's own Σ: the larger of the mesh's two sides.
+std::pair<double, double> interpolationMiss(const MeshInterreflection& mi, const EdgeMidpoints& e, size_t k,
+                                            const std::vector<EmitterGeometry>& emitters, const SceneOnGrid& g) {
+    const auto [a, b] = e.edges[k];
+    const Eigen::Index ia = Eigen::Index(a), ib = Eigen::Index(b), ik = Eigen::Index(k);
+    auto miss = [&](const Eigen::MatrixXd& H, const Eigen::MatrixXd& mid, const Eigen::MatrixXd& S, const Eigen::MatrixXd& Dm,
+                    const Eigen::MatrixXd& Um, const Eigen::MatrixXd& buried) -> std::pair<double, double> {
+        if (buried(ik, 0) != 0.0) return {0.0, 0.0};  // no pixel sees it
+        Eigen::RowVectorXd actual = mid.row(ik), predicted = 0.5 * (H.row(ia) + H.row(ib));
+        for (size_t em = 0; em < emitters.size(); ++em) {
+            const Eigen::Index c = Eigen::Index(em);
+            const double shared = 0.5 * (S(ia, c) + S(ib, c));
+            const std::vector<double>& Le = g.materials[emitters[em].material].emitted;
+            for (Eigen::Index band = 0; band < actual.size(); ++band) {
+                actual[band] += kPi * Le[size_t(band)] * Dm(ik, c);
+                predicted[band] += kPi * Le[size_t(band)] * shared * Um(ik, c);
+            }
+        }
+        return {(actual - predicted).cwiseAbs().sum(), actual.cwiseAbs().sum()};
+    };
+    std::pair<double, double> worst =
+        miss(mi.front, e.front, mi.frontShare, e.frontDirect, e.frontUnoccluded, e.frontBuried);
+    if (e.back.rows() > 0) {
+        const std::pair<double, double> back =
+            miss(mi.back, e.back, mi.backShare, e.backDirect, e.backUnoccluded, e.backBuried);
+        if (back.first > worst.first) worst = back;
+    }
+    return worst;
+}
+
+}  // namespace
+
+SceneInterreflection solveInterreflection(const Scene& scene, const SceneOnGrid& g) {
+    const auto t0 = Clock::now();
+    if (!scene.interreflection) failRuntime("solveInterreflection: the scene asks for no interreflection");
+    const Interreflection& settings = *scene.interreflection;
+    const Settings s{elementSize(scene), settings.tolerance, size_t(settings.maxElements)};
+    SceneInterreflection out;
+    out.meshes.resize(scene.meshes.size());
+    // The opaque surfaces occlude; the BVH's order is its own, so find each input triangle in it.
+    const Bvh bvh(Bvh::collectTriangles(scene, LocalFrame{}, [&](const Mesh& m) {
+        return !scene.materials[m.material].isTransparent();
+    }));
+    std::map<std::pair<uint32_t, uint32_t>, uint32_t> bvhIndex;
+    for (uint32_t i = 0; i < bvh.triangles().size(); ++i)
+        bvhIndex[{bvh.triangles()[i].mesh, bvh.triangles()[i].triangle}] = i;
+
+    // Elements: each opaque mesh bisected to the element size; both sides of an open one count.
+    size_t made = 0;
+    for (size_t m = 0; m < scene.meshes.size(); ++m) {
+        const Mesh& mesh = scene.meshes[m];
+        if (scene.materials[mesh.material].isTransparent()) continue;
+        MeshInterreflection& mi = out.meshes[m];
+        auto refuse = [&](size_t count) {
+            failInput(settings.where.child("max_elements"),
+                      "the surfaces make more than {} elements of at most {:.4g} m ({} with {}), more than the {} allowed; "
+                      "their form factors would take over {:.1f} GiB: give a longer \"element_size\" or raise "
+                      "\"max_elements\"",
+                      count, s.elementSize_m, count, mesh.name, s.maxElements,
+                      double(count) * double(count) * 8.0 / 1073741824.0);
+        };
+        mi.elements = refineMesh(mesh.positions, mesh.indices, s.elementSize_m, s.maxElements);
+        if (mi.elements.truncated) refuse(made + s.maxElements);
+        made += mi.elements.triangles.size() * (mesh.closed ? 1 : 2);
+    }
+    // The emitters whose direct light the renderer draws per pixel: their front triangles.
+    size_t emitterTriangles = 0;
+    for (size_t mat = 0; mat < g.materials.size(); ++mat) {
+        if (!g.materials[mat].isEmitter()) continue;
+        EmitterGeometry e;
+        e.material = uint32_t(mat);
+        for (const Mesh& mesh : scene.meshes)
+            if (mesh.material == mat)
+                for (size_t t = 0; t + 2 < mesh.indices.size(); t += 3)
+                    e.triangles.push_back({mesh.positions[mesh.indices[t]], mesh.positions[mesh.indices[t + 1]],
+                                           mesh.positions[mesh.indices[t + 2]]});
+        emitterTriangles += e.triangles.size();
+        if (!e.triangles.empty()) out.emitters.push_back(std::move(e));
+    }
+    if (out.emitters.size() > kMaxPixelEmitters || emitterTriangles > kMaxPixelEmitterTriangles) out.emitters.clear();
+    const Occluders occluders{bvh, bvhIndex};
+    std::vector<EdgeMidpoints> midpoints(scene.meshes.size());
+    solveOn(scene, g, occluders, s, out, settings.refine > 0 ? &midpoints : nullptr);
+
+    // Refinement where the indirect light changes fast: an element edge whose linear interpolation
+    // of H misses H gathered at its midpoint by more than refine_threshold of that H (Σ over bands;
+    // where H is at least 10⁻³ of the mean vertex H) is bisected, down to an element size / 16, and
+    // the whole solved again; at most `refine` times, and within max_elements (a pass that would
+    // exceed them refines no more and says so).
+    const double minEdge2 = std::pow(s.elementSize_m / 16.0, 2);
+    for (int pass = 0; pass < settings.refine; ++pass) {
+        double sum = 0.0;
+        size_t count = 0;
+        for (const MeshInterreflection& mi : out.meshes) {
+            sum += mi.front.sum() + mi.back.sum();
+            count += size_t(mi.front.rows() + mi.back.rows());
+        }
+        const double floor = 1e-3 * (count > 0 ? sum / double(count) : 0.0);
+        if (!(floor > 0.0)) break;
+        size_t added = 0, budget = s.maxElements > out.elements ? s.maxElements - out.elements : 0;
+        bool stopped = false;
+        for (size_t m = 0; m < scene.meshes.size() && !stopped; ++m) {
+            MeshInterreflection& mi = out.meshes[m];
+            if (mi.elements.triangles.empty()) continue;
+            std::vector<std::pair<uint32_t, uint32_t>> edges;
+            const EdgeMidpoints& e = midpoints[m];
+            for (size_t k = 0; k < e.edges.size(); ++k) {
+                const auto [a, b] = e.edges[k];
+                const glm::dvec3 d = mi.elements.vertices[a] - mi.elements.vertices[b];
+                if (!(glm::dot(d, d) > minEdge2)) continue;
+                const auto [miss, at] = interpolationMiss(mi, e, k, out.emitters, g);
+                if (at > floor && miss > settings.refineThreshold * at) edges.push_back({a, b});
+            }
+            if (edges.empty()) continue;
+            const size_t sidesPer = scene.meshes[m].closed ? 1 : 2;
+            const size_t before = mi.elements.triangles.size();
+            mi.elements.truncated = false;
+            refineEdges(mi.elements, edges, before + budget / sidesPer);
+            const size_t grown = (mi.elements.triangles.size() - before) * sidesPer;
+            added += grown;
+            budget -= std::min(budget, grown);
+            stopped = mi.elements.truncated;
+            mi.elements.truncated = false;
+        }
+        out.refinement.push_back(added);
+        out.refinementStopped = stopped;
+        if (added == 0) break;
+        out.coupling = {};
+        solveOn(scene, g, occluders, s, out, pass + 1 < settings.refine ? &midpoints : nullptr);
+    }
     out.totalSeconds = msSince(t0) / 1000.0;
     return out;
 }

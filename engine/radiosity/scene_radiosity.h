@@ -5,6 +5,9 @@
 // radiosity solved in every band with the surfaces' re-emission (solver.h), and the indirect
 // irradiance H at every element vertex (vertex_gather.h), which the renderer interpolates across
 // each element and multiplies by the surface's own reflectance at the pixel (textures included).
+// Then, up to `refine` times, the element edges along which H changes by more than
+// refine_threshold × the mean vertex H are bisected (radiosity/element_mesh.h, refineEdges: no
+// T-junctions) and everything is solved again: elements gather at contacts and shadow edges.
 //
 // Each side of an open mesh is its own surface (two-sided shading: a quad lit from behind shows
 // its back); a closed mesh has its outside only. What is not interreflected: the specular lobe
@@ -31,16 +34,38 @@ struct MeshInterreflection {
     ElementMesh elements;  // the mesh refined
     // [element vertex][band]: the indirect irradiance H, W·m⁻²·nm⁻¹, on the side the mesh's normal
     // points to, and on its back (empty for a closed mesh). Zero-sized for a mesh left out (transparent).
+    // With SceneInterreflection::emitters, H leaves out what the emitters send directly.
     Eigen::MatrixXd front, back;
+    // [element vertex][emitter], per side, with SceneInterreflection::emitters: D, the irradiance a
+    // unit radiosity on the emitter's front makes there past the occluders (Σ of the gather factors
+    // over its elements), and U, the same unoccluded (the closed form over its triangles). The
+    // emitter's direct irradiance is πL_e·D; the renderer draws it per pixel as πL_e·(D/U)·U(pixel).
+    Eigen::MatrixXd frontDirect, backDirect, frontUnoccluded, backUnoccluded;
+    // [element vertex][emitter]: the share D/U the renderer interpolates (where U = 0, the mean of
+    // the neighbours' that the emitter reaches).
+    Eigen::MatrixXd frontShare, backShare;
 };
+
+// A self-luminous material whose direct light the renderer draws per pixel: its front triangles
+// (the input meshes', not the elements), metres, counter-clockwise seen from the front.
+struct EmitterGeometry {
+    uint32_t material = 0;
+    std::vector<std::array<glm::dvec3, 3>> triangles;
+};
+// Up to this many emitting materials with this many triangles in all are drawn per pixel; a scene
+// with more takes their direct light from the vertices too, as the rest of H (interface.h).
+constexpr size_t kMaxPixelEmitters = 4, kMaxPixelEmitterTriangles = 64;
 
 struct SceneInterreflection {
     std::vector<MeshInterreflection> meshes;  // [Scene::meshes index]
+    std::vector<EmitterGeometry> emitters;    // drawn per pixel (empty: none, or too many)
     size_t elements = 0;                      // surfaces' elements solved (both sides of open meshes)
     std::vector<double> area;                 // theirs, m² (in the order of solution.radiosity's rows)
-    Coupling coupling;                        // the form factors and what they cost
+    Coupling coupling;                        // the form factors (the last pass's) and what they cost
     Solution solution;
-    double gatherSeconds = 0.0, totalSeconds = 0.0;
+    std::vector<size_t> refinement;           // elements each refinement pass added
+    bool refinementStopped = false;           // a pass reached max_elements
+    double formFactorSeconds = 0.0, gatherSeconds = 0.0, totalSeconds = 0.0;  // over all passes
     std::string describe() const;  // one line for -v: elements, the bound, the times
 };
 

@@ -4,6 +4,7 @@
 #include "radiosity/form_factor.h"
 
 #include <algorithm>
+#include <cmath>
 #include <atomic>
 #include <thread>
 
@@ -43,6 +44,33 @@ Eigen::MatrixXd gatherFactors(std::span<const GatherPoint> points, std::span<con
     work();
     for (std::thread& t : pool) t.join();
     return W;
+}
+
+std::vector<char> buriedPoints(std::span<const GatherPoint> points, const Bvh& occluders, const std::vector<char>& closed) {
+    std::vector<char> buried(points.size(), 0);
+    for (size_t p = 0; p < points.size(); ++p) {
+        const GatherPoint& g = points[p];
+        const glm::dvec3 n = g.normal;
+        const glm::dvec3 u = glm::normalize(std::fabs(n.x) < 0.9 ? glm::cross(n, glm::dvec3(1, 0, 0)) : glm::cross(n, glm::dvec3(0, 1, 0)));
+        const glm::dvec3 v = glm::cross(n, u);
+        const glm::dvec3 x = g.position + 1e-7 * g.inside;
+        // The normal, and rings at 45° and 80° from it: a point beside a solid sees out along some.
+        bool inside = true;
+        for (int k = 0; k < 9 && inside; ++k) {
+            const double polar = k == 0 ? 0.0 : (k < 5 ? 0.785398163 : 1.396263402), azimuth = 1.570796327 * (k % 4) + 0.4;
+            const glm::dvec3 d = std::cos(polar) * n + std::sin(polar) * (std::cos(azimuth) * u + std::sin(azimuth) * v);
+            const auto hit = occluders.intersect(Ray{x, d});
+            if (!hit) {
+                inside = false;
+                break;
+            }
+            const BvhTriangle& t = occluders.triangles()[hit->index];
+            const glm::dvec3 front = glm::cross(t.p1 - t.p0, t.p2 - t.p0);
+            inside = t.mesh < closed.size() && closed[t.mesh] && glm::dot(front, d) > 0.0;
+        }
+        buried[p] = inside;
+    }
+    return buried;
 }
 
 }  // namespace metamer::radiosity

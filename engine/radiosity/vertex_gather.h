@@ -18,6 +18,7 @@
 
 #include <array>
 #include <span>
+#include <vector>
 
 namespace metamer::radiosity {
 
@@ -30,5 +31,11 @@ struct GatherPoint {
 // W [point][element]. `occluders` null: nothing occludes.
 Eigen::MatrixXd gatherFactors(std::span<const GatherPoint> points, std::span<const std::array<glm::dvec3, 3>> elements,
                               const Bvh* occluders);
+
+// Whether each point lies inside a closed solid — a floor's vertex under a box standing on it: every
+// one of a fan of rays over its hemisphere leaves through the back of a closed mesh's triangle.
+// Such a point sees nothing; what it gathers is no value for the pixels beside it to interpolate.
+// `closed`: per mesh of the occluders' triangles, whether it bounds a solid (Mesh::closed).
+std::vector<char> buriedPoints(std::span<const GatherPoint> points, const Bvh& occluders, const std::vector<char>& closed);
 
 }  // namespace metamer::radiosity

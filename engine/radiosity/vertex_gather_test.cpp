@@ -1,4 +1,5 @@
-// Gathering at points: the closed form over a refined polygon, the foot of a wall, occlusion.
+// Gathering at points: the closed form over a refined polygon, the foot of a wall, occlusion,
+// points buried in a solid.
 #include "radiosity/vertex_gather.h"
 
 #include "radiosity/element_mesh.h"
@@ -66,4 +67,34 @@ TEST(VertexGather, OccludersHideTheElementsBehindThem) {
     // What is hidden is about the covered square's factor, 4 × Howell B-3 with X = Y = 0.25 at 2:
     // 0.0735 (the elements straddling its edge count whole or not at all).
     EXPECT_NEAR(open.row(0).sum() - shaded.row(0).sum(), 0.0735, 0.01);
+}
+
+// A floor's vertex under a closed box standing on it is buried: every ray of the fan leaves
+// through the back of the box's faces. One beside the box, and one under an open shelf of the same
+// faces (not a solid), is not.
+TEST(VertexGather, APointUnderABoxOnTheFloorIsBuried) {
+    // The box [0, 1]³ as 12 triangles counter-clockwise from outside, mesh 0 (closed) or 1 (open).
+    auto box = [](uint32_t mesh) {
+        std::vector<BvhTriangle> out;
+        // Per face: a corner and two edges whose cross product points out.
+        const std::array<std::array<dvec3, 3>, 6> faces{{{dvec3(0, 0, 0), dvec3(0, 1, 0), dvec3(1, 0, 0)},  // z = 0, −z
+                                                         {dvec3(0, 0, 1), dvec3(1, 0, 0), dvec3(0, 1, 0)},  // z = 1, +z
+                                                         {dvec3(0, 0, 0), dvec3(0, 0, 1), dvec3(0, 1, 0)},  // x = 0, −x
+                                                         {dvec3(1, 0, 0), dvec3(0, 1, 0), dvec3(0, 0, 1)},  // x = 1, +x
+                                                         {dvec3(0, 0, 0), dvec3(1, 0, 0), dvec3(0, 0, 1)},  // y = 0, −y
+                                                         {dvec3(0, 1, 0), dvec3(0, 0, 1), dvec3(1, 0, 0)}}};  // y = 1, +y
+        for (const auto& [c, a, b] : faces) {
+            out.push_back({c, c + a, c + a + b, mesh, 0});
+            out.push_back({c, c + a + b, c + b, mesh, 0});
+        }
+        return out;
+    };
+    // The floor is the plane y = 0; the box stands on it.
+    const GatherPoint under{dvec3(0.5, 0.0, 0.5), dvec3(0, 1, 0), dvec3(0.05, 0, 0)};
+    const GatherPoint beside{dvec3(1.2, 0.0, 0.5), dvec3(0, 1, 0), dvec3(0.05, 0, 0)};
+    const GatherPoint atItsFoot{dvec3(1.0, 0.0, 0.5), dvec3(0, 1, 0), dvec3(0.05, 0, 0)};  // towards outside
+    const std::vector<GatherPoint> points{under, beside, atItsFoot};
+    const Bvh closedBox(box(0)), openBox(box(1));
+    EXPECT_EQ(buriedPoints(points, closedBox, {1, 0}), (std::vector<char>{1, 0, 0}));
+    EXPECT_EQ(buriedPoints(points, openBox, {1, 0}), (std::vector<char>{0, 0, 0}));
 }

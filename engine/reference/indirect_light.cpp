@@ -7,7 +7,9 @@
 #include <atomic>
 #include <cmath>
 #include <map>
+#include <numeric>
 #include <thread>
+#include <tuple>
 
 namespace metamer {
 
@@ -51,6 +53,7 @@ IndirectLight::IndirectLight(const Scene& scene, const SceneOnGrid& g, const Bvh
     twoSided_.resize(tris.size());
     std::vector<double> reflectance;  // per patch × band
     std::vector<double> emission;     // per patch × band
+    std::vector<char> emitting;       // per patch: a self-luminous front
     std::vector<double> texel(static_cast<size_t>(bands_)), e(static_cast<size_t>(bands_)), sample(static_cast<size_t>(bands_));
     for (uint32_t t = 0; t < tris.size(); ++t) {
         const BvhTriangle& tri = tris[t];
@@ -118,6 +121,7 @@ IndirectLight::IndirectLight(const Scene& scene, const SceneOnGrid& g, const Bvh
                 // A self-luminous surface's front sends π·L_e besides (a Lambertian emitter's exitance).
                 if (mat.isEmitter() && side == 0)
                     for (int b = 0; b < bands_; ++b) e[size_t(b)] += kPi * mat.emitted[size_t(b)];
+                emitting.push_back(mat.isEmitter() && side == 0);
                 emission.insert(emission.end(), e.begin(), e.end());
             }
     }
@@ -125,23 +129,28 @@ IndirectLight::IndirectLight(const Scene& scene, const SceneOnGrid& g, const Bvh
     // The brightest patches — where a light near a surface makes a hot spot, too small for the
     // strata to find evenly — are gathered from by integrating over their area instead.
     {
-        // Bright: sending at least 8 times the area-weighted mean (a uniformly lit room has none).
-        std::vector<std::pair<double, uint32_t>> power;
+        // Bright: sending at least 8 times the area-weighted mean (a uniformly lit room has none),
+        // and first every self-luminous patch where they cover less than half the surfaces (an
+        // emitting wall lights the floor at its foot; a room of glowing walls is what the strata,
+        // whose rows sum to exactly 1, gather best).
+        std::vector<std::tuple<bool, double, uint32_t>> power;
         std::vector<double> top(n, 0.0);
-        double sent = 0.0, area = 0.0;
+        double sent = 0.0, area = 0.0, glowing = 0.0;
+        for (size_t j = 0; j < n; ++j) glowing += emitting[j] ? area_[j] : 0.0;
+        if (!(glowing < 0.5 * std::accumulate(area_.begin(), area_.end(), 0.0))) emitting.assign(n, 0);
         for (size_t j = 0; j < n; ++j) {
             for (int b = 0; b < bands_; ++b) top[j] = std::max(top[j], emission[j * size_t(bands_) + size_t(b)]);
             sent += top[j] * area_[j];
             area += area_[j];
-            power.push_back({top[j] * area_[j], uint32_t(j)});
+            power.push_back({emitting[j] != 0, top[j] * area_[j], uint32_t(j)});
         }
         const double mean = area > 0.0 ? sent / area : 0.0;
         std::sort(power.begin(), power.end(), std::greater<>());
         bright_.assign(n, false);
         for (size_t k = 0; k < power.size() && brightList_.size() < kBright; ++k)
-            if (top[power[k].second] > 8.0 * mean) {
-                bright_[power[k].second] = true;
-                brightList_.push_back(power[k].second);
+            if (const uint32_t j = std::get<2>(power[k]); emitting[j] || top[j] > 8.0 * mean) {
+                bright_[j] = true;
+                brightList_.push_back(j);
             }
     }
 

@@ -7,8 +7,10 @@
 //   form factors by casting rays: from each patch's centroid a deterministic cosine-weighted set of
 //     directions (S × S strata), F_ij the share that first hits patch j's side — in a closed scene
 //     every ray hits something, so every row sums to exactly 1;
-//     the bright patches (sending 8 × the area-weighted mean or more, at most 512: a light's hot spot
-//     on a nearby surface, too small for the strata to find evenly) by integrating cos θ·cos θ'/(π r²) over their area instead;
+//     the bright patches (every self-luminous patch's front where they cover less than half the
+//     surfaces, then those sending 8 × the area-weighted mean or more, at most 512: an emitting
+//     wall at a floor's edge, a light's hot spot on a nearby surface, too small for the strata to
+//     find evenly) by integrating cos θ·cos θ'/(π r²) over their area instead;
 //   the radiosity by Gauss–Seidel sweeps, band after band in order of wavelength, the fluorescent
 //     re-emission of the bands before as a source, until no patch changes by more than 10⁻¹⁰ of
 //     the largest;

@@ -130,13 +130,13 @@ PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes, const Loc
                  const radiosity::SceneInterreflection* interreflection) {
     checkMeshes(scene);  // the vertex and index arrays below are read as they promise
     PackedScene p;
-    std::vector<std::vector<float>> indirect;  // per vertex, with interreflection
+    std::vector<IndirectVertex> indirect;  // per vertex, with interreflection
     for (size_t m = 0; m < scene.meshes.size(); ++m) {
         const Mesh& mesh = scene.meshes[m];
         if (mesh.indices.empty()) continue;
         if (interreflection && !interreflection->meshes[m].elements.triangles.empty()) {
             indirect.resize(p.vertices.size());
-            packIndirectMesh(p, indirect, scene, g, frame, m, interreflection->meshes[m]);
+            packIndirectMesh(p, indirect, scene, g, frame, m, *interreflection);
             continue;
         }
         PackedDraw d{uint32_t(p.indices.size()), uint32_t(mesh.indices.size()), int32_t(p.vertices.size()), mesh.material};
@@ -233,6 +233,7 @@ PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes, const Loc
     for (int pass = 0; pass < passes; ++pass)
         for (size_t i = 0; i < order.size(); ++i)
             scatterBands(g.lights[order[i]], pass, &p.lightSpectra[pass].lightBands[i * MAX_OUTPUTS]);
+    if (interreflection) packEmitters(p, scene, g, frame, *interreflection);
 
     // A Donaldson matrix does not factor into a coupling × a shape: a scene with one renders every
     // fluorescent material from per-light spectra; other scenes keep the cheaper rank-one form.

@@ -104,13 +104,22 @@ PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes, const Loc
 // open mesh's two sides as two copies, each drawn with its back faces culled (the back copy wound
 // the other way, its normals and tangent frame turned over), so that every fragment shows the side
 // whose indirect light it has; and per vertex and pass the INDIRECT_VEC4 vec4 of that light
-// (shaders/interface.h, VERTEX_INDIRECT): H/π, or for a fluorescent surface (ρd·H + M·H)/π.
+// (shaders/interface.h, VERTEX_INDIRECT): H/π, or for a fluorescent surface (ρd·H + M·H)/π, and
+// the emitters' shares D/U (their direct light drawn per pixel; on a fluorescent surface 0, its H
+// then holding their direct light too).
 // packIndirectMesh appends mesh m's elements to p's vertices, indices and draws, and their light to
-// `perVertex` [emitted vertex][band]; layOutIndirect makes p.indirect from it, [pass][vertex][vec4].
-void packIndirectMesh(PackedScene& p, std::vector<std::vector<float>>& perVertex, const Scene& scene,
-                      const SceneOnGrid& g, const LocalFrame& frame, size_t m,
-                      const radiosity::MeshInterreflection& elements);
-void layOutIndirect(PackedScene& p, const std::vector<std::vector<float>>& perVertex, int passes);
+// `perVertex` [emitted vertex]; layOutIndirect makes p.indirect from it, [pass][vertex][record].
+struct IndirectVertex {
+    std::vector<float> bands;  // every band of the grid
+    glm::vec4 share{0.0f};     // per emitter
+};
+void packIndirectMesh(PackedScene& p, std::vector<IndirectVertex>& perVertex, const Scene& scene, const SceneOnGrid& g,
+                      const LocalFrame& frame, size_t m, const radiosity::SceneInterreflection& interreflection);
+void layOutIndirect(PackedScene& p, const std::vector<IndirectVertex>& perVertex, int passes);
+// The emitters drawn per pixel into p.lights (their triangles) and p.lightSpectra (their radiance,
+// after the scene's lights); p.lightSpectra must be laid out.
+void packEmitters(PackedScene& p, const Scene& scene, const SceneOnGrid& g, const LocalFrame& frame,
+                  const radiosity::SceneInterreflection& interreflection);
 
 // The scene packed for the response pass: one pass whose outputs are the channels of a detector
 // with `weights` [channel][band of g.grid] (at most 4·RESPONSE_VEC4 channels): every material's

@@ -85,8 +85,8 @@ void spectralVertexInput(vk::GraphicsPipelineDesc& d, bool indirect) {
                     {VERTEX_UV, 0, VK_FORMAT_R32G32_SFLOAT, uint32_t(offsetof(V, uv))},
                     {VERTEX_TANGENT, 0, VK_FORMAT_R32G32B32A32_SFLOAT, uint32_t(offsetof(V, tangent))}};
     if (!indirect) return;
-    d.bindings.push_back({1, INDIRECT_VEC4 * 16, VK_VERTEX_INPUT_RATE_VERTEX});
-    for (uint32_t k = 0; k < INDIRECT_VEC4; ++k)
+    d.bindings.push_back({1, INDIRECT_RECORD_VEC4 * 16, VK_VERTEX_INPUT_RATE_VERTEX});
+    for (uint32_t k = 0; k < INDIRECT_RECORD_VEC4; ++k)
         d.attributes.push_back({VERTEX_INDIRECT + k, 1, VK_FORMAT_R32G32B32A32_SFLOAT, 16 * k});
 }
 

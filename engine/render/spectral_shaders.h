@@ -26,7 +26,7 @@ SpirvCode opaqueDistanceFragment();
 SpirvCode spectralVertex();
 
 // spectral.vert's vertex input: one interleaved buffer of gpu::SpectralVertex; with `indirect`,
-// a second of INDIRECT_VEC4 vec4 per vertex (binding 1) for the INDIRECT programs.
+// a second of INDIRECT_RECORD_VEC4 vec4 per vertex (binding 1) for the INDIRECT programs.
 void spectralVertexInput(vk::GraphicsPipelineDesc& d, bool indirect = false);
 
 }  // namespace metamer

@@ -234,6 +234,8 @@ struct Interreflection {
     double tolerance = 1e-4;              // the solve's bound on the remaining error, relative to the largest radiosity
     int maxElements = 6000;               // refused beyond (the form factors take elements² × 8 bytes)
     Where where;                          // the "interreflection" key
+    int refine = 0;                       // passes of refinement where the indirect light changes fast (0: none)
+    double refineThreshold = 0.05;        // an edge is bisected when interpolating H along it misses its midpoint by more (relative)
 };
 
 struct Scene {

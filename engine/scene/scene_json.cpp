@@ -101,11 +101,14 @@ private:
             if (!v.get<bool>()) return;
         } else {
             asObject(v, w);
-            checkKeys(v, w, {"element_size", "tolerance", "max_elements"});
+            checkKeys(v, w, {"element_size", "tolerance", "max_elements", "refine", "refine_threshold"});
             if (const Json* e = find(v, "element_size"))
                 r.elementSize_m = numberIn(*e, w.child("element_size"), 0, 1e6, true, false, "m");
             if (const Json* t = find(v, "tolerance")) r.tolerance = numberIn(*t, w.child("tolerance"), 1e-12, 0.1, false, false);
             if (const Json* m = find(v, "max_elements")) r.maxElements = integerIn(*m, w.child("max_elements"), 1, 50000);
+            if (const Json* x = find(v, "refine")) r.refine = integerIn(*x, w.child("refine"), 0, 8);
+            if (const Json* x = find(v, "refine_threshold"))
+                r.refineThreshold = numberIn(*x, w.child("refine_threshold"), 0, 10, false, false);
         }
         for (const Material& m : scene().materials) {
             const Where mw = Where{reader_.file().string(), "materials"}.child(m.name);

@@ -327,6 +327,12 @@ const BadCase kBadCases[] = {
     {"MeshRotateTwoNumbers", [](Json& d) { d["objects"][2]["rotate_deg"] = parse("[0, 30]"); }, "objects.2.rotate_deg",
      "expected an array of 3 numbers"},
     {"MeshWithRadius", [](Json& d) { d["objects"][2]["radius"] = 1; }, "objects.2.radius", "unknown key for a mesh object"},
+    {"InterreflectionRefineTooMany", [](Json& d) { d["interreflection"] = parse(R"({"refine": 9})"); },
+     "interreflection.refine", "9 is outside the allowed range 0..8"},
+    {"InterreflectionRefineThresholdNotANumber", [](Json& d) { d["interreflection"] = parse(R"({"refine_threshold": "fine"})"); },
+     "interreflection.refine_threshold", "expected a number"},
+    {"InterreflectionKeyTypo", [](Json& d) { d["interreflection"] = parse(R"({"refin": 1})"); }, "interreflection.refin",
+     "did you mean 'refine'?"},
 };
 
 INSTANTIATE_TEST_SUITE_P(All, SceneJsonBad, ::testing::ValuesIn(kBadCases), badCaseName);
