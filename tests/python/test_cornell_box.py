@@ -69,17 +69,30 @@ def test_agrees_with_mitsuba_within_its_noise():
             near_light |= np.roll(np.roll(light, dy, 0), dx, 1)
     keep = (mean.mean(axis=2) > 0) & ~near_light
     keep[[0, -1], :] = keep[:, [0, -1]] = False
+    # ... and off the edges, geometric or of a shadow: where a neighbour differs by more than 25 %
+    # (an edge pixel mixes what 16 samples find against Mitsuba's continuous box filter).
+    total = mean.sum(axis=2)
+    edge = np.zeros_like(keep)
+    for dy, dx in ((0, 1), (0, -1), (1, 0), (-1, 0)):
+        edge |= np.abs(np.roll(np.roll(total, dy, 0), dx, 1) / np.maximum(total, 1e-30) - 1) > 0.25
+    keep &= ~edge
     lines = []
     for name, sel in band_regions(reference["wavelengths_nm"]).items():
         relative = np.abs(ours[..., sel] / mean[..., sel] - 1)[keep]
         sigmas = np.abs(ours[..., sel] - mean[..., sel])[keep] / np.maximum(error[..., sel][keep], 1e-30)
         noise = (error[..., sel] / mean[..., sel])[keep]
-        lines.append((name, np.median(relative), np.percentile(relative, 99), np.median(sigmas), np.median(noise)))
+        bias = (ours[..., sel].sum(axis=2) / mean[..., sel].sum(axis=2) - 1)[keep].mean()
+        lines.append((name, np.median(relative), np.percentile(relative, 95), np.median(sigmas), np.median(noise), bias))
     print(f"\nMetamer (GPU, ssaa 4) against Mitsuba {info['version']} {info['variant']}, {info['spp_total']} spp, "
           f"{keep.sum()} pixels:")
-    for name, med, p99, sig, noise in lines:
-        print(f"  {name} nm: |ours/mitsuba - 1| median {med:.4f}, p99 {p99:.4f}; median |difference| {sig:.2f} "
-              f"of Mitsuba's standard error (its relative noise: median {noise:.4f})")
-    for name, med, p99, sig, noise in lines:
-        assert med < 0.02, name
-        assert p99 < 0.15, name
+    for name, med, p95, sig, noise, bias in lines:
+        print(f"  {name} nm: |ours/mitsuba - 1| median {med:.4f}, p95 {p95:.4f}; median |difference| {sig:.2f} "
+              f"of Mitsuba's standard error (its relative noise: median {noise:.4f}); the region's sum, mean "
+              f"ours/mitsuba - 1: {bias:+.4f}")
+    # Measured (lavapipe, element_size 0.07, no refinement; docs/numerics.md): median 0.010,
+    # p95 0.06, bias -1 %; the CPU reference: 0.009, 0.038, -0.1 %. The bounds leave room for other
+    # devices' rounding, and fail on a lost bounce (-10 % and more) or a misplaced emitter.
+    for name, med, p95, sig, noise, bias in lines:
+        assert med < 0.015, name
+        assert p95 < 0.08, name
+        assert abs(bias) < 0.015, name
