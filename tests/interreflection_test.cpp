@@ -208,3 +208,58 @@ TEST(Interreflection, TheGpuAgreesWithTheReferenceInAColouredRoom) {
     EXPECT_LT(median, 0.015);
     EXPECT_LT(p95, 0.05);
 }
+
+// Convergence with refinement: the coloured room's box and light at element sizes 0.4, 0.2 and
+// 0.1 m. The pixels' radiance (band sum, interior pixels of the reference's object ids) changes
+// less from each level to the next — the indirect light converges as its elements shrink. Measured:
+// median 1.2 % then 0.38 % (about h^1.6), p95 6.3 % then 3.9 % (shadows' and contacts' edges).
+TEST(Interreflection, ThePixelsConvergeAsTheElementsShrink) {
+    Scene s = emptyScene(Grid{400, 700, 50}, perspectiveCamera({0.5, 0.5, 1.9}, {0.5, 0.5, 0.0}, {0, 1, 0}, 40.0, 40, 40));
+    s.materials.push_back(lambertian(0.75, "white"));
+    s.materials.push_back(lambertian(boxSpectrum(590, 700, 0.7), "red"));
+    s.meshes.push_back(quad({0.5, 0, 0.5}, {0, 1, 0}, 1, 1, 0));
+    s.meshes.push_back(quad({0.5, 1, 0.5}, {0, -1, 0}, 1, 1, 0));
+    s.meshes.push_back(quad({0.5, 0.5, 0}, {0, 0, 1}, 1, 1, 0));
+    s.meshes.push_back(quad({0, 0.5, 0.5}, {1, 0, 0}, 1, 1, 1));
+    s.meshes.push_back(quad({1, 0.5, 0.5}, {-1, 0, 0}, 1, 1, 1));
+    const glm::dvec3 c(0.65, 0.15, 0.4);
+    for (const glm::dvec3 n : {glm::dvec3(1, 0, 0), glm::dvec3(-1, 0, 0), glm::dvec3(0, 1, 0), glm::dvec3(0, 0, 1),
+                               glm::dvec3(0, 0, -1)})
+        s.meshes.push_back(quad(c + 0.15 * n, n, 0.3, 0.3, 0));
+    s.lights.push_back(pointLight({0.5, 0.9, 0.5}, constantSpectrum(1.0), 0.05));
+    std::vector<SpectralCube> cubes;
+    for (double size : {0.4, 0.2, 0.1}) {
+        s.interreflection = Interreflection{size, 1e-7, 6000, Where{"room", "interreflection"}};
+        const SceneOnGrid g = onGrid(s);
+        SpectralPass pass(gpu(), s, g);
+        cubes.push_back(pass.render());
+    }
+    s.camera.width = s.camera.height = 40;
+    const ReferenceImage ids = renderReference(s, onGrid(s));
+    auto change = [&](const SpectralCube& a, const SpectralCube& b) {
+        std::vector<double> relative;
+        for (int y = 1; y + 1 < a.height; ++y)
+            for (int x = 1; x + 1 < a.width; ++x) {
+                const int32_t id = ids.objectId[size_t(y * a.width + x)];
+                bool interior = id >= 0;
+                for (int dy = -1; dy <= 1; ++dy)
+                    for (int dx = -1; dx <= 1; ++dx) interior = interior && ids.objectId[size_t((y + dy) * a.width + x + dx)] == id;
+                if (!interior) continue;
+                double sa = 0.0, sb = 0.0;
+                for (int band = 0; band < a.bands(); ++band) {
+                    sa += a.at(x, y, band);
+                    sb += b.at(x, y, band);
+                }
+                if (sb > 0.0) relative.push_back(std::fabs(sa / sb - 1.0));
+            }
+        std::sort(relative.begin(), relative.end());
+        return std::pair{relative[relative.size() / 2], relative[relative.size() * 95 / 100]};
+    };
+    const auto [coarse, coarse95] = change(cubes[0], cubes[1]);
+    const auto [fine, fine95] = change(cubes[1], cubes[2]);
+    std::printf("element size 0.4 → 0.2: median %.4f, p95 %.4f; 0.2 → 0.1: median %.4f, p95 %.4f\n", coarse, coarse95,
+                fine, fine95);
+    EXPECT_LT(fine, 0.5 * coarse);
+    EXPECT_LT(fine, 0.01);
+    EXPECT_LT(fine95, coarse95);
+}
