@@ -3,6 +3,7 @@
 #include "core/error.h"
 #include "core/timing.h"
 #include "radiosity/form_factor.h"
+#include "radiosity/geometry_cache.h"
 #include "radiosity/vertex_gather.h"
 
 #include <fmt/format.h>
@@ -80,10 +81,12 @@ std::string SceneInterreflection::describe() const {
         for (size_t r : refinement) refined += fmt::format(" +{}", r);
         if (refinementStopped) refined += " (stopped at max_elements)";
     }
-    return fmt::format("interreflection: {} elements{}, form factors {:.2f} s ({} near pairs, {} rays in the last pass), "
-                       "{}, gathered at the vertices in {:.2f} s; {:.2f} s in all",
-                       elements, refined, formFactorSeconds, coupling.nearPairs, coupling.rays, solution.describe(),
-                       gatherSeconds, totalSeconds);
+    const std::string factors =
+        formFactorsKept ? std::string("form factors kept from the last render of the same geometry")
+                        : fmt::format("form factors {:.2f} s ({} near pairs, {} rays in the last pass)", formFactorSeconds,
+                                      coupling.nearPairs, coupling.rays);
+    return fmt::format("interreflection: {} elements{}, {}, {}, gathered at the vertices in {:.2f} s; {:.2f} s in all", elements,
+                       refined, factors, solution.describe(), gatherSeconds, totalSeconds);
 }
 
 double elementSize(const Scene& scene) {
@@ -133,7 +136,9 @@ struct Gathered {
 Gathered gather(std::span<const GatherPoint> points, std::span<const std::array<glm::dvec3, 3>> corners, const Bvh& bvh,
                 const Eigen::MatrixXd& radiosity, const std::vector<int>& emitterOf,
                 const std::vector<EmitterGeometry>& emitters, const SceneOnGrid& g, const std::vector<char>& closed) {
-    const Eigen::MatrixXd W = gatherFactors(points, corners, &bvh);
+    bool kept = false;  // from the geometry cache: the same points, elements and occluders
+    const std::shared_ptr<const Eigen::MatrixXd> cached = cachedGatherFactors(points, corners, bvh, kept);
+    const Eigen::MatrixXd& W = *cached;
     Gathered out;
     const std::vector<char> buried = buriedPoints(points, bvh, closed);
     out.buried = Eigen::MatrixXd::Zero(Eigen::Index(points.size()), 1);
@@ -365,9 +370,13 @@ void solveOn(const Scene& scene, const SceneOnGrid& g, const Occluders& occluder
     for (size_t k = 0; k < n; ++k)
         for (size_t e = 0; e < out.emitters.size(); ++e)
             if (!sides[kept[k]].back && sides[kept[k]].material == out.emitters[e].material) emitterOf[k] = int(e);
-    out.coupling = formFactorMatrix(corners, &bvh, source);
+    bool cached = false;
+    const std::shared_ptr<const Coupling> coupling = cachedFormFactors(corners, bvh, source, cached);
+    out.coupling = Coupling{Eigen::MatrixXd(), coupling->nearPairs, coupling->rays, coupling->blockedRays,
+                            cached ? 0.0 : coupling->seconds};
+    out.formFactorsKept = cached;
     out.formFactorSeconds += out.coupling.seconds;
-    p.formFactors = std::move(out.coupling.formFactors);
+    p.formFactors = coupling->formFactors;  // the solve's own copy: a few ms against the seconds they took
     out.solution = solve(p, s.tolerance);
 
     // The indirect irradiance at every element vertex, on each side.

@@ -65,6 +65,7 @@ struct SceneInterreflection {
     Solution solution;
     std::vector<size_t> refinement;           // elements each refinement pass added
     bool refinementStopped = false;           // a pass reached max_elements
+    bool formFactorsKept = false;             // the last pass's form factors came from the geometry cache (geometry_cache.h)
     double formFactorSeconds = 0.0, gatherSeconds = 0.0, totalSeconds = 0.0;  // over all passes
     std::string describe() const;  // one line for -v: elements, the bound, the times
 };

@@ -2,6 +2,7 @@
 // vertices), against the closed forms of a closed room.
 #include "radiosity/scene_radiosity.h"
 
+#include "radiosity/geometry_cache.h"
 #include "support/scene_builders.h"
 
 #include <gtest/gtest.h>
@@ -101,4 +102,30 @@ TEST(SceneRadiosity, TooManyElementsAreRefusedWithTheirMemory) {
         EXPECT_NE(e.text().find("interreflection.max_elements"), std::string::npos) << e.text();
         EXPECT_NE(e.text().find("GiB"), std::string::npos) << e.text();
     }
+}
+
+// A sweep over spectra pays the solve, not the geometry: the same room with another light spectrum
+// takes its form factors and gather factors from the geometry cache (geometry_cache.h) and gives,
+// bit for bit, what a solve from nothing gives; the room with a wall moved computes its own.
+TEST(SceneRadiosity, ASpectrumChangeKeepsTheFormFactorsAndAGeometryChangeDoesNot) {
+    Scene scene = roomScene(0.6, 2.0);
+    scene.lights.push_back(pointLight({0.5, 0.8, 0.5}, constantSpectrum(1.0), 0.3));
+    scene.interreflection = Interreflection{0.3, 1e-8, 6000, Where{"room", "interreflection"}};
+    clearGeometryCache();
+    const SceneInterreflection first = solveInterreflection(scene, onGrid(scene));
+    EXPECT_FALSE(first.formFactorsKept);
+    EXPECT_GT(first.formFactorSeconds, 0.0);
+    scene.lights[1].spectrum = sceneSpectrum(gaussianSpectrum(550, 60, 3.0, 300, 800, 1), SpectrumKind::Light);
+    const SceneOnGrid g = onGrid(scene);
+    const SceneInterreflection swapped = solveInterreflection(scene, g);
+    EXPECT_TRUE(swapped.formFactorsKept);
+    EXPECT_EQ(swapped.formFactorSeconds, 0.0);
+    EXPECT_NE(swapped.describe().find("form factors kept"), std::string::npos) << swapped.describe();
+    clearGeometryCache();
+    const SceneInterreflection fresh = solveInterreflection(scene, g);
+    EXPECT_FALSE(fresh.formFactorsKept);
+    EXPECT_EQ(swapped.solution.radiosity, fresh.solution.radiosity);
+    for (size_t m = 0; m < scene.meshes.size(); ++m) EXPECT_EQ(swapped.meshes[m].front, fresh.meshes[m].front);
+    scene.meshes[0].positions[0].y += 0.01;
+    EXPECT_FALSE(solveInterreflection(scene, onGrid(scene)).formFactorsKept);
 }
