@@ -5,6 +5,8 @@
 #                 RUNS, with interreflection as shipped, with `refine` 1, and off (the light alone);
 #   its parts:    from -v, the form factors, the solve and the gather at the vertices (view-
 #                 independent: once per scene) and from --timings the frame;
+#   a spectrum change: in one Python process, the first render and the median of those after it
+#                 with another light scale (the form factors kept: radiosity/geometry_cache.h);
 #   per band against Mitsuba 3: the stored reference's seconds (tests/data/cornell/mitsuba.json,
 #                 its noise there) over Metamer's, each per band, both at 64² (Metamer ssaa 4).
 # One run per row; compare within a run (the machine is shared). Prints figures, asserts nothing.
@@ -44,6 +46,22 @@ echo "its parts (one run, -v --timings):"
 out="$("$metamer" render "$scene" --out "$work/out" --write png -v --timings 2>&1)"
 grep -oE "interreflection: [0-9]+ elements.*in all" <<<"$out" | sed 's/^/  /'
 grep -iE "^ *(timings|upload|shading|tonemap|frame|total)" <<<"$out" | sed 's/^/  /' || true
+
+echo "a spectrum change in one process (Python, 64², the light's scale; form factors kept, geometry_cache.h):"
+PYTHONPATH="$here/build/python" "${PYTHON:-$here/.venv/bin/python}" - "$scene" "$runs" <<'PY'
+import statistics, sys, time
+import metamer
+scene, runs = sys.argv[1], int(sys.argv[2])
+def render(scale):
+    t = time.perf_counter()
+    r = metamer.render(scene, overrides={"camera.width": 64, "camera.height": 64,
+                                         "materials.light.emitted_radiance.scale": scale})
+    return time.perf_counter() - t, r.timings_ms["upload"]
+first = render(1.0)
+after = [render(0.5 + 0.1 * k) for k in range(runs)]
+print(f"  first render {first[0]:.2f} s (upload {first[1]:.0f} ms); each spectrum after it: median "
+      f"{statistics.median(a for a, _ in after):.2f} s (upload {statistics.median(u for _, u in after):.0f} ms)")
+PY
 
 echo "per band against Mitsuba 3 (64², the stored reference):"
 t0="$(date +%s.%N)"

@@ -80,7 +80,33 @@ Kept<Eigen::MatrixXd>& gathers() {
     return kept;
 }
 
+struct Last {
+    std::mutex mutex;
+    std::weak_ptr<const Coupling> factors;
+    LastSolve solve;
+};
+
+Last& last() {
+    static Last kept;
+    return kept;
+}
+
 }  // namespace
+
+std::optional<LastSolve> lastSolveOn(const Coupling& factors) {
+    Last& l = last();
+    std::lock_guard lock(l.mutex);
+    const std::shared_ptr<const Coupling> held = l.factors.lock();
+    if (held.get() != &factors) return std::nullopt;
+    return l.solve;
+}
+
+void keepLastSolve(const std::shared_ptr<const Coupling>& factors, LastSolve solve) {
+    Last& l = last();
+    std::lock_guard lock(l.mutex);
+    l.factors = factors;
+    l.solve = std::move(solve);
+}
 
 std::shared_ptr<const Coupling> cachedFormFactors(std::span<const std::array<glm::dvec3, 3>> elements, const Bvh& occluders,
                                                   std::span<const uint32_t> source, bool& hit) {
@@ -107,6 +133,9 @@ std::shared_ptr<const Eigen::MatrixXd> cachedGatherFactors(std::span<const Gathe
 void clearGeometryCache() {
     formFactors().clear();
     gathers().clear();
+    std::lock_guard lock(last().mutex);
+    last().factors.reset();
+    last().solve = {};
 }
 
 }  // namespace metamer::radiosity

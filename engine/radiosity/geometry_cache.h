@@ -4,13 +4,14 @@
 // (a batch, the Python module, the preview's spectrum swaps) pays the solve and not the geometry.
 // The key is a hash of the inputs checked against a copy of them: a hit is the same inputs, not a
 // likely one. The most recent kGeometryCacheEntries of each kind are kept (the form factors take
-// elements² × 8 bytes). Tests: engine/radiosity/scene_radiosity_test.cpp (a spectrum change).
+// elements² × 8 bytes), and the last solution on the most recent form factors. Tests: engine/radiosity/scene_radiosity_test.cpp (a spectrum change).
 #pragma once
 
 #include "radiosity/element_coupling.h"
 #include "radiosity/vertex_gather.h"
 
 #include <memory>
+#include <optional>
 
 namespace metamer::radiosity {
 
@@ -25,6 +26,14 @@ std::shared_ptr<const Coupling> cachedFormFactors(std::span<const std::array<glm
 std::shared_ptr<const Eigen::MatrixXd> cachedGatherFactors(std::span<const GatherPoint> points,
                                                            std::span<const std::array<glm::dvec3, 3>> elements,
                                                            const Bvh& occluders, bool& hit);
+
+// The last solve on a set of form factors (one is kept): what it was given and what it found, so
+// that the next solve on them — a sweep's next spectrum — starts from it (solver.h, `start`).
+struct LastSolve {
+    Eigen::MatrixXd emission, radiosity;  // [element][band]
+};
+std::optional<LastSolve> lastSolveOn(const Coupling& factors);
+void keepLastSolve(const std::shared_ptr<const Coupling>& factors, LastSolve solve);
 
 // Forgets everything kept (tests; the memory).
 void clearGeometryCache();

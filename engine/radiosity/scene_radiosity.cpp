@@ -12,6 +12,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <optional>
 #include <span>
 
 namespace metamer::radiosity {
@@ -82,11 +83,13 @@ std::string SceneInterreflection::describe() const {
         if (refinementStopped) refined += " (stopped at max_elements)";
     }
     const std::string factors =
-        formFactorsKept ? std::string("form factors kept from the last render of the same geometry")
+        formFactorsKept ? std::string(warmStart ? "form factors kept from the last render of the same geometry, its solve the start"
+                                                : "form factors kept from the last render of the same geometry")
                         : fmt::format("form factors {:.2f} s ({} near pairs, {} rays in the last pass)", formFactorSeconds,
                                       coupling.nearPairs, coupling.rays);
-    return fmt::format("interreflection: {} elements{}, {}, {}, gathered at the vertices in {:.2f} s; {:.2f} s in all", elements,
-                       refined, factors, solution.describe(), gatherSeconds, totalSeconds);
+    return fmt::format("interreflection: {} elements{}, {}, {} (tolerance {:g}), gathered at the vertices in {:.2f} s; {:.2f} s "
+                       "in all",
+                       elements, refined, factors, solution.describe(), tolerance, gatherSeconds, totalSeconds);
 }
 
 double elementSize(const Scene& scene) {
@@ -377,7 +380,20 @@ void solveOn(const Scene& scene, const SceneOnGrid& g, const Occluders& occluder
     out.formFactorsKept = cached;
     out.formFactorSeconds += out.coupling.seconds;
     p.formFactors = coupling->formFactors;  // the solve's own copy: a few ms against the seconds they took
-    out.solution = solve(p, s.tolerance);
+    // On kept form factors, start from the last solve on them, each band scaled by how much its
+    // emission changed (least squares; exact when one light's spectrum or scale is what changed).
+    std::optional<Eigen::MatrixXd> guess;
+    if (const std::optional<LastSolve> before = lastSolveOn(*coupling);
+        before && before->emission.rows() == p.emission.rows() && before->emission.cols() == p.emission.cols()) {
+        guess = before->radiosity;
+        for (Eigen::Index b = 0; b < p.emission.cols(); ++b) {
+            const double norm = before->emission.col(b).squaredNorm();
+            guess->col(b) *= norm > 0.0 ? p.emission.col(b).dot(before->emission.col(b)) / norm : 0.0;
+        }
+    }
+    out.warmStart = guess.has_value();
+    out.solution = solve(p, s.tolerance, 2000, guess ? &*guess : nullptr);
+    keepLastSolve(coupling, LastSolve{p.emission, out.solution.radiosity});
 
     // The indirect irradiance at every element vertex, on each side.
     const auto tg = Clock::now();
@@ -523,6 +539,7 @@ SceneInterreflection solveInterreflection(const Scene& scene, const SceneOnGrid&
     const Interreflection& settings = *scene.interreflection;
     const Settings s{elementSize(scene), settings.tolerance, size_t(settings.maxElements)};
     SceneInterreflection out;
+    out.tolerance = settings.tolerance;
     out.meshes.resize(scene.meshes.size());
     // The opaque surfaces occlude; the BVH's order is its own, so find each input triangle in it.
     const Bvh bvh(Bvh::collectTriangles(scene, LocalFrame{}, [&](const Mesh& m) {

@@ -66,6 +66,8 @@ struct SceneInterreflection {
     std::vector<size_t> refinement;           // elements each refinement pass added
     bool refinementStopped = false;           // a pass reached max_elements
     bool formFactorsKept = false;             // the last pass's form factors came from the geometry cache (geometry_cache.h)
+    double tolerance = 0.0;                   // the solve's, asked (Interreflection::tolerance)
+    bool warmStart = false;                   // its solve started from the last solve on them (scaled per band)
     double formFactorSeconds = 0.0, gatherSeconds = 0.0, totalSeconds = 0.0;  // over all passes
     std::string describe() const;  // one line for -v: elements, the bound, the times
 };

@@ -129,18 +129,26 @@ std::string Solution::describe() const {
                        sweeps == 1 ? "" : "s");
 }
 
-Solution solve(const Problem& p, double tolerance, int maxIterations) {
+Solution solve(const Problem& p, double tolerance, int maxIterations, const Eigen::MatrixXd* start) {
     const Prepared s = prepare(p);
     Solution out;
     out.contraction = s.contraction;
     out.radiosity = MatrixXd::Zero(Eigen::Index(s.elements), Eigen::Index(s.bands));
+    if (start) {
+        if (start->rows() != out.radiosity.rows() || start->cols() != out.radiosity.cols())
+            failRuntime("radiosity solve: a first guess of {}×{} for {} elements and {} bands", start->rows(), start->cols(),
+                        s.elements, s.bands);
+        out.radiosity = *start;
+    }
     const double inf = std::numeric_limits<double>::infinity();
     const double gain = s.contraction < 1.0 ? 1.0 / (1.0 - s.contraction) : inf;
     // Each refinement asks the conjugate gradients for a tenth of the tolerance, at most 10⁻³: the
     // true residual, which includes what the symmetric form leaves out, decides when to stop.
     const double reduction = std::min(1e-3, 0.1 * tolerance);
+    bool current = false;  // out.irradiance is F·out.radiosity
     for (int sweep = 0; sweep < 100; ++sweep) {
         out.irradiance = p.formFactors * out.radiosity;
+        current = true;
         MatrixXd residual = p.emission + (s.rho.array() * out.irradiance.array()).matrix() - out.radiosity;
         if (s.reemits) residual += reemitted(p, out.irradiance);
         const double largest = std::max(out.radiosity.cwiseAbs().maxCoeff(), p.emission.cwiseAbs().maxCoeff());
@@ -149,10 +157,16 @@ Solution solve(const Problem& p, double tolerance, int maxIterations) {
         out.relativeBound = largest > 0.0 ? out.bound / largest : (r == 0.0 ? 0.0 : inf);
         if (std::isfinite(gain) ? out.bound <= tolerance * largest : r <= tolerance * largest * 1e-3) break;
         if (out.iterations >= maxIterations) break;
-        out.radiosity += solveReflection(p, s, residual, reduction, maxIterations - out.iterations, out.iterations);
+        // From a first guess the residual may already be small: ask for what the bound needs
+        // (a tenth of it), not for a fixed reduction of what is left.
+        const double asked = start && std::isfinite(gain) && r > 0.0
+                                 ? std::min(1e-3, std::max(reduction, 0.1 * tolerance * largest / (gain * r)))
+                                 : reduction;
+        out.radiosity += solveReflection(p, s, residual, asked, maxIterations - out.iterations, out.iterations);
+        current = false;
         ++out.sweeps;
     }
-    out.irradiance = p.formFactors * out.radiosity;
+    if (!current) out.irradiance = p.formFactors * out.radiosity;
     return out;
 }
 

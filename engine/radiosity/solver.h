@@ -60,6 +60,8 @@ struct Solution {
 // problem whose sizes disagree, or a reflectance outside [0, 1] or not finite, is a runtime error
 // naming what (the scene reader has refused such input before); one that cannot reach the
 // tolerance in `maxIterations` returns what it has, its bound saying so.
-Solution solve(const Problem& problem, double tolerance, int maxIterations = 2000);
+// `start`: a first guess at B ([element][band]; a sweep's last solution): the iteration begins from
+// it and stops at the same bound, in fewer steps the nearer it is (none when it already meets it).
+Solution solve(const Problem& problem, double tolerance, int maxIterations = 2000, const Eigen::MatrixXd* start = nullptr);
 
 }  // namespace metamer::radiosity

@@ -208,3 +208,24 @@ TEST(RadiositySolve, ProblemsWhoseSizesDisagreeAreRefused) {
     p.surfaces[0].reflectance[1] = 0.5;
     EXPECT_NO_THROW(solve(p, 1e-6));
 }
+
+// A first guess: its own solution stops at once (no step, the same bound met); one 0.1 % off takes
+// fewer steps than nothing to reach the same bound; a guess of the wrong size is refused.
+TEST(RadiositySolve, AFirstGuessStartsTheIteration) {
+    const Elements e = closedCube(2);
+    const Eigen::MatrixXd F = formFactors(e);
+    Problem p = uniformProblem(e, F, {0.3, 0.78, 0.95});
+    for (size_t i = 0; i < e.area.size(); ++i)
+        if (e.face[i] == 1) p.emission.row(Eigen::Index(i)).setConstant(2.0);
+    const Solution cold = solve(p, 1e-9);
+    const Solution again = solve(p, 1e-9, 2000, &cold.radiosity);
+    EXPECT_EQ(again.iterations, 0);
+    EXPECT_EQ(again.radiosity, cold.radiosity);
+    const Eigen::MatrixXd near = 0.999 * cold.radiosity;
+    const Solution warm = solve(p, 1e-9, 2000, &near);
+    EXPECT_LT(warm.iterations, cold.iterations);
+    EXPECT_LE(warm.relativeBound, 1e-9);
+    EXPECT_LE((warm.radiosity - cold.radiosity).cwiseAbs().maxCoeff(), warm.bound + cold.bound);
+    const Eigen::MatrixXd wrong = Eigen::MatrixXd::Zero(3, 3);
+    EXPECT_THROW(solve(p, 1e-9, 2000, &wrong), metamer::Error);
+}
