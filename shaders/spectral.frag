@@ -35,6 +35,8 @@ layout(constant_id = SPEC_HEMISPHERE_PAIRED) const uint HEMISPHERE_PAIRED = 0u;
 // Coloured shadows: shadowing lights are filtered by the transparent objects on their way.
 layout(constant_id = SPEC_FILTERED_SHADOWS) const bool FILTERED_SHADOWS = false;
 layout(constant_id = SPEC_BAND_LAYERS) const int BAND_LAYERS = 1;
+layout(constant_id = SPEC_EMITTER_TRIANGLES) const int EMITTER_TRIANGLES = 0;
+layout(constant_id = SPEC_EMITTERS) const int EMITTERS = 0;
 
 layout(set = 0, binding = BINDING_LIGHTS, std140) uniform Lights { GpuLightBlock L; };
 layout(set = 0, binding = BINDING_LIGHT_SPECTRA, std140) uniform LightSpectra { GpuLightSpectraBlock E; };
@@ -67,26 +69,38 @@ layout(location = VARYING_INDIRECT) in vec4 indirect[INDIRECT_RECORD_VEC4];
 // The form factor from the point x (unit normal n) to triangle (a, b, c) seen from its front, in
 // closed form (Lambert): the part of it above x's horizon, Σ over its edges of the angle each
 // subtends times the cosine of its plane with n, over 2π (radiosity/form_factor.cpp, in double).
+// One edge's term of Lambert's contour integral: the angle r0 and r1 subtend times the cosine of
+// their plane with n.
+float edgeTerm(vec3 r0, vec3 r1, vec3 n) {
+    vec3 g = cross(r0, r1);
+    float s = length(g);
+    return s > 0.0 ? atan(s, dot(r0, r1)) * dot(n, g) / s : 0.0;
+}
+
 float pointToTriangle(vec3 x, vec3 n, vec3 a, vec3 b, vec3 c) {
     vec3 front = cross(b - a, c - a);
     if (!(dot(front, x - a) > 0.0)) return 0.0;
-    vec3 t[3] = vec3[3](a, b, c);
-    float h[3] = float[3](dot(n, a - x), dot(n, b - x), dot(n, c - x));
-    vec3 v[4];
-    int count = 0;
-    for (int k = 0; k < 3; ++k) {  // clipped to x's hemisphere: at most 4 corners
-        int k1 = (k + 1) % 3;
-        if (h[k] >= 0.0) v[count++] = t[k];
-        if ((h[k] >= 0.0) != (h[k1] >= 0.0)) v[count++] = t[k] + (t[k1] - t[k]) * (h[k] / (h[k] - h[k1]));
-    }
+    vec3 ra = a - x, rb = b - x, rc = c - x;
+    float ha = dot(n, ra), hb = dot(n, rb), hc = dot(n, rc);
     float sum = 0.0;
-    for (int k = 0; k < count; ++k) {
-        vec3 r0 = v[k] - x, r1 = v[(k + 1) % count] - x;
-        vec3 g = cross(r0, r1);
-        float s = length(g);
-        if (s > 0.0) sum += atan(s, dot(r0, r1)) * dot(n, g) / s;
+    if (ha >= 0.0 && hb >= 0.0 && hc >= 0.0) {
+        // Wholly above x's horizon (most pixels): three edges, no clipping, no arrays (which
+        // lavapipe keeps in memory when indexed by a variable).
+        sum = edgeTerm(ra, rb, n) + edgeTerm(rb, rc, n) + edgeTerm(rc, ra, n);
+    } else {
+        vec3 t[3] = vec3[3](ra, rb, rc);
+        float h[3] = float[3](ha, hb, hc);
+        vec3 v[4];
+        int count = 0;
+        for (int k = 0; k < 3; ++k) {  // clipped to x's hemisphere: at most 4 corners
+            int k1 = (k + 1) % 3;
+            if (h[k] >= 0.0) v[count++] = t[k];
+            if ((h[k] >= 0.0) != (h[k1] >= 0.0)) v[count++] = t[k] + (t[k1] - t[k]) * (h[k] / (h[k] - h[k1]));
+        }
+        if (count < 3) return 0.0;
+        for (int k = 0; k < count; ++k) sum += edgeTerm(v[k], v[(k + 1) % count], n);
     }
-    return count >= 3 ? clamp(-sum * 0.15915494309189535, 0.0, 1.0) : 0.0;  // −Σ/2π
+    return clamp(-sum * 0.15915494309189535, 0.0, 1.0);  // −Σ/2π
 }
 #endif
 
@@ -388,15 +402,15 @@ void main() {
         // form) × the share that reaches past the occluders, interpolated from the vertices (0 on
         // a fluorescent surface, whose vertices carry it whole).
         vec4 factor = vec4(0.0);
-        for (uint t = 0u; t < L.emitters.x; ++t) {
-            vec4 a = L.emitterCorners[3u * t];
-            factor[int(a.w)] += pointToTriangle(worldPosition, n, a.xyz, L.emitterCorners[3u * t + 1u].xyz,
-                                                L.emitterCorners[3u * t + 2u].xyz);
+        for (int t = 0; t < EMITTER_TRIANGLES; ++t) {
+            vec4 a = L.emitterCorners[3 * t];
+            factor[int(a.w)] += pointToTriangle(worldPosition, n, a.xyz, L.emitterCorners[3 * t + 1].xyz,
+                                                L.emitterCorners[3 * t + 2].xyz);
         }
         factor *= indirect[INDIRECT_SHARE];
-        for (uint e = 0u; e < L.emitters.y; ++e) {
-            uint first = (L.emitters.z + e) * uint(MAX_OUTPUTS);
-            [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) acc[k] += diffuseAt(k) * factor[e] * E.lightBands[first + uint(k)];
+        for (int e = 0; e < EMITTERS; ++e) {
+            const int first = (AMBIENT_COUNT + DIRECTIONAL_COUNT + POINT_COUNT + HEMISPHERE_COUNT + e) * MAX_OUTPUTS;
+            [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) acc[k] += diffuseAt(k) * factor[e] * E.lightBands[first + k];
         }
     }
 #endif
