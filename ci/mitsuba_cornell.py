@@ -54,14 +54,15 @@ def geometry():
 
 
 def write_obj(path, quads):
-    """Quads (mm) as an OBJ (m), each its own four vertices, wound as given."""
+    """Convex polygons (mm; 3 or 4 corners) as an OBJ (m), each its own vertices, wound as given."""
     with open(path, "w") as f:
         n = 0
         for q in quads:
             for p in q:
                 f.write("v %.9g %.9g %.9g\n" % tuple(c / 1000.0 for c in p))
-            f.write("f %d %d %d\nf %d %d %d\n" % (n + 1, n + 2, n + 3, n + 1, n + 3, n + 4))
-            n += 4
+            for k in range(2, len(q)):
+                f.write("f %d %d %d\n" % (n + 1, n + k, n + k + 1))
+            n += len(q)
 
 
 def main():

@@ -130,6 +130,21 @@ std::shared_ptr<const Eigen::MatrixXd> cachedGatherFactors(std::span<const Gathe
     return gathers().get(std::move(key), [&] { return gatherFactors(points, elements, &occluders); }, hit);
 }
 
+std::shared_ptr<const Eigen::MatrixXd> cachedSampledGatherFactors(std::span<const GatherPoint> points,
+                                                                  std::span<const std::array<glm::dvec3, 3>> elements,
+                                                                  const Bvh& occluders, int side, bool& hit) {
+    static Kept<Eigen::MatrixXd> kept;
+    Key key;
+    for (const GatherPoint& p : points) {
+        key.add(std::span<const glm::dvec3>({p.position, p.normal, p.inside}));
+        key.add(std::span<const uint32_t>(&p.source, 1));
+    }
+    key.add(elements);
+    key.add(std::span<const int>(&side, 1));
+    key.addOccluders(occluders);
+    return kept.get(std::move(key), [&] { return sampledGatherFactors(points, elements, occluders, side); }, hit);
+}
+
 void clearGeometryCache() {
     formFactors().clear();
     gathers().clear();

@@ -35,6 +35,11 @@ struct LastSolve {
 std::optional<LastSolve> lastSolveOn(const Coupling& factors);
 void keepLastSolve(const std::shared_ptr<const Coupling>& factors, LastSolve solve);
 
+// sampledGatherFactors(points, elements, occluders, side), or the same inputs' result kept from before.
+std::shared_ptr<const Eigen::MatrixXd> cachedSampledGatherFactors(std::span<const GatherPoint> points,
+                                                                  std::span<const std::array<glm::dvec3, 3>> elements,
+                                                                  const Bvh& occluders, int side, bool& hit);
+
 // Forgets everything kept (tests; the memory).
 void clearGeometryCache();
 

@@ -151,15 +151,27 @@ Gathered gather(std::span<const GatherPoint> points, std::span<const std::array<
         return out;
     }
     const Eigen::Index n = Eigen::Index(corners.size()), count = Eigen::Index(emitters.size());
-    Eigen::MatrixXd bounced = radiosity, share = Eigen::MatrixXd::Zero(n, count);
+    Eigen::MatrixXd bounced = radiosity;
     for (Eigen::Index j = 0; j < n; ++j)
         if (const int e = emitterOf[size_t(j)]; e >= 0) {
-            share(j, e) = 1.0;
             const std::vector<double>& Le = g.materials[emitters[size_t(e)].material].emitted;
             for (Eigen::Index b = 0; b < bounced.cols(); ++b) bounced(j, b) -= kPi * Le[size_t(b)];
         }
     out.H = W * bounced;
-    out.direct = W * share;
+    // D from the emitters' elements alone, each seen from 4 × 4 points on it (W's one centroid ray
+    // flips from one vertex to the next across a shadow's edge; the pixels interpolate D/U).
+    std::vector<std::array<glm::dvec3, 3>> emitting;
+    std::vector<Eigen::Index> emittingRow;
+    for (Eigen::Index j = 0; j < n; ++j)
+        if (emitterOf[size_t(j)] >= 0) {
+            emitting.push_back(corners[size_t(j)]);
+            emittingRow.push_back(j);
+        }
+    bool keptSampled = false;
+    const std::shared_ptr<const Eigen::MatrixXd> sampled = cachedSampledGatherFactors(points, emitting, bvh, 4, keptSampled);
+    Eigen::MatrixXd emitterShare = Eigen::MatrixXd::Zero(Eigen::Index(emitting.size()), count);
+    for (size_t k = 0; k < emitting.size(); ++k) emitterShare(Eigen::Index(k), emitterOf[size_t(emittingRow[k])]) = 1.0;
+    out.direct = *sampled * emitterShare;
     out.unoccluded = Eigen::MatrixXd::Zero(Eigen::Index(points.size()), count);
     for (size_t p = 0; p < points.size(); ++p) {
         // Where the gather evaluates the point (vertex_gather.cpp): a hair inside its own surface,

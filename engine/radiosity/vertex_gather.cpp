@@ -46,6 +46,45 @@ Eigen::MatrixXd gatherFactors(std::span<const GatherPoint> points, std::span<con
     return W;
 }
 
+Eigen::MatrixXd sampledGatherFactors(std::span<const GatherPoint> points, std::span<const std::array<glm::dvec3, 3>> elements,
+                                     const Bvh& occluders, int side) {
+    const size_t m = points.size(), n = elements.size();
+    Eigen::MatrixXd W = Eigen::MatrixXd::Zero(Eigen::Index(m), Eigen::Index(n));
+    // Stratified points on a triangle: a side × side grid of cell centres on the unit square,
+    // mapped by (s, t) → (1 − √s, √s(1 − t), √s·t), which keeps equal areas.
+    std::vector<glm::dvec3> weights;
+    for (int a = 0; a < side; ++a)
+        for (int b = 0; b < side; ++b) {
+            const double u = std::sqrt((a + 0.5) / side), t = (b + 0.5) / side;
+            weights.push_back({1.0 - u, u * (1.0 - t), u * t});
+        }
+    std::atomic<size_t> next{0};
+    auto work = [&] {
+        for (size_t p; (p = next.fetch_add(1)) < m;) {
+            const GatherPoint& g = points[p];
+            const glm::dvec3 x = g.position + 1e-7 * g.inside;
+            for (size_t j = 0; j < n; ++j) {
+                const auto& c = elements[j];
+                const double f = pointToTriangle(x, g.normal, c, polygonNormal(c));
+                if (f == 0.0) continue;
+                int seen = 0;
+                for (const glm::dvec3& w : weights) {
+                    const glm::dvec3 d = w.x * c[0] + w.y * c[1] + w.z * c[2] - x;
+                    const double length = glm::length(d);
+                    seen += length > 0.0 && !occluders.occluded(Ray{x, d / length}, 1e-9 * length, length * (1.0 - 1e-9), g.source);
+                }
+                W(Eigen::Index(p), Eigen::Index(j)) = f * seen / double(weights.size());
+            }
+        }
+    };
+    std::vector<std::thread> pool;
+    const int threads = std::max(1, std::min<int>(usableCpuCount(), int(m / 16) + 1));
+    for (int t = 1; t < threads; ++t) pool.emplace_back(work);
+    work();
+    for (std::thread& t : pool) t.join();
+    return W;
+}
+
 std::vector<char> buriedPoints(std::span<const GatherPoint> points, const Bvh& occluders, const std::vector<char>& closed) {
     std::vector<char> buried(points.size(), 0);
     for (size_t p = 0; p < points.size(); ++p) {

@@ -89,8 +89,8 @@ def test_agrees_with_mitsuba_within_its_noise():
         print(f"  {name} nm: |ours/mitsuba - 1| median {med:.4f}, p95 {p95:.4f}; median |difference| {sig:.2f} "
               f"of Mitsuba's standard error (its relative noise: median {noise:.4f}); the region's sum, mean "
               f"ours/mitsuba - 1: {bias:+.4f}")
-    # Measured (lavapipe, element_size 0.07, no refinement; docs/numerics.md): median 0.010,
-    # p95 0.06, bias -1 %; the CPU reference: 0.009, 0.038, -0.1 %. The bounds leave room for other
+    # Measured (lavapipe, element_size 0.07, no refinement; docs/physics.md): median 0.009-0.010,
+    # p95 0.05-0.07, bias -0.4 to -0.7 %; the CPU reference: 0.009, 0.037, +0.1 %. The bounds leave room for other
     # devices' rounding, and fail on a lost bounce (-10 % and more) or a misplaced emitter.
     for name, med, p95, sig, noise, bias in lines:
         assert med < 0.015, name
