@@ -4,7 +4,8 @@
 // (a batch, the Python module, the preview's spectrum swaps) pays the solve and not the geometry.
 // The key is a hash of the inputs checked against a copy of them: a hit is the same inputs, not a
 // likely one. The most recent kGeometryCacheEntries of each kind are kept (the form factors take
-// elements² × 8 bytes), and the last solution on the most recent form factors. Tests: engine/radiosity/scene_radiosity_test.cpp (a spectrum change).
+// elements² × 8 bytes), and the last solution on the most recent form factors.
+// Tests: engine/radiosity/scene_radiosity_test.cpp (a spectrum change).
 #pragma once
 
 #include "radiosity/element_coupling.h"
