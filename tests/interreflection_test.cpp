@@ -1,6 +1,7 @@
 // Interreflection through the GPU spectral pass (docs/physics.md, "Interreflection"): known
 // answers a renderer of light that bounces must give, without the CPU reference.
 #include "radiosity/form_factor.h"
+#include "radiosity/scene_radiosity.h"
 #include "reference/cpu_renderer.h"
 #include "render/spectral_pass.h"
 #include "support/gpu.h"
@@ -124,6 +125,58 @@ TEST(Interreflection, AnEmittingWallLightsTheFloorByItsClosedFormPerPixel) {
         // The reference integrates the wall's patches by a 6 × 6 midpoint rule (indirect_light.h):
         // 0.3 % at most here; the GPU's closed form in float, 1e-5.
         EXPECT_LT(worst, c == &cube ? 2e-4 : 5e-3) << (c == &cube ? "GPU" : "reference");
+    }
+}
+
+// Past what the GPU draws per pixel (kMaxPixelEmitterTriangles), the emitters' direct light comes
+// from the vertices with the rest of H: the room of emitting walls, each wall 8 × 8 quads (768
+// triangles), is still the furnace L_e/(1 − ρ) at every pixel.
+TEST(Interreflection, ManyEmittingTrianglesFallBackToTheVertices) {
+    const double rho = 0.6;
+    Scene s = closedRoom(rho, constantSpectrum(0.0), 0.25);
+    s.lights.clear();
+    s.materials[0] = emitting(s.materials[0], gaussianSpectrum(520, 60, 3.0, 300, 800, 1));
+    for (Mesh& wall : s.meshes) {  // each quad cut into 8 × 8, wound as it was
+        const glm::dvec3 o = wall.positions[0], u = wall.positions[1] - o, v = wall.positions[3] - o;
+        Mesh grid;
+        grid.material = wall.material;
+        grid.name = wall.name;
+        for (int i = 0; i <= 8; ++i)
+            for (int j = 0; j <= 8; ++j) grid.positions.push_back(o + u * (j / 8.0) + v * (i / 8.0));
+        for (uint32_t i = 0; i < 8; ++i)
+            for (uint32_t j = 0; j < 8; ++j) {
+                const uint32_t a = i * 9 + j, b = a + 1, c = a + 10, d = a + 9;
+                grid.indices.insert(grid.indices.end(), {a, b, c, a, c, d});
+            }
+        wall = grid;
+    }
+    const SceneOnGrid g = onGrid(s);
+    const radiosity::SceneInterreflection r = radiosity::solveInterreflection(s, g);
+    EXPECT_TRUE(r.emitters.empty());
+    SpectralPass pass(gpu(), s, g);
+    const SpectralCube cube = pass.render();
+    double worst = 0.0;
+    for (int y = 0; y < cube.height; ++y)
+        for (int x = 0; x < cube.width; ++x)
+            for (int b = 0; b < cube.bands(); ++b)
+                worst = std::max(worst, std::fabs(cube.at(x, y, b) / (g.materials[0].emitted[size_t(b)] / (1.0 - rho)) - 1.0));
+    EXPECT_LT(worst, 2e-5);
+}
+
+// The emitters' spectra take the light spectra's slots after the lights: a scene whose 128 lights
+// fill them all and that has an emitter is refused, naming the interreflection key.
+TEST(Interreflection, LightsAndEmittersPastTheSpectraSlotsAreRefused) {
+    Scene s = closedRoom(0.5, constantSpectrum(0.0), 0.5);
+    s.lights.clear();
+    for (int i = 0; i < 128; ++i) s.lights.push_back(ambientLight(constantSpectrum(0.01)));
+    s.materials[0] = emitting(s.materials[0], constantSpectrum(1.0));
+    const SceneOnGrid g = onGrid(s);
+    try {
+        SpectralPass pass(gpu(), s, g);
+        FAIL() << "expected a refusal";
+    } catch (const Error& e) {
+        EXPECT_NE(e.text().find("interreflection"), std::string::npos) << e.text();
+        EXPECT_NE(e.text().find("128 lights and 1 emitting materials"), std::string::npos) << e.text();
     }
 }
 
