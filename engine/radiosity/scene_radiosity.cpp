@@ -391,7 +391,7 @@ void solveOn(const Scene& scene, const SceneOnGrid& g, const Occluders& occluder
                             cached ? 0.0 : coupling->seconds};
     out.formFactorsKept = cached;
     out.formFactorSeconds += out.coupling.seconds;
-    p.formFactors = coupling->formFactors;  // the solve's own copy: a few ms against the seconds they took
+    p.sharedFormFactors = std::shared_ptr<const Eigen::MatrixXd>(coupling, &coupling->formFactors);  // read in place
     // On kept form factors, start from the last solve on them, each band scaled by how much its
     // emission changed (least squares; exact when one light's spectrum or scale is what changed).
     std::optional<Eigen::MatrixXd> guess;

@@ -31,11 +31,11 @@ Prepared prepare(const Problem& p) {
     s.elements = p.area.size();
     s.bands = size_t(p.emission.cols());
     const size_t n = s.elements;
-    if (size_t(p.formFactors.rows()) != n || size_t(p.formFactors.cols()) != n || size_t(p.emission.rows()) != n ||
+    if (size_t(p.F().rows()) != n || size_t(p.F().cols()) != n || size_t(p.emission.rows()) != n ||
         p.surface.size() != n)
         failRuntime("radiosity: {} element areas, a {}×{} form-factor matrix, {} emission rows and {} surface "
                     "indices: they must agree",
-                    n, p.formFactors.rows(), p.formFactors.cols(), p.emission.rows(), p.surface.size());
+                    n, p.F().rows(), p.F().cols(), p.emission.rows(), p.surface.size());
     std::vector<double> surfaceGain(p.surfaces.size(), 0.0);  // max_λ ρ(λ) + Σ_μ |M(λ, μ)|
     for (size_t k = 0; k < p.surfaces.size(); ++k) {
         const SurfaceResponse& r = p.surfaces[k];
@@ -54,6 +54,8 @@ Prepared prepare(const Problem& p) {
             surfaceGain[k] = std::max(surfaceGain[k], gain);
         }
     }
+    // The rows' sums in one column-major pass (a row at a time strides the whole matrix).
+    const Eigen::VectorXd rowSums = p.F().rowwise().sum();
     s.rho.resize(Eigen::Index(n), Eigen::Index(s.bands));
     s.sqrtArea.resize(Eigen::Index(n));
     s.invSqrtArea.resize(Eigen::Index(n));
@@ -65,8 +67,7 @@ Prepared prepare(const Problem& p) {
         for (size_t b = 0; b < s.bands; ++b) s.rho(Eigen::Index(i), Eigen::Index(b)) = r.reflectance[b];
         s.sqrtArea[Eigen::Index(i)] = std::sqrt(p.area[i]);
         s.invSqrtArea[Eigen::Index(i)] = 1.0 / s.sqrtArea[Eigen::Index(i)];
-        const double rowSum = p.formFactors.row(Eigen::Index(i)).sum();
-        s.contraction = std::max(s.contraction, rowSum * surfaceGain[p.surface[i]]);
+        s.contraction = std::max(s.contraction, rowSums[Eigen::Index(i)] * surfaceGain[p.surface[i]]);
     }
     s.sqrtRho = s.rho.array().sqrt().matrix();
     return s;
@@ -87,7 +88,7 @@ MatrixXd reemitted(const Problem& p, const MatrixXd& irradiance) {
 // `reduction`; the steps taken are added to `iterations`.
 MatrixXd solveReflection(const Problem& p, const Prepared& s, const MatrixXd& S, double reduction, int maxIterations,
                          int& iterations) {
-    const MatrixXd& F = p.formFactors;
+    const MatrixXd& F = p.F();
     auto scaleIn = [&](const MatrixXd& w) {  // ρ^½A^-½ w
         return (s.sqrtRho.array() * (w.array().colwise() * s.invSqrtArea.array())).matrix();
     };
@@ -147,7 +148,7 @@ Solution solve(const Problem& p, double tolerance, int maxIterations, const Eige
     const double reduction = std::min(1e-3, 0.1 * tolerance);
     bool current = false;  // out.irradiance is F·out.radiosity
     for (int sweep = 0; sweep < 100; ++sweep) {
-        out.irradiance = p.formFactors * out.radiosity;
+        out.irradiance = p.F() * out.radiosity;
         current = true;
         MatrixXd residual = p.emission + (s.rho.array() * out.irradiance.array()).matrix() - out.radiosity;
         if (s.reemits) residual += reemitted(p, out.irradiance);
@@ -166,7 +167,7 @@ Solution solve(const Problem& p, double tolerance, int maxIterations, const Eige
         current = false;
         ++out.sweeps;
     }
-    if (!current) out.irradiance = p.formFactors * out.radiosity;
+    if (!current) out.irradiance = p.F() * out.radiosity;
     return out;
 }
 

@@ -25,6 +25,7 @@
 #include <Eigen/Dense>
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -39,6 +40,10 @@ struct SurfaceResponse {
 struct Problem {
     std::vector<double> area;       // [element], m²
     Eigen::MatrixXd formFactors;    // [receiver i][emitter j]: F_ij
+    // Or, when set, F held elsewhere (the geometry cache's), read in place of formFactors: a
+    // sweep's solve does not copy elements² × 8 bytes.
+    std::shared_ptr<const Eigen::MatrixXd> sharedFormFactors;
+    const Eigen::MatrixXd& F() const { return sharedFormFactors ? *sharedFormFactors : formFactors; }
     std::vector<uint32_t> surface;  // [element]: index into surfaces
     std::vector<SurfaceResponse> surfaces;
     Eigen::MatrixXd emission;       // [element][band]: E, W·m⁻²·nm⁻¹
