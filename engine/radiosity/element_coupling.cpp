@@ -13,16 +13,6 @@ namespace metamer::radiosity {
 
 namespace {
 
-// The 7-point degree-5 rule of form_factor.cpp, as barycentric points and weights.
-constexpr double kA1 = 0.059715871789769820, kB1 = 0.470142064105115090, kW1 = 0.132394152788506181;
-constexpr double kA2 = 0.797426985353087322, kB2 = 0.101286507323456339, kW2 = 0.125939180544827153;
-constexpr std::array<std::array<double, 4>, 7> kRule = {{{1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0, 0.225},
-                                                         {kA1, kB1, kB1, kW1},
-                                                         {kB1, kA1, kB1, kW1},
-                                                         {kB1, kB1, kA1, kW1},
-                                                         {kA2, kB2, kB2, kW2},
-                                                         {kB2, kA2, kB2, kW2},
-                                                         {kB2, kB2, kA2, kW2}}};
 
 // Whether some corner of `a` lies in front of the plane of `b` (normal nb): else nothing a sends
 // or receives crosses to b's front.
@@ -56,8 +46,8 @@ Coupling formFactorMatrix(std::span<const std::array<glm::dvec3, 3>> elements, c
     // Every element's rule points, for whichever pair it receives in.
     std::vector<std::array<glm::dvec3, 7>> points(n);
     for (size_t i = 0; i < n; ++i)
-        for (size_t q = 0; q < kRule.size(); ++q)
-            points[i][q] = kRule[q][0] * elements[i][0] + kRule[q][1] * elements[i][1] + kRule[q][2] * elements[i][2];
+        for (size_t q = 0; q < kTriangleRule.size(); ++q)
+            points[i][q] = kTriangleRule[q].on(elements[i]);
     std::atomic<size_t> nextRow{0}, nearPairs{0}, rays{0}, blocked{0};
     auto work = [&] {
         size_t myNear = 0, myRays = 0, myBlocked = 0;
@@ -80,7 +70,7 @@ Coupling formFactorMatrix(std::span<const std::array<glm::dvec3, 3>> elements, c
                 if (occluders) {
                     // Near pairs: a ray from each rule point (their partial shadows matter); far
                     // ones: one, from the receiver's centroid (the rule's first point).
-                    for (size_t q = 0; q < (near ? kRule.size() : 1); ++q) {
+                    for (size_t q = 0; q < (near ? kTriangleRule.size() : 1); ++q) {
                         const glm::dvec3 d = centroid[s] - points[r][q];
                         const double length = glm::length(d);
                         if (!(length > 0.0)) continue;
@@ -100,8 +90,8 @@ Coupling formFactorMatrix(std::span<const std::array<glm::dvec3, 3>> elements, c
                     ++myNear;
                     f = triangleToPolygon(receiver[0], receiver[1], receiver[2], elements[s], options.tolerance) * visible / 7.0;
                 } else {
-                    for (size_t q = 0; q < kRule.size(); ++q)
-                        if (seen[q] > 0.0) f += kRule[q][3] * pointToTriangle(points[r][q], normal[r], elements[s], normal[s]);
+                    for (size_t q = 0; q < kTriangleRule.size(); ++q)
+                        if (seen[q] > 0.0) f += kTriangleRule[q].w * pointToTriangle(points[r][q], normal[r], elements[s], normal[s]);
                 }
                 out.formFactors(Eigen::Index(r), Eigen::Index(s)) = f;
                 out.formFactors(Eigen::Index(s), Eigen::Index(r)) = f * area[r] / area[s];

@@ -27,20 +27,6 @@ std::vector<glm::dvec3> clipToHemisphere(const glm::dvec3& x, const glm::dvec3& 
     return out;
 }
 
-// Degree-5, 7-point rule on a triangle (Strang & Fix; Dunavant's n = 5): barycentric points and
-// weights summing to 1.
-struct QuadraturePoint {
-    double a, b, c, w;
-};
-constexpr double kA1 = 0.059715871789769820, kB1 = 0.470142064105115090, kW1 = 0.132394152788506181;
-constexpr double kA2 = 0.797426985353087322, kB2 = 0.101286507323456339, kW2 = 0.125939180544827153;
-constexpr std::array<QuadraturePoint, 7> kRule = {{{1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0, 0.225},
-                                                   {kA1, kB1, kB1, kW1},
-                                                   {kB1, kA1, kB1, kW1},
-                                                   {kB1, kB1, kA1, kW1},
-                                                   {kA2, kB2, kB2, kW2},
-                                                   {kB2, kA2, kB2, kW2},
-                                                   {kB2, kB2, kA2, kW2}}};
 
 struct Triangle {
     glm::dvec3 a, b, c;
@@ -62,7 +48,7 @@ struct Emitter {
 
 double ruleAverage(const Triangle& t, const glm::dvec3& n, const Emitter& emitter) {
     double sum = 0.0;
-    for (const QuadraturePoint& q : kRule) sum += q.w * emitter.from(q.a * t.a + q.b * t.b + q.c * t.c, n);
+    for (const TrianglePoint& q : kTriangleRule) sum += q.w * emitter.from(q.a * t.a + q.b * t.b + q.c * t.c, n);
     return sum;
 }
 

@@ -21,6 +21,25 @@
 
 namespace metamer::radiosity {
 
+// The degree-5, 7-point rule on a triangle (Strang & Fix; Dunavant's n = 5): barycentric points
+// and weights summing to 1. triangleToPolygon's, and the rule element_coupling and scene_radiosity
+// average over an element with.
+struct TrianglePoint {
+    double a, b, c, w;
+    glm::dvec3 on(const std::array<glm::dvec3, 3>& t) const { return a * t[0] + b * t[1] + c * t[2]; }
+};
+namespace rule7 {
+constexpr double kA1 = 0.059715871789769820, kB1 = 0.470142064105115090, kW1 = 0.132394152788506181;
+constexpr double kA2 = 0.797426985353087322, kB2 = 0.101286507323456339, kW2 = 0.125939180544827153;
+}  // namespace rule7
+inline constexpr std::array<TrianglePoint, 7> kTriangleRule = {{{1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0, 0.225},
+                                                                {rule7::kA1, rule7::kB1, rule7::kB1, rule7::kW1},
+                                                                {rule7::kB1, rule7::kA1, rule7::kB1, rule7::kW1},
+                                                                {rule7::kB1, rule7::kB1, rule7::kA1, rule7::kW1},
+                                                                {rule7::kA2, rule7::kB2, rule7::kB2, rule7::kW2},
+                                                                {rule7::kB2, rule7::kA2, rule7::kB2, rule7::kW2},
+                                                                {rule7::kB2, rule7::kB2, rule7::kA2, rule7::kW2}}};
+
 // F from the differential area at x (unit normal n) to the polygon's front side, in [0, 1].
 double pointToPolygon(const glm::dvec3& x, const glm::dvec3& n, std::span<const glm::dvec3> polygon);
 

@@ -75,9 +75,11 @@ Kept<Coupling>& formFactors() {
     return kept;
 }
 
-Kept<Eigen::MatrixXd>& gathers() {
-    static Kept<Eigen::MatrixXd> kept;
-    return kept;
+// The vertices' factors (centroid visibility) and the emitters' (sampled) each keep their own
+// most recent entries: one render makes one of each.
+Kept<Eigen::MatrixXd>& gathers(int side) {
+    static Kept<Eigen::MatrixXd> centroid, sampled;
+    return side == 0 ? centroid : sampled;
 }
 
 struct Last {
@@ -119,35 +121,22 @@ std::shared_ptr<const Coupling> cachedFormFactors(std::span<const std::array<glm
 
 std::shared_ptr<const Eigen::MatrixXd> cachedGatherFactors(std::span<const GatherPoint> points,
                                                            std::span<const std::array<glm::dvec3, 3>> elements,
-                                                           const Bvh& occluders, bool& hit) {
+                                                           const Bvh& occluders, int side, bool& hit) {
     Key key;
     for (const GatherPoint& p : points) {  // field by field: the struct has padding
         key.add(std::span<const glm::dvec3>({p.position, p.normal, p.inside}));
         key.add(std::span<const uint32_t>(&p.source, 1));
     }
     key.add(elements);
-    key.addOccluders(occluders);
-    return gathers().get(std::move(key), [&] { return gatherFactors(points, elements, &occluders); }, hit);
-}
-
-std::shared_ptr<const Eigen::MatrixXd> cachedSampledGatherFactors(std::span<const GatherPoint> points,
-                                                                  std::span<const std::array<glm::dvec3, 3>> elements,
-                                                                  const Bvh& occluders, int side, bool& hit) {
-    static Kept<Eigen::MatrixXd> kept;
-    Key key;
-    for (const GatherPoint& p : points) {
-        key.add(std::span<const glm::dvec3>({p.position, p.normal, p.inside}));
-        key.add(std::span<const uint32_t>(&p.source, 1));
-    }
-    key.add(elements);
     key.add(std::span<const int>(&side, 1));
     key.addOccluders(occluders);
-    return kept.get(std::move(key), [&] { return sampledGatherFactors(points, elements, occluders, side); }, hit);
+    return gathers(side).get(std::move(key), [&] { return gatherFactors(points, elements, &occluders, side); }, hit);
 }
 
 void clearGeometryCache() {
     formFactors().clear();
-    gathers().clear();
+    gathers(0).clear();
+    gathers(1).clear();
     std::lock_guard lock(last().mutex);
     last().factors.reset();
     last().solve = {};

@@ -23,10 +23,10 @@ inline constexpr size_t kGeometryCacheEntries = 2;
 std::shared_ptr<const Coupling> cachedFormFactors(std::span<const std::array<glm::dvec3, 3>> elements, const Bvh& occluders,
                                                   std::span<const uint32_t> source, bool& hit);
 
-// gatherFactors(points, elements, &occluders), or the same inputs' result kept from before.
+// gatherFactors(points, elements, &occluders, side), or the same inputs' result kept from before.
 std::shared_ptr<const Eigen::MatrixXd> cachedGatherFactors(std::span<const GatherPoint> points,
                                                            std::span<const std::array<glm::dvec3, 3>> elements,
-                                                           const Bvh& occluders, bool& hit);
+                                                           const Bvh& occluders, int side, bool& hit);
 
 // The last solve on a set of form factors (one is kept): what it was given and what it found, so
 // that the next solve on them — a sweep's next spectrum — starts from it (solver.h, `start`).
@@ -35,11 +35,6 @@ struct LastSolve {
 };
 std::optional<LastSolve> lastSolveOn(const Coupling& factors);
 void keepLastSolve(const std::shared_ptr<const Coupling>& factors, LastSolve solve);
-
-// sampledGatherFactors(points, elements, occluders, side), or the same inputs' result kept from before.
-std::shared_ptr<const Eigen::MatrixXd> cachedSampledGatherFactors(std::span<const GatherPoint> points,
-                                                                  std::span<const std::array<glm::dvec3, 3>> elements,
-                                                                  const Bvh& occluders, int side, bool& hit);
 
 // Forgets everything kept (tests; the memory).
 void clearGeometryCache();

@@ -21,16 +21,6 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-// The 7-point degree-5 rule's barycentric points and weights (form_factor.cpp's).
-constexpr double kA1 = 0.059715871789769820, kB1 = 0.470142064105115090, kW1 = 0.132394152788506181;
-constexpr double kA2 = 0.797426985353087322, kB2 = 0.101286507323456339, kW2 = 0.125939180544827153;
-constexpr std::array<std::array<double, 4>, 7> kRule = {{{1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0, 0.225},
-                                                         {kA1, kB1, kB1, kW1},
-                                                         {kB1, kA1, kB1, kW1},
-                                                         {kB1, kB1, kA1, kW1},
-                                                         {kA2, kB2, kB2, kW2},
-                                                         {kB2, kA2, kB2, kW2},
-                                                         {kB2, kB2, kA2, kW2}}};
 
 // One side of one element: where it is, which way it faces, what it is made of.
 struct Side {
@@ -140,7 +130,7 @@ Gathered gather(std::span<const GatherPoint> points, std::span<const std::array<
                 const Eigen::MatrixXd& radiosity, const std::vector<int>& emitterOf,
                 const std::vector<EmitterGeometry>& emitters, const SceneOnGrid& g, const std::vector<char>& closed) {
     bool kept = false;  // from the geometry cache: the same points, elements and occluders
-    const std::shared_ptr<const Eigen::MatrixXd> cached = cachedGatherFactors(points, corners, bvh, kept);
+    const std::shared_ptr<const Eigen::MatrixXd> cached = cachedGatherFactors(points, corners, bvh, 0, kept);
     const Eigen::MatrixXd& W = *cached;
     Gathered out;
     const std::vector<char> buried = buriedPoints(points, bvh, closed);
@@ -168,7 +158,7 @@ Gathered gather(std::span<const GatherPoint> points, std::span<const std::array<
             emittingRow.push_back(j);
         }
     bool keptSampled = false;
-    const std::shared_ptr<const Eigen::MatrixXd> sampled = cachedSampledGatherFactors(points, emitting, bvh, 4, keptSampled);
+    const std::shared_ptr<const Eigen::MatrixXd> sampled = cachedGatherFactors(points, emitting, bvh, 4, keptSampled);
     Eigen::MatrixXd emitterShare = Eigen::MatrixXd::Zero(Eigen::Index(emitting.size()), count);
     for (size_t k = 0; k < emitting.size(); ++k) emitterShare(Eigen::Index(k), emitterOf[size_t(emittingRow[k])]) = 1.0;
     out.direct = *sampled * emitterShare;
@@ -280,9 +270,9 @@ void solveOn(const Scene& scene, const SceneOnGrid& g, const Occluders& occluder
         if (mat.diffuseTexture >= 0) {
             SurfaceResponse response{clampedReflectance(mat.diffuse), {}};  // textured fluorescent ones are refused when read
             std::vector<double> mean(bands, 0.0);
-            for (const auto& q : kRule) {
-                g.textures[size_t(mat.diffuseTexture)].bilinear(q[0] * e.uv[0] + q[1] * e.uv[1] + q[2] * e.uv[2], texel.data());
-                for (size_t b = 0; b < bands; ++b) mean[b] += q[3] * texel[b];
+            for (const auto& q : kTriangleRule) {
+                g.textures[size_t(mat.diffuseTexture)].bilinear(q.a * e.uv[0] + q.b * e.uv[1] + q.c * e.uv[2], texel.data());
+                for (size_t b = 0; b < bands; ++b) mean[b] += q.w * texel[b];
             }
             for (size_t b = 0; b < bands; ++b) response.reflectance[b] = std::clamp(response.reflectance[b] * mean[b], 0.0, 1.0);
             surfaceOf[i] = int(surfaces.size());
@@ -305,18 +295,18 @@ void solveOn(const Scene& scene, const SceneOnGrid& g, const Occluders& occluder
             const Light& light = scene.lights[l];
             if (light.type != Light::Type::Point || !(glm::dot(normal, light.position - e.corners[0]) > 0.0)) continue;
             double reached = 0.0;
-            for (const auto& q : kRule) {
-                const glm::dvec3 x = q[0] * e.corners[0] + q[1] * e.corners[1] + q[2] * e.corners[2];
+            for (const auto& q : kTriangleRule) {
+                const glm::dvec3 x = q.on(e.corners);
                 const glm::dvec3 d = light.position - x;
                 const double reach = glm::length(d);
                 if (reach > 0.0 && (!light.castsShadows() || !bvh.occluded(Ray{x, d / reach}, 1e-9, reach * (1.0 - 1e-12), e.source)))
-                    reached += q[3];
+                    reached += q.w;
             }
             const double average = solidAngle(e.corners, light.position) / area[i] * reached;
             for (size_t b = 0; b < bands; ++b) irradiance[b] += average * g.lights[l][b];
         }
-        for (const auto& q : kRule) {
-            const glm::dvec3 x = q[0] * e.corners[0] + q[1] * e.corners[1] + q[2] * e.corners[2];
+        for (const auto& q : kTriangleRule) {
+            const glm::dvec3 x = q.on(e.corners);
             for (size_t l = 0; l < scene.lights.size(); ++l) {
                 const Light& light = scene.lights[l];
                 double geometric = 0.0;
@@ -334,7 +324,7 @@ void solveOn(const Scene& scene, const SceneOnGrid& g, const Occluders& occluder
                 } else {
                     continue;  // point lights: above
                 }
-                for (size_t b = 0; b < bands; ++b) irradiance[b] += q[3] * geometric * g.lights[l][b];
+                for (size_t b = 0; b < bands; ++b) irradiance[b] += q.w * geometric * g.lights[l][b];
             }
         }
         const Eigen::Map<const Eigen::VectorXd> H(irradiance.data(), Eigen::Index(bands));

@@ -11,13 +11,27 @@
 namespace metamer::radiosity {
 
 Eigen::MatrixXd gatherFactors(std::span<const GatherPoint> points, std::span<const std::array<glm::dvec3, 3>> elements,
-                              const Bvh* occluders) {
+                              const Bvh* occluders, int side) {
     const size_t m = points.size(), n = elements.size();
     Eigen::MatrixXd W = Eigen::MatrixXd::Zero(Eigen::Index(m), Eigen::Index(n));
-    std::vector<glm::dvec3> centroid(n), front(n);
+    std::vector<glm::dvec3> front(n);
+    for (size_t j = 0; j < n; ++j) front[j] = polygonNormal(elements[j]);
+    // Where each element is seen at (barycentric): its centroid, or stratified points — a side ×
+    // side grid of cell centres on the unit square mapped by (s, t) → (1 − √s, √s(1 − t), √s·t),
+    // which keeps equal areas.
+    std::vector<glm::dvec3> weights;
+    for (int a = 0; a < side; ++a)
+        for (int b = 0; b < side; ++b) {
+            const double u = std::sqrt((a + 0.5) / side), t = (b + 0.5) / side;
+            weights.push_back({1.0 - u, u * (1.0 - t), u * t});
+        }
+    const size_t per = side == 0 ? 1 : weights.size();
+    std::vector<glm::dvec3> targets(n * per);  // [element][point]
     for (size_t j = 0; j < n; ++j) {
-        centroid[j] = (elements[j][0] + elements[j][1] + elements[j][2]) / 3.0;
-        front[j] = polygonNormal(elements[j]);
+        const auto& c = elements[j];
+        if (side == 0) targets[j] = (c[0] + c[1] + c[2]) / 3.0;
+        for (size_t k = 0; k < weights.size(); ++k)
+            targets[j * per + k] = weights[k].x * c[0] + weights[k].y * c[1] + weights[k].z * c[2];
     }
     std::atomic<size_t> next{0};
     auto work = [&] {
@@ -28,52 +42,14 @@ Eigen::MatrixXd gatherFactors(std::span<const GatherPoint> points, std::span<con
             for (size_t j = 0; j < n; ++j) {
                 const double f = pointToTriangle(x, g.normal, elements[j], front[j]);
                 if (f == 0.0) continue;
-                if (occluders) {
-                    const glm::dvec3 d = centroid[j] - x;
-                    const double length = glm::length(d);
-                    if (length > 0.0 && occluders->occluded(Ray{x, d / length}, 1e-9 * length, length * (1.0 - 1e-9), g.source))
-                        continue;
-                }
-                W(Eigen::Index(p), Eigen::Index(j)) = f;
-            }
-        }
-    };
-    std::vector<std::thread> pool;
-    const int threads = std::max(1, std::min<int>(usableCpuCount(), int(m / 16) + 1));
-    for (int t = 1; t < threads; ++t) pool.emplace_back(work);
-    work();
-    for (std::thread& t : pool) t.join();
-    return W;
-}
-
-Eigen::MatrixXd sampledGatherFactors(std::span<const GatherPoint> points, std::span<const std::array<glm::dvec3, 3>> elements,
-                                     const Bvh& occluders, int side) {
-    const size_t m = points.size(), n = elements.size();
-    Eigen::MatrixXd W = Eigen::MatrixXd::Zero(Eigen::Index(m), Eigen::Index(n));
-    // Stratified points on a triangle: a side × side grid of cell centres on the unit square,
-    // mapped by (s, t) → (1 − √s, √s(1 − t), √s·t), which keeps equal areas.
-    std::vector<glm::dvec3> weights;
-    for (int a = 0; a < side; ++a)
-        for (int b = 0; b < side; ++b) {
-            const double u = std::sqrt((a + 0.5) / side), t = (b + 0.5) / side;
-            weights.push_back({1.0 - u, u * (1.0 - t), u * t});
-        }
-    std::atomic<size_t> next{0};
-    auto work = [&] {
-        for (size_t p; (p = next.fetch_add(1)) < m;) {
-            const GatherPoint& g = points[p];
-            const glm::dvec3 x = g.position + 1e-7 * g.inside;
-            for (size_t j = 0; j < n; ++j) {
-                const auto& c = elements[j];
-                const double f = pointToTriangle(x, g.normal, c, polygonNormal(c));
-                if (f == 0.0) continue;
-                int seen = 0;
-                for (const glm::dvec3& w : weights) {
-                    const glm::dvec3 d = w.x * c[0] + w.y * c[1] + w.z * c[2] - x;
-                    const double length = glm::length(d);
-                    seen += length > 0.0 && !occluders.occluded(Ray{x, d / length}, 1e-9 * length, length * (1.0 - 1e-9), g.source);
-                }
-                W(Eigen::Index(p), Eigen::Index(j)) = f * seen / double(weights.size());
+                size_t seen = per;
+                if (occluders)
+                    for (size_t k = 0; k < per; ++k) {
+                        const glm::dvec3 d = targets[j * per + k] - x;
+                        const double length = glm::length(d);
+                        seen -= length > 0.0 && occluders->occluded(Ray{x, d / length}, 1e-9 * length, length * (1.0 - 1e-9), g.source);
+                    }
+                W(Eigen::Index(p), Eigen::Index(j)) = f * double(seen) / double(per);
             }
         }
     };

@@ -29,14 +29,11 @@ struct GatherPoint {
 };
 
 // W [point][element]. `occluders` null: nothing occludes.
+// `side` 0: each element's visibility is whether the point sees its centroid; else the share of
+// side × side stratified points on it that the point sees — for the emitters whose direct light
+// the renderer draws per pixel, whose shadows' edges the vertices must sample smoothly.
 Eigen::MatrixXd gatherFactors(std::span<const GatherPoint> points, std::span<const std::array<glm::dvec3, 3>> elements,
-                              const Bvh* occluders);
-
-// As gatherFactors, with each element's visibility the share of `side` × `side` stratified points on
-// it that the point sees (rather than its centroid alone): for the emitters whose direct light the
-// renderer draws per pixel, whose shadows' edges the vertices must sample smoothly.
-Eigen::MatrixXd sampledGatherFactors(std::span<const GatherPoint> points, std::span<const std::array<glm::dvec3, 3>> elements,
-                                     const Bvh& occluders, int side);
+                              const Bvh* occluders, int side = 0);
 
 // Whether each point lies inside a closed solid — a floor's vertex under a box standing on it: every
 // one of a fan of rays over its hemisphere leaves through the back of a closed mesh's triangle.
