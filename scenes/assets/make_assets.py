@@ -12,24 +12,14 @@ import math
 import os
 import struct
 
+from gltf_buffer import GltfBuffer
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 
 
 def write_gltf(name, positions, indices, normals=None, node=None):
-    blob = bytearray()
-    views, accessors = [], []
-
-    def add(values, fmt, count, type_, ctype, target, minmax=None):
-        while len(blob) % 4:
-            blob.append(0)
-        offset = len(blob)
-        blob.extend(struct.pack("<%d%s" % (len(values), fmt), *values))
-        views.append({"buffer": 0, "byteOffset": offset, "byteLength": len(blob) - offset, "target": target})
-        acc = {"bufferView": len(views) - 1, "componentType": ctype, "count": count, "type": type_}
-        if minmax:
-            acc["min"], acc["max"] = minmax
-        accessors.append(acc)
-        return len(accessors) - 1
+    buffer = GltfBuffer()
+    blob, views, accessors, add = buffer.blob, buffer.views, buffer.accessors, buffer.add
 
     lo = [min(p[i] for p in positions) for i in range(3)]
     hi = [max(p[i] for p in positions) for i in range(3)]

@@ -18,7 +18,6 @@ Standard library only: python3 scenes/assets/make_cornell.py"""
 import base64
 import json
 import os
-import struct
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 
@@ -141,19 +140,11 @@ def groups():
 
 def main():
     materials = ["white", "red", "green", "light"]
-    blob, views, accessors, meshes = bytearray(), [], [], []
+    from gltf_buffer import GltfBuffer  # here: ci/mitsuba_cornell.py loads this file for groups() alone
 
-    def add(values, fmt, count, type_, ctype, target, minmax=None):
-        while len(blob) % 4:
-            blob.append(0)
-        offset = len(blob)
-        blob.extend(struct.pack("<%d%s" % (len(values), fmt), *values))
-        views.append({"buffer": 0, "byteOffset": offset, "byteLength": len(blob) - offset, "target": target})
-        acc = {"bufferView": len(views) - 1, "componentType": ctype, "count": count, "type": type_}
-        if minmax:
-            acc["min"], acc["max"] = minmax
-        accessors.append(acc)
-        return len(accessors) - 1
+    buffer = GltfBuffer()
+    blob, views, accessors, add = buffer.blob, buffer.views, buffer.accessors, buffer.add
+    meshes = []
 
     for name, material, quads in groups():
         positions, indices = mesh(quads)

@@ -17,10 +17,11 @@ Procedural; uses numpy and OpenImageIO (Debian: python3-numpy, python3-openimage
 import json
 import math
 import os
-import struct
 
 import numpy as np
 import OpenImageIO as oiio
+
+from gltf_buffer import GltfBuffer
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 SPECTRA = os.path.join(HERE, "..", "..", "spectra", "colorchecker")
@@ -109,20 +110,9 @@ def ripples(n=128):
 
 def write_panel(name):
     """A cylinder section (radius 1.2, 100°, 1.4 high) facing +z, and a brass bar at its foot."""
-    blob = bytearray()
-    views, accessors, prims = [], [], []
-
-    def add(values, fmt, count, type_, ctype, target, minmax=None):
-        while len(blob) % 4:
-            blob.append(0)
-        offset = len(blob)
-        blob.extend(struct.pack("<%d%s" % (len(values), fmt), *values))
-        views.append({"buffer": 0, "byteOffset": offset, "byteLength": len(blob) - offset, "target": target})
-        acc = {"bufferView": len(views) - 1, "componentType": ctype, "count": count, "type": type_}
-        if minmax:
-            acc["min"], acc["max"] = minmax
-        accessors.append(acc)
-        return len(accessors) - 1
+    buffer = GltfBuffer()
+    blob, views, accessors, add = buffer.blob, buffer.views, buffer.accessors, buffer.add
+    prims = []
 
     def primitive(positions, normals, uvs, indices, material):
         lo = [min(p[i] for p in positions) for i in range(3)]
