@@ -7,6 +7,7 @@
 #include "support/gpu.h"
 #include "support/scene_builders.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -28,6 +29,49 @@ Scene closedRoom(double rho, Spectrum light, double elementSize) {
         s.meshes.push_back(quad(glm::dvec3(0.5) - 0.5 * n, n, 1.0, 1.0, 0));
     s.interreflection = Interreflection{elementSize, 1e-8, 6000, Where{"room", "interreflection"}};
     return s;
+}
+
+// A room the way people light one: a white floor, ceiling and back wall, a red left wall, the
+// right wall green (or red too), a white box standing on the floor (its five visible faces as
+// quads facing out), a point light under the ceiling; seen from the open front, 40 × 40.
+Scene roomWithABox(const Grid& grid, bool greenRightWall) {
+    Scene s = emptyScene(grid, perspectiveCamera({0.5, 0.5, 1.9}, {0.5, 0.5, 0.0}, {0, 1, 0}, 40.0, 40, 40));
+    s.materials.push_back(lambertian(0.75, "white"));
+    s.materials.push_back(lambertian(boxSpectrum(590, 700, 0.7), "red"));
+    if (greenRightWall) s.materials.push_back(lambertian(boxSpectrum(490, 570, 0.6), "green"));
+    s.meshes.push_back(quad({0.5, 0, 0.5}, {0, 1, 0}, 1, 1, 0));
+    s.meshes.push_back(quad({0.5, 1, 0.5}, {0, -1, 0}, 1, 1, 0));
+    s.meshes.push_back(quad({0.5, 0.5, 0}, {0, 0, 1}, 1, 1, 0));
+    s.meshes.push_back(quad({0, 0.5, 0.5}, {1, 0, 0}, 1, 1, 1));
+    s.meshes.push_back(quad({1, 0.5, 0.5}, {-1, 0, 0}, 1, 1, greenRightWall ? 2 : 1));
+    const glm::dvec3 c(0.65, 0.15, 0.4);
+    for (const glm::dvec3 n : {glm::dvec3(1, 0, 0), glm::dvec3(-1, 0, 0), glm::dvec3(0, 1, 0), glm::dvec3(0, 0, 1),
+                               glm::dvec3(0, 0, -1)})
+        s.meshes.push_back(quad(c + 0.15 * n, n, 0.3, 0.3, 0));
+    s.lights.push_back(pointLight({0.5, 0.9, 0.5}, constantSpectrum(1.0), 0.05));
+    return s;
+}
+
+// |Σ_bands a / Σ_bands b − 1| at every pixel whose 3 × 3 neighbourhood is one object (`objectId`,
+// the reference's), away from the image's border, sorted.
+std::vector<double> interiorDifferences(const SpectralCube& a, const SpectralCube& b, const std::vector<int32_t>& objectId) {
+    std::vector<double> relative;
+    for (int y = 1; y + 1 < b.height; ++y)
+        for (int x = 1; x + 1 < b.width; ++x) {
+            const int32_t id = objectId[size_t(y * b.width + x)];
+            bool interior = id >= 0;
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) interior = interior && objectId[size_t((y + dy) * b.width + x + dx)] == id;
+            if (!interior) continue;
+            double sa = 0.0, sb = 0.0;
+            for (int band = 0; band < a.bands(); ++band) {
+                sa += a.at(x, y, band);
+                sb += b.at(x, y, band);
+            }
+            if (sb > 0.0) relative.push_back(std::fabs(sa / sb - 1.0));
+        }
+    std::sort(relative.begin(), relative.end());
+    return relative;
 }
 
 }  // namespace
@@ -216,21 +260,7 @@ TEST(Interreflection, AClosedRoomIsAFurnaceOnTheReference) {
 // agrees to 1.5 % in the median pixel and 5 % in the 95th percentile (the reference's quadrature,
 // measured: docs/physics.md, "Interreflection").
 TEST(Interreflection, TheGpuAgreesWithTheReferenceInAColouredRoom) {
-    Scene s = emptyScene(Grid{400, 700, 20}, perspectiveCamera({0.5, 0.5, 1.9}, {0.5, 0.5, 0.0}, {0, 1, 0}, 40.0, 40, 40));
-    s.materials.push_back(lambertian(0.75, "white"));
-    s.materials.push_back(lambertian(boxSpectrum(590, 700, 0.7) , "red"));
-    s.materials.push_back(lambertian(boxSpectrum(490, 570, 0.6), "green"));
-    s.meshes.push_back(quad({0.5, 0, 0.5}, {0, 1, 0}, 1, 1, 0));
-    s.meshes.push_back(quad({0.5, 1, 0.5}, {0, -1, 0}, 1, 1, 0));
-    s.meshes.push_back(quad({0.5, 0.5, 0}, {0, 0, 1}, 1, 1, 0));
-    s.meshes.push_back(quad({0, 0.5, 0.5}, {1, 0, 0}, 1, 1, 1));
-    s.meshes.push_back(quad({1, 0.5, 0.5}, {-1, 0, 0}, 1, 1, 2));
-    // A box standing on the floor: its five visible faces as quads facing out.
-    const glm::dvec3 c(0.65, 0.15, 0.4);
-    for (const glm::dvec3 n : {glm::dvec3(1, 0, 0), glm::dvec3(-1, 0, 0), glm::dvec3(0, 1, 0), glm::dvec3(0, 0, 1),
-                               glm::dvec3(0, 0, -1)})
-        s.meshes.push_back(quad(c + 0.15 * n, n, 0.3, 0.3, 0));
-    s.lights.push_back(pointLight({0.5, 0.9, 0.5}, constantSpectrum(1.0), 0.05));
+    Scene s = roomWithABox(Grid{400, 700, 20}, true);
     s.interreflection = Interreflection{0.15, 1e-6, 6000, Where{"room", "interreflection"}};
     const SceneOnGrid g = onGrid(s);
     const uint32_t before = gpu().validationErrors();
@@ -238,23 +268,8 @@ TEST(Interreflection, TheGpuAgreesWithTheReferenceInAColouredRoom) {
     const SpectralCube gpuCube = pass.render();
     EXPECT_NO_VALIDATION_ERRORS(before);
     const ReferenceImage cpu = renderReference(s, g);
-    std::vector<double> relative;
-    for (int y = 1; y + 1 < cpu.cube.height; ++y)
-        for (int x = 1; x + 1 < cpu.cube.width; ++x) {
-            const int32_t id = cpu.objectId[size_t(y * cpu.cube.width + x)];
-            bool interior = id >= 0;
-            for (int dy = -1; dy <= 1; ++dy)
-                for (int dx = -1; dx <= 1; ++dx) interior = interior && cpu.objectId[size_t((y + dy) * cpu.cube.width + x + dx)] == id;
-            if (!interior) continue;
-            double a = 0.0, b = 0.0;
-            for (int band = 0; band < gpuCube.bands(); ++band) {
-                a += gpuCube.at(x, y, band);
-                b += cpu.cube.at(x, y, band);
-            }
-            if (b > 0.0) relative.push_back(std::fabs(a / b - 1.0));
-        }
+    const std::vector<double> relative = interiorDifferences(gpuCube, cpu.cube, cpu.objectId);
     ASSERT_GT(relative.size(), 800u);
-    std::sort(relative.begin(), relative.end());
     const double median = relative[relative.size() / 2], p95 = relative[relative.size() * 95 / 100];
     std::printf("GPU against the reference, %zu interior pixels: median %.4f, p95 %.4f, max %.4f\n", relative.size(), median,
                 p95, relative.back());
@@ -267,19 +282,7 @@ TEST(Interreflection, TheGpuAgreesWithTheReferenceInAColouredRoom) {
 // less from each level to the next — the indirect light converges as its elements shrink. Measured:
 // median 1.2 % then 0.38 % (about h^1.6), p95 6.3 % then 3.9 % (shadows' and contacts' edges).
 TEST(Interreflection, ThePixelsConvergeAsTheElementsShrink) {
-    Scene s = emptyScene(Grid{400, 700, 50}, perspectiveCamera({0.5, 0.5, 1.9}, {0.5, 0.5, 0.0}, {0, 1, 0}, 40.0, 40, 40));
-    s.materials.push_back(lambertian(0.75, "white"));
-    s.materials.push_back(lambertian(boxSpectrum(590, 700, 0.7), "red"));
-    s.meshes.push_back(quad({0.5, 0, 0.5}, {0, 1, 0}, 1, 1, 0));
-    s.meshes.push_back(quad({0.5, 1, 0.5}, {0, -1, 0}, 1, 1, 0));
-    s.meshes.push_back(quad({0.5, 0.5, 0}, {0, 0, 1}, 1, 1, 0));
-    s.meshes.push_back(quad({0, 0.5, 0.5}, {1, 0, 0}, 1, 1, 1));
-    s.meshes.push_back(quad({1, 0.5, 0.5}, {-1, 0, 0}, 1, 1, 1));
-    const glm::dvec3 c(0.65, 0.15, 0.4);
-    for (const glm::dvec3 n : {glm::dvec3(1, 0, 0), glm::dvec3(-1, 0, 0), glm::dvec3(0, 1, 0), glm::dvec3(0, 0, 1),
-                               glm::dvec3(0, 0, -1)})
-        s.meshes.push_back(quad(c + 0.15 * n, n, 0.3, 0.3, 0));
-    s.lights.push_back(pointLight({0.5, 0.9, 0.5}, constantSpectrum(1.0), 0.05));
+    Scene s = roomWithABox(Grid{400, 700, 50}, false);
     std::vector<SpectralCube> cubes;
     for (double size : {0.4, 0.2, 0.1}) {
         s.interreflection = Interreflection{size, 1e-7, 6000, Where{"room", "interreflection"}};
@@ -287,25 +290,9 @@ TEST(Interreflection, ThePixelsConvergeAsTheElementsShrink) {
         SpectralPass pass(gpu(), s, g);
         cubes.push_back(pass.render());
     }
-    s.camera.width = s.camera.height = 40;
     const ReferenceImage ids = renderReference(s, onGrid(s));
     auto change = [&](const SpectralCube& a, const SpectralCube& b) {
-        std::vector<double> relative;
-        for (int y = 1; y + 1 < a.height; ++y)
-            for (int x = 1; x + 1 < a.width; ++x) {
-                const int32_t id = ids.objectId[size_t(y * a.width + x)];
-                bool interior = id >= 0;
-                for (int dy = -1; dy <= 1; ++dy)
-                    for (int dx = -1; dx <= 1; ++dx) interior = interior && ids.objectId[size_t((y + dy) * a.width + x + dx)] == id;
-                if (!interior) continue;
-                double sa = 0.0, sb = 0.0;
-                for (int band = 0; band < a.bands(); ++band) {
-                    sa += a.at(x, y, band);
-                    sb += b.at(x, y, band);
-                }
-                if (sb > 0.0) relative.push_back(std::fabs(sa / sb - 1.0));
-            }
-        std::sort(relative.begin(), relative.end());
+        const std::vector<double> relative = interiorDifferences(a, b, ids.objectId);
         return std::pair{relative[relative.size() / 2], relative[relative.size() * 95 / 100]};
     };
     const auto [coarse, coarse95] = change(cubes[0], cubes[1]);
