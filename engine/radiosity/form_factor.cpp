@@ -3,13 +3,14 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <numbers>
 #include <vector>
 
 namespace metamer::radiosity {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+constexpr double kPi = std::numbers::pi;
 
 // The part of the polygon on or above the plane through x with normal n (Sutherland–Hodgman): what
 // a point on a surface can see of it. At most one more vertex than it had.

@@ -8,6 +8,7 @@
 
 #include <array>
 #include <cmath>
+#include <numbers>
 #include <vector>
 
 using namespace metamer::radiosity;
@@ -15,7 +16,7 @@ using glm::dvec3;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+constexpr double kPi = std::numbers::pi;
 
 // A square's two triangles, counter-clockwise seen from the side `normal` points to.
 using Tri = std::array<dvec3, 3>;

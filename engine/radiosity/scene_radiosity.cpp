@@ -12,6 +12,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <numbers>
 #include <optional>
 #include <span>
 
@@ -19,7 +20,7 @@ namespace metamer::radiosity {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+constexpr double kPi = std::numbers::pi;
 
 
 // One side of one element: where it is, which way it faces, what it is made of.
@@ -98,6 +99,9 @@ double elementSize(const Scene& scene) {
 
 namespace {
 
+// What n elements' form factors take: n² doubles, GiB (the refusals say it).
+double formFactorGiB(double n) { return n * n * 8.0 / 1073741824.0; }
+
 struct Settings {
     double elementSize_m, tolerance;
     size_t maxElements;
@@ -109,8 +113,6 @@ struct Occluders {
     const std::map<std::pair<uint32_t, uint32_t>, uint32_t>& index;  // (mesh, triangle) → BVH triangle
 };
 
-// Everything but the elements themselves, on out.meshes[·].elements as they are: the sides, their
-// reflectance and direct light, the form factors, the solve and the vertices' H.
 // H at the midpoints of a mesh's element edges, on each side: what refinement compares with the
 // interpolation of H between the edge's ends.
 struct EdgeMidpoints {
@@ -224,6 +226,8 @@ Eigen::MatrixXd emitterShares(const Eigen::MatrixXd& D, const Eigen::MatrixXd& U
     return S;
 }
 
+// Everything but the elements themselves, on out.meshes[·].elements as they are: the sides, their
+// reflectance and direct light, the form factors, the solve and the vertices' H.
 void solveOn(const Scene& scene, const SceneOnGrid& g, const Occluders& occluders, const Settings& s,
              SceneInterreflection& out, std::vector<EdgeMidpoints>* midpoints) {
     const Bvh& bvh = occluders.bvh;
@@ -356,7 +360,7 @@ void solveOn(const Scene& scene, const SceneOnGrid& g, const Occluders& occluder
         failInput(scene.interreflection->where.child("max_elements"),
                   "the surfaces make {} elements of at most {:.4g} m that take part, more than the {} allowed; their form "
                   "factors would take {:.1f} GiB: give a longer \"element_size\" or raise \"max_elements\"",
-                  n, s.elementSize_m, s.maxElements, double(n) * double(n) * 8.0 / 1073741824.0);
+                  n, s.elementSize_m, s.maxElements, formFactorGiB(double(n)));
     std::vector<std::array<glm::dvec3, 3>> corners(n);
     std::vector<uint32_t> source(n);
     Problem p;
@@ -562,8 +566,7 @@ SceneInterreflection solveInterreflection(const Scene& scene, const SceneOnGrid&
                       "the surfaces make more than {} elements of at most {:.4g} m ({} with {}), more than the {} allowed; "
                       "their form factors would take over {:.1f} GiB: give a longer \"element_size\" or raise "
                       "\"max_elements\"",
-                      count, s.elementSize_m, count, mesh.name, s.maxElements,
-                      double(count) * double(count) * 8.0 / 1073741824.0);
+                      count, s.elementSize_m, count, mesh.name, s.maxElements, formFactorGiB(double(count)));
         };
         mi.elements = refineMesh(mesh.positions, mesh.indices, s.elementSize_m, s.maxElements);
         if (mi.elements.truncated) refuse(made + s.maxElements);

@@ -7,13 +7,15 @@
 
 #include <gtest/gtest.h>
 
+#include <numbers>
+
 using namespace metamer;
 using namespace metamer::radiosity;
 using namespace metamer::test;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+constexpr double kPi = std::numbers::pi;
 
 // The inside of a unit cube of six quads facing in, all of `material`.
 void addRoom(Scene& scene, uint32_t material) {

@@ -7,6 +7,7 @@
 #include <atomic>
 #include <cmath>
 #include <map>
+#include <numbers>
 #include <numeric>
 #include <thread>
 #include <tuple>
@@ -15,7 +16,7 @@ namespace metamer {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+constexpr double kPi = std::numbers::pi;
 constexpr int kSamples = 6;  // a patch's direct light, and a bright patch's area factor: over its cut into 6 × 6
 constexpr size_t kBright = 512;  // at most this many bright patches
 

@@ -6,12 +6,13 @@
 #include "radiosity/element_mesh.h"
 
 #include <cmath>
+#include <numbers>
 
 namespace metamer {
 
 namespace {
 
-constexpr double kInvPi = 0.31830988618379067154, kPi = 3.14159265358979323846;
+constexpr double kInvPi = std::numbers::inv_pi, kPi = std::numbers::pi;
 
 }  // namespace
 
