@@ -24,9 +24,7 @@ Scene closedRoom(double rho, Spectrum light, double elementSize) {
                          perspectiveCamera({0.5, 0.5, 0.95}, {0.5, 0.45, 0.0}, {0, 1, 0}, 100.0, 24, 24));
     s.materials.push_back(lambertian(rho));
     s.lights.push_back(ambientLight(std::move(light)));
-    for (const glm::dvec3 n : {glm::dvec3(1, 0, 0), glm::dvec3(-1, 0, 0), glm::dvec3(0, 1, 0), glm::dvec3(0, -1, 0),
-                               glm::dvec3(0, 0, 1), glm::dvec3(0, 0, -1)})
-        s.meshes.push_back(quad(glm::dvec3(0.5) - 0.5 * n, n, 1.0, 1.0, 0));
+    s.meshes = insideOfUnitCube(0);
     s.interreflection = Interreflection{elementSize, 1e-8, 6000, Where{"room", "interreflection"}};
     return s;
 }

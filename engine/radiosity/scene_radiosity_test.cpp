@@ -17,14 +17,6 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-// The inside of a unit cube of six quads facing in, all of `material`.
-void addRoom(Scene& scene, uint32_t material) {
-    const glm::dvec3 c(0.5);
-    for (const glm::dvec3 n : {glm::dvec3(1, 0, 0), glm::dvec3(-1, 0, 0), glm::dvec3(0, 1, 0), glm::dvec3(0, -1, 0),
-                               glm::dvec3(0, 0, 1), glm::dvec3(0, 0, -1)})
-        scene.meshes.push_back(quad(c - 0.5 * n, n, 1.0, 1.0, material));
-}
-
 Scene roomScene(double rho, double irradiance) {
     Grid grid;
     grid.start_nm = 400;
@@ -33,7 +25,7 @@ Scene roomScene(double rho, double irradiance) {
     Scene scene = emptyScene(grid, perspectiveCamera(glm::dvec3(0.5, 0.5, 0.9), glm::dvec3(0.5), glm::dvec3(0, 1, 0), 60.0, 32, 32));
     scene.materials.push_back(lambertian(rho));
     scene.lights.push_back(ambientLight(constantSpectrum(irradiance)));
-    addRoom(scene, 0);
+    scene.meshes = insideOfUnitCube(0);
     return scene;
 }
 

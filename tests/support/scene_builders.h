@@ -234,6 +234,16 @@ inline Mesh quad(glm::dvec3 centre, glm::dvec3 normal, double width, double heig
     return m;
 }
 
+// The inside of the unit cube [0, 1]³: six unit quads facing in, all of `material` (a closed
+// room: the interreflection tests' furnaces).
+inline std::vector<Mesh> insideOfUnitCube(uint32_t material = 0) {
+    std::vector<Mesh> walls;
+    for (const glm::dvec3 n : {glm::dvec3(1, 0, 0), glm::dvec3(-1, 0, 0), glm::dvec3(0, 1, 0), glm::dvec3(0, -1, 0),
+                               glm::dvec3(0, 0, 1), glm::dvec3(0, 0, -1)})
+        walls.push_back(quad(glm::dvec3(0.5) - 0.5 * n, n, 1.0, 1.0, material));
+    return walls;
+}
+
 // A UV sphere: `segments` around the axis (+y), `rings` from pole to pole; smooth normals.
 // 2·segments·(rings − 1) triangles (e.g. 128×64 → 16 128).
 inline Mesh sphere(glm::dvec3 centre, double radius, int segments, int rings, uint32_t material = 0,
