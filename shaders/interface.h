@@ -130,6 +130,9 @@ using mat4 = glm::mat4;
 // their loops unroll (a loop bounded by a uniform cost a 512² Cornell frame 30 ms more on lavapipe).
 #define SPEC_EMITTER_TRIANGLES 17
 #define SPEC_EMITTERS 18
+// Any self-luminous material: without one, no band program tests a material's MATERIAL_EMITTER
+// per fragment (a scene without emitters pays nothing for them).
+#define SPEC_HAS_EMITTERS 19
 
 // The hemisphere lights' lobe integrals are independent of wavelength but costly: with several band
 // passes and at most MAX_LOBE_LIGHTS hemisphere lights, a lobe pass (one RGBA32F attachment, after
@@ -334,14 +337,16 @@ struct SpectralSpecialization {
     uint32_t filteredShadows;                    // SPEC_FILTERED_SHADOWS (VkBool32)
     int32_t bandLayers;                          // SPEC_BAND_LAYERS
     int32_t emitterTriangles, emitters;          // SPEC_EMITTER_TRIANGLES, SPEC_EMITTERS
+    uint32_t hasEmitters;                        // SPEC_HAS_EMITTERS (VkBool32)
 };
-static_assert(sizeof(SpectralSpecialization) == 4 * (SPEC_EMITTERS + 1), "one 4-byte field per id");
+static_assert(sizeof(SpectralSpecialization) == 4 * (SPEC_HAS_EMITTERS + 1), "one 4-byte field per id");
 static_assert(SPEC_AMBIENT_COUNT == 0 && SPEC_DIRECTIONAL_COUNT == 1 && SPEC_POINT_COUNT == 2 && SPEC_HAS_SPECULAR == 3 &&
                   SPEC_HAS_FLUORESCENCE == 4 && SPEC_HAS_TEXTURES == 5 && SPEC_HAS_NORMAL_MAPS == 6 &&
                   SPEC_FLUORESCENCE_SPECTRA == 7 && SPEC_RESPONSES == 8 && SPEC_HEMISPHERE_COUNT == 9 &&
                   SPEC_SHADOWS == 10 && SPEC_LOBE_MODE == 11 && SPEC_SHADOWED_DIRECTIONAL == 12 &&
                   SPEC_SHADOWED_POINT == 13 && SPEC_HEMISPHERE_PAIRED == 14 && SPEC_FILTERED_SHADOWS == 15 &&
-                  SPEC_BAND_LAYERS == 16 && SPEC_EMITTER_TRIANGLES == 17 && SPEC_EMITTERS == 18,
+                  SPEC_BAND_LAYERS == 16 && SPEC_EMITTER_TRIANGLES == 17 && SPEC_EMITTERS == 18 &&
+                  SPEC_HAS_EMITTERS == 19,
               "SpectralSpecialization's fields are in id order");
 
 // transmit.frag's specialization constants, in id order.

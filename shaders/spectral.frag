@@ -37,6 +37,7 @@ layout(constant_id = SPEC_FILTERED_SHADOWS) const bool FILTERED_SHADOWS = false;
 layout(constant_id = SPEC_BAND_LAYERS) const int BAND_LAYERS = 1;
 layout(constant_id = SPEC_EMITTER_TRIANGLES) const int EMITTER_TRIANGLES = 0;
 layout(constant_id = SPEC_EMITTERS) const int EMITTERS = 0;
+layout(constant_id = SPEC_HAS_EMITTERS) const bool HAS_EMITTERS = true;
 
 layout(set = 0, binding = BINDING_LIGHTS, std140) uniform Lights { GpuLightBlock L; };
 layout(set = 0, binding = BINDING_LIGHT_SPECTRA, std140) uniform LightSpectra { GpuLightSpectraBlock E; };
@@ -389,7 +390,7 @@ void main() {
     if (HAS_FLUORESCENCE && !FLUORESCENCE_SPECTRA && !RESPONSES)
         [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) acc[k] += fluorescence * M.emissionOverLambda[k];
     // A self-luminous surface's own radiance, on its front (the side its winding faces).
-    if (!RESPONSES && gl_FrontFacing && (runtimeValue(M.switches.x) & MATERIAL_EMITTER) != 0u)
+    if (HAS_EMITTERS && !RESPONSES && gl_FrontFacing && (runtimeValue(M.switches.x) & MATERIAL_EMITTER) != 0u)
         [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) acc[k] += M.emitted[k];
 #ifdef INDIRECT
     // The indirect light, on the side the elements were solved for (an open surface's other side is
