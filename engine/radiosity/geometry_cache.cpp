@@ -108,6 +108,8 @@ void keepLastSolve(const std::shared_ptr<const Coupling>& factors, LastSolve sol
     std::lock_guard lock(l.mutex);
     l.factors = factors;
     l.solve = std::move(solve);
+    l.solve.problem.formFactors.resize(0, 0);
+    l.solve.problem.sharedFormFactors.reset();  // held weakly, as `factors`
 }
 
 std::shared_ptr<const Coupling> cachedFormFactors(std::span<const std::array<glm::dvec3, 3>> elements, const Bvh& occluders,

@@ -9,6 +9,7 @@
 #pragma once
 
 #include "radiosity/element_coupling.h"
+#include "radiosity/solver.h"
 #include "radiosity/vertex_gather.h"
 
 #include <memory>
@@ -29,9 +30,11 @@ std::shared_ptr<const Eigen::MatrixXd> cachedGatherFactors(std::span<const Gathe
                                                            const Bvh& occluders, int side, bool& hit);
 
 // The last solve on a set of form factors (one is kept): what it was given and what it found, so
-// that the next solve on them — a sweep's next spectrum — starts from it (solver.h, `start`).
+// that the next solve on them — a sweep's next spectrum — is it rescaled (solver.h,
+// rescaledSolution) or starts from it (`start`).
 struct LastSolve {
-    Eigen::MatrixXd emission, radiosity;  // [element][band]
+    Problem problem;  // without its form factors (the Coupling holds them)
+    Solution solution;
 };
 std::optional<LastSolve> lastSolveOn(const Coupling& factors);
 void keepLastSolve(const std::shared_ptr<const Coupling>& factors, LastSolve solve);

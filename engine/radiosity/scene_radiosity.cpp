@@ -341,12 +341,23 @@ void solveOn(const Scene& scene, const SceneOnGrid& g, const Occluders& occluder
     }
     // A side that the direct light does not reach, and in front of which no other element lies
     // (a room's walls seen from outside), neither receives nor sends anything: left out.
+    // The box around every corner answers for most outward sides at once: its corners all behind
+    // a side's plane put every element there.
+    glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+    for (const Side& e : sides)
+        for (const glm::dvec3& c : e.corners) {
+            lo = glm::min(lo, c);
+            hi = glm::max(hi, c);
+        }
     std::vector<size_t> kept;
     for (size_t i = 0; i < all; ++i) {
         bool useful = emission.row(Eigen::Index(i)).cwiseAbs().maxCoeff() > 0.0;
         const glm::dvec3 normal = polygonNormal(sides[i].corners);
         const double slack = 1e-12 * std::sqrt(area[i]);
-        for (size_t j = 0; j < all && !useful; ++j)
+        // The box's corner farthest along the normal, its height above the plane.
+        const glm::dvec3 farthest(normal.x > 0.0 ? hi.x : lo.x, normal.y > 0.0 ? hi.y : lo.y, normal.z > 0.0 ? hi.z : lo.z);
+        const bool boxBehind = !(glm::dot(normal, farthest - sides[i].corners[0]) > slack);
+        for (size_t j = 0; j < all && !useful && !boxBehind; ++j)
             for (const glm::dvec3& c : sides[j].corners)
                 if (j != i && glm::dot(normal, c - sides[i].corners[0]) > slack) {
                     useful = true;
@@ -386,20 +397,28 @@ void solveOn(const Scene& scene, const SceneOnGrid& g, const Occluders& occluder
     out.formFactorsKept = cached;
     out.formFactorSeconds += out.coupling.seconds;
     p.sharedFormFactors = std::shared_ptr<const Eigen::MatrixXd>(coupling, &coupling->formFactors);  // read in place
-    // On kept form factors, start from the last solve on them, each band scaled by how much its
-    // emission changed (least squares; exact when one light's spectrum or scale is what changed).
-    std::optional<Eigen::MatrixXd> guess;
-    if (const std::optional<LastSolve> before = lastSolveOn(*coupling);
-        before && before->emission.rows() == p.emission.rows() && before->emission.cols() == p.emission.cols()) {
-        guess = before->radiosity;
-        for (Eigen::Index b = 0; b < p.emission.cols(); ++b) {
-            const double norm = before->emission.col(b).squaredNorm();
-            guess->col(b) *= norm > 0.0 ? p.emission.col(b).dot(before->emission.col(b)) / norm : 0.0;
+    // On kept form factors: the last solve on them rescaled, when only the emission changed and by
+    // a factor per band (one light's spectrum or scale, an emitter's); else a solve that starts from
+    // it, each band scaled by how much its emission changed (least squares).
+    const std::optional<LastSolve> before = lastSolveOn(*coupling);
+    std::optional<Solution> rescaled;
+    if (before) rescaled = rescaledSolution(before->problem, before->solution, p);
+    if (rescaled) {
+        out.solution = std::move(*rescaled);
+    } else {
+        std::optional<Eigen::MatrixXd> guess;
+        if (before && before->problem.emission.rows() == p.emission.rows() &&
+            before->problem.emission.cols() == p.emission.cols()) {
+            guess = before->solution.radiosity;
+            for (Eigen::Index b = 0; b < p.emission.cols(); ++b) {
+                const double norm = before->problem.emission.col(b).squaredNorm();
+                guess->col(b) *= norm > 0.0 ? p.emission.col(b).dot(before->problem.emission.col(b)) / norm : 0.0;
+            }
         }
+        out.warmStart = guess.has_value();
+        out.solution = solve(p, s.tolerance, 2000, guess ? &*guess : nullptr);
     }
-    out.warmStart = guess.has_value();
-    out.solution = solve(p, s.tolerance, 2000, guess ? &*guess : nullptr);
-    keepLastSolve(coupling, LastSolve{p.emission, out.solution.radiosity});
+    keepLastSolve(coupling, LastSolve{p, out.solution});
 
     // The indirect irradiance at every element vertex, on each side.
     const auto tg = Clock::now();

@@ -99,34 +99,50 @@ TEST(SceneRadiosity, TooManyElementsAreRefusedWithTheirMemory) {
 }
 
 // A sweep over spectra pays the solve, not the geometry: the same room with another light spectrum
-// takes its form factors and gather factors from the geometry cache (geometry_cache.h), starts its
-// solve from the last one and gives what a solve from nothing gives, within the solve's bound; the
-// room with a wall moved computes its own.
+// takes its form factors and gather factors from the geometry cache (geometry_cache.h) and, the
+// one light's spectrum being what changed (every element's emission scaled band by band), is the
+// last solve rescaled, without an iteration; another reflectance is solved again, from the last
+// solve. Each gives what a solve from nothing gives, within the solves' bounds; the room with a wall
+// moved computes its own form factors.
 TEST(SceneRadiosity, ASpectrumChangeKeepsTheFormFactorsAndAGeometryChangeDoesNot) {
     Scene scene = roomScene(0.6, 2.0);
     scene.interreflection = Interreflection{0.3, 1e-8, 6000, Where{"room", "interreflection"}};
     clearGeometryCache();
     const SceneInterreflection first = solveInterreflection(scene, onGrid(scene));
     EXPECT_FALSE(first.formFactorsKept);
+    EXPECT_FALSE(first.solution.rescaled);
     EXPECT_GT(first.formFactorSeconds, 0.0);
+    // Solved from nothing, on form factors of its own; H = W·B, W's rows summing to ≤ 1.
+    auto expectAsFresh = [&](const Scene& changed, const SceneInterreflection& swapped) {
+        clearGeometryCache();
+        const SceneInterreflection fresh = solveInterreflection(changed, onGrid(changed));
+        EXPECT_FALSE(fresh.formFactorsKept);
+        const double within = swapped.solution.bound + fresh.solution.bound;
+        EXPECT_LE((swapped.solution.radiosity - fresh.solution.radiosity).cwiseAbs().maxCoeff(), within);
+        for (size_t m = 0; m < changed.meshes.size(); ++m)
+            EXPECT_LE((swapped.meshes[m].front - fresh.meshes[m].front).cwiseAbs().maxCoeff(), within);
+        return fresh;
+    };
     scene.lights[0].spectrum = sceneSpectrum(gaussianSpectrum(550, 60, 3.0, 300, 800, 1), SpectrumKind::Light);
-    const SceneOnGrid g = onGrid(scene);
-    const SceneInterreflection swapped = solveInterreflection(scene, g);
+    const SceneInterreflection swapped = solveInterreflection(scene, onGrid(scene));
     EXPECT_TRUE(swapped.formFactorsKept);
     EXPECT_EQ(swapped.formFactorSeconds, 0.0);
     EXPECT_NE(swapped.describe().find("form factors kept"), std::string::npos) << swapped.describe();
-    clearGeometryCache();
-    const SceneInterreflection fresh = solveInterreflection(scene, g);
-    EXPECT_FALSE(fresh.formFactorsKept);
-    // The swap started from the last solve, scaled per band (exact: the one light's spectrum is what
-    // changed), and stopped at the same bound: within both bounds of the fresh solve, in fewer
-    // steps; H = W·B, W's rows summing to ≤ 1.
-    EXPECT_TRUE(swapped.warmStart);
-    EXPECT_LT(swapped.solution.iterations, fresh.solution.iterations);
-    const double within = swapped.solution.bound + fresh.solution.bound;
-    EXPECT_LE((swapped.solution.radiosity - fresh.solution.radiosity).cwiseAbs().maxCoeff(), within);
-    for (size_t m = 0; m < scene.meshes.size(); ++m)
-        EXPECT_LE((swapped.meshes[m].front - fresh.meshes[m].front).cwiseAbs().maxCoeff(), within);
+    EXPECT_TRUE(swapped.solution.rescaled);
+    EXPECT_EQ(swapped.solution.iterations, 0);
+    EXPECT_NE(swapped.describe().find("scaled band by band"), std::string::npos) << swapped.describe();
+    EXPECT_LE(swapped.solution.relativeBound, 1e-8);
+    expectAsFresh(scene, swapped);
+    // Another reflectance: not a scaling of the last problem, so solved, from the last solve.
+    solveInterreflection(scene, onGrid(scene));  // the cache as a sweep leaves it
+    scene.materials[0] = lambertian(0.5);
+    const SceneInterreflection repainted = solveInterreflection(scene, onGrid(scene));
+    EXPECT_TRUE(repainted.formFactorsKept);
+    EXPECT_FALSE(repainted.solution.rescaled);
+    EXPECT_TRUE(repainted.warmStart);
+    EXPECT_GT(repainted.solution.iterations, 0);
+    const SceneInterreflection fresh = expectAsFresh(scene, repainted);
+    EXPECT_LE(repainted.solution.iterations, fresh.solution.iterations);
     scene.meshes[0].positions[0].y += 0.01;
     EXPECT_FALSE(solveInterreflection(scene, onGrid(scene)).formFactorsKept);
 }

@@ -126,6 +126,7 @@ std::string Solution::describe() const {
     const std::string boundText =
         std::isfinite(relativeBound) ? fmt::format("to {:.1e} of its largest value (bound)", relativeBound)
                                      : std::string("without a bound (the re-emission can exceed what a band absorbs)");
+    if (rescaled) return fmt::format("B {}, the last solve's scaled band by band as the emission was", boundText);
     return fmt::format("B {}, {} iteration{}, {} sweep{}", boundText, iterations, iterations == 1 ? "" : "s", sweeps,
                        sweeps == 1 ? "" : "s");
 }
@@ -153,7 +154,8 @@ Solution solve(const Problem& p, double tolerance, int maxIterations, const Eige
         MatrixXd residual = p.emission + (s.rho.array() * out.irradiance.array()).matrix() - out.radiosity;
         if (s.reemits) residual += reemitted(p, out.irradiance);
         const double largest = std::max(out.radiosity.cwiseAbs().maxCoeff(), p.emission.cwiseAbs().maxCoeff());
-        const double r = residual.cwiseAbs().maxCoeff();
+        out.residual = residual.cwiseAbs().colwise().maxCoeff();
+        const double r = out.residual.maxCoeff();
         out.bound = r * gain;
         out.relativeBound = largest > 0.0 ? out.bound / largest : (r == 0.0 ? 0.0 : inf);
         if (std::isfinite(gain) ? out.bound <= tolerance * largest : r <= tolerance * largest * 1e-3) break;
@@ -168,6 +170,43 @@ Solution solve(const Problem& p, double tolerance, int maxIterations, const Eige
         ++out.sweeps;
     }
     if (!current) out.irradiance = p.F() * out.radiosity;
+    return out;
+}
+
+std::optional<Solution> rescaledSolution(const Problem& earlier, const Solution& solved, const Problem& now) {
+    const MatrixXd &E0 = earlier.emission, &E1 = now.emission;
+    if (E0.rows() != E1.rows() || E0.cols() != E1.cols() || solved.radiosity.rows() != E1.rows() ||
+        solved.radiosity.cols() != E1.cols() || solved.residual.size() != E1.cols() || earlier.area != now.area ||
+        earlier.surface != now.surface || earlier.surfaces.size() != now.surfaces.size())
+        return std::nullopt;
+    for (size_t k = 0; k < now.surfaces.size(); ++k) {
+        const SurfaceResponse &a = earlier.surfaces[k], &b = now.surfaces[k];
+        if (a.reflectance != b.reflectance || a.reemission.rows() != b.reemission.rows() ||
+            a.reemission.cols() != b.reemission.cols() || a.reemission != b.reemission)
+            return std::nullopt;
+    }
+    // Each band's factor by least squares, then checked: every element's emission must follow it.
+    RowVectorXd scale(E1.cols());
+    for (Eigen::Index b = 0; b < E1.cols(); ++b) {
+        const double norm = E0.col(b).squaredNorm();
+        scale[b] = norm > 0.0 ? E1.col(b).dot(E0.col(b)) / norm : 0.0;
+        const double largest = E1.col(b).cwiseAbs().maxCoeff();
+        if ((E1.col(b) - scale[b] * E0.col(b)).cwiseAbs().maxCoeff() > 1e-12 * largest ||
+            (norm == 0.0 && largest > 0.0))
+            return std::nullopt;
+    }
+    Solution out = solved;
+    out.radiosity = solved.radiosity * scale.asDiagonal();
+    out.irradiance = solved.irradiance * scale.asDiagonal();
+    out.residual = solved.residual.cwiseProduct(scale.cwiseAbs());
+    const double gain = solved.contraction < 1.0 ? 1.0 / (1.0 - solved.contraction) : std::numeric_limits<double>::infinity();
+    const double largest = std::max(out.radiosity.cwiseAbs().maxCoeff(), E1.cwiseAbs().maxCoeff());
+    const double r = out.residual.size() ? out.residual.maxCoeff() : 0.0;
+    out.bound = r > 0.0 ? r * gain : 0.0;
+    out.relativeBound = largest > 0.0 ? out.bound / largest : (r == 0.0 ? 0.0 : std::numeric_limits<double>::infinity());
+    out.iterations = 0;
+    out.sweeps = 0;
+    out.rescaled = true;
     return out;
 }
 

@@ -26,6 +26,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -58,6 +59,8 @@ struct Solution {
     double contraction = 0.0;  // q above
     int iterations = 0;        // conjugate-gradient steps, every band's counted once per shared product
     int sweeps = 0;            // over the bands (1 without re-emission)
+    Eigen::RowVectorXd residual;  // [band]: max_i |r_i(λ)| where it stopped, W·m⁻²·nm⁻¹ (the bound's ‖r‖∞ is their max)
+    bool rescaled = false;        // from an earlier solution (rescaledSolution), no iteration
     std::string describe() const;  // "B to 3.1e-07 of its largest value (bound), 41 iterations, 1 sweep"
 };
 
@@ -68,5 +71,12 @@ struct Solution {
 // `start`: a first guess at B ([element][band]; a sweep's last solution): the iteration begins from
 // it and stops at the same bound, in fewer steps the nearer it is (none when it already meets it).
 Solution solve(const Problem& problem, double tolerance, int maxIterations = 2000, const Eigen::MatrixXd* start = nullptr);
+
+// `now` on the same form factors as `earlier`, with the same areas and surfaces, and an emission
+// that is earlier's scaled band by band (E' = E·diag(s), to 10⁻¹² of each band's largest: one light's
+// spectrum or scale changed, or an emitter's): `solved` (earlier's solution) scaled the same way —
+// exactly, the equation being linear in E — its residual and bound with it, no product with F.
+// nullopt for anything else (then solve, `start` from it).
+std::optional<Solution> rescaledSolution(const Problem& earlier, const Solution& solved, const Problem& now);
 
 }  // namespace metamer::radiosity

@@ -229,3 +229,37 @@ TEST(RadiositySolve, AFirstGuessStartsTheIteration) {
     const Eigen::MatrixXd wrong = Eigen::MatrixXd::Zero(3, 3);
     EXPECT_THROW(solve(p, 1e-9, 2000, &wrong), metamer::Error);
 }
+
+// An emission scaled band by band (one light's spectrum changed) needs no solve: the last solution
+// scaled so is within both bounds of a solve of the new problem, its own bound the old one's
+// scaled. Anything else — the emission changed otherwise, or a reflectance — is not rescaled.
+TEST(RadiositySolve, AnEmissionScaledBandByBandRescalesTheLastSolution) {
+    const Elements e = closedCube(2);
+    const Eigen::MatrixXd F = formFactors(e);
+    Problem p = uniformProblem(e, F, {0.3, 0.78, 0.95});
+    for (size_t i = 0; i < e.area.size(); ++i)
+        if (e.face[i] == 1) p.emission.row(Eigen::Index(i)) << 2.0, 1.0, 0.5;
+    const Solution before = solve(p, 1e-9);
+    Problem q = p;
+    q.emission = p.emission * Eigen::Vector3d(0.5, 3.0, 0.0).asDiagonal();
+    const std::optional<Solution> rescaled = rescaledSolution(p, before, q);
+    ASSERT_TRUE(rescaled.has_value());
+    EXPECT_TRUE(rescaled->rescaled);
+    EXPECT_EQ(rescaled->iterations, 0);
+    const Solution fresh = solve(q, 1e-9);
+    EXPECT_LE((rescaled->radiosity - fresh.radiosity).cwiseAbs().maxCoeff(), rescaled->bound + fresh.bound);
+    EXPECT_LE((rescaled->irradiance - fresh.irradiance).cwiseAbs().maxCoeff(), 1e-9 * fresh.irradiance.maxCoeff());
+    EXPECT_LE(rescaled->relativeBound, 1e-9);
+    EXPECT_EQ(rescaled->radiosity.col(2).cwiseAbs().maxCoeff(), 0.0);
+    EXPECT_NE(rescaled->describe().find("scaled band by band"), std::string::npos) << rescaled->describe();
+    Problem moved = q;  // one element's emission not in proportion
+    moved.emission(0, 0) += 0.1;
+    EXPECT_FALSE(rescaledSolution(p, before, moved).has_value());
+    Problem repainted = q;
+    repainted.surfaces[0].reflectance[1] = 0.7;
+    EXPECT_FALSE(rescaledSolution(p, before, repainted).has_value());
+    Problem lit = p;  // a band that was dark and is not
+    lit.emission.col(2).setZero();
+    const Solution dark = solve(lit, 1e-9);
+    EXPECT_FALSE(rescaledSolution(lit, dark, p).has_value());
+}
