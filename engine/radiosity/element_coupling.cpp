@@ -23,6 +23,14 @@ bool anyCornerInFront(const std::array<glm::dvec3, 3>& a, const std::array<glm::
     return false;
 }
 
+// Whether every corner of `a` lies in front of the plane of `b`: then no point of either sees the
+// other past its horizon, and the point-to-point kernel needs no clipping.
+bool allCornersInFront(const std::array<glm::dvec3, 3>& a, const std::array<glm::dvec3, 3>& b, const glm::dvec3& nb) {
+    for (const glm::dvec3& c : a)
+        if (!(glm::dot(nb, c - b[0]) > 0.0)) return false;
+    return true;
+}
+
 double longestEdge(const std::array<glm::dvec3, 3>& t) {
     return std::max({glm::length(t[1] - t[0]), glm::length(t[2] - t[1]), glm::length(t[0] - t[2])});
 }
@@ -89,6 +97,12 @@ Coupling formFactorMatrix(std::span<const std::array<glm::dvec3, 3>> elements, c
                 if (near) {
                     ++myNear;
                     f = triangleToPolygon(receiver[0], receiver[1], receiver[2], elements[s], options.tolerance) * visible / 7.0;
+                } else if (distance >= options.farRatio * std::max(size[r], size[s]) &&
+                           visible == 7 && allCornersInFront(receiver, elements[s], normal[s]) &&
+                           allCornersInFront(elements[s], receiver, normal[r])) {
+                    // The rule on both ends: no arc tangent, for most pairs.
+                    for (size_t q = 0; q < kTriangleRule.size(); ++q)
+                        f += kTriangleRule[q].w * pointToTriangleByRule(points[r][q], normal[r], points[s], normal[s], area[s]);
                 } else {
                     for (size_t q = 0; q < kTriangleRule.size(); ++q)
                         if (seen[q] > 0.0) f += kTriangleRule[q].w * pointToTriangle(points[r][q], normal[r], elements[s], normal[s]);

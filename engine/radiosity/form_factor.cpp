@@ -118,6 +118,17 @@ double pointToTriangle(const glm::dvec3& x, const glm::dvec3& n, const std::arra
     return count >= 3 ? lambertSum(x, n, v, count) : 0.0;
 }
 
+double pointToTriangleByRule(const glm::dvec3& x, const glm::dvec3& n, const std::array<glm::dvec3, 7>& rule,
+                             const glm::dvec3& front, double area) {
+    double sum = 0.0;
+    for (size_t k = 0; k < kTriangleRule.size(); ++k) {
+        const glm::dvec3 d = rule[k] - x;
+        const double d2 = glm::dot(d, d);
+        sum += kTriangleRule[k].w * std::max(0.0, glm::dot(n, d)) * std::max(0.0, -glm::dot(front, d)) / (d2 * d2);
+    }
+    return sum * area / kPi;
+}
+
 double pointToPolygon(const glm::dvec3& x, const glm::dvec3& n, std::span<const glm::dvec3> polygon) {
     if (polygon.size() < 3) return 0.0;
     // Seen from behind, or edge-on: nothing of its front side reaches x.

@@ -48,6 +48,13 @@ double pointToPolygon(const glm::dvec3& x, const glm::dvec3& n, std::span<const 
 double pointToTriangle(const glm::dvec3& x, const glm::dvec3& n, const std::array<glm::dvec3, 3>& triangle,
                        const glm::dvec3& front);
 
+// The same by the rule on the triangle (its 7 points `rule`, area, front normal):
+// area · Σ_k w_k cos θ_x cos θ_k / (π d_k²), no arc tangent. Only for a triangle far from x (several
+// of its edges away: within ~1e-7 of the closed form at 4) that lies wholly above x's plane, with x
+// in front of it — where nothing needs clipping; the callers check.
+double pointToTriangleByRule(const glm::dvec3& x, const glm::dvec3& n, const std::array<glm::dvec3, 7>& rule,
+                             const glm::dvec3& front, double area);
+
 // F from the triangle (a, b, c: its front side, counter-clockwise) to the polygon, to within
 // `tolerance` (absolute; the adaptive quadrature stops refining a piece whose two estimates agree
 // to its area's share of it). 0 when either faces away from the other.

@@ -8,6 +8,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <vector>
 
@@ -124,5 +125,27 @@ TEST(FormFactor, TheRowsOfAClosedCubeSumToOne) {
         for (size_t j = 0; j < faces.size(); ++j)
             if (j != i) row += polygonToPolygon(squareTriangles(faces[i]), faces[j]);
         EXPECT_NEAR(row, 1.0, 1e-9) << "face " << i;
+    }
+}
+
+// Far away the rule on the triangle (no arc tangent) is the closed form's value: a tilted triangle
+// seen from a tilted point at 4, 8 and 16 of its edges; the rule's error falls as the sixth power
+// of the distance's inverse (a degree-5 rule).
+TEST(FormFactor, TheRuleOnAFarTriangleMatchesTheClosedForm) {
+    const Tri t{dvec3(0.0, 0.0, 0.0), dvec3(1.0, 0.1, 0.2), dvec3(0.2, 0.9, -0.1)};
+    const dvec3 front = polygonNormal(t);
+    std::array<dvec3, 7> rule;
+    for (size_t k = 0; k < kTriangleRule.size(); ++k) rule[k] = kTriangleRule[k].on(t);
+    const dvec3 centroid = (t[0] + t[1] + t[2]) / 3.0;
+    double previous = 1.0;
+    for (double distance : {4.0, 8.0, 16.0}) {
+        const dvec3 x = centroid + distance * glm::normalize(front + dvec3(0.3, -0.2, 0.0));
+        const dvec3 n = glm::normalize(centroid - x + dvec3(0.1, 0.2, -0.3) * distance);
+        const double exact = pointToTriangle(x, n, t, front);
+        const double error = std::fabs(pointToTriangleByRule(x, n, rule, front, polygonArea(t)) / exact - 1.0);
+        std::printf("%g edges away: F %.6e, the rule's relative error %.1e\n", distance, exact, error);
+        EXPECT_LT(error, 1e-5);
+        EXPECT_LT(error, previous / 16.0);  // at least the fourth power; the sixth expected
+        previous = error;
     }
 }

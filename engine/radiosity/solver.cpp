@@ -146,7 +146,7 @@ Solution solve(const Problem& p, double tolerance, int maxIterations, const Eige
     const double gain = s.contraction < 1.0 ? 1.0 / (1.0 - s.contraction) : inf;
     // Each refinement asks the conjugate gradients for a tenth of the tolerance, at most 10⁻³: the
     // true residual, which includes what the symmetric form leaves out, decides when to stop.
-    const double reduction = std::min(1e-3, 0.1 * tolerance);
+    const double reduction = std::min(1e-3, 0.5 * tolerance);
     bool current = false;  // out.irradiance is F·out.radiosity
     for (int sweep = 0; sweep < 100; ++sweep) {
         out.irradiance = p.F() * out.radiosity;

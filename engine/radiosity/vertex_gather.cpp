@@ -10,12 +10,26 @@
 
 namespace metamer::radiosity {
 
+namespace {
+constexpr double kFarRatio = 4.0;  // an element this many of its longest edges away is far (pointToTriangleByRule)
+}  // namespace
+
 Eigen::MatrixXd gatherFactors(std::span<const GatherPoint> points, std::span<const std::array<glm::dvec3, 3>> elements,
                               const Bvh* occluders, int side) {
     const size_t m = points.size(), n = elements.size();
     Eigen::MatrixXd W = Eigen::MatrixXd::Zero(Eigen::Index(m), Eigen::Index(n));
-    std::vector<glm::dvec3> front(n);
-    for (size_t j = 0; j < n; ++j) front[j] = polygonNormal(elements[j]);
+    std::vector<glm::dvec3> front(n), centroid(n);
+    std::vector<double> area(n), farFrom(n);
+    std::vector<std::array<glm::dvec3, 7>> rule(n);
+    for (size_t j = 0; j < n; ++j) {
+        const auto& c = elements[j];
+        front[j] = polygonNormal(c);
+        area[j] = polygonArea(c);
+        centroid[j] = (c[0] + c[1] + c[2]) / 3.0;
+        const double edge = std::max({glm::length(c[1] - c[0]), glm::length(c[2] - c[1]), glm::length(c[0] - c[2])});
+        farFrom[j] = kFarRatio * edge;
+        for (size_t q = 0; q < kTriangleRule.size(); ++q) rule[j][q] = kTriangleRule[q].on(c);
+    }
     // Where each element is seen at (barycentric): its centroid, or stratified points — a side ×
     // side grid of cell centres on the unit square mapped by (s, t) → (1 − √s, √s(1 − t), √s·t),
     // which keeps equal areas.
@@ -40,7 +54,14 @@ Eigen::MatrixXd gatherFactors(std::span<const GatherPoint> points, std::span<con
             // A hair inside its own surface: far below any element, far above rounding.
             const glm::dvec3 x = g.position + 1e-7 * g.inside;
             for (size_t j = 0; j < n; ++j) {
-                const double f = pointToTriangle(x, g.normal, elements[j], front[j]);
+                const auto& c = elements[j];
+                // Far, wholly above x's plane and facing x: the rule; else the closed form.
+                const glm::dvec3 d = centroid[j] - x;
+                const bool far = glm::dot(d, d) >= farFrom[j] * farFrom[j] && glm::dot(front[j], x - c[0]) > 0.0 &&
+                                 glm::dot(g.normal, c[0] - x) > 0.0 && glm::dot(g.normal, c[1] - x) > 0.0 &&
+                                 glm::dot(g.normal, c[2] - x) > 0.0;
+                const double f = far ? pointToTriangleByRule(x, g.normal, rule[j], front[j], area[j])
+                                     : pointToTriangle(x, g.normal, c, front[j]);
                 if (f == 0.0) continue;
                 size_t seen = per;
                 if (occluders)

@@ -1,7 +1,8 @@
 // The indirect irradiance at points — the element mesh's vertices, where the renderer
 // interpolates it across each element — gathered from the elements' radiosity:
 // H(x) = Σ_j F(x → j)·V(x, j)·B_j, F the closed-form point-to-polygon factor (exact for what
-// is unoccluded), V whether x sees element j's centroid past the occluders. The factors W_xj =
+// is unoccluded; for an element 4 of its edges away, wholly above x's plane, the rule on it, within
+// ~1e-7), V whether x sees element j's centroid past the occluders. The factors W_xj =
 // F·V depend on the geometry only: computed once per scene, they turn any band's B into the
 // points' H by one product (H = W·B), for every spectrum of a sweep.
 //
