@@ -4,6 +4,7 @@
 #include "core/timing.h"
 #include "radiosity/form_factor.h"
 #include "radiosity/geometry_cache.h"
+#include "radiosity/product.h"
 #include "radiosity/vertex_gather.h"
 
 #include <fmt/format.h>
@@ -139,7 +140,7 @@ Gathered gather(std::span<const GatherPoint> points, std::span<const std::array<
     out.buried = Eigen::MatrixXd::Zero(Eigen::Index(points.size()), 1);
     for (size_t p = 0; p < points.size(); ++p) out.buried(Eigen::Index(p), 0) = buried[p];
     if (emitters.empty()) {
-        out.H = W * radiosity;
+        out.H = timesOnEveryCore(W, radiosity);
         return out;
     }
     const Eigen::Index n = Eigen::Index(corners.size()), count = Eigen::Index(emitters.size());
@@ -149,7 +150,7 @@ Gathered gather(std::span<const GatherPoint> points, std::span<const std::array<
             const std::vector<double>& Le = g.materials[emitters[size_t(e)].material].emitted;
             for (Eigen::Index b = 0; b < bounced.cols(); ++b) bounced(j, b) -= kPi * Le[size_t(b)];
         }
-    out.H = W * bounced;
+    out.H = timesOnEveryCore(W, bounced);
     // D from the emitters' elements alone, each seen from 4 × 4 points on it (W's one centroid ray
     // flips from one vertex to the next across a shadow's edge; the pixels interpolate D/U).
     std::vector<std::array<glm::dvec3, 3>> emitting;

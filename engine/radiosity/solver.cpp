@@ -1,6 +1,7 @@
 #include "radiosity/solver.h"
 
 #include "core/error.h"
+#include "radiosity/product.h"
 
 #include <fmt/format.h>
 
@@ -95,7 +96,7 @@ MatrixXd solveReflection(const Problem& p, const Prepared& s, const MatrixXd& S,
     auto scaleOut = [&](const MatrixXd& y) {  // A^½ρ^½ y
         return (s.sqrtRho.array() * (y.array().colwise() * s.sqrtArea.array())).matrix();
     };
-    const MatrixXd c = scaleOut(F * S);
+    const MatrixXd c = scaleOut(timesOnEveryCore(F, S));
     MatrixXd w = MatrixXd::Zero(c.rows(), c.cols());
     MatrixXd r = c, d = c;
     RowVectorXd rr = r.colwise().squaredNorm();
@@ -104,7 +105,7 @@ MatrixXd solveReflection(const Problem& p, const Prepared& s, const MatrixXd& S,
         bool done = true;
         for (Eigen::Index b = 0; b < rr.size(); ++b) done = done && rr[b] <= goal[b];
         if (done) break;
-        const MatrixXd q = d - scaleOut(F * scaleIn(d));
+        const MatrixXd q = d - scaleOut(timesOnEveryCore(F, scaleIn(d)));
         const RowVectorXd dq = (d.array() * q.array()).colwise().sum();
         ++iterations;
         for (Eigen::Index b = 0; b < rr.size(); ++b) {
@@ -149,7 +150,7 @@ Solution solve(const Problem& p, double tolerance, int maxIterations, const Eige
     const double reduction = std::min(1e-3, 0.5 * tolerance);
     bool current = false;  // out.irradiance is F·out.radiosity
     for (int sweep = 0; sweep < 100; ++sweep) {
-        out.irradiance = p.F() * out.radiosity;
+        out.irradiance = timesOnEveryCore(p.F(), out.radiosity);
         current = true;
         MatrixXd residual = p.emission + (s.rho.array() * out.irradiance.array()).matrix() - out.radiosity;
         if (s.reemits) residual += reemitted(p, out.irradiance);
@@ -169,7 +170,7 @@ Solution solve(const Problem& p, double tolerance, int maxIterations, const Eige
         current = false;
         ++out.sweeps;
     }
-    if (!current) out.irradiance = p.F() * out.radiosity;
+    if (!current) out.irradiance = timesOnEveryCore(p.F(), out.radiosity);
     return out;
 }
 

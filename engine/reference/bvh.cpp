@@ -10,19 +10,28 @@ namespace {
 glm::dvec3 centroid(const BvhTriangle& t) { return (t.p0 + t.p1 + t.p2) / 3.0; }
 
 // The slab test. Bounds are padded at build time, so the rounding of the products here cannot
-// reject a ray that grazes a triangle lying on the box's face.
-bool hitsBox(const glm::dvec3& lo, const glm::dvec3& hi, const Ray& ray, double tMin, double tMax,
-             double& tEnter) {
+// reject a ray that grazes a triangle lying on the box's face. The ray's reciprocal direction is
+// taken once per ray (Slabs), not once per box.
+struct Slabs {
+    glm::dvec3 origin, inv;
+    bool parallel[3];  // |d| < 1e-200: 1/d would be inf, with 0·inf = NaN on the face
+    explicit Slabs(const Ray& ray) : origin(ray.origin), inv(0.0) {
+        for (int a = 0; a < 3; ++a) {
+            parallel[a] = std::fabs(ray.direction[a]) < 1e-200;
+            if (!parallel[a]) inv[a] = 1.0 / ray.direction[a];
+        }
+    }
+};
+
+bool hitsBox(const glm::dvec3& lo, const glm::dvec3& hi, const Slabs& ray, double tMin, double tMax, double& tEnter) {
     double t0 = tMin, t1 = tMax;
     for (int a = 0; a < 3; ++a) {
-        double o = ray.origin[a], d = ray.direction[a];
-        if (std::fabs(d) < 1e-200) {
-            // Parallel to the slab (and 1/d would be inf, with 0·inf = NaN on the face).
+        const double o = ray.origin[a];
+        if (ray.parallel[a]) {
             if (o < lo[a] || o > hi[a]) return false;
             continue;
         }
-        double inv = 1.0 / d;
-        double n = (lo[a] - o) * inv, f = (hi[a] - o) * inv;
+        double n = (lo[a] - o) * ray.inv[a], f = (hi[a] - o) * ray.inv[a];
         if (n > f) std::swap(n, f);
         t0 = std::max(t0, n);
         t1 = std::min(t1, f);
@@ -31,6 +40,30 @@ bool hitsBox(const glm::dvec3& lo, const glm::dvec3& hi, const Ray& ray, double 
     tEnter = t0;
     return true;
 }
+
+// A traversal's stack: on the call's own stack up to 64 entries (a BVH 31 deep), else the heap;
+// shadow rays are most of the rays interreflection casts, millions a scene.
+template <typename Entry>
+class TraversalStack {
+public:
+    explicit TraversalStack(int depth) {
+        const size_t need = 2 * static_cast<size_t>(depth) + 2;
+        if (need > kInline) {
+            heap_.resize(need);
+            data_ = heap_.data();
+        }
+    }
+    void push(const Entry& e) { data_[size_++] = e; }
+    Entry pop() { return data_[--size_]; }
+    bool empty() const { return size_ == 0; }
+
+private:
+    static constexpr size_t kInline = 64;
+    Entry inline_[kInline];
+    std::vector<Entry> heap_;
+    Entry* data_ = inline_;
+    size_t size_ = 0;
+};
 
 }  // namespace
 
@@ -131,19 +164,18 @@ std::optional<RayHit> Bvh::intersect(const Ray& ray, double tMin, double tMax) c
     std::optional<RayHit> best;
     double tBest = tMax;
     double tEnter = 0.0;
-    if (!hitsBox(nodes_[0].lo, nodes_[0].hi, ray, tMin, tBest, tEnter)) return std::nullopt;
+    const Slabs slabs(ray);
+    if (!hitsBox(nodes_[0].lo, nodes_[0].hi, slabs, tMin, tBest, tEnter)) return std::nullopt;
 
     // Depth-first, nearer child first; a node is skipped once its box starts beyond the best hit.
     struct Entry {
         uint32_t node;
         double tEnter;
     };
-    std::vector<Entry> stack;
-    stack.reserve(2 * static_cast<size_t>(depth_) + 2);
-    stack.push_back({0, tEnter});
+    TraversalStack<Entry> stack(depth_);
+    stack.push({0, tEnter});
     while (!stack.empty()) {
-        Entry e = stack.back();
-        stack.pop_back();
+        const Entry e = stack.pop();
         if (e.tEnter > tBest) continue;
         const Node& node = nodes_[e.node];
         if (node.count > 0) {
@@ -158,20 +190,20 @@ std::optional<RayHit> Bvh::intersect(const Ray& ray, double tMin, double tMax) c
         }
         const uint32_t a = e.node + 1, b = node.first;
         double ta = 0.0, tb = 0.0;
-        const bool hitA = hitsBox(nodes_[a].lo, nodes_[a].hi, ray, tMin, tBest, ta);
-        const bool hitB = hitsBox(nodes_[b].lo, nodes_[b].hi, ray, tMin, tBest, tb);
+        const bool hitA = hitsBox(nodes_[a].lo, nodes_[a].hi, slabs, tMin, tBest, ta);
+        const bool hitB = hitsBox(nodes_[b].lo, nodes_[b].hi, slabs, tMin, tBest, tb);
         if (hitA && hitB) {
             if (ta <= tb) {
-                stack.push_back({b, tb});
-                stack.push_back({a, ta});
+                stack.push({b, tb});
+                stack.push({a, ta});
             } else {
-                stack.push_back({a, ta});
-                stack.push_back({b, tb});
+                stack.push({a, ta});
+                stack.push({b, tb});
             }
         } else if (hitA) {
-            stack.push_back({a, ta});
+            stack.push({a, ta});
         } else if (hitB) {
-            stack.push_back({b, tb});
+            stack.push({b, tb});
         }
     }
     return best;
@@ -180,21 +212,20 @@ std::optional<RayHit> Bvh::intersect(const Ray& ray, double tMin, double tMax) c
 bool Bvh::occluded(const Ray& ray, double tMin, double tMax, uint32_t skip) const {
     if (nodes_.empty()) return false;
     double tEnter = 0.0;
-    if (!hitsBox(nodes_[0].lo, nodes_[0].hi, ray, tMin, tMax, tEnter)) return false;
-    std::vector<uint32_t> stack;
-    stack.reserve(2 * static_cast<size_t>(depth_) + 2);
-    stack.push_back(0);
+    const Slabs slabs(ray);
+    if (!hitsBox(nodes_[0].lo, nodes_[0].hi, slabs, tMin, tMax, tEnter)) return false;
+    TraversalStack<uint32_t> stack(depth_);
+    stack.push(0);
     while (!stack.empty()) {
-        const Node& node = nodes_[stack.back()];
-        const uint32_t self = stack.back();
-        stack.pop_back();
+        const uint32_t self = stack.pop();
+        const Node& node = nodes_[self];
         if (node.count > 0) {
             for (uint32_t i = node.first; i < node.first + node.count; ++i)
                 if (i != skip && intersectTriangle(triangles_[i], ray, tMin, tMax)) return true;
             continue;
         }
         for (uint32_t child : {self + 1, node.first})
-            if (hitsBox(nodes_[child].lo, nodes_[child].hi, ray, tMin, tMax, tEnter)) stack.push_back(child);
+            if (hitsBox(nodes_[child].lo, nodes_[child].hi, slabs, tMin, tMax, tEnter)) stack.push(child);
     }
     return false;
 }
@@ -203,7 +234,8 @@ std::vector<RayHit> Bvh::allHits(const Ray& ray, double tMin, double tMax) const
     std::vector<RayHit> hits;
     if (nodes_.empty()) return hits;
     double tEnter = 0.0;
-    if (!hitsBox(nodes_[0].lo, nodes_[0].hi, ray, tMin, tMax, tEnter)) return hits;
+    const Slabs slabs(ray);
+    if (!hitsBox(nodes_[0].lo, nodes_[0].hi, slabs, tMin, tMax, tEnter)) return hits;
     std::vector<uint32_t> stack{0};
     while (!stack.empty()) {
         const uint32_t self = stack.back();
@@ -218,7 +250,7 @@ std::vector<RayHit> Bvh::allHits(const Ray& ray, double tMin, double tMax) const
             continue;
         }
         for (uint32_t child : {self + 1, node.first})
-            if (hitsBox(nodes_[child].lo, nodes_[child].hi, ray, tMin, tMax, tEnter)) stack.push_back(child);
+            if (hitsBox(nodes_[child].lo, nodes_[child].hi, slabs, tMin, tMax, tEnter)) stack.push_back(child);
     }
     return hits;
 }
