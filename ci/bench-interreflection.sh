@@ -6,7 +6,8 @@
 #   its parts:    from -v, the form factors, the solve and the gather at the vertices (view-
 #                 independent: once per scene) and from --timings the frame;
 #   a spectrum change: in one Python process, the first render and the median of those after it
-#                 with another light scale (the form factors kept: radiosity/geometry_cache.h);
+#                 with another light scale (the form factors kept: radiosity/geometry_cache.h; the
+#                 last solve rescaled), then with the red wall's reflectance swapped (a solve);
 #   per band against Mitsuba 3: the stored reference's seconds (tests/data/cornell/mitsuba.json,
 #                 its noise there) over Metamer's, each per band, both at 64² (Metamer ssaa 4).
 # One run per row; compare within a run (the machine is shared). Prints figures, asserts nothing.
@@ -61,6 +62,15 @@ first = render(1.0)
 after = [render(0.5 + 0.1 * k) for k in range(runs)]
 print(f"  first render {first[0]:.2f} s (upload {first[1]:.0f} ms); each spectrum after it: median "
       f"{statistics.median(a for a, _ in after):.2f} s (upload {statistics.median(u for _, u in after):.0f} ms)")
+# A reflectance change is not a scaling of the emission: a solve, from the last one.
+def repaint(k):
+    t = time.perf_counter()
+    r = metamer.render(scene, overrides={"camera.width": 64, "camera.height": 64,
+                                         "materials.red.diffuse": ["cornell/green", "cornell/red"][k % 2]})
+    return time.perf_counter() - t, r.timings_ms["upload"]
+swaps = [repaint(k) for k in range(runs)]
+print(f"  the red wall's reflectance swapped (green, red, ...): median {statistics.median(a for a, _ in swaps):.2f} s "
+      f"(upload {statistics.median(u for _, u in swaps):.0f} ms)")
 PY
 
 echo "per band against Mitsuba 3 (64², the stored reference):"
