@@ -131,3 +131,26 @@ TEST_F(SpecialFiles, AnHdf5CubeWhoseValuesAreInAFifo) {
 }
 
 }  // namespace
+
+// Standard input has no size to check first: a scene read from it is held to the same 256 MiB as a
+// scene file, and /dev/zero ends at once instead of growing for ever (issue 51, class 5).
+TEST_F(SpecialFiles, AStandardInputWithoutEnd) {
+    expectRefused("render - --out o < /dev/zero", "<stdin>", "the scene read from standard input is over 256 MiB");
+    EXPECT_FALSE(fs::exists(dir_ / "o"));
+}
+
+// Started with a standard stream closed (`2>&-`), the next file opened would take its descriptor
+// and receive what is written to it — the progress lines into the cube. Each closed one is opened
+// on /dev/null first (issue 51, class 6): the cube reads back whole and equals a render's with the
+// streams open.
+TEST_F(SpecialFiles, ClosedStandardStreams) {
+    const std::string cmd = "cd '" + dir_.string() + "' && " METAMER_BINARY
+                            " render valid.json --out closed --write cube --progress 2>&- >/dev/null; echo $? > status";
+    ASSERT_EQ(std::system(cmd.c_str()), 0);
+    std::ifstream status(dir_ / "status");
+    int code = -1;
+    status >> code;
+    EXPECT_EQ(code, 0);
+    const test::CliRun same = run("compare closed/valid.exr ref/valid.exr");
+    EXPECT_EQ(same.code, 0) << same.output;
+}

@@ -3,7 +3,11 @@
 #include "core/error.h"
 #include "core/file_reads.h"
 
+#include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 #include <cstdlib>
 #include <filesystem>
 #include <string_view>
@@ -24,6 +28,16 @@ bool nonFiniteNumber(const std::string& text) {
     return end != text.c_str() && *end == '\0' && !std::isfinite(v);
 }
 
+// Whether `text` is a whole number in decimal digits that fits 64 bits unsigned. CLI11 reads
+// "-1" into an unsigned option as 2⁶⁴ − 1 and "2⁶⁴" as 2⁶⁴ − 1: both silently.
+bool wholeUnsigned(const std::string& text) {
+    if (text.empty() || text.size() > 20 || !std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; }))
+        return false;
+    errno = 0;
+    std::strtoull(text.c_str(), nullptr, 10);
+    return errno != ERANGE;
+}
+
 void checkOptions(const CLI::App& app) {
     for (const CLI::Option* o : app.get_options()) {
         if (o->count() == 0) continue;
@@ -33,6 +47,9 @@ void checkOptions(const CLI::App& app) {
                 failInput(Where{"", name}, "expected a value, got an empty string");
             if (numericType(o->get_type_name()) && nonFiniteNumber(value))
                 failInput(Where{"", name}, "expected a finite number, got '{}'", value);
+            if (o->get_type_name().find("UINT") != std::string::npos && !wholeUnsigned(value))
+                failInput(Where{"", name}, "'{}' is not a whole number from 0 to {}", value,
+                          std::numeric_limits<uint64_t>::max());
         }
     }
     for (const CLI::App* sub : app.get_subcommands({}))

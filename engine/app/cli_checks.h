@@ -1,7 +1,9 @@
 // Checks every command line gets after CLI11 has parsed it, in one place rather than per flag
 // (issue 19, class 3): no option value may be an empty string (`--grid ''` used to mean the
 // default, `--out ''` the scene's own folder), and a number must be finite (`--memory-budget nan`
-// used to pass CLI11's positive-number check, which NaN does not fail). And the verb: an unknown
+// used to pass CLI11's positive-number check, which NaN does not fail), and an unsigned integer
+// (`--seed`, `--frame`) must be written as one that fits 64 bits (issue 51, class 3: CLI11 read
+// `-1` and `2⁶⁴` as 2⁶⁴ − 1, silently). And the verb: an unknown
 // one is an error with the nearest verb, not CLI11's generic complaint or, with --help, the
 // top-level help and exit 0; a mistyped option, likewise, gets the nearest option. Errors name the
 // option as the user typed it (`--grid`).

@@ -13,6 +13,7 @@
 #include "app/render_flags.h"     // the render flags, shared with preview, bench and batch
 #include "core/cpu_count.h"
 #include "core/error.h"
+#include "core/file_reads.h"
 #include "io/atomic_file.h"
 #include "render/output_path.h"
 #include "render/render_job.h"
@@ -25,6 +26,8 @@
 #include <cstdio>
 #include <iostream>
 #include <iterator>
+#include <cerrno>
+#include <fcntl.h>
 #include <sys/syscall.h>
 #include <unistd.h>
 
@@ -129,9 +132,21 @@ int listDevices() {
 // Warnings dropped: `metamer render -q` prints errors only.
 void dropWarning(const std::string&) {}
 
+// A standard stream the caller closed (`2>&-`) leaves its descriptor free, and the next file opened
+// takes it: an output's temporary would receive the progress lines or the error messages. Each
+// closed one of 0–2 is opened on /dev/null first, in order, so each takes its own number.
+void reopenClosedStandardStreams() {
+    for (int fd = 0; fd <= 2; ++fd)
+        if (::fcntl(fd, F_GETFD) == -1 && errno == EBADF) {
+            const int opened = ::open("/dev/null", fd == 0 ? O_RDONLY : O_WRONLY);
+            if (opened != fd && opened >= 0) ::close(opened);  // not ours to fill: leave it
+        }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+    reopenClosedStandardStreams();
     gMainThread = pid_t(::syscall(SYS_gettid));
     std::signal(SIGINT, onSignal);
     std::signal(SIGTERM, onSignal);
@@ -256,7 +271,7 @@ int main(int argc, char** argv) {
         if (scenePath == "-") {
             // The scene from stdin: named <stdin> in messages; its relative paths resolve against the
             // current folder (the parent of a relative name), which is also the folder it may read.
-            job.sceneText = std::string(std::istreambuf_iterator<char>(std::cin), std::istreambuf_iterator<char>());
+            job.sceneText = readWholeStream(stdin, Where{"<stdin>"}, "scene read from standard input");
             job.scene = "<stdin>";
             if (job.outStem.empty()) job.outStem = "stdin";
         } else {

@@ -18,8 +18,8 @@ std::optional<CpuCount> gCount;
 int positiveCount(const std::string& text, const Where& where) {
     char* end = nullptr;
     const long v = std::strtol(text.c_str(), &end, 10);
-    if (text.empty() || end == text.c_str() || *end != '\0' || v < 1 || v > 100000)
-        failInput(where, "'{}' is not a thread count; expected a whole number from 1", text);
+    if (text.empty() || end == text.c_str() || *end != '\0' || v < 1 || v > kMaxThreads)
+        failInput(where, "'{}' is not a thread count; expected a whole number from 1 to {}", text, kMaxThreads);
     return int(v);
 }
 
@@ -30,7 +30,9 @@ std::string cpus(int n) { return fmt::format("{} CPU{}", n, n == 1 ? "" : "s"); 
 CpuCount chooseCpuCount(std::optional<int> flag, const char* slurmCpusPerTask, int affinityCpus) {
     if (affinityCpus < 1) affinityCpus = 1;
     if (flag) {
-        if (*flag < 1) failInput(Where{"", "--threads"}, "'{}' is not a thread count; expected a whole number from 1", *flag);
+        if (*flag < 1 || *flag > kMaxThreads)
+            failInput(Where{"", "--threads"}, "'{}' is not a thread count; expected a whole number from 1 to {}", *flag,
+                      kMaxThreads);
         return {*flag, "--threads"};
     }
     if (slurmCpusPerTask && *slurmCpusPerTask) {

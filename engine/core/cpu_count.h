@@ -17,9 +17,13 @@ struct CpuCount {
     std::string source;  // why this many, for -v and records: "sched_getaffinity (1 of 2 CPUs)"
 };
 
+// The most threads asked for: more fail in thread creation (99 999 did, naming nothing), and no
+// pool here gains past a machine's cores.
+constexpr int kMaxThreads = 1024;
+
 // The rule above as a pure function: `flag` is --threads, `slurmCpusPerTask` the variable's text
 // (null: unset), `affinityCpus` the CPUs the process may run on. A value that is not a whole
-// number ≥ 1 is an input error naming --threads or SLURM_CPUS_PER_TASK.
+// number from 1 to kMaxThreads is an input error naming --threads or SLURM_CPUS_PER_TASK.
 CpuCount chooseCpuCount(std::optional<int> flag, const char* slurmCpusPerTask, int affinityCpus);
 
 // The CPUs this process may run on (sched_getaffinity), at least 1.

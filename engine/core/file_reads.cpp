@@ -85,4 +85,18 @@ std::string readWholeFile(const std::filesystem::path& path, const Where& where,
     return bytes;
 }
 
+std::string readWholeStream(std::FILE* stream, const Where& where, std::string_view what, std::uintmax_t maxBytes) {
+    std::string bytes;
+    std::vector<char> block(1 << 20);
+    for (;;) {
+        const size_t got = std::fread(block.data(), 1, block.size(), stream);
+        bytes.append(block.data(), got);
+        if (bytes.size() > maxBytes) failInput(where, "the {} is over {} MiB", what, maxBytes >> 20);
+        if (got < block.size()) {
+            if (std::ferror(stream)) failInput(where, "the {} could not be read", what);
+            return bytes;
+        }
+    }
+}
+
 }  // namespace metamer

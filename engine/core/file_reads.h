@@ -12,6 +12,7 @@
 #include "core/error.h"
 
 #include <cstdint>
+#include <cstdio>
 #include <filesystem>
 #include <string>
 #include <string_view>
@@ -38,6 +39,11 @@ const char* specialFileKind(const std::filesystem::file_status& status);
 // bytes; notes the read (noteFileRead).
 std::string readWholeFile(const std::filesystem::path& path, const Where& where, std::string_view what,
                           std::uintmax_t maxBytes = kMaxTextFileBytes);
+
+// All of `stream` (standard input: a pipe, a terminal, /dev/zero), which has no size to check
+// first: read in blocks, and an input error at `where` naming `what` once it passes `maxBytes`.
+std::string readWholeStream(std::FILE* stream, const Where& where, std::string_view what,
+                            std::uintmax_t maxBytes = kMaxTextFileBytes);
 
 void noteFileRead(const std::filesystem::path& path);
 

@@ -144,7 +144,7 @@ std::vector<DeviceInfo> Context::listDevices(VkInstance instance, VkSurfaceKHR s
             p2.pNext = &id;
             vkGetPhysicalDeviceProperties2(pds[i], &p2);
             // 8-4-4-4-12 hex, as nvidia-smi -L and CUDA_VISIBLE_DEVICES write it (after "GPU-").
-            for (int b = 0; b < VK_UUID_SIZE; ++b)
+            for (int b = 0; b < int(VK_UUID_SIZE); ++b)
                 d.uuid += fmt::format("{}{:02x}", b == 4 || b == 6 || b == 8 || b == 10 ? "-" : "", id.deviceUUID[b]);
         }
         out.push_back(d);

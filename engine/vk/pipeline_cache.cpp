@@ -1,6 +1,7 @@
 #include "vk/pipeline_cache.h"
 
 #include "core/cache_folder.h"
+#include "core/file_reads.h"
 
 #include <cstdlib>
 #include <cstring>
@@ -23,6 +24,9 @@ struct Header {
 };
 static_assert(sizeof(Header) == 16 + VK_UUID_SIZE);
 
+// More than any pipeline cache Metamer makes (a few MiB): a file this large is not one of ours.
+constexpr std::uintmax_t kMaxCacheBytes = std::uintmax_t(256) << 20;
+
 std::string why(const std::vector<char>& data, const VkPhysicalDeviceProperties& p) {
     if (data.size() < sizeof(Header)) return "shorter than a cache header";
     Header h;
@@ -44,10 +48,17 @@ PipelineCache::PipelineCache(VkDevice device, const VkPhysicalDeviceProperties& 
     std::vector<char> data;
     if (!folder.empty()) {
         char uuid[2 * VK_UUID_SIZE + 1];
-        for (int i = 0; i < VK_UUID_SIZE; ++i) std::snprintf(uuid + 2 * i, 3, "%02x", p.pipelineCacheUUID[i]);
+        for (int i = 0; i < int(VK_UUID_SIZE); ++i) std::snprintf(uuid + 2 * i, 3, "%02x", p.pipelineCacheUUID[i]);
         file_ = folder / fmt::format("pipelines-{:04x}-{:04x}-{}-{}.bin", p.vendorID, p.deviceID, p.driverVersion, uuid);
-        std::ifstream in(file_, std::ios::binary);
-        if (in) {
+        // Only a regular file of a sane size is read: a FIFO there would block every render, a
+        // device feed it for ever (the lobe cache's rule, core/file_reads.h).
+        std::error_code ec;
+        const fs::file_status status = fs::status(file_, ec);
+        if (fs::exists(status) && !fs::is_regular_file(status)) {
+            ignored_ = fmt::format("{}, not a regular file", specialFileKind(status));
+        } else if (fs::exists(status) && fs::file_size(file_, ec) > kMaxCacheBytes) {
+            ignored_ = fmt::format("over {} MiB", kMaxCacheBytes >> 20);
+        } else if (std::ifstream in(file_, std::ios::binary); in) {
             data.assign(std::istreambuf_iterator<char>(in), {});
             ignored_ = why(data, p);
             if (!ignored_.empty()) data.clear();

@@ -8,6 +8,8 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+
 #include <fstream>
 #include <unistd.h>
 
@@ -77,6 +79,20 @@ TEST(PipelineCache, WrittenForThisDeviceReadBackAndStaleFilesReplaced) {
         EXPECT_EQ(fs::file_size(written[0]), size);
         EXPECT_EQ(files(dir).size(), 1u);
     }
+    // A FIFO where the file goes is not opened (it would block every render until a writer came):
+    // ignored as such, the render unaffected; saving replaces it with the cache.
+    fs::remove(written[0]);
+    ASSERT_EQ(::mkfifo(written[0].c_str(), 0600), 0);
+    {
+        vk::ContextOptions o;
+        o.pipelineCacheFolder = dir;
+        vk::Context ctx(o);
+        EXPECT_EQ(ctx.pipelineCacheFile().loadedBytes(), 0u);
+        EXPECT_NE(ctx.pipelineCacheFile().ignoredBecause().find("a FIFO, not a regular file"), std::string::npos)
+            << ctx.pipelineCacheFile().ignoredBecause();
+    }
+    renderWith(dir, out);
+    EXPECT_TRUE(fs::is_regular_file(written[0]));
     // "off": nothing on disk.
     const fs::path none = scratch("off");
     ::setenv("METAMER_PIPELINE_CACHE", "off", 1);
