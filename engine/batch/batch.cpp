@@ -260,8 +260,54 @@ ResolvedJob resolveJob(const Sweep& sweep, size_t position, const fs::path& out)
     r.digest = h.hex();
     r.id = fs::path(sj.scene).stem().string() + "-" + r.digest.substr(0, 16);
     r.render.outDir = out / r.id;
+    // Where its record goes must take a file: a FIFO, a device or a folder there would fail the job
+    // only after it rendered (issue 51, class 10). Checked with every job, so --dry-run says it too.
+    const fs::path record = r.render.outDir / kRecordFile;
+    std::error_code ec;
+    const fs::file_status status = fs::status(record, ec);
+    if (fs::exists(status) && !fs::is_regular_file(status))
+        failInput(Where{record.string()}, "{} is where the job's record goes, and a record replaces a file: remove it",
+                  specialFileKind(status));
     return r;
 }
+
+namespace {
+
+// The fields a resume and the index read, each of its type where present (as recordBase and
+// runBatch write them): a record of other types — edited by hand, not ours — is no record, said
+// by the index and rendered again, never a type error out of the JSON library.
+bool wellTyped(const Json& doc) {
+    auto has = [&](const Json& o, const char* key, bool (*test)(const Json&)) { return !o.contains(key) || test(o[key]); };
+    auto isString = [](const Json& v) { return v.is_string(); };
+    auto isObject = [](const Json& v) { return v.is_object(); };
+    auto isStringOrNull = [](const Json& v) { return v.is_string() || v.is_null(); };
+    for (const char* key : {"origin", "sweep", "host", "shard", "finished", "metamer_version", "spectra_digest"})
+        if (!has(doc, key, isString)) return false;
+    if (!has(doc, "error", isStringOrNull)) return false;
+    if (!has(doc, "position", [](const Json& v) { return v.is_number_unsigned(); })) return false;
+    for (const char* key : {"axes", "used", "timings_ms", "settings"})
+        if (!has(doc, key, isObject)) return false;
+    if (doc.contains("timings_ms"))
+        for (const auto& [k, v] : doc["timings_ms"].items())
+            if (!v.is_number()) return false;
+    if (doc.contains("outputs")) {
+        if (!doc["outputs"].is_array()) return false;
+        for (const Json& o : doc["outputs"])
+            if (!o.is_object() || !has(o, "file", isString)) return false;
+    }
+    if (doc.contains("settings")) {
+        const Json& settings = doc["settings"];
+        if (!has(settings, "render", isObject) || !has(settings, "scene", isString) ||
+            !has(settings, "set", [](const Json& v) { return v.is_array(); }))
+            return false;
+        if (settings.contains("set"))
+            for (const Json& o : settings["set"])
+                if (!o.is_string()) return false;
+    }
+    return true;
+}
+
+}  // namespace
 
 std::optional<JobRecord> readJobRecord(const fs::path& folder) {
     // A record is input like any other: only a regular file of sane size is read (a FIFO would
@@ -278,7 +324,8 @@ std::optional<JobRecord> readJobRecord(const fs::path& folder) {
     }
     auto isString = [&](const char* key) { return doc.contains(key) && doc[key].is_string(); };
     if (!doc.is_object() || doc.value("metamer_batch_record", 0) != kRecordVersion || !isString("id") ||
-        !isString("digest") || !isString("status") || (doc["status"] != "done" && doc["status"] != "failed"))
+        !isString("digest") || !isString("status") || (doc["status"] != "done" && doc["status"] != "failed") ||
+        !wellTyped(doc))
         return std::nullopt;
     JobRecord r;
     r.id = doc["id"].get<std::string>();

@@ -256,6 +256,27 @@ TEST(Batch, AJobThatCannotLoadStopsTheBatchBeforeAnythingRenders) {
     EXPECT_FALSE(fs::exists(out));
 }
 
+// A FIFO where a job's record goes (issue 51, class 10): found when the jobs are resolved — by the
+// run before its first render, and by --dry-run — as bad input naming it, not a failed job after
+// its render.
+TEST(Batch, AFifoWhereARecordGoesStopsTheBatchBeforeAnythingRenders) {
+    Fixture f;
+    const Sweep s = readSweep(f.sweep(R"({"scenes": ["grey.json"]})"));
+    const fs::path out = f.dir / "out";
+    const ResolvedJob j = resolveJob(s, 0, out);
+    fs::create_directories(j.render.outDir);
+    ASSERT_EQ(::mkfifo((j.render.outDir / "job.json").c_str(), 0600), 0);
+    try {
+        runBatch(s, options(out), gpu());
+        ADD_FAILURE() << "no error";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.code(), ExitCode::BadInput);
+        EXPECT_NE(e.text().find("job.json: a FIFO is where the job's record goes"), std::string::npos) << e.text();
+    }
+    EXPECT_THROW(resolveJob(s, 0, out), Error);
+    EXPECT_EQ(std::distance(fs::directory_iterator(j.render.outDir), fs::directory_iterator()), 1);  // nothing rendered
+}
+
 TEST(Batch, ShardsRenderDisjointJobsWhoseUnionIsTheWholeBatchFileForFile) {
     Fixture f;
     const uint32_t before = gpu().validationErrors();
@@ -299,12 +320,23 @@ TEST(Batch, DamagedOrHostileRecordsAreNoRecords) {
     EXPECT_FALSE(readJobRecord(record("status", R"({"metamer_batch_record": 1, "id": "a", "digest": "ff", "status": "weird"})")));
     EXPECT_FALSE(readJobRecord(record("deep", std::string(100000, '[') + std::string(100000, ']'))));
     EXPECT_FALSE(readJobRecord(record("truncated", good.substr(0, 30))));
+    // Every field the index reads, of another type (issue 51, class 10: `--index` printed the
+    // JSON library's type_error and exited 1).
+    const std::string head = R"({"metamer_batch_record": 1, "id": "b", "digest": "ff", "status": "done", )";
+    for (const std::string& field : {R"("position": "3")", R"("position": -1)", R"("settings": 5)",
+                                     R"("settings": {"render": []})", R"("settings": {"set": [1]})",
+                                     R"("outputs": [7])", R"("outputs": {"file": "x"})", R"("timings_ms": {"job": "x"})",
+                                     R"("axes": [1])", R"("finished": 0)", R"("error": 3)"}) {
+        EXPECT_FALSE(readJobRecord(record("typed", head + field + "}"))) << field;
+        fs::remove_all(dir / "typed");
+    }
+    record("typed", head + R"("position": "3"})");
     fs::create_directories(dir / "fifo");
     ASSERT_EQ(::mkfifo((dir / "fifo" / "job.json").c_str(), 0600), 0);
     EXPECT_FALSE(readJobRecord(dir / "fifo"));  // returns at once: never opened
     // The index names what it leaves out.
     const IndexSummary index = writeBatchIndex(dir);
     EXPECT_EQ(index.records, 1u);
-    EXPECT_EQ(index.unreadable, (std::vector<std::string>{"deep", "fifo", "status", "truncated", "types"}));
+    EXPECT_EQ(index.unreadable, (std::vector<std::string>{"deep", "fifo", "status", "truncated", "typed", "types"}));
     fs::remove_all(dir);
 }

@@ -84,6 +84,16 @@ void checkSlurmOptions(const SlurmOptions& o) {
     checkValue(o.mem, "--mem", mem, "a memory size: digits and an optional unit K, M, G or T (e.g. 8G)");
     checkValue(o.jobName, "--job-name", name, "a job name (letters, digits, '_', '.', '-')");
     checkSbatchPath(o.out, "--out");
+    // The sweep and the binary go on the scripts' exec lines, shell-quoted; a control character
+    // there (a newline in the sweep's name) would still split the line for whoever reads or edits
+    // the script, and Slurm's own tools print job commands unquoted.
+    for (const auto& [path, what] : {std::pair{o.sweep, "the sweep file"}, std::pair{o.metamer, "the metamer binary"}})
+        for (const unsigned char c : path.string())
+            if (c < 0x20 || c == 0x7f)
+                failInput(Where{path.string()},
+                          "{}'s path holds a control character, which cannot go on the task script's exec line: rename "
+                          "it for --slurm",
+                          what);
     static const std::regex option("--[a-z][a-z-]*(=[A-Za-z0-9_.,:=/@+%*-]+)?");
     static const std::vector<std::pair<std::string, std::string>> ours = {
         {"--array", "--tasks and --array-limit"}, {"--output", "the logs' folder under --out"},

@@ -136,6 +136,19 @@ TEST(SlurmScript, ValuesSlurmWouldNotTakeAsTheyAreAreRefusedBeforeAnythingIsWrit
         EXPECT_FALSE(fs::exists(out / "slurm")) << c.option;
         EXPECT_FALSE(fs::exists(o.out / "slurm")) << c.option;
     }
+    // A sweep file whose name holds a newline (issue 51, class 10): it would go on the exec line.
+    {
+        SlurmOptions o = options(out);
+        o.sweep = out / "a\nb.json";
+        try {
+            writeSlurmScripts(o);
+            ADD_FAILURE() << "a newline in the sweep's name accepted";
+        } catch (const Error& e) {
+            EXPECT_EQ(e.code(), ExitCode::BadInput);
+            EXPECT_NE(e.text().find("the sweep file's path holds a control character"), std::string::npos) << e.text();
+        }
+        EXPECT_FALSE(fs::exists(out / "slurm"));
+    }
     // What Slurm does accept passes: each time form, lower-case units, an empty value (the default).
     for (const char* t : {"30", "30:00", "2:30:00", "1-2", "1-2:30", "1-2:30:00", "UNLIMITED", ""}) {
         SlurmOptions o = options(out);

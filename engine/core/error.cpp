@@ -117,10 +117,33 @@ void warn(const Where& where, const std::string& message) {
 
 namespace {
 
-// Quoted values ('…') over 160 bytes keep their first 60 and say how long they were; a line over
-// 4000 bytes keeps its start and end. A message quotes what a file holds, which may be megabytes.
+constexpr size_t kLongQuote = 160, kKept = 60, kLongLine = 4000;
+
+// Outside quotes, a word (no space in it) over 160 bytes keeps its first 60 and says how long it
+// was, as a quoted value does: a library's message naming a 5 000-byte URI, a list of long names.
+std::string shortWords(const std::string& s) {
+    std::string out;
+    for (size_t i = 0; i < s.size();) {
+        const size_t end = std::min(s.find(' ', i), s.size());
+        size_t length = end - i;
+        if (length > kLongQuote) {
+            // A list's separator stays after the note: "name…(302 bytes),".
+            const bool separator = s[end - 1] == ',' || s[end - 1] == ';';
+            length -= separator;
+            out += wholeCharacters(s, i, kKept) + fmt::format("…({} bytes)", length) + (separator ? std::string(1, s[end - 1]) : "");
+        } else {
+            out.append(s, i, length);
+        }
+        if (end < s.size()) out += ' ';
+        i = end + 1;
+    }
+    return out;
+}
+
+// Quoted values ('…') over 160 bytes keep their first 60 and say how long they were, and so do
+// long words outside quotes; a line over 4000 bytes keeps its start and end. A message quotes what
+// a file holds, which may be megabytes.
 std::string shortened(const std::string& s) {
-    constexpr size_t kLongQuote = 160, kKept = 60, kLongLine = 4000;
     std::string out;
     size_t i = 0;
     while (i < s.size()) {
@@ -129,7 +152,7 @@ std::string shortened(const std::string& s) {
         const size_t close = s.find('\'', open + 1);
         if (close == std::string::npos) break;
         const size_t length = close - open - 1;
-        out.append(s, i, open + 1 - i);
+        out += shortWords(s.substr(i, open + 1 - i));
         if (length > kLongQuote) {
             out += wholeCharacters(s, open + 1, kKept) + fmt::format("…' ({} bytes)", length);
         } else {
@@ -137,7 +160,7 @@ std::string shortened(const std::string& s) {
         }
         i = close + 1;
     }
-    if (i < s.size()) out.append(s, i, std::string::npos);
+    if (i < s.size()) out += shortWords(s.substr(i));
     if (out.size() > kLongLine) out = out.substr(0, kLongLine / 2) + fmt::format(" … ({} bytes) … ", out.size()) +
                                       out.substr(out.size() - kLongLine / 4);
     return out;

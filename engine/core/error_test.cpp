@@ -24,3 +24,17 @@ TEST(ErrorMessage, AQuotedValueOfThousandsOfBytesAndControlCharactersArePrintabl
     const std::string m = printableMessage("no file '" + std::string(3000, 'u') + ".gltf' here\n\x01");
     EXPECT_EQ(m, "no file '" + std::string(60, 'u') + "…' (3005 bytes) here\\x0a\\x01");
 }
+
+// Outside quotes too (issue 51, class 10): a library's message naming a 5 000-byte URI, a list of
+// long names — each long word keeps its first 60 bytes and its length, a list's comma after it.
+TEST(ErrorMessage, ALongWordOutsideQuotesIsShortenedLikeAQuotedValue) {
+    const std::string uri(5000, 'a');
+    EXPECT_EQ(printableMessage("File not found : " + uri + " (tinygltf)"),
+              "File not found : " + std::string(60, 'a') + "…(5000 bytes) (tinygltf)");
+    const std::string name(300, 'm');
+    EXPECT_EQ(printableMessage("the materials are grey, " + name + ", " + name + "; did you mean x?"),
+              "the materials are grey, " + std::string(60, 'm') + "…(300 bytes), " + std::string(60, 'm') +
+                  "…(300 bytes); did you mean x?");
+    const std::string ordinary = "a line of short words, 'a quote', 160 bytes or less each";
+    EXPECT_EQ(printableMessage(ordinary), ordinary);
+}

@@ -96,6 +96,8 @@ def main():
     write("truncated.glb", whole[: len(whole) // 2])
 
     write("missing-buffer.gltf", json.dumps(gltf("no-such-buffer.bin"), indent=1))
+    # A buffer URI of 5 000 bytes (issue 51, class 10): the loader's message names it; the line stays short.
+    write("long-uri.gltf", json.dumps(gltf("u" * 5000 + ".bin"), indent=1))
     # A buffer beside the scene folder: tests/bad-inputs/files/../../data/... is outside the
     # scene's folder tree (tests/bad-inputs), so loading it needs --allow-outside-paths.
     write("outside-buffer.gltf", json.dumps(gltf("../../data/scene/cube.glb", byte_length=1484), indent=1))
