@@ -35,6 +35,9 @@ namespace {
 // Renders are serialized: a Vulkan queue takes one submitter at a time, and the GIL is released
 // while a render runs. A pointer, so that a forked child can take a fresh one (forgetAtFork).
 std::mutex* renderMutex = new std::mutex;
+// Whether this thread is inside a render: its `progress` callback runs on it, and a render started
+// from there would wait for the lock its own thread holds (issue 51, class 9: a deadlock).
+thread_local bool insideRender = false;
 
 // One context per (validation, device) asked for, kept until the interpreter exits.
 std::map<std::pair<bool, std::string>, std::unique_ptr<vk::Context>>& contexts() {
@@ -169,12 +172,19 @@ std::shared_ptr<Render> render(const py::object& scene, const py::object& grid, 
     constexpr size_t kInterruptPixels = size_t(1) << 18;  // 512²
     job.stripPixels = interruptible ? kInterruptPixels : 0;
 
+    if (insideRender)
+        throw std::runtime_error("metamer.render was called from inside a render (its progress callback): it would "
+                              "wait for itself; start the next render after this one returns");
     discardPendingWarning();
     auto r = std::make_shared<Render>();
     job.capture = &r->captured;
     {
         py::gil_scoped_release release;
         std::lock_guard<std::mutex> lock(*renderMutex);
+        insideRender = true;
+        struct Leave {
+            ~Leave() { insideRender = false; }
+        } leave;
         if (job.backend == Backend::Gpu) job.context = &contextFor(job);
         r->result = runRenderJob(job);
     }

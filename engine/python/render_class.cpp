@@ -88,14 +88,25 @@ std::shared_ptr<Render> renderFromState(const py::tuple& t) {
     c.responses = fromRawBytes<float>(d["responses"], "responses");
     c.responseChannels = d["response_channels_count"].cast<size_t>();
     c.edges = fromRawBytes<uint16_t>(d["edges"], "edges");
+    // A state is input: its sizes within what a render can make (camera.width and height 1..16384)
+    // before anything is multiplied by them, and every array exactly that size or absent (issue 51,
+    // class 9: a forged negative size passed, its arrays read out of bounds later).
+    constexpr int kMaxSide = 16384;
+    if (c.width < 1 || c.width > kMaxSide || c.height < 1 || c.height > kMaxSide)
+        failInput(Where{"", "pickle"}, "a metamer.Render of {}×{} pixels; a render is 1 … {} pixels on a side", c.width,
+                  c.height, kMaxSide);
+    if (c.cubeChannels < 1 || c.cubeChannels > 100000)
+        failInput(Where{"", "pickle"}, "a metamer.Render of {} cube channels", c.cubeChannels);
     const size_t pixels = size_t(c.width) * size_t(c.height);
-    if (c.cube.size() != pixels * c.cubeChannels || c.xyz.size() % 3 || c.counts.size() % 3 ||
-        c.responses.size() != (c.responses.empty() ? 0 : pixels * c.responseChannels))
+    auto sized = [&](size_t n, size_t per) { return n == 0 || n == pixels * per; };
+    if (c.cube.size() != pixels * c.cubeChannels || !sized(c.xyz.size(), 3) || !sized(c.counts.size(), 3) ||
+        !sized(c.edges.size(), 1) || c.responseChannels > 100000 || !sized(c.responses.size(), c.responseChannels))
         failInput(Where{"", "pickle"}, "a metamer.Render whose arrays do not match its {}×{} size", c.width, c.height);
     r->captured.grid = Grid::parse(d["grid"].cast<std::string>(), Where{"", "pickle"});
     r->spectral = d["spectral"].cast<bool>();
     r->channelNames = d["channel_names"].cast<std::vector<std::string>>();
     r->bits = d["bits"].cast<int>();
+    if (r->bits != 8 && r->bits != 16) failInput(Where{"", "pickle"}, "a metamer.Render of {} display bits", r->bits);
     if (!d["response_channels"].is_none()) r->responseChannels = d["response_channels"].cast<std::vector<std::string>>();
     if (!d["response_units"].is_none()) r->responseUnits = d["response_units"].cast<std::string>();
     r->result.xyzUnits = d["xyz_units"].cast<std::string>();

@@ -656,6 +656,17 @@ def test_numpy_numbers_and_spectrum_objects_in_overrides_and_scenes():
     np.testing.assert_allclose(r.cube, 0.5 * 2.0 * 3 / math.pi, rtol=1e-6)
     with pytest.raises(metamer.InputError, match=r"overrides\.lights\.0\.spectrum: a spectrum with \(3, 2\) values"):
         metamer.render(white_quad(), overrides={"lights.0.spectrum": _Spectrum(w[:3], np.ones((3, 2)))})
+    # Text where numbers go (issue 51, class 9): an input error naming the key, not numpy's bare ValueError.
+    texty = _Spectrum(w, np.full(w.size, 0.5))
+    texty.wavelengths = ["400 nm", "500 nm"]
+    scene = white_quad()
+    scene["materials"]["white"]["diffuse"] = texty
+    with pytest.raises(metamer.InputError, match=r"scene\.materials\.white\.diffuse: the spectrum's wavelengths are not numbers"):
+        metamer.render(scene)
+    texty = _Spectrum(w, np.full(w.size, 0.5))
+    texty.values = [object()] * w.size
+    with pytest.raises(metamer.InputError, match=r"overrides\.lights\.0\.spectrum: the spectrum's values are not numbers"):
+        metamer.render(white_quad(), overrides={"lights.0.spectrum": texty})
 
 
 def test_grid_takes_a_spectral_shape_or_evenly_spaced_wavelengths():
@@ -719,6 +730,18 @@ def test_renders_pickle_and_come_back_from_a_process_pool(tmp_path):
         assert getattr(back, attribute) == getattr(r, attribute), attribute
     with pytest.raises(metamer.InputError, match="unpickled"):
         back.save(tmp_path)
+    # A forged state is refused when unpickled, not read out of bounds later (issue 51, class 9).
+    version, fields = r.__getstate__()
+    for key, value in (("width", -1), ("height", 0), ("width", 100000), ("bits", 12), ("cube_channels", 0)):
+        forged = dict(fields, **{key: value})
+        fresh = metamer.Render.__new__(metamer.Render)
+        with pytest.raises(metamer.InputError, match="pickle"):
+            fresh.__setstate__((version, forged))
+    # −1 × −1 is one pixel: arrays of one pixel's size used to make it whole.
+    one = dict(fields, width=-1, height=-1, cube=fields["cube"][: 4 * fields["cube_channels"]], counts=b"", xyz=b"",
+               responses=b"", edges=b"")
+    with pytest.raises(metamer.InputError, match=r"-1×-1 pixels"):
+        metamer.Render.__new__(metamer.Render).__setstate__((version, one))
     # spawn: what docs/python.md recommends; the worker imports metamer afresh.
     with concurrent.futures.ProcessPoolExecutor(1, mp_context=multiprocessing.get_context("spawn")) as pool:
         done = pool.submit(_render_in_worker, 0.5).result(timeout=300)
@@ -787,6 +810,18 @@ def test_an_exception_in_the_progress_callback_stops_the_render_and_the_next_one
     np.testing.assert_allclose(metamer.render(white_quad()).cube, 0.8 * 2.0 / math.pi, rtol=1e-6)
 
 
+def test_a_render_from_inside_a_progress_callback_is_refused_not_a_deadlock():
+    """Issue 51, class 9: the callback runs on the render's thread, which holds the render lock; a
+    render started there used to wait for itself. Now it raises, the outer render stops with that
+    error, and the next render works."""
+    def again(done, total):
+        metamer.render(white_quad())
+
+    with pytest.raises(RuntimeError, match="called from inside a render"):
+        metamer.render(SPHERES, overrides={"camera.width": 64, "camera.height": 48}, progress=again)
+    np.testing.assert_allclose(metamer.render(white_quad()).cube, 0.8 * 2.0 / math.pi, rtol=1e-6)
+
+
 def test_ctrl_c_stops_a_long_render_within_half_a_second(tmp_path):
     """SIGINT to a process 1.5 s into a render of many strips (a 1024² cube of 31 bands at 4×4
     supersampling, about 5 s on lavapipe), while a strip is being drawn: KeyboardInterrupt comes at the end of that
@@ -827,3 +862,47 @@ print("after", r.xyz.shape, flush=True)
     print(f"Ctrl-C latency {latency * 1e3:.0f} ms")
     assert latency < 0.5, f"KeyboardInterrupt {latency:.2f} s after SIGINT"
     assert ["after", "(16,", "16,", "3)"] in lines and p.returncode == 0, (lines, err)
+
+
+def test_capture_checks_its_frames_memory_first_and_stops_between_frames_on_ctrl_c(tmp_path):
+    """Issue 51, class 9: the frames are made once, straight into the array returned, which must fit
+    the quarter of the machine's memory every decoded image is held to (checked before the first
+    frame); and Ctrl-C stops a long capture between two frames."""
+    import signal
+    import time
+
+    big = metamer.render(white_quad(), overrides={"camera.width": 1024, "camera.height": 1024}, grid="400:700:50")
+    with pytest.raises(metamer.InputError, match=r"100000 frames of 1024×1024"):  # 210 GB of uint16
+        metamer.capture(big, "aps_c_rggb", frames=100000)
+    with pytest.raises(metamer.InputError, match="passes the last frame number"):
+        metamer.capture(big, "aps_c_rggb", frame=2**64 - 1, frames=2)
+    child = tmp_path / "child.py"
+    child.write_text(f"""
+import time
+import metamer
+r = metamer.render({white_quad()!r}, overrides={{"camera.width": 64, "camera.height": 64}}, grid="400:700:50")
+metamer.capture(r, "aps_c_rggb", frames=2)
+print("capturing", flush=True)
+try:
+    metamer.capture(r, "aps_c_rggb", frames=100000)
+    print("finished", flush=True)
+except KeyboardInterrupt:
+    print("interrupted", time.monotonic(), flush=True)
+""")
+    p = subprocess.Popen([sys.executable, str(child)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        assert p.stdout.readline().strip() == "capturing"
+        time.sleep(1.0)
+        sent = time.monotonic()
+        p.send_signal(signal.SIGINT)
+        out, err = p.communicate(timeout=300)
+    finally:
+        p.kill()
+    lines = [line.split() for line in out.splitlines()]
+    if ["finished"] in lines:
+        pytest.skip("100 000 frames of 64² in under a second: nothing to interrupt")
+    interrupted = [line for line in lines if line[:1] == ["interrupted"]]
+    assert interrupted, (lines, err)
+    latency = float(interrupted[0][1]) - sent
+    print(f"Ctrl-C latency {latency * 1e3:.0f} ms")
+    assert latency < 0.5, f"KeyboardInterrupt {latency:.2f} s after SIGINT"

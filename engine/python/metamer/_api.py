@@ -47,12 +47,21 @@ def _is_spectrum(x: Any) -> bool:
     return hasattr(x, "wavelengths") and hasattr(x, "values") and not isinstance(x, (str, bytes, Mapping))
 
 
-def _spectrum_json(x: Any, where: str) -> dict[str, list[float]]:
-    """A spectrum object as the scene format's inline spectrum (docs/scene-format.md)."""
+def _float_array(x: Any, what: str, where: str) -> Any:
+    """x as float64 numbers, or an InputError naming where and what they are (numpy's own error
+    says neither: "could not convert string to float: 'a'")."""
     import numpy as np
 
-    wavelengths = np.asarray(x.wavelengths, dtype=np.float64).ravel()
-    values = np.asarray(x.values, dtype=np.float64)
+    try:
+        return np.asarray(x, dtype=np.float64)
+    except (TypeError, ValueError) as e:
+        raise _metamer.InputError(f"{where}: the {what} are not numbers ({e})") from None
+
+
+def _spectrum_json(x: Any, where: str) -> dict[str, list[float]]:
+    """A spectrum object as the scene format's inline spectrum (docs/scene-format.md)."""
+    wavelengths = _float_array(x.wavelengths, "spectrum's wavelengths", where).ravel()
+    values = _float_array(x.values, "spectrum's values", where)
     if values.ndim != 1 or values.shape != wavelengths.shape:
         raise _metamer.InputError(f"{where}: a spectrum with {values.shape} values on {wavelengths.size} wavelengths; "
                                   "expected one value per wavelength (a multi-channel object is a detector)")
@@ -109,10 +118,8 @@ def _detector_file(detector: Any, folder: str) -> Optional[str]:
         raise TypeError("detector: expected a name (cie1931, camera:<name>, csv:<path>, …) or an object with "
                         f".wavelengths, .values and .labels (a colour MultiSpectralDistributions), got "
                         f"{type(detector).__name__}")
-    import numpy as np
-
-    wavelengths = np.asarray(detector.wavelengths, dtype=np.float64).ravel()
-    values = np.asarray(detector.values, dtype=np.float64)
+    wavelengths = _float_array(detector.wavelengths, "detector's wavelengths", "detector").ravel()
+    values = _float_array(detector.values, "detector's values", "detector")
     labels = [str(label) for label in detector.labels]
     if values.ndim == 1:
         values = values[:, None]
