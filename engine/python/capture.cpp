@@ -54,6 +54,7 @@ py::dict capture(const py::object& source, const py::object& sensorName, const p
                                              "got {}", typeName(source)));
         cube = readRadianceCube(pathOf(source, "source"));
     }
+    requireRadiance(cube, py::isinstance<Render>(source) ? Where{"", "source"} : Where{pathOf(source, "source").string()});
     if (frames > 1 && frame > std::numeric_limits<uint64_t>::max() - uint64_t(frames - 1))
         failInput(Where{"frame"}, "{} + {} frames passes the last frame number, {}", frame, frames,
                   std::numeric_limits<uint64_t>::max());

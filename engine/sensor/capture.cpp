@@ -55,6 +55,17 @@ double dsnuOffset(const SensorSpec& sensor, uint64_t pixel) {
     return sensor.dsnu_e * standardNormal(s);
 }
 
+void requireRadiance(const SpectralCube& cube, const Where& where) {
+    const size_t bands = size_t(cube.grid.bands());
+    for (size_t i = 0; i < cube.data.size(); ++i) {
+        const float v = cube.data[i];
+        if (std::isfinite(v) && v >= 0.0f) continue;
+        const size_t pixel = i / bands;
+        failInput(where, "pixel ({}, {}) holds {:g} at {:g} nm; a sensor captures finite spectral radiance ≥ 0",
+                  pixel % size_t(cube.width), pixel / size_t(cube.width), double(v), cube.grid.wavelengths()[i % bands]);
+    }
+}
+
 ExpectedElectrons expectedElectrons(const SpectralCube& cube, const SensorSpec& sensor, std::optional<double> exposure_s,
                                     bool fixedPattern, int threads) {
     const Grid& grid = cube.grid;
@@ -66,6 +77,15 @@ ExpectedElectrons expectedElectrons(const SpectralCube& cube, const SensorSpec& 
     const double optics = std::numbers::pi / (4.0 * sensor.fNumber * sensor.fNumber *
                                               (1.0 + sensor.magnification) * (1.0 + sensor.magnification));
     std::vector<std::vector<double>> weights;
+    const double lo = grid.start_nm - 0.5 * grid.step_nm, hi = grid.end_nm + 0.5 * grid.step_nm;
+    for (size_t c = 0; c < sensor.quantumEfficiency.size(); ++c) {
+        const Spectrum& qe = sensor.quantumEfficiency[c];
+        if (qe.maxWavelength() < lo || qe.minWavelength() > hi)
+            failInput(Where{sensor.file.string(), "quantum_efficiency.table"},
+                      "channel {}'s data ({:g} … {:g} nm) lie wholly outside the cube's grid ({:g} … {:g} nm): it would "
+                      "record nothing",
+                      sensor.channels[c], qe.minWavelength(), qe.maxWavelength(), grid.start_nm, grid.end_nm);
+    }
     for (const Spectrum& qe : sensor.quantumEfficiency) {
         const std::vector<double> q = resample(qe, grid);
         std::vector<double> w(bands);
@@ -104,7 +124,8 @@ ExpectedElectrons expectedElectrons(const SpectralCube& cube, const SensorSpec& 
     });
     if (const size_t bad = firstBad.load(); bad < pixels)
         failInput(Where{sensor.file.string()},
-                  "pixel ({}, {}) receives {:g} electrons per second; the cube must hold finite radiance ≥ 0",
+                  "pixel ({}, {}) receives {:g} electrons per second: the sensor's numbers overflow; the cube must "
+                  "hold finite radiance ≥ 0",
                   bad % size_t(cube.width), bad / size_t(cube.width), rate[bad]);
     if (exposure_s) {
         out.exposure_s = *exposure_s;

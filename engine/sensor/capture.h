@@ -32,9 +32,15 @@ struct ExpectedElectrons {
     std::vector<uint8_t> channel;   // the CFA's channel per pixel
 };
 
+// That every value of `cube` is finite radiance ≥ 0: else an input error at `where` (the cube's
+// file, or the Python argument that gave it) naming the first pixel and band that is not.
+void requireRadiance(const SpectralCube& cube, const Where& where);
+
 // μe of every pixel of `cube` (spectral radiance, W·sr⁻¹·m⁻²·nm⁻¹) seen by `sensor`, exposed for
 // `exposure_s` (the sensor's own when not given, auto-exposure when it has none); without
-// `fixedPattern`, every pixel has gain 1 and no dark offset (a noise-free capture).
+// `fixedPattern`, every pixel has gain 1 and no dark offset (a noise-free capture). A channel whose
+// quantum-efficiency data lie wholly outside the cube's grid is an input error at the sensor's
+// table (it would record nothing, as a scene's spectrum outside the grid is refused).
 ExpectedElectrons expectedElectrons(const SpectralCube& cube, const SensorSpec& sensor,
                                     std::optional<double> exposure_s = std::nullopt, bool fixedPattern = true,
                                     int threads = 0);

@@ -44,6 +44,7 @@ CaptureFiles captureToFiles(const CaptureRequest& a, const SpectrumLibrary& libr
     if (a.frames < 1 || a.frames > 100000) failInput(Where{"--frames"}, "expected 1 … 100000 frames, got {}", a.frames);
     const SensorSpec sensor = readSensor(sensorFile(a.sensor, library), library);
     const SpectralCube cube = readRadianceCube(a.cube);
+    requireRadiance(cube, Where{a.cube.string()});
     const ExpectedElectrons e = expectedElectrons(cube, sensor, a.exposure, a.noise);
     CaptureFiles written;
     written.exposure_s = e.exposure_s;

@@ -210,3 +210,40 @@ TEST(SensorCapture, AnyThreadCountGivesTheSameNumbers) {
             << threads;
     }
 }
+
+// The sensor's own numbers (issue 51, class 2): a cube value that is not finite radiance ≥ 0 is
+// named at the cube with its pixel and band; a channel whose QE data lie wholly outside the cube's
+// grid is named at the sensor's table instead of capturing black.
+TEST(SensorCapture, BadRadianceIsNamedAtTheCubeAndAQeOutsideTheGridAtTheSensor) {
+    const Grid grid{400, 700, 100};
+    SpectralCube cube(3, 2, grid);
+    std::fill(cube.data.begin(), cube.data.end(), 0.01f);
+    EXPECT_NO_THROW(requireRadiance(cube, Where{"cube.exr"}));
+    cube.data[size_t(1 * 3 + 2) * 4 + 1] = NAN;  // pixel (2, 1), 500 nm
+    try {
+        requireRadiance(cube, Where{"cube.exr"});
+        ADD_FAILURE() << "no error";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.where().file, "cube.exr");
+        EXPECT_NE(e.message().find("pixel (2, 1) holds nan at 500 nm"), std::string::npos) << e.message();
+    }
+    cube.data[size_t(1 * 3 + 2) * 4 + 1] = -1.0f;
+    EXPECT_THROW(requireRadiance(cube, Where{"cube.exr"}), Error);
+
+    std::fill(cube.data.begin(), cube.data.end(), 0.01f);
+    SensorSpec s = testSensor();
+    s.file = "nir.json";
+    Spectrum nir;
+    nir.wavelengths_nm = {800, 900, 1000};
+    nir.values = {0.2, 0.4, 0.2};
+    s.quantumEfficiency = {nir};
+    try {
+        expectedElectrons(cube, s, 0.01, false);
+        ADD_FAILURE() << "no error";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.where().key, "quantum_efficiency.table");
+        EXPECT_NE(e.message().find("channel c0's data (800 … 1000 nm) lie wholly outside the cube's grid (400 … 700 nm)"),
+                  std::string::npos)
+            << e.message();
+    }
+}

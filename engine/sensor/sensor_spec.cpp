@@ -136,7 +136,9 @@ SensorSpec readSensor(const fs::path& file, const SpectrumLibrary& library) {
             s.magnification = numberIn(*m, ow.child("magnification"), 0, 100, false, false);
         if (const Json* f = find(*o, "cos4_focal_length_mm")) {
             s.cos4 = true;
-            s.focalLength_mm = numberIn(*f, ow.child("cos4_focal_length_mm"), 0, 1e5, true, false, " mm");
+            // No lens is shorter than 0.1 mm: below it the field angle's tangent overflows at the
+            // sensor's corners (10⁻³⁰⁰ mm made every pixel NaN, blamed on the cube).
+            s.focalLength_mm = numberIn(*f, ow.child("cos4_focal_length_mm"), 0.1, 1e5, false, false, " mm");
         }
     }
 

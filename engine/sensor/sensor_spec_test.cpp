@@ -1,5 +1,7 @@
 #include "sensor/sensor_spec.h"
 
+#include "sensor/sensor_colour.h"
+
 #include "core/error.h"
 #include "support/temp_folder.h"
 
@@ -107,4 +109,24 @@ TEST_F(SensorFile, MistakesNameTheKey) {
     j = base();
     j["optics"]["transmittance"] = 1.5;
     EXPECT_NE(error(j).find("optics.transmittance"), std::string::npos) << error(j);
+    j = base();  // issue 51, class 2: 10⁻³⁰⁰ mm made every pixel NaN, blamed on the cube
+    j["optics"]["cos4_focal_length_mm"] = 1e-300;
+    EXPECT_NE(error(j).find("optics.cos4_focal_length_mm"), std::string::npos) << error(j);
+}
+
+// Channels whose quantum efficiencies are linearly dependent leave the ColorChecker fit singular:
+// an input error at the sensor's quantum_efficiency (issue 51, class 2), not NaN in the DNG.
+TEST_F(SensorFile, LinearlyDependentChannelsHaveNoColourMatrix) {
+    std::ofstream(dir / "alike.csv") << "wavelength_nm,r,g,b\n380,0.1,0.1,0.1\n550,0.5,0.5,0.5\n780,0.1,0.1,0.1\n";
+    auto j = base();
+    j["quantum_efficiency"]["table"] = "alike.csv";
+    const SensorSpec s = read(j);
+    try {
+        sensorColour(s, library);
+        ADD_FAILURE() << "no error";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.where().key, "quantum_efficiency");
+        EXPECT_NE(e.message().find("linearly dependent"), std::string::npos) << e.message();
+    }
+    EXPECT_TRUE(sensorColour(readSensor(library.root() / "sensors" / "aps_c_rggb.json", library), library).has_value());
 }
