@@ -454,7 +454,15 @@ SceneOnGrid resampleScene(const Scene& scene, const Grid& grid, CoveragePolicy p
             for (const Material::Dye& dye : m.dyes) {
                 // ε in L·mol⁻¹·cm⁻¹ × c in mol·L⁻¹ is an absorbance per cm: × 100 per metre.
                 const std::vector<double> eps = onGrid(dye.absorptivity, grid, policy, gaps);
-                for (size_t b = 0; b < eps.size(); ++b) g.absorbance[b] += 100.0 * eps[b] * dye.concentration;
+                for (size_t b = 0; b < eps.size(); ++b) {
+                    g.absorbance[b] += 100.0 * eps[b] * dye.concentration;
+                    // Each spectrum is bounded when read; their sum with the concentrations is not.
+                    if (!(g.absorbance[b] <= kMaxAbsorbance))
+                        failInput(dye.absorptivity.where,
+                                  "material '{}' absorbs {:g} per metre at {:g} nm with this dye (its absorbance plus "
+                                  "each dye's 100·ε·c); at most {:g}",
+                                  m.name, g.absorbance[b], out.wavelengths_nm[b], kMaxAbsorbance);
+                }
             }
         }
         out.materials.push_back(std::move(g));

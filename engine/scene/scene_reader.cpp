@@ -32,6 +32,14 @@ void checkValues(const SceneSpectrum& s) {
                                   s.spectrum.source, *lo, wl[lo - vals.begin()]));
     bool bounded = s.kind == SpectrumKind::Reflectance || s.kind == SpectrumKind::Excitation ||
                    s.kind == SpectrumKind::Transmittance;
+    if (bounded && !(*hi <= kMaxRatio))
+        failInput(s.where, "{} spectrum '{}' reaches {:g} at {:g} nm; a ratio above 1 is warned about and rendered up to "
+                           "{:g}, no further (the GPU computes in float32)",
+                  kindName(s.kind), s.spectrum.source, *hi, wl[hi - vals.begin()], kMaxRatio);
+    if (s.kind == SpectrumKind::Absorbance && !(*hi <= kMaxAbsorbance))
+        failInput(s.where, "{} spectrum '{}' reaches {:g} at {:g} nm; at most {:g} (an attenuation length far below a "
+                           "nucleus; the GPU computes in float32)",
+                  kindName(s.kind), s.spectrum.source, *hi, wl[hi - vals.begin()], kMaxAbsorbance);
     if (bounded && *hi > 1)
         warn(s.where, fmt::format("{} spectrum '{}' exceeds 1 ({:g} at {:g} nm)", kindName(s.kind),
                                   s.spectrum.source, *hi, wl[hi - vals.begin()]));
@@ -62,7 +70,9 @@ SceneSpectrum SceneReader::spectrum(const Json& v, const Where& w, SpectrumKind 
         if (kind == SpectrumKind::Emission)
             failInput(w, "an emission spectrum must be sampled data (its shape matters), not a constant");
         if (kind == SpectrumKind::Light && x < 0) failInput(w, "a light's spectrum must be ≥ 0, got {:g}", x);
-        if (kind == SpectrumKind::Absorbance && x < 0) failInput(w, "an absorbance must be ≥ 0, got {:g}", x);
+        if (kind == SpectrumKind::Absorbance && !(x >= 0 && x <= kMaxAbsorbance))
+            failInput(w, "an absorbance must be within [0, {:g}] (per metre; a dye's per mol·L⁻¹·cm⁻¹), got {:g}",
+                      kMaxAbsorbance, x);
         if (kind == SpectrumKind::KubelkaMunk && !(x >= 0 && x < 1e12))
             failInput(w, "a Kubelka–Munk coefficient must be within [0, 1e12) per metre, got {:g}", x);
         if ((kind == SpectrumKind::Reflectance || kind == SpectrumKind::Excitation ||

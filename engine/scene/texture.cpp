@@ -7,6 +7,7 @@
 #include "io/image_reader.h"
 #include "io/spectral_exr.h"
 #include "io/spectral_image.h"
+#include "spectral/spectrum.h"
 
 #include <algorithm>
 #include <cmath>
@@ -28,6 +29,12 @@ void checkReflectance(const Texture& t, const Where& where) {
             size_t texel = i / t.channels;
             failInput(where, "texture '{}': texel ({}, {}) channel {} is {}; expected a finite reflectance",
                       t.file.string(), texel % t.width, texel / t.width, i % t.channels, v);
+        }
+        if (std::fabs(v) > kMaxRatio) {  // float32 past the GPU's products (spectral/spectrum.h)
+            size_t texel = i / t.channels;
+            failInput(where, "texture '{}': texel ({}, {}) channel {} is {:g}; a reflectance outside [0, 1] is warned "
+                             "about and rendered within ±{:g}, no further",
+                      t.file.string(), texel % t.width, texel / t.width, i % t.channels, v, kMaxRatio);
         }
         if ((v < 0.0f || v > 1.0f) && outside++ == 0) first = i;
     }

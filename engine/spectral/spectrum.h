@@ -27,6 +27,15 @@ enum class SpectrumKind {
 
 const char* kindName(SpectrumKind kind);
 
+// The largest values a scene's spectra may hold (issue 51, class 1): the GPU path computes in
+// float32, and a value past these became Inf, then NaN, in the cube with exit status 0.
+// A ratio (reflectance, absorptance, a sheet's transmittance) above 1 is warned about and rendered,
+// up to 10³: no passive surface returns a thousand times what reaches it.
+constexpr double kMaxRatio = 1e3;
+// A decadic absorbance per metre (the material's own plus its dyes' 100·ε·c), or a dye's molar
+// absorptivity: 10²⁰ is an attenuation length far below a nucleus's size; a × any path stays finite.
+constexpr double kMaxAbsorbance = 1e20;
+
 struct Spectrum {
     // Data: strictly increasing wavelengths (nm) with values; or a constant over all wavelengths.
     std::vector<double> wavelengths_nm;
