@@ -177,9 +177,15 @@ TEST_F(LobeTableCache, RoundTripAndDamagedFilesAreIgnored) {
     LobeTable t;
     t.gloss = 42.5;
     t.data.resize(LOBE_TABLE_UVEC4);
-    for (size_t i = 0; i < t.data.size(); ++i)  // finite floats in the moments and cones, any bits after
-        t.data[i] = i < LOBE_VALUES_OFFSET ? glm::uvec4(std::bit_cast<uint32_t>(float(i)), 0x3f000000u, 0xbf800000u, 0u)
-                                           : glm::uvec4(uint32_t(i), 0xffffffffu, 0x7fc00000u, 1u);
+    auto bits = [](float a, float b, float c, float d) {
+        return glm::uvec4(std::bit_cast<uint32_t>(a), std::bit_cast<uint32_t>(b), std::bit_cast<uint32_t>(c),
+                          std::bit_cast<uint32_t>(d));
+    };
+    // Moments (γ, σ1, σ2, ln I) and cones (sine, two slopes) as floats in their ranges, any bits after.
+    for (size_t i = 0; i < t.data.size(); ++i)
+        t.data[i] = i < LOBE_CONES_OFFSET    ? bits(float(i) * 1e-3f, 0.5f, 0.25f, -1.0f)
+                    : i < LOBE_VALUES_OFFSET ? bits(0.5f, 0.01f, -0.01f, 0.0f)
+                                             : glm::uvec4(uint32_t(i), 0xffffffffu, 0x7fc00000u, 1u);
     const auto file = dir / lobeCacheFileName(t.gloss);
     writeLobeTable(file, t);
     const auto back = readLobeTable(file, t.gloss);
@@ -208,6 +214,18 @@ TEST_F(LobeTableCache, RoundTripAndDamagedFilesAreIgnored) {
         std::memcpy(&b[b.size() - (LOBE_TABLE_UVEC4 - 3) * sizeof(glm::uvec4)], &nan, 4);
     }));
     EXPECT_TRUE(damaged([](std::string&) {}));
+    // Absurd but finite values under a valid checksum (issue 51, class 7): a spread of 10³⁰ rad, a
+    // cone's sine of 7, ln I_unoccluded of 10⁴ — each not a table this program makes: ignored.
+    for (const glm::uvec4 entry : {bits(0.1f, 1e30f, 0.25f, -1.0f), bits(0.1f, 0.5f, 0.25f, 1e4f)}) {
+        LobeTable absurd = t;
+        absurd.data[7] = entry;
+        writeLobeTable(dir / "absurd.bin", absurd);
+        EXPECT_FALSE(readLobeTable(dir / "absurd.bin", t.gloss));
+    }
+    LobeTable absurd = t;
+    absurd.data[LOBE_CONES_OFFSET + 3] = bits(7.0f, 0.01f, -0.01f, 0.0f);
+    writeLobeTable(dir / "absurd.bin", absurd);
+    EXPECT_FALSE(readLobeTable(dir / "absurd.bin", t.gloss));
 }
 
 TEST_F(LobeTableCache, TablesAreReadFromTheFolderTheVariableNames) {
