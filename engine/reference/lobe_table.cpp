@@ -213,20 +213,20 @@ std::shared_ptr<LobeTable> readLobeTable(const std::filesystem::path& file, doub
     if (!in || checksumOf(table->data) != header.checksum) return nullptr;
     // The moments and cones are floats and must be finite (the values are fixed point: any bits),
     // and within what a built table holds (issue 51, class 7: a file that passes its checksum may
-    // still not be ours): the centroid's angle γ within ±π/2, the spreads σ1, σ2 within [0, π],
+    // still not be ours): the centroid's angle γ within ±π (built: 0 … 1.5683, π/2 in the limit of
+    // gloss 0 at grazing), the spreads σ1, σ2 within [0, π],
     // ln I_unoccluded within [−200, 10] (built: −15 … 1.1), an interval's cone sine within [0, 1]
     // or LOBE_NO_CONE, its slopes of ln I_unoccluded within ±10³ (built: under 0.03).
-    auto in = [](float v, double lo, double hi) { return std::isfinite(v) && v >= lo && v <= hi; };
-    constexpr double kHalfPi = std::numbers::pi / 2;
+    auto within = [](float v, double lo, double hi) { return std::isfinite(v) && v >= lo && v <= hi; };
     for (size_t i = 0; i < LOBE_VALUES_OFFSET; ++i) {
         const glm::uvec4& e = table->data[i];
         const float a = std::bit_cast<float>(e.x), b = std::bit_cast<float>(e.y), c = std::bit_cast<float>(e.z),
                     d = std::bit_cast<float>(e.w);
-        const bool sane = i < LOBE_CONES_OFFSET
-                              ? in(a, -kHalfPi, kHalfPi) && in(b, 0.0, std::numbers::pi) && in(c, 0.0, std::numbers::pi) &&
-                                    in(d, -200.0, 10.0)
-                              : (in(a, 0.0, 1.0) || a == float(LOBE_NO_CONE)) && in(b, -1e3, 1e3) && in(c, -1e3, 1e3) &&
-                                    std::isfinite(d);
+        constexpr double kPi = std::numbers::pi;
+        const bool sane = i < LOBE_CONES_OFFSET ? within(a, -kPi, kPi) && within(b, 0.0, kPi) && within(c, 0.0, kPi) &&
+                                                      within(d, -200.0, 10.0)
+                                                : (within(a, 0.0, 1.0) || a == float(LOBE_NO_CONE)) &&
+                                                      within(b, -1e3, 1e3) && within(c, -1e3, 1e3) && std::isfinite(d);
         if (!sane) return nullptr;
     }
     return table;

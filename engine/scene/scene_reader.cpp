@@ -70,8 +70,10 @@ SceneSpectrum SceneReader::spectrum(const Json& v, const Where& w, SpectrumKind 
         if (kind == SpectrumKind::Emission)
             failInput(w, "an emission spectrum must be sampled data (its shape matters), not a constant");
         if (kind == SpectrumKind::Light && x < 0) failInput(w, "a light's spectrum must be ≥ 0, got {:g}", x);
-        if (kind == SpectrumKind::Absorbance && !(x >= 0 && x <= kMaxAbsorbance))
-            failInput(w, "an absorbance must be within [0, {:g}] (per metre; a dye's per mol·L⁻¹·cm⁻¹), got {:g}",
+        if (kind == SpectrumKind::Absorbance && x < 0) failInput(w, "an absorbance must be ≥ 0, got {:g}", x);
+        if (kind == SpectrumKind::Absorbance && x > kMaxAbsorbance)
+            failInput(w, "an absorbance must be at most {:g} (per metre; a dye's per mol·L⁻¹·cm⁻¹: an attenuation "
+                         "length far below a nucleus), got {:g}",
                       kMaxAbsorbance, x);
         if (kind == SpectrumKind::KubelkaMunk && !(x >= 0 && x < 1e12))
             failInput(w, "a Kubelka–Munk coefficient must be within [0, 1e12) per metre, got {:g}", x);
