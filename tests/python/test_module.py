@@ -822,15 +822,42 @@ def test_a_render_from_inside_a_progress_callback_is_refused_not_a_deadlock():
     np.testing.assert_allclose(metamer.render(white_quad()).cube, 0.8 * 2.0 / math.pi, rtol=1e-6)
 
 
-def test_ctrl_c_stops_a_long_render_within_half_a_second(tmp_path):
-    """SIGINT to a process 1.5 s into a render of many strips (a 1024² cube of 31 bands at 4×4
-    supersampling, about 5 s on lavapipe), while a strip is being drawn: KeyboardInterrupt comes at the end of that
-    strip, and the process renders again after it."""
+def _interrupt(tmp_path, script, ready, after_s, skip_why):
+    """Runs `script` in a child Python, sends SIGINT `after_s` seconds after it prints `ready`, and
+    returns its output's lines (split) and stderr once it has asserted that KeyboardInterrupt came
+    within 0.5 s (the child prints "interrupted <time.monotonic()>" when it catches it, "finished"
+    when there was nothing left to interrupt: then the test is skipped with `skip_why`)."""
     import signal
     import time
 
     child = tmp_path / "child.py"
-    child.write_text(f"""
+    child.write_text(script)
+    p = subprocess.Popen([sys.executable, str(child)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        assert p.stdout.readline().strip() == ready
+        time.sleep(after_s)
+        sent = time.monotonic()
+        p.send_signal(signal.SIGINT)
+        out, err = p.communicate(timeout=300)
+    finally:
+        p.kill()
+    lines = [line.split() for line in out.splitlines()]
+    if ["finished"] in lines:
+        pytest.skip(skip_why)
+    interrupted = [line for line in lines if line[:1] == ["interrupted"]]
+    assert interrupted, (lines, err)
+    latency = float(interrupted[0][1]) - sent
+    print(f"Ctrl-C latency {latency * 1e3:.0f} ms")
+    assert latency < 0.5, f"KeyboardInterrupt {latency:.2f} s after SIGINT"
+    assert p.returncode == 0, (lines, err)
+    return lines, err
+
+
+def test_ctrl_c_stops_a_long_render_within_half_a_second(tmp_path):
+    """SIGINT to a process 1.5 s into a render of many strips (a 1024² cube of 31 bands at 4×4
+    supersampling, about 5 s on lavapipe), while a strip is being drawn: KeyboardInterrupt comes at the end of that
+    strip, and the process renders again after it."""
+    lines, err = _interrupt(tmp_path, f"""
 import sys, time
 import metamer
 metamer.render({str(SPHERES)!r}, overrides={{"camera.width": 16, "camera.height": 16}}, write="xyz")  # the device
@@ -843,41 +870,21 @@ except KeyboardInterrupt:
     print("interrupted", time.monotonic(), flush=True)
 r = metamer.render({str(SPHERES)!r}, overrides={{"camera.width": 16, "camera.height": 16}}, write="xyz")
 print("after", r.xyz.shape, flush=True)
-""")
-    p = subprocess.Popen([sys.executable, str(child)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    try:
-        assert p.stdout.readline().strip() == "rendering"
-        time.sleep(1.5)
-        sent = time.monotonic()
-        p.send_signal(signal.SIGINT)
-        out, err = p.communicate(timeout=300)
-    finally:
-        p.kill()
-    lines = [line.split() for line in out.splitlines()]
-    if ["finished"] in lines:
-        pytest.skip("this device renders 1024² at ssaa 4 in under 1.5 s: nothing to interrupt")
-    interrupted = [line for line in lines if line[:1] == ["interrupted"]]
-    assert interrupted, (lines, err)
-    latency = float(interrupted[0][1]) - sent
-    print(f"Ctrl-C latency {latency * 1e3:.0f} ms")
-    assert latency < 0.5, f"KeyboardInterrupt {latency:.2f} s after SIGINT"
-    assert ["after", "(16,", "16,", "3)"] in lines and p.returncode == 0, (lines, err)
+""", "rendering", 1.5,
+                            "this device renders 1024² at ssaa 4 in under 1.5 s: nothing to interrupt")
+    assert ["after", "(16,", "16,", "3)"] in lines, (lines, err)
 
 
 def test_capture_checks_its_frames_memory_first_and_stops_between_frames_on_ctrl_c(tmp_path):
     """Issue 51, class 9: the frames are made once, straight into the array returned, which must fit
     the quarter of the machine's memory every decoded image is held to (checked before the first
     frame); and Ctrl-C stops a long capture between two frames."""
-    import signal
-    import time
-
     big = metamer.render(white_quad(), overrides={"camera.width": 1024, "camera.height": 1024}, grid="400:700:50")
-    with pytest.raises(metamer.InputError, match=r"100000 frames of 1024×1024"):  # 210 GB of uint16
+    with pytest.raises(metamer.InputError, match=r"100000 frames of 1024×1024"):  # 195 GiB of uint16
         metamer.capture(big, "aps_c_rggb", frames=100000)
     with pytest.raises(metamer.InputError, match="passes the last frame number"):
         metamer.capture(big, "aps_c_rggb", frame=2**64 - 1, frames=2)
-    child = tmp_path / "child.py"
-    child.write_text(f"""
+    _interrupt(tmp_path, f"""
 import time
 import metamer
 r = metamer.render({white_quad()!r}, overrides={{"camera.width": 64, "camera.height": 64}}, grid="400:700:50")
@@ -888,21 +895,4 @@ try:
     print("finished", flush=True)
 except KeyboardInterrupt:
     print("interrupted", time.monotonic(), flush=True)
-""")
-    p = subprocess.Popen([sys.executable, str(child)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    try:
-        assert p.stdout.readline().strip() == "capturing"
-        time.sleep(1.0)
-        sent = time.monotonic()
-        p.send_signal(signal.SIGINT)
-        out, err = p.communicate(timeout=300)
-    finally:
-        p.kill()
-    lines = [line.split() for line in out.splitlines()]
-    if ["finished"] in lines:
-        pytest.skip("100 000 frames of 64² in under a second: nothing to interrupt")
-    interrupted = [line for line in lines if line[:1] == ["interrupted"]]
-    assert interrupted, (lines, err)
-    latency = float(interrupted[0][1]) - sent
-    print(f"Ctrl-C latency {latency * 1e3:.0f} ms")
-    assert latency < 0.5, f"KeyboardInterrupt {latency:.2f} s after SIGINT"
+""", "capturing", 1.0, "100 000 frames of 64² in under a second: nothing to interrupt")
