@@ -17,6 +17,7 @@
 #include "io/atomic_file.h"
 #include "render/output_path.h"
 #include "render/render_job.h"
+#include "represent/representation.h"
 #include "vk/context.h"
 
 #include <CLI/CLI.hpp>
@@ -286,6 +287,11 @@ int main(int argc, char** argv) {
         }
         std::optional<CaptureRequest> capture;
         if (!sensor.empty()) {
+            // Before the render: a channel mode would write its image, then find no cube to capture.
+            if (!parseMode(job.mode, Where{"", "--mode"}).spectral())
+                failInput(Where{"", "--mode"},
+                          "'{}' renders channels, not spectra; --sensor captures a spectral cube (mode full or linear:K)",
+                          job.mode);
             const SpectrumLibrary library;
             readSensor(sensorFile(sensor, library), library);  // its mistakes before the render
             capture = CaptureRequest{};

@@ -277,6 +277,24 @@ TEST(Batch, AFifoWhereARecordGoesStopsTheBatchBeforeAnythingRenders) {
     EXPECT_EQ(std::distance(fs::directory_iterator(j.render.outDir), fs::directory_iterator()), 1);  // nothing rendered
 }
 
+// A job with a sensor in a channel mode (issue 51, class 4): refused when the jobs are resolved —
+// by --dry-run and before the run's first render — not after its render found no cube.
+TEST(Batch, ASensorInAChannelModeIsRefusedBeforeAnythingRenders) {
+    Fixture f;
+    const Sweep s = readSweep(f.sweep(R"({"scenes": ["grey.json"], "render": {"sensor": "aps_c_rggb", "mode": "rgb"}})"));
+    try {
+        resolveJob(s, 0, f.dir / "out");
+        ADD_FAILURE() << "no error";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.code(), ExitCode::BadInput);
+        EXPECT_NE(e.text().find("render.mode: 'rgb' renders channels, not spectra; a job with a sensor needs a spectral cube"),
+                  std::string::npos)
+            << e.text();
+    }
+    EXPECT_THROW(runBatch(s, options(f.dir / "out"), gpu()), Error);
+    EXPECT_FALSE(fs::exists(f.dir / "out"));
+}
+
 TEST(Batch, ShardsRenderDisjointJobsWhoseUnionIsTheWholeBatchFileForFile) {
     Fixture f;
     const uint32_t before = gpu().validationErrors();
