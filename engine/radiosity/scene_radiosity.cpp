@@ -404,6 +404,7 @@ void solveOn(const Scene& scene, const SceneOnGrid& g, const Occluders& occluder
     const std::optional<LastSolve> before = lastSolveOn(*coupling);
     std::optional<Solution> rescaled;
     if (before) rescaled = rescaledSolution(before->problem, before->solution, p);
+    if (rescaled && !(rescaled->relativeBound <= s.tolerance)) rescaled.reset();  // a tighter tolerance asked now
     if (rescaled) {
         out.solution = std::move(*rescaled);
     } else {

@@ -133,6 +133,13 @@ TEST(SceneRadiosity, ASpectrumChangeKeepsTheFormFactorsAndAGeometryChangeDoesNot
     EXPECT_NE(swapped.describe().find("scaled band by band"), std::string::npos) << swapped.describe();
     EXPECT_LE(swapped.solution.relativeBound, 1e-8);
     expectAsFresh(scene, swapped);
+    // A tighter tolerance than the last solve met is solved again (from it), not rescaled.
+    solveInterreflection(scene, onGrid(scene));
+    scene.interreflection->tolerance = 1e-12;
+    const SceneInterreflection tighter = solveInterreflection(scene, onGrid(scene));
+    EXPECT_FALSE(tighter.solution.rescaled);
+    EXPECT_LE(tighter.solution.relativeBound, 1e-12);
+    scene.interreflection->tolerance = 1e-8;
     // Another reflectance: not a scaling of the last problem, so solved, from the last solve.
     solveInterreflection(scene, onGrid(scene));  // the cache as a sweep leaves it
     scene.materials[0] = lambertian(0.5);
