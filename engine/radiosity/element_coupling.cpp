@@ -13,7 +13,6 @@ namespace metamer::radiosity {
 
 namespace {
 
-
 // Whether some corner of `a` lies in front of the plane of `b` (normal nb): else nothing a sends
 // or receives crosses to b's front.
 bool anyCornerInFront(const std::array<glm::dvec3, 3>& a, const std::array<glm::dvec3, 3>& b, const glm::dvec3& nb,
@@ -29,10 +28,6 @@ bool allCornersInFront(const std::array<glm::dvec3, 3>& a, const std::array<glm:
     for (const glm::dvec3& c : a)
         if (!(glm::dot(nb, c - b[0]) > 0.0)) return false;
     return true;
-}
-
-double longestEdge(const std::array<glm::dvec3, 3>& t) {
-    return std::max({glm::length(t[1] - t[0]), glm::length(t[2] - t[1]), glm::length(t[0] - t[2])});
 }
 
 }  // namespace

@@ -16,6 +16,7 @@
 // a plate against its closed form).
 #pragma once
 
+#include "radiosity/form_factor.h"
 #include "reference/bvh.h"
 
 #include <Eigen/Dense>
@@ -34,7 +35,7 @@ struct CouplingOptions {
     // A pair is far when they are farther apart than this × the larger's edge and each lies wholly in
     // front of the other: then the rule on both ends (no arc tangent), within ~1e-7 of the closed form's
     // average at 4 (its median over random pairs; ~1e-5 at worst, grazing).
-    double farRatio = 4.0;
+    double farRatio = kRuleFarRatio;
 };
 
 struct Coupling {

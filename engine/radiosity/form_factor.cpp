@@ -77,6 +77,10 @@ glm::dvec3 polygonNormal(std::span<const glm::dvec3> polygon) {
     return length > 0.0 ? sum / length : glm::dvec3(0.0);
 }
 
+double longestEdge(const std::array<glm::dvec3, 3>& t) {
+    return std::max({glm::length(t[1] - t[0]), glm::length(t[2] - t[1]), glm::length(t[0] - t[2])});
+}
+
 double polygonArea(std::span<const glm::dvec3> polygon) {
     glm::dvec3 sum(0.0);
     for (size_t k = 0; k < polygon.size(); ++k) sum += glm::cross(polygon[k], polygon[(k + 1) % polygon.size()]);

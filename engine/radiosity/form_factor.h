@@ -54,6 +54,11 @@ double pointToTriangle(const glm::dvec3& x, const glm::dvec3& n, const std::arra
 // in front of it — where nothing needs clipping; the callers check.
 double pointToTriangleByRule(const glm::dvec3& x, const glm::dvec3& n, const std::array<glm::dvec3, 7>& rule,
                              const glm::dvec3& front, double area);
+// From how many of a triangle's longest edges away its callers take the rule instead of the
+// closed form (element_coupling's far pairs, vertex_gather's far elements).
+inline constexpr double kRuleFarRatio = 4.0;
+// The triangle's longest edge, m.
+double longestEdge(const std::array<glm::dvec3, 3>& t);
 
 // F from the triangle (a, b, c: its front side, counter-clockwise) to the polygon, to within
 // `tolerance` (absolute; the adaptive quadrature stops refining a piece whose two estimates agree

@@ -10,10 +10,6 @@
 
 namespace metamer::radiosity {
 
-namespace {
-constexpr double kFarRatio = 4.0;  // an element this many of its longest edges away is far (pointToTriangleByRule)
-}  // namespace
-
 Eigen::MatrixXd gatherFactors(std::span<const GatherPoint> points, std::span<const std::array<glm::dvec3, 3>> elements,
                               const Bvh* occluders, int side) {
     const size_t m = points.size(), n = elements.size();
@@ -26,8 +22,7 @@ Eigen::MatrixXd gatherFactors(std::span<const GatherPoint> points, std::span<con
         front[j] = polygonNormal(c);
         area[j] = polygonArea(c);
         centroid[j] = (c[0] + c[1] + c[2]) / 3.0;
-        const double edge = std::max({glm::length(c[1] - c[0]), glm::length(c[2] - c[1]), glm::length(c[0] - c[2])});
-        farFrom[j] = kFarRatio * edge;
+        farFrom[j] = kRuleFarRatio * longestEdge(c);
         for (size_t q = 0; q < kTriangleRule.size(); ++q) rule[j][q] = kTriangleRule[q].on(c);
     }
     // Where each element is seen at (barycentric): its centroid, or stratified points — a side ×
@@ -43,7 +38,7 @@ Eigen::MatrixXd gatherFactors(std::span<const GatherPoint> points, std::span<con
     std::vector<glm::dvec3> targets(n * per);  // [element][point]
     for (size_t j = 0; j < n; ++j) {
         const auto& c = elements[j];
-        if (side == 0) targets[j] = (c[0] + c[1] + c[2]) / 3.0;
+        if (side == 0) targets[j] = centroid[j];
         for (size_t k = 0; k < weights.size(); ++k)
             targets[j * per + k] = weights[k].x * c[0] + weights[k].y * c[1] + weights[k].z * c[2];
     }
