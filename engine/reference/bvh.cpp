@@ -209,7 +209,8 @@ std::optional<RayHit> Bvh::intersect(const Ray& ray, double tMin, double tMax) c
     return best;
 }
 
-bool Bvh::occluded(const Ray& ray, double tMin, double tMax, uint32_t skip) const {
+template <typename Visit>
+bool Bvh::visitLeaves(const Ray& ray, double tMin, double tMax, Visit&& visit) const {
     if (nodes_.empty()) return false;
     double tEnter = 0.0;
     const Slabs slabs(ray);
@@ -221,7 +222,7 @@ bool Bvh::occluded(const Ray& ray, double tMin, double tMax, uint32_t skip) cons
         const Node& node = nodes_[self];
         if (node.count > 0) {
             for (uint32_t i = node.first; i < node.first + node.count; ++i)
-                if (i != skip && intersectTriangle(triangles_[i], ray, tMin, tMax)) return true;
+                if (visit(i)) return true;
             continue;
         }
         for (uint32_t child : {self + 1, node.first})
@@ -230,28 +231,21 @@ bool Bvh::occluded(const Ray& ray, double tMin, double tMax, uint32_t skip) cons
     return false;
 }
 
+bool Bvh::occluded(const Ray& ray, double tMin, double tMax, uint32_t skip) const {
+    return visitLeaves(ray, tMin, tMax, [&](uint32_t i) {
+        return i != skip && intersectTriangle(triangles_[i], ray, tMin, tMax).has_value();
+    });
+}
+
 std::vector<RayHit> Bvh::allHits(const Ray& ray, double tMin, double tMax) const {
     std::vector<RayHit> hits;
-    if (nodes_.empty()) return hits;
-    double tEnter = 0.0;
-    const Slabs slabs(ray);
-    if (!hitsBox(nodes_[0].lo, nodes_[0].hi, slabs, tMin, tMax, tEnter)) return hits;
-    std::vector<uint32_t> stack{0};
-    while (!stack.empty()) {
-        const uint32_t self = stack.back();
-        const Node& node = nodes_[self];
-        stack.pop_back();
-        if (node.count > 0) {
-            for (uint32_t i = node.first; i < node.first + node.count; ++i)
-                if (auto h = intersectTriangle(triangles_[i], ray, tMin, tMax)) {
-                    h->index = i;
-                    hits.push_back(*h);
-                }
-            continue;
+    visitLeaves(ray, tMin, tMax, [&](uint32_t i) {
+        if (auto h = intersectTriangle(triangles_[i], ray, tMin, tMax)) {
+            h->index = i;
+            hits.push_back(*h);
         }
-        for (uint32_t child : {self + 1, node.first})
-            if (hitsBox(nodes_[child].lo, nodes_[child].hi, slabs, tMin, tMax, tEnter)) stack.push_back(child);
-    }
+        return false;
+    });
     return hits;
 }
 

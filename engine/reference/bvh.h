@@ -76,6 +76,10 @@ private:
     };
 
     uint32_t build(uint32_t begin, uint32_t end, int depth);
+    // Calls visit(i) for each triangle of every leaf whose box the ray enters within (tMin, tMax),
+    // depth first, until one returns true (then true); occluded's and allHits' walk.
+    template <typename Visit>
+    bool visitLeaves(const Ray& ray, double tMin, double tMax, Visit&& visit) const;
 
     std::vector<BvhTriangle> triangles_;
     std::vector<Node> nodes_;

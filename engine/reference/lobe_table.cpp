@@ -218,11 +218,11 @@ std::shared_ptr<LobeTable> readLobeTable(const std::filesystem::path& file, doub
     // ln I_unoccluded within [−200, 10] (built: −15 … 1.1), an interval's cone sine within [0, 1]
     // or LOBE_NO_CONE, its slopes of ln I_unoccluded within ±10³ (built: under 0.03).
     auto within = [](float v, double lo, double hi) { return std::isfinite(v) && v >= lo && v <= hi; };
+    constexpr double kPi = std::numbers::pi;
     for (size_t i = 0; i < LOBE_VALUES_OFFSET; ++i) {
         const glm::uvec4& e = table->data[i];
         const float a = std::bit_cast<float>(e.x), b = std::bit_cast<float>(e.y), c = std::bit_cast<float>(e.z),
                     d = std::bit_cast<float>(e.w);
-        constexpr double kPi = std::numbers::pi;
         const bool sane = i < LOBE_CONES_OFFSET ? within(a, -kPi, kPi) && within(b, 0.0, kPi) && within(c, 0.0, kPi) &&
                                                       within(d, -200.0, 10.0)
                                                 : (within(a, 0.0, 1.0) || a == float(LOBE_NO_CONE)) &&
