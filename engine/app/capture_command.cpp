@@ -6,7 +6,6 @@
 #include "spectral/library.h"
 
 #include <cstdio>
-#include <limits>
 
 namespace metamer {
 
@@ -28,10 +27,6 @@ CLI::App* addCaptureCommand(CLI::App& app, CaptureArgs& a) {
 }
 
 int runCapture(const CaptureArgs& a) {
-    // The last frame's number must fit too: frame + frames − 1 would wrap to 0.
-    if (a.frames > 1 && a.frame > std::numeric_limits<uint64_t>::max() - uint64_t(a.frames - 1))
-        failInput(Where{"", "--frame"}, "{} + {} frames passes the last frame number, {}", a.frame, a.frames,
-                  std::numeric_limits<uint64_t>::max());
     const SpectrumLibrary library;
     CaptureRequest request;
     request.cube = a.cube;

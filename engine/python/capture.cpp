@@ -20,7 +20,6 @@
 
 #include <algorithm>
 #include <climits>
-#include <limits>
 #include <optional>
 
 namespace metamer::python {
@@ -34,9 +33,7 @@ py::dict capture(const py::object& source, const py::object& sensorName, const p
     const uint64_t seed = unsignedInteger(seedArg, "seed"), frame = unsignedInteger(frameArg, "frame");
     const int frames = int(integer(framesArg, "frames", INT_MIN, INT_MAX));
     const std::optional<double> exposure = optionalNumber(exposureArg, "exposure");
-    if (frames < 1 || frames > 100000) failInput(Where{"frames"}, "expected 1 … 100000 frames, got {}", frames);
-    if (exposure && !(*exposure > 0.0 && *exposure <= 1e6))  // the CLI's bounds (sensor/capture_files.cpp)
-        failInput(Where{"exposure"}, "expected an exposure time in seconds, > 0 and at most 10⁶, got {:g}", *exposure);
+    checkCaptureNumbers(exposure, frame, frames, "");
     const SpectrumLibrary library;
     const SensorSpec sensor = readSensor(sensorFile(pathOf(sensorName, "sensor").string(), library), library);
     SpectralCube cube;
@@ -55,9 +52,6 @@ py::dict capture(const py::object& source, const py::object& sensorName, const p
         cube = readRadianceCube(pathOf(source, "source"));
     }
     requireRadiance(cube, py::isinstance<Render>(source) ? Where{"", "source"} : Where{pathOf(source, "source").string()});
-    if (frames > 1 && frame > std::numeric_limits<uint64_t>::max() - uint64_t(frames - 1))
-        failInput(Where{"frame"}, "{} + {} frames passes the last frame number, {}", frame, frames,
-                  std::numeric_limits<uint64_t>::max());
     ExpectedElectrons e;
     {
         py::gil_scoped_release release;

@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <limits>
 
 namespace metamer {
 
@@ -37,11 +38,19 @@ fs::path renderedCube(const std::vector<fs::path>& written) {
     failRuntime("the render wrote no spectral cube for the sensor to capture");
 }
 
+void checkCaptureNumbers(std::optional<double> exposure, uint64_t frame, int frames, const std::string& prefix) {
+    if (exposure && !(*exposure > 0.0 && *exposure <= 1e6))
+        failInput(Where{prefix + "exposure"}, "expected an exposure time in seconds, > 0 and at most 10⁶, got {:g}", *exposure);
+    if (frames < 1 || frames > 100000) failInput(Where{prefix + "frames"}, "expected 1 … 100000 frames, got {}", frames);
+    // The last frame's number must fit too: frame + frames − 1 would wrap to 0.
+    if (frame > std::numeric_limits<uint64_t>::max() - uint64_t(frames - 1))
+        failInput(Where{prefix + "frame"}, "{} + {} frames passes the last frame number, {}", frame, frames,
+                  std::numeric_limits<uint64_t>::max());
+}
+
 CaptureFiles captureToFiles(const CaptureRequest& a, const SpectrumLibrary& library,
                             const std::function<void(const std::string&)>& log) {
-    if (a.exposure && !(*a.exposure > 0.0 && *a.exposure <= 1e6))
-        failInput(Where{"--exposure"}, "expected an exposure time in seconds, > 0 and at most 10⁶, got {:g}", *a.exposure);
-    if (a.frames < 1 || a.frames > 100000) failInput(Where{"--frames"}, "expected 1 … 100000 frames, got {}", a.frames);
+    checkCaptureNumbers(a.exposure, a.frame, a.frames, "--");
     const SensorSpec sensor = readSensor(sensorFile(a.sensor, library), library);
     const SpectralCube cube = readRadianceCube(a.cube);
     requireRadiance(cube, Where{a.cube.string()});

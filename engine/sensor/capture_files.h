@@ -27,6 +27,11 @@ struct CaptureRequest {
     bool noise = true;
 };
 
+// A capture's numbers, for the CLI and Python alike (`prefix` "--" names the CLI's flags, "" the
+// keywords): an exposure in (0, 10⁶] s, 1 … 100 000 frames, numbered from `frame` without passing
+// 2⁶⁴ − 1. Input errors naming the flag or keyword.
+void checkCaptureNumbers(std::optional<double> exposure, uint64_t frame, int frames, const std::string& prefix);
+
 struct CaptureFiles {
     std::vector<std::filesystem::path> files;  // as written, in order
     double exposure_s = 0.0;
