@@ -77,15 +77,12 @@ ExpectedElectrons expectedElectrons(const SpectralCube& cube, const SensorSpec& 
     const double optics = std::numbers::pi / (4.0 * sensor.fNumber * sensor.fNumber *
                                               (1.0 + sensor.magnification) * (1.0 + sensor.magnification));
     std::vector<std::vector<double>> weights;
-    const double lo = grid.start_nm - 0.5 * grid.step_nm, hi = grid.end_nm + 0.5 * grid.step_nm;
-    for (size_t c = 0; c < sensor.quantumEfficiency.size(); ++c) {
-        const Spectrum& qe = sensor.quantumEfficiency[c];
-        if (qe.maxWavelength() < lo || qe.minWavelength() > hi)
+    for (size_t c = 0; c < sensor.quantumEfficiency.size(); ++c)
+        if (const CoverageGap gap = coverage(sensor.quantumEfficiency[c], grid); !gap.overlaps)
             failInput(Where{sensor.file.string(), "quantum_efficiency.table"},
                       "channel {}'s data ({:g} … {:g} nm) lie wholly outside the cube's grid ({:g} … {:g} nm): it would "
                       "record nothing",
-                      sensor.channels[c], qe.minWavelength(), qe.maxWavelength(), grid.start_nm, grid.end_nm);
-    }
+                      sensor.channels[c], gap.data_lo, gap.data_hi, grid.start_nm, grid.end_nm);
     for (const Spectrum& qe : sensor.quantumEfficiency) {
         const std::vector<double> q = resample(qe, grid);
         std::vector<double> w(bands);
