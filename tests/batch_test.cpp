@@ -277,6 +277,42 @@ TEST(BatchCli, SweepsSeedsAndExposuresThroughASensor) {
     fs::remove_all(dir);
 }
 
+// Issue 51, class 4: a job whose capture fails (an unlit scene's auto-exposure) puts none of its
+// files in place: no cube or PNG without the raw frames they go with, no staging folder left.
+TEST(BatchCli, AJobWhoseCaptureFailsWritesNoneOfItsFiles) {
+    const fs::path dir = freshDir("sensor-unlit");
+    std::ofstream(dir / "sweep.json") << fmt::format(R"({{
+  "scenes": ["{}/tests/data/cli/small.json"],
+  "set": {{"lights.0.scale": 0, "lights.1.scale": 0, "camera.width": 24, "camera.height": 16}},
+  "render": {{"write": "png", "sensor": "aps_c_rggb"}},
+  "axes": [{{"set": "lights.2.scale", "values": [0.2, 0]}}]
+}})",
+                                                     METAMER_SOURCE_DIR);
+    const test::CliRun r =
+        shell(fmt::format("{} batch {} --out {}", METAMER_BINARY, (dir / "sweep.json").string(), (dir / "out").string()));
+    EXPECT_EQ(r.code, 1) << r.output;
+    EXPECT_NE(r.output.find("1 rendered, 0 skipped (done before), 1 failed"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("auto-exposure needs light"), std::string::npos) << r.output;
+    size_t lit = 0, unlit = 0;
+    for (const auto& e : fs::directory_iterator(dir / "out")) {
+        if (!e.is_directory()) continue;
+        std::vector<std::string> names;
+        for (const auto& f : fs::directory_iterator(e.path())) names.push_back(f.path().filename().string());
+        std::sort(names.begin(), names.end());
+        if (fs::exists(e.path() / "small.exr")) {
+            ++lit;
+            EXPECT_EQ(names, (std::vector<std::string>{"job.json", "small.electrons.exr", "small.exr", "small.png",
+                                                       "small.raw.dng", "small.raw.json", "small.raw.png"}));
+        } else {
+            ++unlit;
+            EXPECT_EQ(names, std::vector<std::string>{"job.json"});  // the failed job's record only
+        }
+    }
+    EXPECT_EQ(lit, 1u);
+    EXPECT_EQ(unlit, 1u);
+    fs::remove_all(dir);
+}
+
 // Issue 30, classes 4 and 5: a sweep with a job given twice is refused by every mode — not only by
 // the run that reaches it — and --slurm refuses option values Slurm would read as something else
 // (a newline ends sbatch's directives and runs the rest as shell), before writing anything.

@@ -286,6 +286,8 @@ int main(int argc, char** argv) {
             job.progress = [&progressLine](const RenderProgress& p) { (*progressLine)(p); };
         }
         std::optional<CaptureRequest> capture;
+        std::optional<StagingFolder> captureStaging;
+        CaptureFiles captured;
         if (!sensor.empty()) {
             // Before the render: a channel mode would write its image, then find no cube to capture.
             if (!parseMode(job.mode, Where{"", "--mode"}).spectral())
@@ -299,6 +301,13 @@ int main(int argc, char** argv) {
             capture->seed = sensorSeed;
             capture->exposure = sensorExposure;
             job.write = writeListWithCube(job.write);
+            // The capture reads the cube before anything is renamed into place, and its files
+            // join the render's: all appear together, or none (an unlit scene's auto-exposure fails).
+            job.beforeCommit = [&](const std::vector<AtomicOutput*>& files) {
+                captured = stageCaptureOfRender(*capture, files, SpectrumLibrary(), *captureStaging);
+                return std::vector<StagingFolder*>{&*captureStaging};
+            };
+            captureStaging.emplace(job.outDir, "capture");
         } else if (sensorExposure || sensorSeed) {
             failInput(Where{sensorExposure ? "--exposure" : "--seed"}, "goes with --sensor (a simulated sensor's capture)");
         }
@@ -317,13 +326,7 @@ int main(int argc, char** argv) {
             std::printf("camera characterization: rms ΔE2000 %.2f over the 24 ColorChecker patches\n",
                         *r.cameraFitRmsDeltaE);
         for (const auto& n : r.notes) std::printf("note: %s\n", n.c_str());
-        if (capture) {
-            std::vector<std::filesystem::path> written;
-            for (const auto& f : r.written) written.push_back(f.path);
-            capture->cube = renderedCube(written);
-            capture->out = job.outDir;
-            captureToFiles(*capture, SpectrumLibrary(), [](const std::string& line) { std::printf("%s\n", line.c_str()); });
-        }
+        for (const std::string& line : captured.lines) std::printf("%s\n", line.c_str());
         if (timings) printTimings(r);
         if (r.validationErrors) {
             std::fprintf(stderr, "metamer: %u Vulkan validation error(s) (see above)\n", r.validationErrors);

@@ -119,14 +119,18 @@ std::string utcNow() {
     return fmt::format("{:%Y-%m-%dT%H:%M:%S}.{:03d}Z", fmt::gmtime(std::chrono::system_clock::to_time_t(now)), int(ms));
 }
 
-// Temporary files a killed process left in a job's folder (io/atomic_file's ".NAME.tmp-PID-N").
+// Temporary files and staging folders a killed process left in a job's folder (io/atomic_file's
+// ".NAME.tmp-PID-N" and ".NAME.staging-PID-N").
 void removeStaleTemporaries(const fs::path& folder) {
     std::error_code ec;
     if (!fs::is_directory(folder, ec)) return;
+    std::vector<fs::path> stale;
     for (const auto& e : fs::directory_iterator(folder, ec)) {
         const std::string name = e.path().filename().string();
-        if (name.size() > 1 && name[0] == '.' && name.find(".tmp-") != std::string::npos) fs::remove(e.path(), ec);
+        if ((name.size() > 1 && name[0] == '.' && name.find(".tmp-") != std::string::npos) || isStagingFolderName(name))
+            stale.push_back(e.path());
     }
+    for (const fs::path& p : stale) fs::remove_all(p, ec);
 }
 
 bool outputsExist(const JobRecord& r, const fs::path& folder) {
@@ -405,7 +409,19 @@ BatchSummary runBatch(const Sweep& sweep, const BatchOptions& o, vk::Context& co
             j.render.context = &context;
             j.render.validation = o.validation;
             try {
-                const RenderJobResult r = runRenderJob(j.render);
+                // A sensor's capture reads the cube before anything is renamed into place; its
+                // files join the render's, all in place together or none.
+                std::optional<StagingFolder> captureStaging;
+                CaptureFiles captured;
+                RenderJob render = j.render;
+                if (j.capture) {
+                    captureStaging.emplace(folder, "capture");
+                    render.beforeCommit = [&](const std::vector<AtomicOutput*>& files) {
+                        captured = stageCaptureOfRender(*j.capture, files, SpectrumLibrary(), *captureStaging);
+                        return std::vector<StagingFolder*>{&*captureStaging};
+                    };
+                }
+                const RenderJobResult r = runRenderJob(render);
                 if (r.validationErrors)
                     failRuntime("{} Vulkan validation error(s) while rendering (see the log)", r.validationErrors);
                 rec["status"] = "done";
@@ -414,14 +430,6 @@ BatchSummary runBatch(const Sweep& sweep, const BatchOptions& o, vk::Context& co
                 for (const WrittenFile& f : r.written)
                     outputs.push_back({{"file", f.path.lexically_relative(folder).generic_string()}, {"what", f.what}});
                 if (j.capture) {
-                    // The sensor reads the cube the render has just written (EXR, HDF5 or ENVI).
-                    CaptureRequest c = *j.capture;
-                    std::vector<fs::path> written;
-                    for (const WrittenFile& f : r.written) written.push_back(f.path);
-                    c.cube = renderedCube(written);
-                    c.out = folder;
-                    const SpectrumLibrary library;
-                    const CaptureFiles captured = captureToFiles(c, library);
                     for (const fs::path& f : captured.files)
                         outputs.push_back({{"file", f.lexically_relative(folder).generic_string()},
                                            {"what", "simulated sensor capture (docs/sensor.md)"}});

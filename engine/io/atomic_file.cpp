@@ -7,8 +7,10 @@
 #include <atomic>
 #include <cerrno>
 #include <cstring>
+#include <dirent.h>
 #include <fcntl.h>
 #include <fstream>
+#include <sys/stat.h>
 #include <unistd.h>
 
 namespace fs = std::filesystem;
@@ -27,6 +29,7 @@ enum SlotState : int { Free = 0, Filling = 1, Live = 2 };
 
 struct Slot {
     std::atomic<int> state{Free};
+    bool folder = false;  // a staging folder: emptied, then removed
     char path[kPathBytes];
 };
 static_assert(std::atomic<int>::is_always_lock_free);
@@ -36,17 +39,64 @@ std::atomic<unsigned> g_counter{0};
 
 }  // namespace
 
-int registerRemoveOnSignal(const std::string& path) {
+namespace {
+
+int registerSlot(const std::string& path, bool folder) {
     if (path.size() + 1 > kPathBytes) return -1;
     for (int i = 0; i < kSlots; ++i) {
         int expected = Free;
         if (!g_slots[i].state.compare_exchange_strong(expected, Filling)) continue;
+        g_slots[i].folder = folder;
         std::memcpy(g_slots[i].path, path.c_str(), path.size() + 1);
         g_slots[i].state.store(Live, std::memory_order_release);
         return i;
     }
     return -1;
 }
+
+// Unlinks everything in a folder, then the folder, with async-signal-safe calls only (no
+// opendir: it allocates). Passes repeat until one finds nothing, as unlinking while reading a
+// folder may hide entries from the same pass.
+void emptyAndRemoveFolder(const char* path) noexcept {
+    const int fd = ::open(path, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (fd >= 0) {
+        alignas(8) char buf[4096];
+        for (int pass = 0; pass < 64; ++pass) {
+            bool removed = false;
+            ::lseek(fd, 0, SEEK_SET);
+            for (ssize_t n; (n = ::getdents64(fd, buf, sizeof buf)) > 0;)
+                for (ssize_t at = 0; at < n;) {
+                    const auto* d = reinterpret_cast<const struct dirent64*>(buf + at);
+                    at += d->d_reclen;
+                    const char* name = d->d_name;
+                    if (name[0] == '.' && (name[1] == 0 || (name[1] == '.' && name[2] == 0))) continue;
+                    if (::unlinkat(fd, name, 0) == 0) removed = true;
+                }
+            if (!removed) break;
+        }
+        ::close(fd);
+    }
+    ::rmdir(path);
+}
+
+}  // namespace
+
+int registerRemoveOnSignal(const std::string& path) { return registerSlot(path, false); }
+
+namespace {
+
+// What is at an output's target now: a file or a symbolic link is replaced (the link itself, not
+// what it points to); anything else would fail (a folder) or be replaced unawares (a FIFO, a
+// device) only at the rename, after the work.
+void requireReplaceable(const fs::path& target) {
+    std::error_code ec;
+    const fs::file_status st = fs::symlink_status(target, ec);
+    if (fs::exists(st) && !fs::is_regular_file(st) && !fs::is_symlink(st))
+        failRuntime("cannot write '{}': it is {}; an output replaces a file (remove it or write elsewhere)",
+                    target.string(), specialFileKind(st));
+}
+
+}  // namespace
 
 void unregisterRemoveOnSignal(int slot) {
     if (slot >= 0) g_slots[slot].state.store(Free, std::memory_order_release);
@@ -65,15 +115,7 @@ AtomicOutput::AtomicOutput(fs::path finalPath) : final_(std::move(finalPath)) {
         fs::create_directories(dir, ec);
         if (ec) failRuntime("cannot create output folder '{}': {}", dir.string(), ec.message());
     }
-    // What is at the target now: a file or a symbolic link is replaced (the link itself, not what
-    // it points to); anything else would fail only at the rename, after the work.
-    {
-        std::error_code ec;
-        const fs::file_status st = fs::symlink_status(final_, ec);
-        if (fs::exists(st) && !fs::is_regular_file(st) && !fs::is_symlink(st))
-            failRuntime("cannot write '{}': it is {}; an output replaces a file (remove it or write elsewhere)",
-                        final_.string(), specialFileKind(st));
-    }
+    requireReplaceable(final_);
     std::string name = fmt::format(".{}.tmp-{}-{}{}", final_.filename().string(), ::getpid(),
                                    g_counter.fetch_add(1), final_.extension().string());
     temp_ = dir / name;
@@ -108,12 +150,15 @@ void AtomicOutput::sync() const {
 
 void AtomicOutput::commit() { commitTogether({this}); }
 
-void AtomicOutput::rethrowNamingFinal(const Error& e) const {
+void AtomicOutput::rethrowNamingFinal(const Error& e) const { rethrowNaming(e, temp_.string(), final_.string()); }
+
+void rethrowNaming(const Error& e, const std::string& from, const std::string& to) {
     std::string text = e.message();
-    const std::string temp = temp_.string(), final = final_.string();
-    for (size_t at = 0; (at = text.find(temp, at)) != std::string::npos; at += final.size())
-        text.replace(at, temp.size(), final);
-    throw Error(e.code(), e.where(), text);
+    for (size_t at = 0; !from.empty() && (at = text.find(from, at)) != std::string::npos; at += to.size())
+        text.replace(at, from.size(), to);
+    Where where = e.where();
+    if (where.file == from) where.file = to;
+    throw Error(e.code(), where, text);
 }
 
 namespace {
@@ -128,17 +173,85 @@ fs::path keptName(const fs::path& target) {
 
 }  // namespace
 
-void commitTogether(const std::vector<AtomicOutput*>& all) {
+StagingFolder::StagingFolder(fs::path target, std::string name) : target_(std::move(target)), name_(std::move(name)) {}
+
+StagingFolder::~StagingFolder() {
+    std::error_code ec;
+    if (!folder_.empty()) fs::remove_all(folder_, ec);  // empty after a commit; else what was staged
+    unregisterRemoveOnSignal(slot_);
+}
+
+fs::path StagingFolder::stage(const std::string& filename) {
+    if (folder_.empty()) {
+        std::error_code ec;
+        const fs::file_status st = fs::status(target_, ec);
+        if (fs::exists(st) && !fs::is_directory(st))
+            failRuntime("cannot write in '{}': it is not a folder ({})", target_.string(),
+                        fs::is_regular_file(st) ? "a file" : specialFileKind(st));
+        fs::create_directories(target_, ec);
+        if (ec) failRuntime("cannot create output folder '{}': {}", target_.string(), ec.message());
+        const fs::path folder = target_ / fmt::format(".{}.staging-{}-{}", name_, ::getpid(), g_counter.fetch_add(1));
+        slot_ = registerSlot(folder.string(), true);
+        if (::mkdir(folder.c_str(), 0777) != 0) {
+            const int err = errno;
+            unregisterRemoveOnSignal(slot_);
+            slot_ = -1;
+            failRuntime("cannot write in '{}': cannot create a folder there to stage its files in: {}",
+                        target_.string(), std::strerror(err));
+        }
+        folder_ = folder;
+    }
+    if (filename.empty() || filename.find('/') != std::string::npos || filename == "." || filename == "..")
+        failRuntime("cannot stage '{}' in '{}': expected a file name", filename, target_.string());
+    if (std::find(names_.begin(), names_.end(), filename) != names_.end())
+        failRuntime("cannot write '{}' twice in one run", (target_ / filename).string());
+    requireReplaceable(target_ / filename);
+    names_.push_back(filename);
+    return folder_ / filename;
+}
+
+bool isStagingFolderName(const std::string& name) {
+    return name.size() > 1 && name[0] == '.' && name.find(".staging-") != std::string::npos;
+}
+
+namespace {
+
+struct Move {
+    fs::path from, to;
+};
+
+}  // namespace
+
+void commitTogether(const std::vector<AtomicOutput*>& all, const std::vector<StagingFolder*>& allStaged) {
     std::vector<AtomicOutput*> outs;
     for (AtomicOutput* o : all)
         if (o && !o->committed_) outs.push_back(o);
-    if (outs.empty()) return;
+    std::vector<StagingFolder*> staged;
+    for (StagingFolder* f : allStaged)
+        if (f && !f->committed_) staged.push_back(f);
+    if (outs.empty() && staged.empty()) return;
     for (const AtomicOutput* o : outs) o->sync();
 
-    // The previous set, kept until every new file is in place.
-    // They are registered like temporary files: a signal during the renames removes them too.
-    std::vector<fs::path> kept(outs.size());
-    std::vector<int> keptSlots(outs.size(), -1);
+    std::vector<Move> moves;
+    for (const AtomicOutput* o : outs) moves.push_back({o->temp_, o->final_});
+    for (const StagingFolder* f : staged)
+        for (const std::string& name : f->names_) {
+            const fs::path from = f->folder_ / name;
+            std::error_code ec;
+            if (!fs::is_regular_file(fs::symlink_status(from, ec)))
+                failRuntime("cannot write '{}': its staged file '{}' is missing", (f->target_ / name).string(),
+                            from.string());
+            moves.push_back({from, f->target_ / name});
+        }
+
+    // The previous set, kept until every new file is in place: inside a staging folder when there
+    // is one (its registry entry covers them, however many), else beside each target, registered
+    // like temporary files. A signal during the renames removes them too.
+    const StagingFolder* keepIn = nullptr;
+    for (const StagingFolder* f : staged)
+        if (!keepIn && !f->folder_.empty()) keepIn = f;
+    std::vector<fs::path> kept(moves.size());
+    std::vector<int> keptSlots(moves.size(), -1);
     auto dropKept = [&] {
         for (size_t i = 0; i < kept.size(); ++i) {
             if (!kept[i].empty()) ::unlink(kept[i].c_str()), kept[i].clear();
@@ -146,15 +259,17 @@ void commitTogether(const std::vector<AtomicOutput*>& all) {
             keptSlots[i] = -1;
         }
     };
-    for (size_t i = 0; i < outs.size(); ++i) {
-        const fs::path& target = outs[i]->final_;
+    for (size_t i = 0; i < moves.size(); ++i) {
+        const fs::path& target = moves[i].to;
         std::error_code ec;
         const fs::file_status st = fs::symlink_status(target, ec);
         // Nothing there, or something a rename cannot replace (a folder made since the output was
         // opened: its rename fails below and the set is put back).
         if (!fs::exists(st) || (!fs::is_regular_file(st) && !fs::is_symlink(st))) continue;
-        const fs::path k = keptName(target);
-        keptSlots[i] = registerRemoveOnSignal(k.string());
+        const fs::path k = keepIn ? keepIn->folder_ / fmt::format(".old-{}-{}", g_counter.fetch_add(1),
+                                                                  target.filename().string())
+                                  : keptName(target);
+        if (!keepIn) keptSlots[i] = registerRemoveOnSignal(k.string());
         if (::link(target.c_str(), k.c_str()) != 0) {  // no hard links here (e.g. FAT): a copy
             fs::copy(target, k, fs::copy_options::copy_symlinks, ec);
             if (ec) {
@@ -170,21 +285,21 @@ void commitTogether(const std::vector<AtomicOutput*>& all) {
 
     size_t renamed = 0;
     int err = 0;
-    for (; renamed < outs.size(); ++renamed)
-        if (::rename(outs[renamed]->temp_.c_str(), outs[renamed]->final_.c_str()) != 0) {
+    for (; renamed < moves.size(); ++renamed)
+        if (::rename(moves[renamed].from.c_str(), moves[renamed].to.c_str()) != 0) {
             err = errno;
             break;
         }
-    if (renamed < outs.size()) {
+    if (renamed < moves.size()) {
         // Put the previous set back: each kept file over the new one, new files that had none removed.
         for (size_t j = 0; j < renamed; ++j) {
-            const fs::path& target = outs[j]->final_;
+            const fs::path& target = moves[j].to;
             if (kept[j].empty()) ::unlink(target.c_str());
             else if (::rename(kept[j].c_str(), target.c_str()) == 0) kept[j].clear();  // slot freed by dropKept
         }
         dropKept();
-        failRuntime("cannot write '{}': rename from '{}' failed: {}{}", outs[renamed]->final_.string(),
-                    outs[renamed]->temp_.string(), std::strerror(err),
+        failRuntime("cannot write '{}': rename from '{}' failed: {}{}", moves[renamed].to.string(),
+                    moves[renamed].from.string(), std::strerror(err),
                     renamed ? "; the other files of this run were not put in place (the previous ones are kept)"
                             : "");
     }
@@ -194,7 +309,13 @@ void commitTogether(const std::vector<AtomicOutput*>& all) {
         o->committed_ = true;
         unregisterRemoveOnSignal(o->slot_);  // after the rename: a signal in between finds no file, harmless
         o->slot_ = -1;
-        const fs::path dir = folderOf(o->final_);
+    }
+    for (StagingFolder* f : staged) {
+        f->committed_ = true;
+        if (!f->folder_.empty()) ::rmdir(f->folder_.c_str());  // empty now; the destructor removes anything else
+    }
+    for (const Move& m : moves) {
+        const fs::path dir = folderOf(m.to);
         if (std::find(folders.begin(), folders.end(), dir) == folders.end()) folders.push_back(dir);
     }
     // Make the renames themselves durable; failure here does not undo a completed write.
@@ -209,7 +330,10 @@ void commitTogether(const std::vector<AtomicOutput*>& all) {
 
 void removeLiveTempFiles() noexcept {
     for (int i = 0; i < kSlots; ++i)
-        if (g_slots[i].state.load(std::memory_order_acquire) == Live) ::unlink(g_slots[i].path);
+        if (g_slots[i].state.load(std::memory_order_acquire) == Live) {
+            if (g_slots[i].folder) emptyAndRemoveFolder(g_slots[i].path);
+            else ::unlink(g_slots[i].path);
+        }
 }
 
 int liveTempFileCount() noexcept {

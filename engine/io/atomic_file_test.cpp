@@ -5,6 +5,7 @@
 #include "core/error.h"
 #include "support/temp_folder.h"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 
@@ -122,4 +123,67 @@ TEST_F(AtomicFile, AMissingTemporaryFileRenamesNothing) {
     EXPECT_NE(e.find("temporary file"), std::string::npos) << e;
     EXPECT_EQ(slurp(dir / "a.exr"), "old a");
     EXPECT_FALSE(fs::exists(dir / "b.exr"));
+}
+
+// Issue 51, class 4: a capture's many files are staged whole in one hidden folder and put in place
+// with the render's, all or none.
+TEST_F(AtomicFile, StagedFilesReplaceThePreviousSetWithTheOutputsTogether) {
+    writeText(dir / "a.exr", "old a");
+    writeText(dir / "a.raw.png", "old raw");
+    {
+        AtomicOutput a(dir / "a.exr");
+        writeText(a.tempPath(), "new a");
+        StagingFolder staging(dir, "capture");
+        EXPECT_TRUE(staging.folder().empty());  // nothing made before the first file
+        writeFileAtomically(staging.stage("a.raw.png"), "new raw");
+        for (int f = 0; f < 200; ++f) writeText(staging.stage(fmt::format("a.raw.{}.json", f)), "frame");
+        EXPECT_TRUE(isStagingFolderName(staging.folder().filename().string()));
+        EXPECT_FALSE(fs::exists(dir / "a.raw.0.json"));
+        commitTogether({&a}, {&staging});
+        EXPECT_FALSE(fs::exists(staging.folder()));  // emptied by the renames, the previous files dropped
+    }
+    EXPECT_EQ(slurp(dir / "a.exr"), "new a");
+    EXPECT_EQ(slurp(dir / "a.raw.png"), "new raw");
+    EXPECT_EQ(slurp(dir / "a.raw.199.json"), "frame");
+    EXPECT_EQ(namesIn().size(), 202u);
+    EXPECT_EQ(liveTempFileCount(), 0);
+}
+
+TEST_F(AtomicFile, AFailedStagedSetLeavesThePreviousSetAndNoStagingFolder) {
+    writeText(dir / "a.exr", "old a");
+    writeText(dir / "a.raw.png", "old raw");
+    {
+        AtomicOutput a(dir / "a.exr");
+        writeText(a.tempPath(), "new a");
+        StagingFolder staging(dir, "capture");
+        writeText(staging.stage("a.raw.png"), "new raw");
+        writeText(staging.stage("a.raw.json"), "new json");
+        // A folder appears where the last file goes, after it was staged: the renames go back.
+        fs::create_directories(dir / "a.raw.json" / "inside");
+        const std::string e = failureOf([&] { commitTogether({&a}, {&staging}); });
+        EXPECT_NE(e.find("cannot write '" + (dir / "a.raw.json").string() + "'"), std::string::npos) << e;
+    }
+    EXPECT_EQ(slurp(dir / "a.exr"), "old a");
+    EXPECT_EQ(slurp(dir / "a.raw.png"), "old raw");
+    EXPECT_EQ(namesIn(), (std::vector<std::string>{"a.exr", "a.raw.json", "a.raw.png"}));
+    EXPECT_EQ(liveTempFileCount(), 0);
+}
+
+TEST_F(AtomicFile, AStagedTargetThatCannotWorkIsRefusedWhenStaged) {
+    ASSERT_EQ(::mkfifo((dir / "a.raw.1.png").c_str(), 0600), 0);  // a rename would replace it unawares
+    StagingFolder staging(dir, "capture");
+    writeText(staging.stage("a.raw.0.png"), "frame 0");
+    std::string e = failureOf([&] { staging.stage("a.raw.1.png"); });
+    EXPECT_NE(e.find("it is a FIFO; an output replaces a file"), std::string::npos) << e;
+    e = failureOf([&] { staging.stage("a.raw.0.png"); });
+    EXPECT_NE(e.find("cannot write '" + (dir / "a.raw.0.png").string() + "' twice"), std::string::npos) << e;
+}
+
+TEST_F(AtomicFile, ASignalEmptiesAndRemovesAStagingFolderHoweverManyFilesItHolds) {
+    StagingFolder staging(dir, "capture");
+    for (int f = 0; f < 500; ++f) writeText(staging.stage(fmt::format("frame.{}.png", f)), "x");
+    AtomicOutput inside(staging.stage("frame.json"));  // a temporary being written in it
+    EXPECT_EQ(liveTempFileCount(), 2);                 // the folder and the temporary: two entries
+    removeLiveTempFiles();                             // what the SIGINT/SIGTERM handler calls
+    EXPECT_TRUE(namesIn().empty());
 }

@@ -254,7 +254,7 @@ void RenderOutputs::writeEdges(const std::vector<uint16_t>& edges) {
                              n, edges.size(), shadow);
 }
 
-std::vector<WrittenFile> RenderOutputs::commit(int strips, int stripRows) {
+std::vector<WrittenFile> RenderOutputs::commit(int strips, int stripRows, const BeforeCommitHook& beforeCommit) {
     // Every file completed first, then all renamed together: the run replaces its previous set
     // of files or, when anything fails, leaves it as it was (io/atomic_file.h, commitTogether).
     std::vector<WrittenFile> written;
@@ -299,7 +299,9 @@ std::vector<WrittenFile> RenderOutputs::commit(int strips, int stripRows) {
         add(edges_->finish());
         written.push_back({targets_.edges, line(edgesWhat_)});
     }
-    commitTogether(files);
+    std::vector<StagingFolder*> staged;
+    if (beforeCommit) staged = beforeCommit(files);
+    commitTogether(files, staged);
     return written;
 }
 

@@ -10,6 +10,7 @@
 #include "color/tonemap.h"
 #include "render/tonemap_pass.h"
 #include "render/cube_formats.h"
+#include "render/render_job_spec.h"
 #include "io/image_file.h"
 #include "io/spectral_exr.h"
 #include "represent/representation.h"
@@ -131,8 +132,9 @@ public:
     // before the first writeRows. `capture` must outlive this.
     void captureInto(CapturedOutputs* capture);
 
-    // Renames every file into place and says what each holds. `strips` > 1 says so in the lines.
-    std::vector<WrittenFile> commit(int strips = 1, int stripRows = 0);
+    // Renames every file into place, with what `beforeCommit` stages (render_job_spec.h), and
+    // says what each of the render's holds. `strips` > 1 says so in the lines.
+    std::vector<WrittenFile> commit(int strips = 1, int stripRows = 0, const BeforeCommitHook& beforeCommit = {});
     size_t clampedToHalf() const { return clampedToHalf_; }
 
 private:

@@ -563,7 +563,7 @@ RenderJobResult runRenderJob(const RenderJob& job) {
 
     // 5. Every file renamed into place.
     t = Clock::now();
-    r.written = out.commit(strips, stripRows);
+    r.written = out.commit(strips, stripRows, job.beforeCommit);
     r.clampedToHalf = out.clampedToHalf();
     if (files.xyz && planPtr && planPtr->mode == TonemapMode::ResponsesOnly)
         r.notes.push_back(fmt::format("no XYZ output: detector {} has no colorimetric path", planPtr->detector.name));

@@ -10,6 +10,7 @@
 
 #include <cstddef>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -23,6 +24,15 @@ class Context;
 enum class Backend { Gpu, Cpu };
 
 struct CapturedRender;  // render/render_job.h
+class AtomicOutput;     // io/atomic_file.h
+class StagingFolder;
+
+// Runs once every file of a render is complete, before any is renamed into place: `files` are the
+// render's files (each one's finalPath, and its tempPath where it is whole now). The folders it
+// returns, with what it staged in them, are committed with the render's files, all or none (a
+// sensor's capture of the cube: app/main.cpp, batch/batch.cpp). It may throw: nothing is then put
+// in place.
+using BeforeCommitHook = std::function<std::vector<StagingFolder*>(const std::vector<AtomicOutput*>& files)>;
 
 struct RenderJob {
     std::filesystem::path scene;
@@ -69,6 +79,8 @@ struct RenderJob {
     // Called between strips and frames (render/render_progress.h: when, on which thread, and what
     // throwing from it does). Empty: none.
     RenderProgressHook progress;
+    // Files written with the render's (render/render_job_spec.h, BeforeCommitHook). Empty: none.
+    BeforeCommitHook beforeCommit;
     // With a hook: a GPU image of more samples (pixels × ssaa²) than this is rendered in strips of
     // about this many (whole 16-row blocks), so the hook runs at least once per strip's worth of work and a
     // stop it asks for waits for one strip, not the image (the Python binding's Ctrl-C). Strips

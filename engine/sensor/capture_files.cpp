@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <unistd.h>
 
 namespace metamer {
 
@@ -48,25 +49,32 @@ void checkCaptureNumbers(std::optional<double> exposure, uint64_t frame, int fra
                   std::numeric_limits<uint64_t>::max());
 }
 
-CaptureFiles captureToFiles(const CaptureRequest& a, const SpectrumLibrary& library,
-                            const std::function<void(const std::string&)>& log) {
+CaptureFiles stageCapture(const CaptureRequest& a, const SpectrumLibrary& library, StagingFolder& staging) {
     checkCaptureNumbers(a.exposure, a.frame, a.frames, "--");
+    const fs::path& cubeName = a.cubeName.empty() ? a.cube : a.cubeName;
     const SensorSpec sensor = readSensor(sensorFile(a.sensor, library), library);
-    const SpectralCube cube = readRadianceCube(a.cube);
-    requireRadiance(cube, Where{a.cube.string()});
+    SpectralCube cube;
+    try {
+        cube = readRadianceCube(a.cube);
+    } catch (const Error& e) {
+        rethrowNaming(e, a.cube.string(), cubeName.string());
+    }
+    requireRadiance(cube, Where{cubeName.string()});
     const ExpectedElectrons e = expectedElectrons(cube, sensor, a.exposure, a.noise);
     CaptureFiles written;
     written.exposure_s = e.exposure_s;
     written.autoExposed = e.autoExposed;
     // An RGB Bayer sensor's frames are also DNGs, with the colour data a raw converter needs.
     const std::optional<SensorColour> colour = sensorColour(sensor, library);
-    const std::string stem = a.stem.empty() ? a.cube.stem().string() : a.stem;
-    const fs::path& out = a.out;
+    const std::string stem = a.stem.empty() ? cubeName.stem().string() : a.stem;
+    auto stage = [&](const std::string& filename) {
+        written.files.push_back(staging.finalPath(filename));
+        return staging.stage(filename);
+    };
 
     // The truth: expected electrons per pixel, float.
     std::vector<float> electrons(e.electrons.begin(), e.electrons.end());
-    writeImage(out / (stem + ".electrons.exr"), ImageFile{e.width, e.height, {"electrons"}, {}}, electrons);
-    written.files.push_back(out / (stem + ".electrons.exr"));
+    writeImage(stage(stem + ".electrons.exr"), ImageFile{e.width, e.height, {"electrons"}, {}}, electrons);
     nlohmann::ordered_json cfa = nlohmann::ordered_json::array();
     for (const auto& row : sensor.cfa) {
         nlohmann::ordered_json r = nlohmann::ordered_json::array();
@@ -78,8 +86,7 @@ CaptureFiles captureToFiles(const CaptureRequest& a, const SpectrumLibrary& libr
         const std::vector<uint16_t> raw = digitize(e.electrons, e.width, sensor, CaptureNoise{a.noise, a.seed, frame});
         const std::string name = a.frames == 1 ? stem + ".raw" : fmt::format("{}.raw.{}", stem, frame);
         std::vector<uint16_t> counts(raw.begin(), raw.end());
-        writeImage(out / (name + ".png"), ImageFile{e.width, e.height, {"Y"}, {}}, counts, 16);
-        written.files.push_back(out / (name + ".png"));
+        writeImage(stage(name + ".png"), ImageFile{e.width, e.height, {"Y"}, {}}, counts, 16);
         if (colour) {
             DngRaw dng;
             dng.width = e.width;
@@ -92,14 +99,13 @@ CaptureFiles captureToFiles(const CaptureRequest& a, const SpectrumLibrary& libr
             dng.asShotNeutral = colour->asShotNeutral;
             dng.model = "Metamer " + sensor.file.stem().string();
             dng.description = sensor.description;
-            writeDng(out / (name + ".dng"), dng);
-            written.files.push_back(out / (name + ".dng"));
+            writeDng(stage(name + ".dng"), dng);
         }
         nlohmann::ordered_json meta = {
             {"raw", name + ".png"},
             {"dng", colour ? nlohmann::ordered_json(name + ".dng") : nlohmann::ordered_json(nullptr)},
             {"electrons", stem + ".electrons.exr"},
-            {"cube", a.cube.string()},
+            {"cube", cubeName.string()},
             {"sensor", sensor.file.string()},
             {"sensor_description", sensor.description},
             {"width", e.width},
@@ -127,15 +133,47 @@ CaptureFiles captureToFiles(const CaptureRequest& a, const SpectrumLibrary& libr
             meta["as_shot_neutral"] = colour->asShotNeutral;
             meta["characterization_rms_delta_e2000"] = colour->rmsDeltaE2000;
         }
-        writeFileAtomically(out / (name + ".json"), meta.dump(2) + "\n");
-        written.files.push_back(out / (name + ".json"));
-        if (log)
-            log(fmt::format("wrote {}{} ({}×{}, {}, exposure {:.6g} s{}, {})", (out / (name + ".png")).string(),
-                            colour ? " and .dng" : "", e.width, e.height, sensor.cfaName, e.exposure_s,
-                            e.autoExposed ? " (auto)" : "",
-                            a.noise ? fmt::format("seed {}, frame {}", a.seed, frame) : std::string("no noise")));
+        writeFileAtomically(stage(name + ".json"), meta.dump(2) + "\n");
+        written.lines.push_back(fmt::format("wrote {}{} ({}×{}, {}, exposure {:.6g} s{}, {})",
+                                            staging.finalPath(name + ".png").string(), colour ? " and .dng" : "",
+                                            e.width, e.height, sensor.cfaName, e.exposure_s,
+                                            e.autoExposed ? " (auto)" : "",
+                                            a.noise ? fmt::format("seed {}, frame {}", a.seed, frame)
+                                                    : std::string("no noise")));
     }
-    if (log) log(fmt::format("wrote {} (expected electrons per pixel, float)", (out / (stem + ".electrons.exr")).string()));
+    written.lines.push_back(fmt::format("wrote {} (expected electrons per pixel, float)",
+                                        staging.finalPath(stem + ".electrons.exr").string()));
+    return written;
+}
+
+CaptureFiles stageCaptureOfRender(CaptureRequest request, const std::vector<AtomicOutput*>& files,
+                                  const SpectrumLibrary& library, StagingFolder& staging) {
+    // The render's files under their final names in a folder of their own (hard links to the
+    // temporaries, or copies), so the cube is found and read as it will be: an ENVI header finds
+    // its data beside it. The folder goes when this returns.
+    StagingFolder pending(staging.target(), "render");
+    std::vector<fs::path> named;
+    for (const AtomicOutput* f : files) {
+        const fs::path at = pending.stage(f->finalPath().filename().string());
+        if (::link(f->tempPath().c_str(), at.c_str()) != 0) fs::copy_file(f->tempPath(), at);
+        named.push_back(at);
+    }
+    // An ENVI cube is named by its header, as the render's own lines name it.
+    std::stable_partition(named.begin(), named.end(), [](const fs::path& p) { return p.extension() == ".hdr"; });
+    const fs::path cube = renderedCube(named);
+    request.cube = cube;
+    for (const AtomicOutput* f : files)
+        if (f->finalPath().filename() == cube.filename()) request.cubeName = f->finalPath();
+    return stageCapture(request, library, staging);
+}
+
+CaptureFiles captureToFiles(const CaptureRequest& a, const SpectrumLibrary& library,
+                            const std::function<void(const std::string&)>& log) {
+    StagingFolder staging(a.out, "capture");
+    CaptureFiles written = stageCapture(a, library, staging);
+    commitTogether({}, {&staging});
+    if (log)
+        for (const std::string& line : written.lines) log(line);
     return written;
 }
 

@@ -18,6 +18,9 @@ namespace metamer {
 
 struct CaptureRequest {
     std::filesystem::path cube;   // a spectral radiance cube file
+    // The name the metadata and errors give the cube, when `cube` is where a render's cube waits
+    // to be renamed into place (render --sensor); empty: `cube`.
+    std::filesystem::path cubeName;
     std::string sensor;           // a sensor file, or a library sensor's name
     std::filesystem::path out;    // the folder the files go to
     std::string stem;             // the files' stem; empty: the cube's
@@ -33,7 +36,8 @@ struct CaptureRequest {
 void checkCaptureNumbers(std::optional<double> exposure, uint64_t frame, int frames, const std::string& prefix);
 
 struct CaptureFiles {
-    std::vector<std::filesystem::path> files;  // as written, in order
+    std::vector<std::filesystem::path> files;  // as they are named once committed, in order
+    std::vector<std::string> lines;            // what was written, a line per file set, for the log
     double exposure_s = 0.0;
     bool autoExposed = false;
 };
@@ -50,7 +54,24 @@ std::vector<std::string> writeListWithCube(const std::optional<std::vector<std::
 // <stem>.xyz.exr); a runtime error when there is none.
 std::filesystem::path renderedCube(const std::vector<std::filesystem::path>& written);
 
-// Captures `request.frames` frames and writes their files; `log` hears one line per file set.
+class AtomicOutput;
+class StagingFolder;
+
+// Captures `request.frames` frames into `staging` (request.out is not used): nothing is in place
+// until the caller commits the folder, with the render's files when there are some
+// (io/atomic_file.h, commitTogether). Errors name the cube as request.cubeName.
+CaptureFiles stageCapture(const CaptureRequest& request, const SpectrumLibrary& library, StagingFolder& staging);
+
+// The same for a render's cube before the render's files are renamed into place (`files`, as a
+// render's BeforeCommitHook receives them: render/render_job_spec.h): the cube is read where it
+// waits and named by its final path, and what is staged is committed with the render, so `render
+// --sensor` and a sweep job with a sensor put all their files in place together or none.
+CaptureFiles stageCaptureOfRender(CaptureRequest request, const std::vector<AtomicOutput*>& files,
+                                  const SpectrumLibrary& library, StagingFolder& staging);
+
+// Captures `request.frames` frames into request.out, every file put in place together once all
+// are written (a failure at any frame leaves the folder as it was); `log` hears one line per file
+// set, after the commit.
 CaptureFiles captureToFiles(const CaptureRequest& request, const SpectrumLibrary& library,
                             const std::function<void(const std::string&)>& log = {});
 

@@ -183,3 +183,38 @@ def test_render_with_a_sensor_captures_its_cube_as_capture_does(tmp_path):
     p = subprocess.run([BINARY, "render", REPO / "scenes" / "metamers.json", "--out", tmp_path / "x", "--seed", "5"],
                        capture_output=True, text=True)
     assert p.returncode == 2 and "--seed: goes with --sensor" in p.stderr
+
+
+def files_in(folder):
+    """Every entry, hidden ones included, with its bytes (None for a folder)."""
+    return {p.name: (p.read_bytes() if p.is_file() else None) for p in sorted(Path(folder).iterdir())}
+
+
+def test_a_render_whose_capture_fails_puts_none_of_its_files_in_place(tmp_path):
+    """Issue 51, class 4: the capture runs on the cube before anything is renamed into place, so an
+    unlit scene's auto-exposure failure leaves the previous run's files byte-identical."""
+    scene = REPO / "tests" / "data" / "cli" / "small.json"
+    run("render", scene, "--out", tmp_path, "--sensor", "aps_c_rggb", "--seed", 3)
+    before = files_in(tmp_path)
+    assert set(before) == {"small.exr", "small.png", "small.raw.png", "small.raw.dng", "small.raw.json",
+                           "small.electrons.exr"}
+    unlit = [a for i in range(3) for a in ("--set", f"lights.{i}.scale=0")]
+    p = subprocess.run([BINARY, "render", scene, "--out", tmp_path, "--sensor", "aps_c_rggb", *unlit],
+                       capture_output=True, text=True)
+    assert p.returncode == 2 and "auto-exposure needs light" in p.stderr, p.stderr
+    assert "wrote" not in p.stdout
+    assert files_in(tmp_path) == before                      # no new cube, no temporary, no staging folder
+
+
+def test_a_capture_that_fails_at_a_later_frame_writes_no_frame(cube, tmp_path):
+    """Every frame is staged, then all are put in place together: a frame that cannot be written
+    (a folder where its metadata goes) leaves nothing of the frames before it, nor the electrons."""
+    (tmp_path / "metamers.raw.2.json").mkdir()
+    p = subprocess.run([BINARY, "capture", cube, "--sensor", SENSOR, "--out", tmp_path, "--frames", "4"],
+                       capture_output=True, text=True)
+    assert p.returncode == 1 and "metamers.raw.2.json': it is a folder" in p.stderr, p.stderr
+    assert p.stdout == ""
+    assert files_in(tmp_path) == {"metamers.raw.2.json": None}
+    run("capture", cube, "--sensor", SENSOR, "--out", tmp_path / "ok", "--frames", "4")
+    assert sorted(files_in(tmp_path / "ok")) == sorted(
+        ["metamers.electrons.exr"] + [f"metamers.raw.{f}.{e}" for f in range(4) for e in ("png", "dng", "json")])
