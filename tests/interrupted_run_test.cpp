@@ -32,9 +32,9 @@ fs::path freshDir(const std::string& name) {
     return d;
 }
 
-// Starts `metamer render SCENE --out DIR ARGS...`, its output going to DIR/../NAME.log.
-pid_t start(const fs::path& out, const std::vector<std::string>& args) {
-    std::vector<std::string> argv = {METAMER_BINARY, "render", kScene, "--out", out.string()};
+// Starts `metamer ARGS...`, its output going to DIR/../NAME.log.
+pid_t startMetamer(const fs::path& out, const std::vector<std::string>& args) {
+    std::vector<std::string> argv = {METAMER_BINARY};
     argv.insert(argv.end(), args.begin(), args.end());
     std::string log = (out.parent_path() / (out.filename().string() + ".log")).string();
     pid_t pid = fork();
@@ -51,6 +51,13 @@ pid_t start(const fs::path& out, const std::vector<std::string>& args) {
         _exit(127);
     }
     return pid;
+}
+
+// Starts `metamer render SCENE --out DIR ARGS...`.
+pid_t start(const fs::path& out, const std::vector<std::string>& args) {
+    std::vector<std::string> argv = {"render", kScene, "--out", out.string()};
+    argv.insert(argv.end(), args.begin(), args.end());
+    return startMetamer(out, argv);
 }
 
 // Exit status as a shell reports it: the code, or 128 + the signal that killed it.
@@ -162,4 +169,29 @@ TEST(InterruptedRun, AnInterruptedFirstRunLeavesAnEmptyFolder) {
     EXPECT_EQ(wait(pid), 128 + SIGTERM) << log(out);
     std::error_code ec;
     EXPECT_TRUE(!fs::exists(out) || fs::is_empty(out, ec));
+}
+
+// Issue 51, class 4: a capture of thousands of frames stages them in one hidden folder; a signal
+// in the middle removes the folder and all it holds, and the previous capture is untouched.
+TEST(InterruptedRun, SigintDuringALongCaptureRemovesItsStagingFolder) {
+    fs::path out = freshDir("sigint-capture");
+    pid_t pid = start(out, {"--backend", "cpu", "--sensor", "aps_c_rggb"});
+    ASSERT_EQ(wait(pid), 0) << log(out);
+    const auto before = snapshot(out);
+    ASSERT_EQ(before.size(), 6u);  // cube, PNG, raw PNG, DNG, JSON, electrons
+    pid = startMetamer(out, {"capture", (out / "small.exr").string(), "--sensor", "aps_c_rggb", "--frames", "100000",
+                             "--out", out.string()});
+    bool sawStaging = false;
+    for (auto t0 = Clock::now(); Clock::now() - t0 < std::chrono::seconds(60);) {
+        std::error_code ec;
+        for (const auto& e : fs::directory_iterator(out, ec))
+            if (e.path().filename().string().find(".staging-") != std::string::npos) sawStaging = true;
+        if (sawStaging || waitpid(pid, nullptr, WNOHANG) != 0) break;
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    ASSERT_TRUE(sawStaging) << log(out);
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));  // some hundreds of frames in
+    ASSERT_EQ(::kill(pid, SIGINT), 0);
+    EXPECT_EQ(wait(pid), 128 + SIGINT) << log(out);
+    EXPECT_TRUE(snapshot(out) == before) << "the folder changed";
 }
