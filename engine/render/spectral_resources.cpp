@@ -3,6 +3,7 @@
 #include "core/timing.h"
 #include "interface.h"
 #include "lobe_lookup.h"
+#include "render/transmittance_map_cost.h"
 
 #include <algorithm>
 #include <cstddef>
@@ -33,6 +34,19 @@ SpectralResources::SpectralResources(vk::Context& c, const Scene& s, const Scene
     if (hasTransmission && packed.responses)
         failRuntime("the response pass cannot show transparent objects (radiance through a filter is not linear in "
                     "each material's spectra): render bands (render/display_frame.cpp does)");
+    // The coloured shadows' cost grows with the transparent area the lights see × band layers:
+    // said when it is long, refused when it would take hours, before anything is drawn.
+    if (packed.filteredShadows) {
+        transmittanceCost = transmittanceMapCost(packed, TRANSMITTANCE_MAP_SIZE, int(plan.passes));
+        const Where where{scene.file.string(), "lights"};
+        if (transmittanceCost.seconds > kMaxTransmittanceMapSeconds)
+            failInput(where, "coloured shadows: {}, more than the {:g} s a scene's transmittance maps may take; cast "
+                      "shadows from fewer lights (\"shadows\": false), make the transparent objects fewer or smaller "
+                      "in the lights' view, or render fewer bands (docs/numerics.md, \"Scale of transparent scenes\")",
+                      describe(transmittanceCost), kMaxTransmittanceMapSeconds);
+        if (transmittanceCost.seconds > kSlowTransmittanceMapSeconds)
+            warn(where, "coloured shadows: " + describe(transmittanceCost) + " (drawn once per scene)");
+    }
     createBuffers();
     createShadowMaps();
     // The response pass reads response textures (render/spectral_packing.h) instead of spectral ones.

@@ -16,6 +16,7 @@
 #include "render/camera_matrices.h"
 #include "render/frame_pass.h"
 #include "render/spectral_packing.h"
+#include "render/transmittance_map_cost.h"
 #include "render/spectral_plan.h"
 #include "render/target_readback.h"
 #include "scene/scene.h"
@@ -102,6 +103,7 @@ struct SpectralResources {
     vk::Buffer shadowBuffer;  // GpuShadowBlock
     vk::OwnedSampler shadowSampler;
     double shadowMs = 0.0;    // the depth passes' time
+    TransmittanceMapCost transmittanceCost;  // the coloured shadows' maps, estimated before drawing
     // Textures (one image per SceneOnGrid texture, or per response texture in the response pass,
     // then a placeholder) and one descriptor set of set 1 per material.
     std::vector<vk::Image> textures;
