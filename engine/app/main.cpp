@@ -290,10 +290,7 @@ int main(int argc, char** argv) {
         CaptureFiles captured;
         if (!sensor.empty()) {
             // Before the render: a channel mode would write its image, then find no cube to capture.
-            if (!parseMode(job.mode, Where{"", "--mode"}).spectral())
-                failInput(Where{"", "--mode"},
-                          "'{}' renders channels, not spectra; --sensor captures a spectral cube (mode full or linear:K)",
-                          job.mode);
+            requireSpectralModeForSensor(job.mode, Where{"", "--mode"});
             const SpectrumLibrary library;
             readSensor(sensorFile(sensor, library), library);  // its mistakes before the render
             capture = CaptureRequest{};

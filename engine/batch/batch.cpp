@@ -243,11 +243,7 @@ ResolvedJob resolveJob(const Sweep& sweep, size_t position, const fs::path& out)
         if (r.capture) {
             // A sensor captures a spectral cube: a job in a channel mode would render, then fail
             // (issue 51, class 4); said now, by the run before its first render and by --dry-run.
-            if (!parseMode(r.render.mode, Where{"", "render.mode"}).spectral())
-                failInput(Where{"", "render.mode"},
-                          "'{}' renders channels, not spectra; a job with a sensor needs a spectral cube (mode full or "
-                          "linear:K)",
-                          r.render.mode);
+            requireSpectralModeForSensor(r.render.mode, Where{"", "render.mode"});
             // The sensor is read now, so that a mistake in it stops the batch before any render, and
             // its files join the job's inputs (an edited sensor re-captures the jobs that use it).
             const SpectrumLibrary library;

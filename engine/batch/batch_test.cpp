@@ -287,7 +287,7 @@ TEST(Batch, ASensorInAChannelModeIsRefusedBeforeAnythingRenders) {
         ADD_FAILURE() << "no error";
     } catch (const Error& e) {
         EXPECT_EQ(e.code(), ExitCode::BadInput);
-        EXPECT_NE(e.text().find("render.mode: 'rgb' renders channels, not spectra; a job with a sensor needs a spectral cube"),
+        EXPECT_NE(e.text().find("render.mode: 'rgb' renders channels, not spectra; a sensor captures a spectral cube"),
                   std::string::npos)
             << e.text();
     }

@@ -57,6 +57,12 @@ std::string Mode::name() const {
     return "?";
 }
 
+void requireSpectralModeForSensor(const std::string& mode, const Where& where) {
+    if (!parseMode(mode, where).spectral())
+        failInput(where, "'{}' renders channels, not spectra; a sensor captures a spectral cube (mode full or linear:K)",
+                  mode);
+}
+
 Mode parseMode(const std::string& text, const Where& where) {
     Mode m;
     if (text == "full") return m;

@@ -48,6 +48,10 @@ struct Mode {
 // Input errors name `where`.
 Mode parseMode(const std::string& text, const Where& where);
 
+// A simulated sensor captures a spectral cube: a channel mode (rgb, ac1c2) is an input error
+// naming `where` (`--mode`, a sweep's `render.mode`), said before anything renders.
+void requireSpectralModeForSensor(const std::string& mode, const Where& where);
+
 struct Representation {
     Mode mode;
     Grid grid;                                   // the scene's spectral grid
