@@ -121,6 +121,17 @@ MatrixXd solveReflection(const Problem& p, const Prepared& s, const MatrixXd& S,
     return S + scaleIn(w);
 }
 
+// The solution's error bound from its residual r (per band, out.residual): ‖B − B*‖∞ ≤ ‖r‖∞ /
+// (1 − contraction), absolute and relative to `largest` (the largest of B and E); none (∞) when the
+// contraction reaches 1, and 0 for a zero residual whatever the contraction.
+void setBound(Solution& out, double largest) {
+    const double inf = std::numeric_limits<double>::infinity();
+    const double gain = out.contraction < 1.0 ? 1.0 / (1.0 - out.contraction) : inf;
+    const double r = out.residual.size() ? out.residual.maxCoeff() : 0.0;
+    out.bound = r > 0.0 ? r * gain : 0.0;
+    out.relativeBound = largest > 0.0 ? out.bound / largest : (r == 0.0 ? 0.0 : inf);
+}
+
 }  // namespace
 
 std::string Solution::describe() const {
@@ -157,8 +168,7 @@ Solution solve(const Problem& p, double tolerance, int maxIterations, const Eige
         const double largest = std::max(out.radiosity.cwiseAbs().maxCoeff(), p.emission.cwiseAbs().maxCoeff());
         out.residual = residual.cwiseAbs().colwise().maxCoeff();
         const double r = out.residual.maxCoeff();
-        out.bound = r * gain;
-        out.relativeBound = largest > 0.0 ? out.bound / largest : (r == 0.0 ? 0.0 : inf);
+        setBound(out, largest);
         if (std::isfinite(gain) ? out.bound <= tolerance * largest : r <= tolerance * largest * 1e-3) break;
         if (out.iterations >= maxIterations) break;
         // From a first guess the residual may already be small: ask for what the bound needs
@@ -200,11 +210,7 @@ std::optional<Solution> rescaledSolution(const Problem& earlier, const Solution&
     out.radiosity = solved.radiosity * scale.asDiagonal();
     out.irradiance = solved.irradiance * scale.asDiagonal();
     out.residual = solved.residual.cwiseProduct(scale.cwiseAbs());
-    const double gain = solved.contraction < 1.0 ? 1.0 / (1.0 - solved.contraction) : std::numeric_limits<double>::infinity();
-    const double largest = std::max(out.radiosity.cwiseAbs().maxCoeff(), E1.cwiseAbs().maxCoeff());
-    const double r = out.residual.size() ? out.residual.maxCoeff() : 0.0;
-    out.bound = r > 0.0 ? r * gain : 0.0;
-    out.relativeBound = largest > 0.0 ? out.bound / largest : (r == 0.0 ? 0.0 : std::numeric_limits<double>::infinity());
+    setBound(out, std::max(out.radiosity.cwiseAbs().maxCoeff(), E1.cwiseAbs().maxCoeff()));
     out.iterations = 0;
     out.sweeps = 0;
     out.rescaled = true;
