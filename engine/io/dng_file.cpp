@@ -12,6 +12,14 @@ namespace metamer {
 
 namespace fs = std::filesystem;
 
+namespace {
+
+// DNG's PhotometricInterpretation for demosaiced or monochrome raw data (DNG 1.4, "LinearRaw");
+// libtiff defines PHOTOMETRIC_CFA but not this one.
+constexpr uint16_t kPhotometricLinearRaw = 34892;
+
+}  // namespace
+
 void writeDng(const fs::path& path, const DngRaw& raw) {
     AtomicOutput out(path);
     out.naming([&] {
@@ -32,7 +40,9 @@ void writeDng(const fs::path& path, const DngRaw& raw) {
         TIFFSetField(t, TIFFTAG_BITSPERSAMPLE, 16);
         TIFFSetField(t, TIFFTAG_SAMPLESPERPIXEL, 1);
         TIFFSetField(t, TIFFTAG_COMPRESSION, COMPRESSION_NONE);
-        TIFFSetField(t, TIFFTAG_PHOTOMETRIC, PHOTOMETRIC_CFA);
+        // A monochrome sensor is LinearRaw with one sample per pixel: DNG's form for a sensor
+        // without a colour filter array, and without colour calibration.
+        TIFFSetField(t, TIFFTAG_PHOTOMETRIC, raw.monochrome ? kPhotometricLinearRaw : PHOTOMETRIC_CFA);
         TIFFSetField(t, TIFFTAG_PLANARCONFIG, PLANARCONFIG_CONTIG);
         TIFFSetField(t, TIFFTAG_ROWSPERSTRIP, uint32_t(raw.height));
         TIFFSetField(t, TIFFTAG_MAKE, "Metamer");
@@ -42,15 +52,19 @@ void writeDng(const fs::path& path, const DngRaw& raw) {
         TIFFSetField(t, TIFFTAG_DNGVERSION, dngVersion);
         TIFFSetField(t, TIFFTAG_DNGBACKWARDVERSION, backward);
         TIFFSetField(t, TIFFTAG_UNIQUECAMERAMODEL, raw.model.c_str());
-        TIFFSetField(t, TIFFTAG_CFAREPEATPATTERNDIM, repeat);
-        TIFFSetField(t, TIFFTAG_CFAPATTERN, 4, raw.cfa.data());
-        TIFFSetField(t, TIFFTAG_CFAPLANECOLOR, 3, planeColor);
-        TIFFSetField(t, TIFFTAG_CFALAYOUT, 1);
+        if (!raw.monochrome) {
+            TIFFSetField(t, TIFFTAG_CFAREPEATPATTERNDIM, repeat);
+            TIFFSetField(t, TIFFTAG_CFAPATTERN, 4, raw.cfa.data());
+            TIFFSetField(t, TIFFTAG_CFAPLANECOLOR, 3, planeColor);
+            TIFFSetField(t, TIFFTAG_CFALAYOUT, 1);
+        }
         TIFFSetField(t, TIFFTAG_BLACKLEVEL, 1, &black);
         TIFFSetField(t, TIFFTAG_WHITELEVEL, 1, &white);
-        TIFFSetField(t, TIFFTAG_COLORMATRIX1, 9, matrix);
-        TIFFSetField(t, TIFFTAG_CALIBRATIONILLUMINANT1, 21);  // D65
-        TIFFSetField(t, TIFFTAG_ASSHOTNEUTRAL, 3, neutral);
+        if (!raw.monochrome) {
+            TIFFSetField(t, TIFFTAG_COLORMATRIX1, 9, matrix);
+            TIFFSetField(t, TIFFTAG_CALIBRATIONILLUMINANT1, 21);  // D65
+            TIFFSetField(t, TIFFTAG_ASSHOTNEUTRAL, 3, neutral);
+        }
         for (int y = 0; y < raw.height; ++y)
             if (TIFFWriteScanline(t, const_cast<uint16_t*>(raw.pixels + size_t(y) * raw.width), uint32_t(y), 0) < 0)
                 failRuntime("cannot write row {} of {}", y, out.tempPath().string());

@@ -9,6 +9,7 @@
 #include "python/errors.h"
 #include "python/render_class.h"
 #include "sensor/capture.h"
+#include "io/atomic_file.h"
 #include "sensor/capture_files.h"
 #include "spectral/library.h"
 
@@ -28,7 +29,8 @@ namespace {
 
 // metamer.capture: the simulated sensor (docs/sensor.md) on a Render's cube or a cube file.
 py::dict capture(const py::object& source, const py::object& sensorName, const py::object& seedArg,
-                 const py::object& frameArg, const py::object& framesArg, const py::object& exposureArg, bool noise) {
+                 const py::object& frameArg, const py::object& framesArg, const py::object& exposureArg, bool noise,
+                 const py::object& outArg) {
     discardPendingWarning();
     const uint64_t seed = unsignedInteger(seedArg, "seed"), frame = unsignedInteger(frameArg, "frame");
     const int frames = int(integer(framesArg, "frames", INT_MIN, INT_MAX));
@@ -73,11 +75,12 @@ py::dict capture(const py::object& source, const py::object& sensorName, const p
         // Between frames Python's signal handlers run: Ctrl-C stops a long capture there.
         if (PyErr_CheckSignals() != 0) throw py::error_already_set();
         py::gil_scoped_release release;
-        const std::vector<uint16_t> r = digitize(e.electrons, e.width, sensor, CaptureNoise{noise, seed, frame + uint64_t(f)});
+        const std::vector<uint16_t> r = digitize(e, sensor, CaptureNoise{noise, seed, frame + uint64_t(f)});
         out = std::copy(r.begin(), r.end(), out);
     }
     py::array_t<double> electrons({h, w});
-    std::copy(e.electrons.begin(), e.electrons.end(), electrons.mutable_data());
+    const std::vector<double> recorded = e.recordedMean();
+    std::copy(recorded.begin(), recorded.end(), electrons.mutable_data());
     py::list cfa;
     for (const auto& row : sensor.cfa) {
         py::list names;
@@ -97,6 +100,33 @@ py::dict capture(const py::object& source, const py::object& sensorName, const p
     d["seed"] = seed;
     d["frame"] = frame;
     d["sensor"] = sensor.file.string();
+    if (!outArg.is_none()) {
+        // The files `metamer capture` writes — raw PNGs, DNGs, JSON, electrons — byte for byte,
+        // into `out`, all put in place together (the frames are digitized again for them).
+        CaptureRequest request;
+        request.sensor = pathOf(sensorName, "sensor").string();
+        request.seed = seed;
+        request.frame = frame;
+        request.frames = frames;
+        request.exposure = exposure;
+        request.noise = noise;
+        if (py::isinstance<Render>(source)) {
+            request.stem = source.cast<const Render&>().captured.stem;
+            request.cubeName = request.stem + " (a metamer.Render in memory)";
+        } else {
+            request.cube = pathOf(source, "source");
+        }
+        StagingFolder staging(pathOf(outArg, "out"), "capture");
+        CaptureFiles files;
+        {
+            py::gil_scoped_release release;
+            files = stageCaptureOfCube(cube, request, library, staging);
+            commitTogether({}, {&staging});
+        }
+        py::list written;
+        for (const auto& f : files.files) written.append(f.string());
+        d["files"] = written;
+    }
     return d;
 }
 
@@ -105,9 +135,12 @@ py::dict capture(const py::object& source, const py::object& sensorName, const p
 void bindCapture(py::module_& m) {
     m.def("capture", &capture, py::arg("source"), py::arg("sensor"), py::kw_only(), py::arg("seed") = 0,
           py::arg("frame") = 0, py::arg("frames") = 1, py::arg("exposure") = py::none(), py::arg("noise") = true,
+          py::arg("out") = py::none(),
           "What a simulated sensor records from a Render's cube or a cube file (docs/sensor.md): a dict with raw "
           "(rows × columns uint16 digital numbers; frames × rows × columns when frames > 1), electrons (the "
-          "expected electrons, float64), channels, cfa, black and white levels, conversion gain, exposure");
+          "mean recorded electrons μe + DSNU offset, float64), channels, cfa, black and white levels, conversion "
+          "gain, exposure; with out=FOLDER also the files `metamer capture` writes (raw PNG, DNG, JSON per frame, "
+          "the electrons EXR), listed under files");
 }
 
 }  // namespace metamer::python

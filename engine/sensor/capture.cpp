@@ -72,10 +72,12 @@ ExpectedElectrons expectedElectrons(const SpectralCube& cube, const SensorSpec& 
     const size_t bands = size_t(grid.bands());
     const std::vector<double> nm = grid.wavelengths(), lens = resample(sensor.lensTransmittance, grid);
     // Electrons per second per pixel from radiance L in band b on channel c:
-    // A · π·T(λ)/(4N²(1 + m)²) · QE_c(λ) · λ/(hc) · Δλ · L — the camera equation's irradiance,
-    // in photons, through the channel (cos⁴θ per pixel below).
-    const double optics = std::numbers::pi / (4.0 * sensor.fNumber * sensor.fNumber *
-                                              (1.0 + sensor.magnification) * (1.0 + sensor.magnification));
+    // A · π·T(λ)/(1 + 4N²(1 + m)²) · QE_c(λ) · λ/(hc) · Δλ · L — the camera equation's irradiance,
+    // in photons, through the channel (cos⁴θ per pixel below). π·L·sin²θ' with the image-side
+    // cone's sin θ' = 1/√(1 + 4N_w²), N_w = N(1 + m) the working f-number: EMVA 1288's and
+    // ISETCam's form (docs/sensor.md); 4N_w² alone is its small-angle limit.
+    const double workingF = sensor.fNumber * (1.0 + sensor.magnification);
+    const double optics = std::numbers::pi / (1.0 + 4.0 * workingF * workingF);
     std::vector<std::vector<double>> weights;
     for (size_t c = 0; c < sensor.quantumEfficiency.size(); ++c)
         if (const CoverageGap gap = coverage(sensor.quantumEfficiency[c], grid); !gap.overlaps)
@@ -106,10 +108,12 @@ ExpectedElectrons expectedElectrons(const SpectralCube& cube, const SensorSpec& 
         double r = 0.0;
         for (size_t b = 0; b < bands; ++b) r += weights[size_t(c)][b] * double(L[b]);
         if (sensor.cos4) {
-            // θ between the optical axis and the ray to the pixel's centre, the lens focal length
-            // away: tan θ = (distance on the sensor) / f.
+            // θ between the optical axis and the ray from the exit pupil to the pixel's centre: a
+            // thin lens focused at magnification m has its image f(1 + m) behind it, so
+            // tan θ = (distance on the sensor) / (f(1 + m)).
             const double dx = (x + 0.5 - cx) * sensor.pitch_um * 1e-3, dy = (y + 0.5 - cy) * sensor.pitch_um * 1e-3;
-            const double c2 = 1.0 / (1.0 + (dx * dx + dy * dy) / (sensor.focalLength_mm * sensor.focalLength_mm));
+            const double image = sensor.focalLength_mm * (1.0 + sensor.magnification);
+            const double c2 = 1.0 / (1.0 + (dx * dx + dy * dy) / (image * image));
             r *= c2 * c2;
         }
         if (!std::isfinite(r) || r < 0.0) {
@@ -139,15 +143,28 @@ ExpectedElectrons expectedElectrons(const SpectralCube& cube, const SensorSpec& 
         out.autoExposed = true;
     }
     out.electrons.resize(pixels);
+    const bool dsnu = fixedPattern && sensor.dsnu_e > 0.0;
+    if (dsnu) out.darkOffset.resize(pixels);
     forEachPixel(pixels, threads, [&](size_t i) {
-        const double gain = fixedPattern ? prnuGain(sensor, i) : 1.0, offset = fixedPattern ? dsnuOffset(sensor, i) : 0.0;
-        out.electrons[i] = std::max(0.0, out.exposure_s * (rate[i] * gain + sensor.darkCurrent_e_per_s) + offset);
+        const double gain = fixedPattern ? prnuGain(sensor, i) : 1.0;
+        out.electrons[i] = out.exposure_s * (rate[i] * gain + sensor.darkCurrent_e_per_s);
+        if (dsnu) out.darkOffset[i] = dsnuOffset(sensor, i);
     });
     return out;
 }
 
+std::vector<double> ExpectedElectrons::recordedMean() const {
+    std::vector<double> m = electrons;
+    for (size_t i = 0; i < darkOffset.size(); ++i) m[i] += darkOffset[i];
+    return m;
+}
+
+std::vector<uint16_t> digitize(const ExpectedElectrons& e, const SensorSpec& sensor, const CaptureNoise& noise) {
+    return digitize(e.electrons, e.width, sensor, noise, e.darkOffset.empty() ? nullptr : &e.darkOffset);
+}
+
 std::vector<uint16_t> digitize(const std::vector<double>& expected, int width, const SensorSpec& sensor,
-                               const CaptureNoise& noise) {
+                               const CaptureNoise& noise, const std::vector<double>* darkOffset) {
     std::vector<uint16_t> raw(expected.size());
     const double white = double(sensor.whiteLevel());
     (void)width;
@@ -163,6 +180,9 @@ std::vector<uint16_t> digitize(const std::vector<double>& expected, int width, c
         } else {
             electrons = std::min(expected[i], sensor.fullWell_e);
         }
+        // DSNU: the pixel's dark-signal offset, after the shot noise and the full well, like the
+        // read noise (EMVA 1288): it may take a dark pixel below the black level.
+        if (darkOffset) electrons += (*darkOffset)[i];
         const double dn = std::nearbyint(sensor.gain_dn_per_e * electrons) + sensor.blackLevel_dn;
         raw[i] = uint16_t(std::clamp(dn, 0.0, white));
     });

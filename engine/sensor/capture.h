@@ -28,8 +28,16 @@ struct ExpectedElectrons {
     int width = 0, height = 0;
     double exposure_s = 0.0;
     bool autoExposed = false;
-    std::vector<double> electrons;  // μe per pixel, row 0 at the top: signal·(1 + PRNU) + dark + DSNU, ≥ 0
-    std::vector<uint8_t> channel;   // the CFA's channel per pixel
+    // μe per pixel, row 0 at the top: t·(signal·(1 + PRNU) + dark current), ≥ 0 — the mean of the
+    // Poisson count the pixel collects.
+    std::vector<double> electrons;
+    // o per pixel: the DSNU offset (e⁻, of either sign), added after the shot noise as EMVA 1288
+    // defines it; empty without DSNU (or without fixed patterns).
+    std::vector<double> darkOffset;
+    std::vector<uint8_t> channel;  // the CFA's channel per pixel
+    // μe + o: the mean signal the pixel records, in electrons, before the full well, read noise and
+    // quantization (`<stem>.electrons.exr`); negative where DSNU takes a dark pixel below 0.
+    std::vector<double> recordedMean() const;
 };
 
 // That every value of `cube` is finite radiance ≥ 0: else an input error at `where` (the cube's
@@ -52,9 +60,12 @@ struct CaptureNoise {
     int threads = 0;         // 0: one per CPU; the result is the same for any count
 };
 
-// The raw image: digital numbers per pixel, 0 … 2^bits − 1.
+// The raw image: digital numbers per pixel, 0 … 2^bits − 1: DN = round(K·(min(Poisson(μe), full
+// well) + o + σ_r·z)) + black, clipped (without noise: round(K·(min(μe, full well) + o)) + black).
+std::vector<uint16_t> digitize(const ExpectedElectrons& expected, const SensorSpec& sensor, const CaptureNoise& noise);
+// The same from μe alone, with the dark offsets o when given.
 std::vector<uint16_t> digitize(const std::vector<double>& expectedElectrons, int width, const SensorSpec& sensor,
-                               const CaptureNoise& noise);
+                               const CaptureNoise& noise, const std::vector<double>* darkOffset = nullptr);
 
 // The fixed patterns of `sensor` at pixel index i (y·width + x): its gain factor 1 + PRNU·z₁ and
 // its dark offset DSNU·z₂ in electrons, z standard normal from the sensor's fpn_seed.

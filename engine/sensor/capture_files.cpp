@@ -52,7 +52,7 @@ void checkCaptureNumbers(std::optional<double> exposure, uint64_t frame, int fra
 CaptureFiles stageCapture(const CaptureRequest& a, const SpectrumLibrary& library, StagingFolder& staging) {
     checkCaptureNumbers(a.exposure, a.frame, a.frames, "--");
     const fs::path& cubeName = a.cubeName.empty() ? a.cube : a.cubeName;
-    const SensorSpec sensor = readSensor(sensorFile(a.sensor, library), library);
+    readSensor(sensorFile(a.sensor, library), library);  // its mistakes before the cube is read
     SpectralCube cube;
     try {
         cube = readRadianceCube(a.cube);
@@ -60,12 +60,24 @@ CaptureFiles stageCapture(const CaptureRequest& a, const SpectrumLibrary& librar
         rethrowNaming(e, a.cube.string(), cubeName.string());
     }
     requireRadiance(cube, Where{cubeName.string()});
+    CaptureRequest named = a;
+    named.cubeName = cubeName;
+    return stageCaptureOfCube(cube, named, library, staging);
+}
+
+CaptureFiles stageCaptureOfCube(const SpectralCube& cube, const CaptureRequest& a, const SpectrumLibrary& library,
+                                StagingFolder& staging) {
+    checkCaptureNumbers(a.exposure, a.frame, a.frames, "--");
+    const fs::path& cubeName = a.cubeName.empty() ? a.cube : a.cubeName;
+    const SensorSpec sensor = readSensor(sensorFile(a.sensor, library), library);
     const ExpectedElectrons e = expectedElectrons(cube, sensor, a.exposure, a.noise);
     CaptureFiles written;
     written.exposure_s = e.exposure_s;
     written.autoExposed = e.autoExposed;
     // An RGB Bayer sensor's frames are also DNGs, with the colour data a raw converter needs.
     const std::optional<SensorColour> colour = sensorColour(sensor, library);
+    // A monochrome sensor's frames are DNGs too (LinearRaw); a multispectral tile has no DNG form.
+    const bool dngWritten = colour || sensor.cfaName == "mono";
     const std::string stem = a.stem.empty() ? cubeName.stem().string() : a.stem;
     auto stage = [&](const std::string& filename) {
         written.files.push_back(staging.finalPath(filename));
@@ -73,7 +85,8 @@ CaptureFiles stageCapture(const CaptureRequest& a, const SpectrumLibrary& librar
     };
 
     // The truth: expected electrons per pixel, float.
-    std::vector<float> electrons(e.electrons.begin(), e.electrons.end());
+    const std::vector<double> recorded = e.recordedMean();
+    std::vector<float> electrons(recorded.begin(), recorded.end());
     writeImage(stage(stem + ".electrons.exr"), ImageFile{e.width, e.height, {"electrons"}, {}}, electrons);
     nlohmann::ordered_json cfa = nlohmann::ordered_json::array();
     for (const auto& row : sensor.cfa) {
@@ -83,27 +96,30 @@ CaptureFiles stageCapture(const CaptureRequest& a, const SpectrumLibrary& librar
     }
     for (int f = 0; f < a.frames; ++f) {
         const uint64_t frame = a.frame + uint64_t(f);
-        const std::vector<uint16_t> raw = digitize(e.electrons, e.width, sensor, CaptureNoise{a.noise, a.seed, frame});
+        const std::vector<uint16_t> raw = digitize(e, sensor, CaptureNoise{a.noise, a.seed, frame});
         const std::string name = a.frames == 1 ? stem + ".raw" : fmt::format("{}.raw.{}", stem, frame);
         std::vector<uint16_t> counts(raw.begin(), raw.end());
         writeImage(stage(name + ".png"), ImageFile{e.width, e.height, {"Y"}, {}}, counts, 16);
-        if (colour) {
+        if (dngWritten) {
             DngRaw dng;
             dng.width = e.width;
             dng.height = e.height;
             dng.pixels = raw.data();
-            dng.cfa = colour->cfa;
+            dng.monochrome = !colour;
+            if (colour) {
+                dng.cfa = colour->cfa;
+                dng.colorMatrix1 = colour->xyzToCamera;
+                dng.asShotNeutral = colour->asShotNeutral;
+            }
             dng.blackLevel = sensor.blackLevel_dn;
             dng.whiteLevel = sensor.whiteLevel();
-            dng.colorMatrix1 = colour->xyzToCamera;
-            dng.asShotNeutral = colour->asShotNeutral;
             dng.model = "Metamer " + sensor.file.stem().string();
             dng.description = sensor.description;
             writeDng(stage(name + ".dng"), dng);
         }
         nlohmann::ordered_json meta = {
             {"raw", name + ".png"},
-            {"dng", colour ? nlohmann::ordered_json(name + ".dng") : nlohmann::ordered_json(nullptr)},
+            {"dng", dngWritten ? nlohmann::ordered_json(name + ".dng") : nlohmann::ordered_json(nullptr)},
             {"electrons", stem + ".electrons.exr"},
             {"cube", cubeName.string()},
             {"sensor", sensor.file.string()},
@@ -135,7 +151,7 @@ CaptureFiles stageCapture(const CaptureRequest& a, const SpectrumLibrary& librar
         }
         writeFileAtomically(stage(name + ".json"), meta.dump(2) + "\n");
         written.lines.push_back(fmt::format("wrote {}{} ({}×{}, {}, exposure {:.6g} s{}, {})",
-                                            staging.finalPath(name + ".png").string(), colour ? " and .dng" : "",
+                                            staging.finalPath(name + ".png").string(), dngWritten ? " and .dng" : "",
                                             e.width, e.height, sensor.cfaName, e.exposure_s,
                                             e.autoExposed ? " (auto)" : "",
                                             a.noise ? fmt::format("seed {}, frame {}", a.seed, frame)

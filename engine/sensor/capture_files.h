@@ -62,6 +62,11 @@ class StagingFolder;
 // (io/atomic_file.h, commitTogether). Errors name the cube as request.cubeName.
 CaptureFiles stageCapture(const CaptureRequest& request, const SpectrumLibrary& library, StagingFolder& staging);
 
+// The same for a cube already in memory (checked with requireRadiance by the caller), named
+// request.cubeName in the metadata (the Python module's `out`).
+CaptureFiles stageCaptureOfCube(const SpectralCube& cube, const CaptureRequest& request, const SpectrumLibrary& library,
+                                StagingFolder& staging);
+
 // The same for a render's cube before the render's files are renamed into place (`files`, as a
 // render's BeforeCommitHook receives them: render/render_job_spec.h): the cube is read where it
 // waits and named by its final path, and what is staged is committed with the render, so `render

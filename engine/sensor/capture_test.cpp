@@ -48,19 +48,27 @@ Moments moments(const std::vector<uint16_t>& v) {
 }  // namespace
 
 TEST(SensorCapture, TheCameraEquationInPhotons) {
-    // Constant radiance L₀ in every band: μe = t · A · π·T/(4N²) · QE · Σ λ/(hc) · Δλ · L₀.
+    // Constant radiance L₀ in every band: μe = t · A · π·T/(1 + 4N²(1 + m)²) · QE · Σ λ/(hc) · Δλ · L₀
+    // (EMVA 1288 and ISETCam's form), A the pixel's whole area: the QE includes the fill factor.
     const Grid grid{400, 700, 10};
     SpectralCube cube(3, 2, grid);
     std::fill(cube.data.begin(), cube.data.end(), 0.02f);
-    const SensorSpec s = testSensor();
+    SensorSpec s = testSensor();
     const ExpectedElectrons e = expectedElectrons(cube, s);
     double photonsPerWatt = 0.0;
     for (double nm : grid.wavelengths()) photonsPerWatt += nm * 1e-9 / (6.62607015e-34 * 299792458.0) * 10.0;
-    const double want = 0.01 * (25e-12 * 0.8) * std::numbers::pi * 0.9 / (4 * 2.8 * 2.8) * 0.5 * photonsPerWatt *
+    const double want = 0.01 * 25e-12 * std::numbers::pi * 0.9 / (1 + 4 * 2.8 * 2.8) * 0.5 * photonsPerWatt *
                         double(0.02f);
     ASSERT_EQ(e.electrons.size(), 6u);
     for (double v : e.electrons) EXPECT_NEAR(v / want, 1.0, 1e-12);
     EXPECT_EQ(e.exposure_s, 0.01);
+    // A photodiode's own QE is multiplied by the fill factor (0.8); a magnification of 0.5 makes the
+    // working f-number 4.2.
+    s.qeIncludesFillFactor = false;
+    s.magnification = 0.5;
+    const ExpectedElectrons near = expectedElectrons(cube, s);
+    const double wantNear = want * 0.8 * (1 + 4 * 2.8 * 2.8) / (1 + 4 * 4.2 * 4.2);
+    for (double v : near.electrons) EXPECT_NEAR(v / wantNear, 1.0, 1e-12);
 }
 
 TEST(SensorCapture, CosineFourthFalloffAndTheCfa) {
@@ -74,6 +82,14 @@ TEST(SensorCapture, CosineFourthFalloffAndTheCfa) {
     const ExpectedElectrons falloff = expectedElectrons(cube, s);
     const double d2 = 2 * 7.5e-3 * 7.5e-3, c2 = 1.0 / (1.0 + d2 / (0.01 * 0.01));
     EXPECT_NEAR(falloff.electrons[0] / flat.electrons[0], c2 * c2, 1e-12);
+    // Focused at magnification m, the image lies f(1 + m) behind the lens: tan θ = r / (f(1 + m))
+    // (issue 48: at m = 0.05 the old r / f differed by up to 111 DN).
+    s.magnification = 0.05;
+    const ExpectedElectrons near = expectedElectrons(cube, s);
+    s.cos4 = false;
+    const ExpectedElectrons nearFlat = expectedElectrons(cube, s);
+    const double c2m = 1.0 / (1.0 + d2 / (0.0105 * 0.0105));
+    EXPECT_NEAR(near.electrons[0] / nearFlat.electrons[0], c2m * c2m, 1e-12);
     // RGGB-like tile {{0, 1}, {1, 2}}: channel 1's QE is half of channel 0's, channel 2's a third.
     EXPECT_EQ(flat.channel[0], 0);
     EXPECT_EQ(flat.channel[1], 1);
@@ -151,6 +167,48 @@ TEST(SensorCapture, PhotonTransferSlopeIsKAndInterceptIsReadNoisePlusQuantizatio
     EXPECT_NEAR(intercept, 0.25 * 0.25 * 9.0 + 1.0 / 12.0, 0.05);
 }
 
+// DSNU as EMVA 1288 defines it (issue 48, item 4): the spatial σ of the dark signal, an offset added
+// after the shot noise that may be negative. Its estimator — the spatial variance of the dark image
+// averaged over L frames, less the temporal variance over L — gives back dsnu_e, and the mean dark
+// level stays at the black level. (Drawn inside the Poisson mean and clamped at 0, as it was, a
+// σ of 2 e⁻ measured about 0.58σ, and the black level rose by σ/√(2π).)
+TEST(SensorCapture, DsnuIsMeasuredAsEmva1288EstimatesItAndLeavesTheBlackLevel) {
+    const Grid grid{500, 600, 50};
+    const int w = 256, h = 256, frames = 16;
+    SpectralCube dark(w, h, grid);  // all zero: no light
+    SensorSpec s = testSensor();
+    s.dsnu_e = 2.0;
+    s.readNoise_e = 1.0;
+    s.blackLevel_dn = 100;
+    s.darkCurrent_e_per_s = 0.0;
+    const ExpectedElectrons e = expectedElectrons(dark, s);
+    const size_t n = size_t(w) * size_t(h);
+    std::vector<double> sum(n, 0.0), sumSquares(n, 0.0);
+    for (int f = 0; f < frames; ++f) {
+        const std::vector<uint16_t> raw = digitize(e, s, CaptureNoise{true, 9, uint64_t(f)});
+        for (size_t i = 0; i < n; ++i) {
+            sum[i] += raw[i];
+            sumSquares[i] += double(raw[i]) * raw[i];
+        }
+    }
+    double mean = 0.0, temporal = 0.0;
+    for (size_t i = 0; i < n; ++i) {
+        mean += sum[i] / frames;
+        temporal += (sumSquares[i] - sum[i] * sum[i] / frames) / (frames - 1);
+    }
+    mean /= double(n);
+    temporal /= double(n);
+    double spatial = 0.0;
+    for (size_t i = 0; i < n; ++i) spatial += (sum[i] / frames - mean) * (sum[i] / frames - mean);
+    spatial /= double(n - 1);
+    const double dsnu = std::sqrt(spatial - temporal / frames) / s.gain_dn_per_e;
+    std::printf("DSNU measured %.4f e- (dsnu_e 2), dark mean %.4f DN (black 100), temporal variance %.4f DN²\n", dsnu,
+                mean, temporal);
+    EXPECT_NEAR(dsnu, 2.0, 0.04);             // 2 %: the estimate's spread over 65 536 pixels is 0.3 %
+    EXPECT_NEAR(mean, 100.0, 0.05);           // the offsets' mean, 0 ± 2/256
+    EXPECT_NEAR(temporal, 1.0 + 1.0 / 12.0, 0.03);  // read noise and quantization only
+}
+
 TEST(SensorCapture, FramesDifferOnlyInTemporalNoise) {
     // Two frames of one sensor (same fixed pattern, other temporal seeds): each carries the PRNU;
     // their difference does not.
@@ -205,8 +263,8 @@ TEST(SensorCapture, AnyThreadCountGivesTheSameNumbers) {
     for (int threads : {2, 3, 7}) {
         const ExpectedElectrons many = expectedElectrons(cube, s, std::nullopt, true, threads);
         EXPECT_EQ(many.electrons, one.electrons) << threads;
-        EXPECT_EQ(digitize(many.electrons, 300, s, CaptureNoise{true, 5, 1, threads}),
-                  digitize(one.electrons, 300, s, CaptureNoise{true, 5, 1, 1}))
+        EXPECT_EQ(many.darkOffset, one.darkOffset) << threads;
+        EXPECT_EQ(digitize(many, s, CaptureNoise{true, 5, 1, threads}), digitize(one, s, CaptureNoise{true, 5, 1, 1}))
             << threads;
     }
 }

@@ -155,7 +155,15 @@ SensorSpec readSensor(const fs::path& file, const SpectrumLibrary& library) {
                              "{\"table\": a library table or a .csv file of one column per channel, \"peak\": the "
                              "largest QE}");
     asObject(qe, qw);
-    checkKeys(qe, qw, {"table", "peak"}, "the quantum efficiency");
+    checkKeys(qe, qw, {"table", "peak", "includes_fill_factor"}, "the quantum efficiency");
+    // EMVA 1288's QE is the pixel's: photons on its whole area, fill factor and microlenses
+    // included. A photodiode's own QE (false) is multiplied by the fill factor.
+    if (const Json* f = find(qe, "includes_fill_factor")) {
+        if (!f->is_boolean())
+            failInput(qw.child("includes_fill_factor"), "expected true (EMVA 1288: the QE per pixel area, the default) "
+                      "or false (the photodiode's QE, multiplied by pixel.fill_factor); got {}", jsonTypeName(*f));
+        s.qeIncludesFillFactor = f->get<bool>();
+    }
     const std::string table = string(require(qe, qw, "table", "a table of one column per channel"), qw.child("table"));
     const double peak = numberIn(require(qe, qw, "peak", "the largest quantum efficiency of any channel, 0 … 1"),
                                  qw.child("peak"), 0, 1, true, false);

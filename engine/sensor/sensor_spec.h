@@ -20,12 +20,12 @@ struct SensorSpec {
     std::filesystem::path file;
     std::string description;
 
-    // Optics: the camera equation E = π·L·T·cos⁴θ / (4N²(1 + m)²).
+    // Optics: the camera equation E = π·L·T·cos⁴θ / (1 + 4N²(1 + m)²).
     double fNumber = 4.0;            // N
     Spectrum lensTransmittance;      // T(λ), 0 … 1 (constant 1 when not given)
     double magnification = 0.0;      // m (0: a distant scene)
     bool cos4 = false;               // the natural vignetting cos⁴θ …
-    double focalLength_mm = 0.0;     // … with θ from the pixel's distance to the centre and f
+    double focalLength_mm = 0.0;     // … with tan θ = (the pixel's distance to the centre) / (f(1 + m))
 
     // The pixel.
     double pitch_um = 0.0;           // square pixels
@@ -33,6 +33,9 @@ struct SensorSpec {
     std::vector<std::string> channels;  // names, in the quantum-efficiency table's column order
     std::vector<Spectrum> quantumEfficiency;  // per channel: electrons per photon, 0 … 1
     std::string qeSource;            // the table, and the peak it was scaled to
+    // EMVA 1288's definition (true): the QE counts photons on the whole pixel, the fill factor
+    // included; false: the photodiode's, multiplied by fillFactor.
+    bool qeIncludesFillFactor = true;
     // The colour filter array: a tile of channel indices, rows × columns, repeated over the sensor
     // from its top-left pixel; pixel (x, y) has channel cfa[y % rows][x % columns].
     std::vector<std::vector<int>> cfa;
@@ -52,7 +55,9 @@ struct SensorSpec {
     uint64_t fpnSeed = 1;            // the fixed-pattern maps' seed: one sensor, one pattern
     std::vector<std::filesystem::path> inputs;  // the files it was read from (itself, its tables)
 
-    double pixelArea_m2() const { return pitch_um * pitch_um * 1e-12 * fillFactor; }
+    // The area the QE's photons are counted on: the pixel's, times the fill factor when the QE
+    // does not include it.
+    double pixelArea_m2() const { return pitch_um * pitch_um * 1e-12 * (qeIncludesFillFactor ? 1.0 : fillFactor); }
     uint32_t whiteLevel() const { return (1u << adcBits) - 1u; }
     int channelAt(int x, int y) const {
         const auto& row = cfa[size_t(y) % cfa.size()];

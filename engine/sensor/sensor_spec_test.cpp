@@ -112,6 +112,23 @@ TEST_F(SensorFile, MistakesNameTheKey) {
     j = base();  // issue 51, class 2: 10⁻³⁰⁰ mm made every pixel NaN, blamed on the cube
     j["optics"]["cos4_focal_length_mm"] = 1e-300;
     EXPECT_NE(error(j).find("optics.cos4_focal_length_mm"), std::string::npos) << error(j);
+    j = base();
+    j["quantum_efficiency"]["includes_fill_factor"] = "yes";
+    EXPECT_NE(error(j).find("quantum_efficiency.includes_fill_factor: expected true (EMVA 1288"), std::string::npos)
+        << error(j);
+}
+
+// Issue 48, item 4: the QE is EMVA 1288's (per pixel area, the fill factor included) unless the file
+// says it is the photodiode's; only then does the fill factor scale the area.
+TEST_F(SensorFile, TheFillFactorScalesOnlyAPhotodiodesQe) {
+    auto j = base();
+    j["pixel"]["fill_factor"] = 0.6;
+    const SensorSpec emva = read(j);
+    EXPECT_TRUE(emva.qeIncludesFillFactor);
+    EXPECT_DOUBLE_EQ(emva.pixelArea_m2(), emva.pitch_um * emva.pitch_um * 1e-12);
+    j["quantum_efficiency"]["includes_fill_factor"] = false;
+    const SensorSpec diode = read(j);
+    EXPECT_DOUBLE_EQ(diode.pixelArea_m2(), emva.pixelArea_m2() * 0.6);
 }
 
 // Channels whose quantum efficiencies are linearly dependent leave the ColorChecker fit singular:

@@ -46,7 +46,8 @@ def cube(tmp_path_factory):
 
 
 def expected_electrons(cube_path, sensor, exposure):
-    """The camera equation in numpy: μe = t·A·π·T/(4N²)·Σ QE_c(λ)·λ/(hc)·Δλ·L(λ), the CFA's channel per pixel."""
+    """The camera equation in numpy: μe = t·A·π·T/(1 + 4N²)·Σ QE_c(λ)·λ/(hc)·Δλ·L(λ) (EMVA 1288 and ISETCam's
+    form at magnification 0), the CFA's channel per pixel; A the whole pixel (the QE includes the fill factor)."""
     buf = oiio.ImageBuf(str(cube_path))
     spec = buf.spec()
     names = [spec.channelnames[i] for i in range(spec.nchannels)]
@@ -56,9 +57,9 @@ def expected_electrons(cube_path, sensor, exposure):
     qe = np.stack([np.interp(nm, table[:, 0], table[:, c], left=0, right=0) for c in (1, 2, 3)])
     qe *= sensor["quantum_efficiency"]["peak"] / table[:, 1:].max()
     optics = sensor["optics"]
-    area = (sensor["pixel"]["pitch_um"] * 1e-6) ** 2 * sensor["pixel"]["fill_factor"]
+    area = (sensor["pixel"]["pitch_um"] * 1e-6) ** 2
     step = nm[1] - nm[0]
-    w = area * np.pi * optics["transmittance"] / (4 * optics["f_number"] ** 2) * qe * (nm * 1e-9) / (H * C) * step
+    w = area * np.pi * optics["transmittance"] / (1 + 4 * optics["f_number"] ** 2) * qe * (nm * 1e-9) / (H * C) * step
     rate = np.einsum("yxb,cb->yxc", L, w)                       # every channel at every pixel
     rows, cols = np.indices(rate.shape[:2])
     channel = np.array([[0, 1], [1, 2]])[rows % 2, cols % 2]    # RGGB
@@ -218,3 +219,32 @@ def test_a_capture_that_fails_at_a_later_frame_writes_no_frame(cube, tmp_path):
     run("capture", cube, "--sensor", SENSOR, "--out", tmp_path / "ok", "--frames", "4")
     assert sorted(files_in(tmp_path / "ok")) == sorted(
         ["metamers.electrons.exr"] + [f"metamers.raw.{f}.{e}" for f in range(4) for e in ("png", "dng", "json")])
+
+
+def test_a_monochrome_sensors_frames_are_linear_raw_dngs_rawpy_reads(cube, tmp_path):
+    """Issue 48, item 4: a monochrome sensor writes DNG too — LinearRaw, one sample per pixel."""
+    import rawpy
+    run("capture", cube, "--sensor", "mono_silicon", "--out", tmp_path, "--seed", 2)
+    meta = json.loads((tmp_path / "metamers.raw.json").read_text())
+    assert meta["dng"] == "metamers.raw.dng"
+    png = read(tmp_path / "metamers.raw.png", oiio.UINT16)[..., 0]
+    with rawpy.imread(str(tmp_path / "metamers.raw.dng")) as r:
+        np.testing.assert_array_equal(r.raw_image_visible.reshape(png.shape), png)
+        assert r.num_colors == 1 or r.raw_colors_visible.max() == 0
+        assert r.white_level == 2 ** meta["adc_bits"] - 1
+
+
+def test_python_capture_writes_the_clis_files_byte_for_byte(cube, tmp_path):
+    """Issue 48, item 4: metamer.capture(..., out=FOLDER) writes what `metamer capture` does, DNG included."""
+    import metamer
+    run("capture", cube, "--sensor", SENSOR, "--out", tmp_path / "cli", "--seed", 6, "--frames", 2)
+    c = metamer.capture(cube, str(SENSOR), seed=6, frames=2, out=tmp_path / "py")
+    names = sorted(Path(f).name for f in c["files"])
+    assert names == sorted(p.name for p in (tmp_path / "cli").iterdir())
+    for name in names:
+        if name.endswith(".json"):
+            a, b = (json.loads((tmp_path / d / name).read_text()) for d in ("cli", "py"))
+            assert a == b, name
+        else:
+            assert (tmp_path / "cli" / name).read_bytes() == (tmp_path / "py" / name).read_bytes(), name
+    np.testing.assert_array_equal(c["raw"][1], read(tmp_path / "py" / "metamers.raw.1.png", oiio.UINT16)[..., 0])

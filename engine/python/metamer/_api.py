@@ -301,8 +301,10 @@ def capture(
     frames: int = 1,
     exposure: Optional[float] = None,
     noise: bool = True,
+    out: Optional[PathLike] = None,
 ) -> dict[str, Any]:
-    return _metamer.capture(source, sensor, seed=seed, frame=frame, frames=frames, exposure=exposure, noise=noise)
+    return _metamer.capture(source, sensor, seed=seed, frame=frame, frames=frames, exposure=exposure, noise=noise,
+                            out=out)
 
 
 def _engine_doc(function: Any) -> str:
