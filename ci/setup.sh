@@ -13,7 +13,7 @@ packages=(
   libglm-dev libeigen3-dev libfmt-dev nlohmann-json3-dev libcli11-dev libtinygltf-dev
   libopenexr-dev libpng-dev libtiff-dev libopenimageio-dev openimageio-tools
   libglfw3-dev libimgui-dev xvfb fonts-dejavu-core
-  libgtest-dev libssl-dev libhdf5-dev liblcms2-dev pybind11-dev
+  libgtest-dev libssl-dev libhdf5-dev liblcms2-dev pybind11-dev libfftw3-dev
   slurmctld slurmd slurm-client munge
   clang libclang-rt-14-dev
   python3 python3-dev python3-venv python3-pip python3-openimageio python3-numpy python3-pytest

@@ -66,8 +66,12 @@ void requireRadiance(const SpectralCube& cube, const Where& where) {
     }
 }
 
-ExpectedElectrons expectedElectrons(const SpectralCube& cube, const SensorSpec& sensor, std::optional<double> exposure_s,
+ExpectedElectrons expectedElectrons(const SpectralCube& scene, const SensorSpec& sensor, std::optional<double> exposure_s,
                                     bool fixedPattern, int threads) {
+    // The lens's blur per band first (sensor/lens.h): the pixels see the optical image.
+    std::optional<SpectralCube> optical;
+    if (sensor.lens) optical = throughLens(scene, *sensor.lens, sensor.lensGeometry(), threads);
+    const SpectralCube& cube = optical ? *optical : scene;
     const Grid& grid = cube.grid;
     const size_t bands = size_t(grid.bands());
     const std::vector<double> nm = grid.wavelengths(), lens = resample(sensor.lensTransmittance, grid);

@@ -305,3 +305,24 @@ TEST(SensorCapture, BadRadianceIsNamedAtTheCubeAndAQeOutsideTheGridAtTheSensor) 
             << e.message();
     }
 }
+
+// A sensor with a lens (issue 48, item 1) sees the optical image: a flat field keeps its electrons
+// away from the frame's edges, and the lens file's mistakes name their key.
+TEST(SensorCapture, ALensBlursButKeepsAFlatFieldsElectrons) {
+    const Grid grid{400, 700, 10};
+    SpectralCube cube(64, 64, grid);
+    std::fill(cube.data.begin(), cube.data.end(), 0.02f);
+    for (int b = 0; b < grid.bands(); ++b) cube.pixel(24, 24)[b] = 1.0f;  // a point, to be spread
+    SensorSpec s = testSensor();
+    const ExpectedElectrons sharp = expectedElectrons(cube, s);
+    s.lens = LensSpec{};
+    s.lens->defocus_um = 30.0;
+    const ExpectedElectrons blurred = expectedElectrons(cube, s);
+    EXPECT_NEAR(blurred.electrons[size_t(50) * 64 + 50] / sharp.electrons[size_t(50) * 64 + 50], 1.0, 1e-6);
+    EXPECT_LT(blurred.electrons[size_t(24) * 64 + 24], 0.5 * sharp.electrons[size_t(24) * 64 + 24]);
+    // Within the kernel's reach of the point (11 pixels) and farther than it from the frame's edge.
+    double a = 0.0, b = 0.0;
+    for (int y = 12; y < 37; ++y)
+        for (int x = 12; x < 37; ++x) a += sharp.electrons[size_t(y) * 64 + x], b += blurred.electrons[size_t(y) * 64 + x];
+    EXPECT_NEAR(b / a, 1.0, 1e-5);  // the point's light is near it, not lost
+}

@@ -69,6 +69,50 @@ Spectrum transmittance(const Json& v, const Where& w, const fs::path& dir, const
 }
 
 // The CFA's tile from "RGGB"-like letters: each letter the channel whose name starts with it.
+// A lens quantity per wavelength: a number (the same at every λ) or {"wavelengths_nm": [...],
+// "values": [...]} (linear between the points, the end values beyond), each value in [lo, hi].
+Spectrum perWavelength(const Json& v, const Where& w, double lo, double hi, const char* unit) {
+    Spectrum s;
+    if (v.is_number()) return Spectrum::makeConstant(numberIn(v, w, lo, hi, false, false, unit));
+    if (!v.is_object())
+        failInput(w, "expected a number{} or {{\"wavelengths_nm\": [...], \"values\": [...]}}; got {}", unit,
+                  describe(v));
+    checkKeys(v, w, {"wavelengths_nm", "values"}, "a value per wavelength");
+    const Json& nm = require(v, w, "wavelengths_nm", "increasing wavelengths, nm");
+    const Json& values = require(v, w, "values", "a value per wavelength");
+    if (!nm.is_array() || !values.is_array() || nm.size() != values.size() || nm.size() < 2)
+        failInput(w, "expected as many values as wavelengths (at least two)");
+    for (size_t i = 0; i < nm.size(); ++i) {
+        s.wavelengths_nm.push_back(number(nm[i], w.child("wavelengths_nm").index(i)));
+        s.values.push_back(numberIn(values[i], w.child("values").index(i), lo, hi, false, false, unit));
+    }
+    s.source = "inline";
+    s.validate(w);
+    return s;
+}
+
+LensSpec readLens(const Json& v, const Where& w) {
+    asObject(v, w);
+    checkKeys(v, w, {"diffraction", "defocus_um", "longitudinal_ca_um", "lateral_ca", "pixel_aperture", "olpf_um"},
+              "the lens");
+    LensSpec lens;
+    auto flag = [&](const char* key, bool& out) {
+        if (const Json* b = find(v, key)) {
+            if (!b->is_boolean()) failInput(w.child(key), "expected true or false; got {}", describe(*b));
+            out = b->get<bool>();
+        }
+    };
+    flag("diffraction", lens.diffraction);
+    flag("pixel_aperture", lens.pixelAperture);
+    // A millimetre of defocus is a blur wider than any sensor's pixels at f/1000; a 10 % lateral
+    // CA a lens no one would use: beyond them a number is a mistake.
+    if (const Json* d = find(v, "defocus_um")) lens.defocus_um = numberIn(*d, w.child("defocus_um"), -1e4, 1e4, false, false, " µm");
+    if (const Json* c = find(v, "longitudinal_ca_um")) lens.focusShift_um = perWavelength(*c, w.child("longitudinal_ca_um"), -1e4, 1e4, " µm");
+    if (const Json* c = find(v, "lateral_ca")) lens.lateralCa = perWavelength(*c, w.child("lateral_ca"), -0.1, 0.1, "");
+    if (const Json* o = find(v, "olpf_um")) lens.olpf_um = numberIn(*o, w.child("olpf_um"), 0, 100, false, false, " µm");
+    return lens;
+}
+
 std::vector<std::vector<int>> cfaFromLetters(const std::string& letters, const std::vector<std::string>& channels,
                                              const Where& w) {
     std::vector<int> tile;
@@ -128,7 +172,8 @@ SensorSpec readSensor(const fs::path& file, const SpectrumLibrary& library) {
     if (const Json* o = find(doc, "optics")) {
         const Where ow = root.child("optics");
         asObject(*o, ow);
-        checkKeys(*o, ow, {"f_number", "transmittance", "magnification", "cos4_focal_length_mm"}, "the optics");
+        checkKeys(*o, ow, {"f_number", "transmittance", "magnification", "cos4_focal_length_mm", "lens"}, "the optics");
+        if (const Json* l = find(*o, "lens")) s.lens = readLens(*l, ow.child("lens"));
         if (const Json* n = find(*o, "f_number")) s.fNumber = numberIn(*n, ow.child("f_number"), 0.5, 1000, false, false);
         if (const Json* t = find(*o, "transmittance"))
             s.lensTransmittance = transmittance(*t, ow.child("transmittance"), dir, library, s.inputs);

@@ -5,6 +5,7 @@
 // Tests: sensor/sensor_spec_test.cpp, tests/bad-inputs (the sensor- cases).
 #pragma once
 
+#include "sensor/lens.h"
 #include "spectral/library.h"
 #include "spectral/spectrum.h"
 
@@ -26,6 +27,8 @@ struct SensorSpec {
     double magnification = 0.0;      // m (0: a distant scene)
     bool cos4 = false;               // the natural vignetting cos⁴θ …
     double focalLength_mm = 0.0;     // … with tan θ = (the pixel's distance to the centre) / (f(1 + m))
+    std::optional<LensSpec> lens;    // the lens's blur per wavelength (sensor/lens.h); none: a perfect lens
+    LensGeometry lensGeometry() const { return {pitch_um * 1e-3, fillFactor, fNumber * (1.0 + magnification)}; }
 
     // The pixel.
     double pitch_um = 0.0;           // square pixels

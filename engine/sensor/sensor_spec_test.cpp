@@ -147,3 +147,25 @@ TEST_F(SensorFile, LinearlyDependentChannelsHaveNoColourMatrix) {
     }
     EXPECT_TRUE(sensorColour(readSensor(library.root() / "sensors" / "aps_c_rggb.json", library), library).has_value());
 }
+
+TEST_F(SensorFile, ALensIsReadWithItsKeysChecked) {
+    auto j = base();
+    j["optics"]["lens"] = nlohmann::ordered_json::parse(
+        R"({"defocus_um": -12, "longitudinal_ca_um": {"wavelengths_nm": [450, 650], "values": [-20, 15]},
+            "lateral_ca": 0.001, "olpf_um": 2.5, "pixel_aperture": false})");
+    const SensorSpec s = read(j);
+    ASSERT_TRUE(s.lens.has_value());
+    EXPECT_TRUE(s.lens->diffraction);
+    EXPECT_FALSE(s.lens->pixelAperture);
+    EXPECT_EQ(s.lens->defocus_um, -12.0);
+    EXPECT_EQ(s.lens->olpf_um, 2.5);
+    EXPECT_EQ(s.lens->focusShift_um->values, (std::vector<double>{-20, 15}));
+    EXPECT_TRUE(s.lens->lateralCa->isConstant());
+    EXPECT_FALSE(read(base()).lens.has_value());  // no lens: nothing runs
+    j["optics"]["lens"] = nlohmann::ordered_json::parse(R"({"defocus": 3})");
+    EXPECT_NE(error(j).find("optics.lens.defocus: "), std::string::npos) << error(j);
+    j["optics"]["lens"] = nlohmann::ordered_json::parse(R"({"lateral_ca": 0.5})");
+    EXPECT_NE(error(j).find("optics.lens.lateral_ca: "), std::string::npos) << error(j);
+    j["optics"]["lens"] = nlohmann::ordered_json::parse(R"({"diffraction": "yes"})");
+    EXPECT_NE(error(j).find("optics.lens.diffraction: expected true or false"), std::string::npos) << error(j);
+}
