@@ -6,7 +6,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 
 using namespace metamer;
@@ -185,5 +188,25 @@ TEST(Lens, TheKernelsMtfIsTheDiffractionMtfTimesThePixelsSincPerBand) {
             const double want = 2.0 / kPi * (std::acos(nu) - nu * std::sqrt(1.0 - nu * nu)) * sinc;
             EXPECT_NEAR(mtf, want, 0.01) << nm << " nm, ν = " << nu;
         }
+    }
+}
+
+// The lens's cost (docs/performance.md, "The lens"): a figure, not an assertion. Run with
+// --gtest_also_run_disabled_tests --gtest_filter='Lens.DISABLED_Timing*'.
+TEST(Lens, DISABLED_TimingThroughLens) {
+    LensSpec lens;
+    lens.defocus_um = 10.0;
+    const LensGeometry g{0.00478, 1.0, 4.0};  // the bundled APS-C sensor's pixels at f/4
+    for (int side : {1024, 2048}) {
+        SpectralCube cube(side, side, Grid{300, 740, 5});
+        for (size_t i = 0; i < cube.data.size(); ++i) cube.data[i] = float(i % 1013) / 1013.0f;
+        std::vector<double> ms;
+        for (int run = 0; run < 3; ++run) {
+            const auto t0 = std::chrono::steady_clock::now();
+            const SpectralCube out = throughLens(cube, lens, g);
+            ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+        }
+        std::sort(ms.begin(), ms.end());
+        std::printf("lens: %d² × 89 bands: median %.0f ms of 3 (%.2f ms a band)\n", side, ms[1], ms[1] / 89.0);
     }
 }
