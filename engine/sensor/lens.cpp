@@ -23,7 +23,7 @@ double sinc(double x) { return std::abs(x) < 1e-12 ? 1.0 : std::sin(kPi * x) / (
 
 // A spectrum's value at λ: linear between its points, the end values beyond them.
 double valueAt(const Spectrum& s, double nm) {
-    if (s.isConstant()) return s.values.empty() ? 0.0 : s.values.front();
+    if (s.isConstant()) return *s.constant;
     const auto& w = s.wavelengths_nm;
     if (nm <= w.front()) return s.values.front();
     if (nm >= w.back()) return s.values.back();
@@ -46,6 +46,25 @@ int fftSize(int n) {
 }
 
 }  // namespace
+
+double zernike(int j, double rho, double theta) {
+    int n = 0;
+    while ((n + 1) * (n + 2) / 2 < j) ++n;
+    const int k = j - n * (n + 1) / 2 - 1;  // 0 … n within the order
+    const int m = n % 2 == 0 ? 2 * ((k + 1) / 2) : 2 * (k / 2) + 1;
+    double radial = 0.0;
+    auto factorial = [](int x) {
+        double f = 1.0;
+        for (int i = 2; i <= x; ++i) f *= i;
+        return f;
+    };
+    for (int s = 0; s <= (n - m) / 2; ++s)
+        radial += (s % 2 ? -1.0 : 1.0) * factorial(n - s) /
+                  (factorial(s) * factorial((n + m) / 2 - s) * factorial((n - m) / 2 - s)) * std::pow(rho, n - 2 * s);
+    if (m == 0) return std::sqrt(double(n + 1)) * radial;
+    const double norm = std::sqrt(2.0 * (n + 1)) * radial;
+    return j % 2 == 0 ? norm * std::cos(m * theta) : norm * std::sin(m * theta);
+}
 
 double defocusDiameter_mm(const LensSpec& lens, const LensGeometry& g, double nm) {
     const double dz_um = lens.defocus_um + (lens.focusShift_um ? valueAt(*lens.focusShift_um, nm) : 0.0);
@@ -88,29 +107,64 @@ LensKernel lensKernel(const LensSpec& lens, const LensGeometry& g, double nm) {
     const double cutoff = lens.diffraction ? 1.0 / (nm * 1e-6 * g.workingF) : 0.0;
     const int s = std::clamp(int(std::ceil(2.0 * cutoff * g.pitch_mm)) + 1, 4, 16);
     const int M = fftSize(2 * k.radius + 1), N = s * M;
-    const int C = N / 2 + 1;
     const double fine = g.pitch_mm / s;  // the fine grid's spacing
-    // H(f) = OTF(f) · sinc(p·f) (the scene's pixel: a square of constant radiance) on the fine
-    // grid's frequencies; its inverse transform sampled at the pixels' centres is the kernel.
-    fftw_complex* spectrum;
-    double* psf;
-    fftw_plan plan;
+    const size_t NN = size_t(N) * size_t(N);
+    fftw_complex *h, *work;
+    fftw_plan inverse, forward;
     {
         std::lock_guard<std::mutex> lock(g_planner);
-        spectrum = fftw_alloc_complex(size_t(N) * size_t(C));
-        psf = fftw_alloc_real(size_t(N) * size_t(N));
-        plan = fftw_plan_dft_c2r_2d(N, N, spectrum, psf, FFTW_ESTIMATE);
+        h = fftw_alloc_complex(NN);
+        work = fftw_alloc_complex(NN);
+        inverse = fftw_plan_dft_2d(N, N, h, h, FFTW_BACKWARD, FFTW_ESTIMATE);
+        forward = fftw_plan_dft_2d(N, N, work, work, FFTW_FORWARD, FFTW_ESTIMATE);
     }
-    for (int ky = 0; ky < N; ++ky) {
-        const double fy = double(ky <= N / 2 ? ky : ky - N) / (N * fine);
-        for (int kx = 0; kx < C; ++kx) {
-            const double fx = double(kx) / (N * fine);
-            const double h = lensTransfer(lens, g, nm, fx, fy) * sinc(g.pitch_mm * fx) * sinc(g.pitch_mm * fy);
-            spectrum[size_t(ky) * C + size_t(kx)][0] = h;
-            spectrum[size_t(ky) * C + size_t(kx)][1] = 0.0;
+    auto frequency = [&](int k) { return double(k <= N / 2 ? k : k - N) / (N * fine); };
+    // An aberrated pupil (Zernike terms at this λ): its OTF computed, not closed-form — the
+    // coherent transfer function circ(|f|/(f_c/2))·exp(−2πi·W), W in waves over the unit pupil,
+    // its inverse transform squared (the PSF), transformed back and normalized to 1 at f = 0.
+    std::vector<double> waves(lens.zernike.size());
+    bool aberrated = false;
+    for (size_t j = 0; j < waves.size(); ++j) aberrated |= (waves[j] = valueAt(lens.zernike[j], nm)) != 0.0;
+    if (aberrated) {
+        const double pupil = 0.5 * cutoff;  // the CTF's radius, cycles/mm
+        for (int ky = 0; ky < N; ++ky)
+            for (int kx = 0; kx < N; ++kx) {
+                const double fx = frequency(kx), fy = frequency(ky), rho = std::hypot(fx, fy) / pupil;
+                fftw_complex& c = h[size_t(ky) * N + size_t(kx)];
+                if (rho > 1.0) {
+                    c[0] = c[1] = 0.0;
+                    continue;
+                }
+                const double theta = std::atan2(fy, fx);
+                double w = 0.0;
+                for (size_t j = 0; j < waves.size(); ++j)
+                    if (waves[j] != 0.0) w += waves[j] * zernike(int(j) + 1, rho, theta);
+                c[0] = std::cos(2.0 * kPi * w);
+                c[1] = -std::sin(2.0 * kPi * w);
+            }
+        fftw_execute(inverse);  // the amplitude PSF, in place
+        for (size_t i = 0; i < NN; ++i) {
+            work[i][0] = h[i][0] * h[i][0] + h[i][1] * h[i][1];
+            work[i][1] = 0.0;
         }
+        fftw_execute(forward);  // the OTF, unnormalized: work[0] is the PSF's total
+        const double dc = work[0][0];
+        for (size_t i = 0; i < NN; ++i) work[i][0] /= dc, work[i][1] /= dc;
     }
-    fftw_execute(plan);
+    // H(f) = OTF(f) · sinc(p·f) (the scene's pixel: a square of constant radiance) on the fine
+    // grid's frequencies; its inverse transform sampled at the pixels' centres is the kernel.
+    LensSpec rest = lens;
+    rest.diffraction = lens.diffraction && !aberrated;  // the pupil's OTF holds the diffraction
+    for (int ky = 0; ky < N; ++ky)
+        for (int kx = 0; kx < N; ++kx) {
+            const double fx = frequency(kx), fy = frequency(ky);
+            const double r = lensTransfer(rest, g, nm, fx, fy) * sinc(g.pitch_mm * fx) * sinc(g.pitch_mm * fy);
+            const size_t i = size_t(ky) * N + size_t(kx);
+            h[i][0] = aberrated ? r * work[i][0] : r;
+            h[i][1] = aberrated ? r * work[i][1] : 0.0;
+        }
+    fftw_execute(inverse);
+    auto psfAt = [&](size_t fy, size_t fx) { return h[fy * size_t(N) + fx][0]; };
     const int side = 2 * k.radius + 1;
     k.weights.assign(size_t(side) * size_t(side), 0.0);
     double sum = 0.0;
@@ -119,7 +173,7 @@ LensKernel lensKernel(const LensSpec& lens, const LensGeometry& g, double nm) {
             const size_t fy = size_t(((y * s) % N + N) % N), fx = size_t(((x * s) % N + N) % N);
             // ≥ 0: the kernel is a convolution of non-negative functions; the fine grid's round-off
             // and truncation leave only tiny negatives.
-            const double v = std::max(psf[fy * size_t(N) + fx], 0.0);
+            const double v = std::max(psfAt(fy, fx), 0.0);
             k.weights[size_t(y + k.radius) * side + size_t(x + k.radius)] = v;
             sum += v;
         }
@@ -130,9 +184,10 @@ LensKernel lensKernel(const LensSpec& lens, const LensGeometry& g, double nm) {
     for (double& v : k.weights) v /= sum;
     {
         std::lock_guard<std::mutex> lock(g_planner);
-        fftw_destroy_plan(plan);
-        fftw_free(spectrum);
-        fftw_free(psf);
+        fftw_destroy_plan(inverse);
+        fftw_destroy_plan(forward);
+        fftw_free(h);
+        fftw_free(work);
     }
     return k;
 }

@@ -24,7 +24,14 @@ struct LensSpec {
     std::optional<Spectrum> lateralCa;      // lateral CA: relative magnification change per λ (0.001 = +0.1 %)
     bool pixelAperture = true;        // the pixel integrates over its square aperture, pitch·√fill factor
     double olpf_um = 0.0;             // a 4-spot birefringent low-pass filter's spot separation, µm (0: none)
+    // The wavefront error over the exit pupil, in waves per λ: zernike[j − 1] is Noll's term j
+    // (RMS-normalized over the unit disc: Z₂ = 2ρ cos θ, Z₄ = √3(2ρ² − 1), …). With any term, the
+    // pupil's OTF is computed from it (diffraction included) instead of the closed form.
+    std::vector<Spectrum> zernike;
 };
+
+// Noll's Zernike term j ≥ 1 at (ρ, θ) on the unit disc (Noll 1976, J. Opt. Soc. Am. 66, 207).
+double zernike(int j, double rho, double theta);
 
 struct LensGeometry {
     double pitch_mm = 0.0;            // the sensor's pixel pitch

@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <charconv>
 #include <cctype>
 #include <cmath>
 
@@ -93,7 +94,8 @@ Spectrum perWavelength(const Json& v, const Where& w, double lo, double hi, cons
 
 LensSpec readLens(const Json& v, const Where& w) {
     asObject(v, w);
-    checkKeys(v, w, {"diffraction", "defocus_um", "longitudinal_ca_um", "lateral_ca", "pixel_aperture", "olpf_um"},
+    checkKeys(v, w, {"diffraction", "defocus_um", "longitudinal_ca_um", "lateral_ca", "pixel_aperture", "olpf_um",
+                     "zernike_waves"},
               "the lens");
     LensSpec lens;
     auto flag = [&](const char* key, bool& out) {
@@ -110,6 +112,22 @@ LensSpec readLens(const Json& v, const Where& w) {
     if (const Json* c = find(v, "longitudinal_ca_um")) lens.focusShift_um = perWavelength(*c, w.child("longitudinal_ca_um"), -1e4, 1e4, " µm");
     if (const Json* c = find(v, "lateral_ca")) lens.lateralCa = perWavelength(*c, w.child("lateral_ca"), -0.1, 0.1, "");
     if (const Json* o = find(v, "olpf_um")) lens.olpf_um = numberIn(*o, w.child("olpf_um"), 0, 100, false, false, " µm");
+    // {"4": 0.05, "7": {"wavelengths_nm": [...], "values": [...]}}: Noll's index → waves (RMS).
+    if (const Json* z = find(v, "zernike_waves")) {
+        const Where zw = w.child("zernike_waves");
+        asObject(*z, zw);
+        for (const auto& [key, value] : z->items()) {
+            int j = 0;
+            const auto [end, ec] = std::from_chars(key.data(), key.data() + key.size(), j);
+            if (ec != std::errc() || end != key.data() + key.size() || j < 1 || j > 36)
+                failInput(zw.child(key), "expected Noll's index of a Zernike term, 1 … 36, as the key");
+            if (lens.zernike.size() < size_t(j)) lens.zernike.resize(size_t(j), Spectrum::makeConstant(0.0));
+            // Ten waves RMS is a blur no Zernike sum describes well on a grid that holds the pupil.
+            lens.zernike[size_t(j - 1)] = perWavelength(value, zw.child(key), -10, 10, " waves");
+        }
+        if (!lens.diffraction && !lens.zernike.empty())
+            failInput(w.child("diffraction"), "a wavefront (zernike_waves) is the aperture's: it needs diffraction");
+    }
     return lens;
 }
 

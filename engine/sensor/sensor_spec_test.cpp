@@ -166,6 +166,14 @@ TEST_F(SensorFile, ALensIsReadWithItsKeysChecked) {
     EXPECT_NE(error(j).find("optics.lens.defocus: "), std::string::npos) << error(j);
     j["optics"]["lens"] = nlohmann::ordered_json::parse(R"({"lateral_ca": 0.5})");
     EXPECT_NE(error(j).find("optics.lens.lateral_ca: "), std::string::npos) << error(j);
+    j["optics"]["lens"] = nlohmann::ordered_json::parse(R"({"zernike_waves": {"4": 0.05, "11": {"wavelengths_nm": [400, 700], "values": [0.1, -0.1]}}})");
+    const SensorSpec z = read(j);
+    ASSERT_EQ(z.lens->zernike.size(), 11u);
+    EXPECT_EQ(*z.lens->zernike[3].constant, 0.05);
+    EXPECT_EQ(*z.lens->zernike[0].constant, 0.0);
+    EXPECT_EQ(z.lens->zernike[10].values, (std::vector<double>{0.1, -0.1}));
+    j["optics"]["lens"] = nlohmann::ordered_json::parse(R"({"zernike_waves": {"0": 0.05}})");
+    EXPECT_NE(error(j).find("optics.lens.zernike_waves.0: expected Noll's index"), std::string::npos) << error(j);
     j["optics"]["lens"] = nlohmann::ordered_json::parse(R"({"diffraction": "yes"})");
     EXPECT_NE(error(j).find("optics.lens.diffraction: expected true or false"), std::string::npos) << error(j);
 }
