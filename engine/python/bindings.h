@@ -15,6 +15,7 @@ void bindRenderClass(py::module_& m);   // python/render_class.cpp: Render, its 
 void bindRender(py::module_& m);        // python/render.cpp: render, the Vulkan contexts
 void bindCompare(py::module_& m);       // python/compare.cpp: compare, load_cube
 void bindCapture(py::module_& m);       // python/capture.cpp: capture
+void bindCamera(py::module_& m);        // python/camera.cpp: demosaic, slanted_edge_sfr
 void bindKubelkaMunk(py::module_& m);   // python/kubelka_munk.cpp: the kubelka_munk submodule
 
 }  // namespace metamer::python

@@ -31,6 +31,7 @@ PYBIND11_MODULE(_metamer, m) {
     python::bindRender(m);
     python::bindCompare(m);
     python::bindCapture(m);
+    python::bindCamera(m);
     m.def("_spectra_root", [] { return SpectrumLibrary::defaultRoot().string(); },
           "The spectra library a render reads when METAMER_SPECTRA is not set: the package's own copy "
           "when installed (tests)");

@@ -307,6 +307,19 @@ def capture(
                             out=out)
 
 
+@_keywords_checked
+def demosaic(mosaic: Any, *, cfa: str = "RGGB", method: str = "bilinear") -> Any:
+    import numpy
+    return _metamer.demosaic(numpy.ascontiguousarray(mosaic, dtype=numpy.float64), cfa, method)
+
+
+@_keywords_checked
+def slanted_edge_sfr(image: Any) -> dict[str, Any]:
+    import numpy
+    result: dict[str, Any] = _metamer.slanted_edge_sfr(numpy.ascontiguousarray(image, dtype=numpy.float64))
+    return result
+
+
 def _engine_doc(function: Any) -> str:
     """The extension's docstring without pybind11's signature line (the signature is this module's)."""
     doc = function.__doc__ or ""
@@ -329,3 +342,5 @@ compare.__doc__ = _engine_doc(_metamer.compare) + (
     "floats (inf, nan).")
 load_cube.__doc__ = _engine_doc(_metamer.load_cube)
 capture.__doc__ = _engine_doc(_metamer.capture)
+demosaic.__doc__ = _engine_doc(_metamer.demosaic)
+slanted_edge_sfr.__doc__ = _engine_doc(_metamer.slanted_edge_sfr)
