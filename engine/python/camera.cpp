@@ -3,6 +3,7 @@
 // arguments to C-ordered float64 first.
 // Tests: tests/python/test_isp.py.
 #include "core/error.h"
+#include "isp/colour_correction.h"
 #include "isp/demosaic.h"
 #include "python/bindings.h"
 #include "python/numpy_views.h"
@@ -56,9 +57,34 @@ py::dict sfr(const py::buffer& image) {
     return d;
 }
 
+// Rows of three: a C-ordered float64 N × 3 array as N vectors.
+std::vector<glm::dvec3> triples(const py::buffer& b, const char* name) {
+    int w = 0, h = 0;
+    const std::vector<double> v = plane(b, name, w, h);
+    if (w != 3) failInput(Where{"", name}, "expected N × 3 values (a row per patch); got {} columns", w);
+    std::vector<glm::dvec3> out;
+    for (int i = 0; i < h; ++i) out.push_back(glm::dvec3(v[size_t(i) * 3], v[size_t(i) * 3 + 1], v[size_t(i) * 3 + 2]));
+    return out;
+}
+
+py::array fitCorrection(const py::buffer& rgb, const py::buffer& xyz, const std::string& form) {
+    const ColourCorrection c = fitColourCorrection(parseCorrectionForm(form, Where{"", "form"}), triples(rgb, "rgb"),
+                                                   triples(xyz, "xyz"), Where{"", "rgb"});
+    const std::vector<py::ssize_t> shape{3, py::ssize_t(c.columns.size())};
+    py::array a(py::dtype::of<double>(), shape, cStrides<double>(shape));
+    double* out = static_cast<double*>(a.mutable_data());
+    for (size_t t = 0; t < c.columns.size(); ++t)
+        for (int r = 0; r < 3; ++r) out[size_t(r) * c.columns.size() + t] = c.columns[t][r];
+    return a;
+}
+
 }  // namespace
 
 void bindCamera(py::module_& m) {
+    m.def("fit_colour_correction", &fitCorrection, py::arg("rgb"), py::arg("xyz"), py::arg("form"),
+          "The least-squares colour correction from white-balanced camera RGB (N × 3) to XYZ (N × 3): a 3 × 3 "
+          "matrix (form 'linear') or Finlayson's root-polynomial of degree 2, 3 × 6 over the terms r, g, b, "
+          "√(rg), √(gb), √(rb) ('root-polynomial'); XYZ = M · terms");
     m.def("demosaic", &demosaicArray, py::arg("mosaic"), py::arg("cfa"), py::arg("method"),
           "A Bayer mosaic (rows × columns, float64) to rows × columns × 3 (R, G, B): bilinear, or Malvar, He and "
           "Cutler's gradient-corrected interpolation (malvar2004); borders mirrored as scipy's 'reflect'");

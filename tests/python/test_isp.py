@@ -60,3 +60,18 @@ def test_the_sfr_of_a_blurred_edge_is_its_gaussian_mtf():
     fine = np.linspace(0, 0.5, 5001)
     closed = np.exp(-2 * np.pi ** 2 * sigma ** 2 * fine ** 2) * np.sinc(fine * np.cos(angle)) * np.sinc(fine * np.sin(angle))
     assert sfr["mtf50"] == pytest.approx(fine[np.argmax(closed <= 0.5)], abs=0.005)
+
+
+@pytest.mark.parametrize("form,degree", [("linear", 1), ("root-polynomial", 2)])
+def test_the_colour_correction_equals_colour_sciences_finlayson_fit(form, degree):
+    import metamer
+    from colour.characterisation import matrix_colour_correction_Finlayson2015
+    rng = np.random.default_rng(3)
+    rgb = rng.random((24, 3))
+    xyz = rgb @ np.array([[0.6, 0.2, 0.1], [0.3, 0.7, 0.1], [0.05, 0.1, 0.9]]).T + 0.02 * rng.random((24, 3))
+    ours = metamer.fit_colour_correction(rgb, xyz, form=form)
+    theirs = matrix_colour_correction_Finlayson2015(rgb, xyz, degree=degree, root_polynomial_expansion=True)
+    assert ours.shape == theirs.shape == (3, 3 if degree == 1 else 6)
+    np.testing.assert_allclose(ours, theirs, rtol=1e-9, atol=1e-12)
+    with pytest.raises(metamer.InputError, match="form: 'cubic' is not a colour correction"):
+        metamer.fit_colour_correction(rgb, xyz, form="cubic")

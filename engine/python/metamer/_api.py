@@ -320,6 +320,13 @@ def slanted_edge_sfr(image: Any) -> dict[str, Any]:
     return result
 
 
+@_keywords_checked
+def fit_colour_correction(rgb: Any, xyz: Any, *, form: str = "linear") -> Any:
+    import numpy
+    return _metamer.fit_colour_correction(numpy.ascontiguousarray(rgb, dtype=numpy.float64),
+                                          numpy.ascontiguousarray(xyz, dtype=numpy.float64), form)
+
+
 def _engine_doc(function: Any) -> str:
     """The extension's docstring without pybind11's signature line (the signature is this module's)."""
     doc = function.__doc__ or ""
@@ -344,3 +351,4 @@ load_cube.__doc__ = _engine_doc(_metamer.load_cube)
 capture.__doc__ = _engine_doc(_metamer.capture)
 demosaic.__doc__ = _engine_doc(_metamer.demosaic)
 slanted_edge_sfr.__doc__ = _engine_doc(_metamer.slanted_edge_sfr)
+fit_colour_correction.__doc__ = _engine_doc(_metamer.fit_colour_correction)
