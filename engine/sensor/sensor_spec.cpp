@@ -25,52 +25,7 @@ fs::path tablePath(const std::string& name, const fs::path& dir, const SpectrumL
     return library.root() / (name + ".csv");
 }
 
-// T(λ): a number, a table name or {"wavelengths_nm": [...], "values": [...]}; 0 … 1.
-Spectrum transmittance(const Json& v, const Where& w, const fs::path& dir, const SpectrumLibrary& library,
-                       std::vector<fs::path>& inputs) {
-    Spectrum s;
-    if (v.is_number()) {
-        s = Spectrum::makeConstant(numberIn(v, w, 0, 1, false, false));
-    } else if (v.is_string()) {
-        const std::string name = string(v, w);
-        if (endsWithCsv(name)) {
-            const fs::path p = tablePath(name, dir, library);
-            requireRegularFile(p, w, "transmittance file");
-            inputs.push_back(p);
-            try {
-                s = readSpectrumCsv(p);
-            } catch (const Error& e) {
-                failInput(w, "{}", e.text());
-            }
-        } else {
-            s = library.get(name, w);
-        }
-    } else if (v.is_object()) {
-        checkKeys(v, w, {"wavelengths_nm", "values"}, "an inline spectrum");
-        const Json& nm = require(v, w, "wavelengths_nm", "increasing wavelengths, nm");
-        const Json& values = require(v, w, "values", "a value per wavelength");
-        if (!nm.is_array() || !values.is_array() || nm.size() != values.size() || nm.size() < 2)
-            failInput(w, "expected as many values as wavelengths (at least two)");
-        for (size_t i = 0; i < nm.size(); ++i) {
-            s.wavelengths_nm.push_back(number(nm[i], w.child("wavelengths_nm").index(i)));
-            s.values.push_back(numberIn(values[i], w.child("values").index(i), 0, 1, false, false));
-        }
-        s.source = "inline";
-        s.validate(w);
-    } else {
-        failInput(w, "expected a transmittance: a number 0 … 1, a spectrum name or {{\"wavelengths_nm\": [...], "
-                     "\"values\": [...]}}; got {}",
-                  describe(v));
-    }
-    if (!s.isConstant())
-        for (size_t i = 0; i < s.values.size(); ++i)
-            if (!(s.values[i] >= 0.0 && s.values[i] <= 1.0))
-                failInput(w, "the transmittance is {:g} at {:g} nm; expected 0 … 1", s.values[i], s.wavelengths_nm[i]);
-    return s;
-}
-
-// The CFA's tile from "RGGB"-like letters: each letter the channel whose name starts with it.
-// A lens quantity per wavelength: a number (the same at every λ) or {"wavelengths_nm": [...],
+// A quantity per wavelength (a lens's, a transmittance): a number (the same at every λ) or {"wavelengths_nm": [...],
 // "values": [...]} (linear between the points, the end values beyond), each value in [lo, hi].
 Spectrum perWavelength(const Json& v, const Where& w, double lo, double hi, const char* unit) {
     Spectrum s;
@@ -92,6 +47,41 @@ Spectrum perWavelength(const Json& v, const Where& w, double lo, double hi, cons
     return s;
 }
 
+// T(λ): a number, a table name or {"wavelengths_nm": [...], "values": [...]}; 0 … 1.
+Spectrum transmittance(const Json& v, const Where& w, const fs::path& dir, const SpectrumLibrary& library,
+                       std::vector<fs::path>& inputs) {
+    Spectrum s;
+    if (v.is_number()) {
+        s = Spectrum::makeConstant(numberIn(v, w, 0, 1, false, false));
+    } else if (v.is_string()) {
+        const std::string name = string(v, w);
+        if (endsWithCsv(name)) {
+            const fs::path p = tablePath(name, dir, library);
+            requireRegularFile(p, w, "transmittance file");
+            inputs.push_back(p);
+            try {
+                s = readSpectrumCsv(p);
+            } catch (const Error& e) {
+                failInput(w, "{}", e.text());
+            }
+        } else {
+            s = library.get(name, w);
+        }
+    } else if (v.is_object()) {
+        s = perWavelength(v, w, 0, 1, "");
+    } else {
+        failInput(w, "expected a transmittance: a number 0 … 1, a spectrum name or {{\"wavelengths_nm\": [...], "
+                     "\"values\": [...]}}; got {}",
+                  describe(v));
+    }
+    if (!s.isConstant())
+        for (size_t i = 0; i < s.values.size(); ++i)
+            if (!(s.values[i] >= 0.0 && s.values[i] <= 1.0))
+                failInput(w, "the transmittance is {:g} at {:g} nm; expected 0 … 1", s.values[i], s.wavelengths_nm[i]);
+    return s;
+}
+
+// The CFA's tile from "RGGB"-like letters: each letter the channel whose name starts with it.
 LensSpec readLens(const Json& v, const Where& w) {
     asObject(v, w);
     checkKeys(v, w, {"diffraction", "defocus_um", "longitudinal_ca_um", "lateral_ca", "pixel_aperture", "olpf_um",
