@@ -102,7 +102,8 @@ py::dict capture(const py::object& source, const py::object& sensorName, const p
     d["sensor"] = sensor.file.string();
     if (!outArg.is_none()) {
         // The files `metamer capture` writes — raw PNGs, DNGs, JSON, electrons — byte for byte,
-        // into `out`, all put in place together (the frames are digitized again for them).
+        // into `out`, all put in place together, from the electrons above (the frames are
+        // digitized again for them; the camera equation and the lens are not run again).
         CaptureRequest request;
         request.sensor = pathOf(sensorName, "sensor").string();
         request.seed = seed;
@@ -120,7 +121,7 @@ py::dict capture(const py::object& source, const py::object& sensorName, const p
         CaptureFiles files;
         {
             py::gil_scoped_release release;
-            files = stageCaptureOfCube(cube, request, library, staging);
+            files = stageCaptureFiles(e, sensor, request, library, staging);
             commitTogether({}, {&staging});
         }
         py::list written;

@@ -52,7 +52,7 @@ void checkCaptureNumbers(std::optional<double> exposure, uint64_t frame, int fra
 CaptureFiles stageCapture(const CaptureRequest& a, const SpectrumLibrary& library, StagingFolder& staging) {
     checkCaptureNumbers(a.exposure, a.frame, a.frames, "--");
     const fs::path& cubeName = a.cubeName.empty() ? a.cube : a.cubeName;
-    readSensor(sensorFile(a.sensor, library), library);  // its mistakes before the cube is read
+    const SensorSpec sensor = readSensor(sensorFile(a.sensor, library), library);  // its mistakes before the cube's
     SpectralCube cube;
     try {
         cube = readRadianceCube(a.cube);
@@ -62,15 +62,12 @@ CaptureFiles stageCapture(const CaptureRequest& a, const SpectrumLibrary& librar
     requireRadiance(cube, Where{cubeName.string()});
     CaptureRequest named = a;
     named.cubeName = cubeName;
-    return stageCaptureOfCube(cube, named, library, staging);
+    return stageCaptureFiles(expectedElectrons(cube, sensor, a.exposure, a.noise), sensor, named, library, staging);
 }
 
-CaptureFiles stageCaptureOfCube(const SpectralCube& cube, const CaptureRequest& a, const SpectrumLibrary& library,
-                                StagingFolder& staging) {
-    checkCaptureNumbers(a.exposure, a.frame, a.frames, "--");
+CaptureFiles stageCaptureFiles(const ExpectedElectrons& e, const SensorSpec& sensor, const CaptureRequest& a,
+                               const SpectrumLibrary& library, StagingFolder& staging) {
     const fs::path& cubeName = a.cubeName.empty() ? a.cube : a.cubeName;
-    const SensorSpec sensor = readSensor(sensorFile(a.sensor, library), library);
-    const ExpectedElectrons e = expectedElectrons(cube, sensor, a.exposure, a.noise);
     CaptureFiles written;
     written.exposure_s = e.exposure_s;
     written.autoExposed = e.autoExposed;

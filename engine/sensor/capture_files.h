@@ -4,6 +4,7 @@
 // Tests: tests/python/test_sensor.py, tests/batch_test.cpp.
 #pragma once
 
+#include "sensor/capture.h"
 #include "spectral/cube.h"
 #include "spectral/library.h"
 
@@ -62,10 +63,11 @@ class StagingFolder;
 // (io/atomic_file.h, commitTogether). Errors name the cube as request.cubeName.
 CaptureFiles stageCapture(const CaptureRequest& request, const SpectrumLibrary& library, StagingFolder& staging);
 
-// The same for a cube already in memory (checked with requireRadiance by the caller), named
-// request.cubeName in the metadata (the Python module's `out`).
-CaptureFiles stageCaptureOfCube(const SpectralCube& cube, const CaptureRequest& request, const SpectrumLibrary& library,
-                                StagingFolder& staging);
+// The files of a capture whose expected electrons are already computed (by expectedElectrons with
+// request.exposure and request.noise, from `sensor`), named request.cubeName in the metadata: the
+// Python module's `out`, which has computed them for its arrays.
+CaptureFiles stageCaptureFiles(const ExpectedElectrons& expected, const SensorSpec& sensor, const CaptureRequest& request,
+                               const SpectrumLibrary& library, StagingFolder& staging);
 
 // The same for a render's cube before the render's files are renamed into place (`files`, as a
 // render's BeforeCommitHook receives them: render/render_job_spec.h): the cube is read where it
