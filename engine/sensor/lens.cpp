@@ -1,6 +1,7 @@
 #include "sensor/lens.h"
 
 #include "core/cpu_count.h"
+#include "sensor/fftw_planner.h"
 #include "spectral/resampling.h"
 
 #include <fftw3.h>
@@ -31,9 +32,6 @@ double valueAt(const Spectrum& s, double nm) {
     const double t = (nm - w[i - 1]) / (w[i] - w[i - 1]);
     return s.values[i - 1] + t * (s.values[i] - s.values[i - 1]);
 }
-
-// FFTW's planner is not thread-safe; execution with distinct plans is.
-std::mutex g_planner;
 
 // A size ≥ n whose factors are 2, 3, 5 and 7 (FFTW is fastest on those).
 int fftSize(int n) {
@@ -112,7 +110,7 @@ LensKernel lensKernel(const LensSpec& lens, const LensGeometry& g, double nm) {
     fftw_complex *h, *work;
     fftw_plan inverse, forward;
     {
-        std::lock_guard<std::mutex> lock(g_planner);
+        std::lock_guard<std::mutex> lock(fftwPlannerMutex());
         h = fftw_alloc_complex(NN);
         work = fftw_alloc_complex(NN);
         inverse = fftw_plan_dft_2d(N, N, h, h, FFTW_BACKWARD, FFTW_ESTIMATE);
@@ -183,7 +181,7 @@ LensKernel lensKernel(const LensSpec& lens, const LensGeometry& g, double nm) {
     k.foldedIn = 1.0 - sum * double(s) * double(s) / (double(N) * double(N));
     for (double& v : k.weights) v /= sum;
     {
-        std::lock_guard<std::mutex> lock(g_planner);
+        std::lock_guard<std::mutex> lock(fftwPlannerMutex());
         fftw_destroy_plan(inverse);
         fftw_destroy_plan(forward);
         fftw_free(h);
@@ -216,7 +214,7 @@ SpectralCube throughLens(const SpectralCube& cube, const LensSpec& lens, const L
         fftw_complex *spectrum, *kernelSpectrum;
         fftw_plan forward, forwardKernel, backward;
         {
-            std::lock_guard<std::mutex> lock(g_planner);
+            std::lock_guard<std::mutex> lock(fftwPlannerMutex());
             image = fftw_alloc_real(size_t(PW) * size_t(PH));
             kernel = fftw_alloc_real(size_t(PW) * size_t(PH));
             spectrum = fftw_alloc_complex(size_t(CW) * size_t(PH));
@@ -272,7 +270,7 @@ SpectralCube throughLens(const SpectralCube& cube, const LensSpec& lens, const L
                     out.pixel(x, y)[b] = float(std::max(v, 0.0));
                 }
         }
-        std::lock_guard<std::mutex> lock(g_planner);
+        std::lock_guard<std::mutex> lock(fftwPlannerMutex());
         for (fftw_plan p : {forward, forwardKernel, backward}) fftw_destroy_plan(p);
         fftw_free(image);
         fftw_free(kernel);

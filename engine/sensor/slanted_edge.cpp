@@ -1,5 +1,7 @@
 #include "sensor/slanted_edge.h"
 
+#include "sensor/fftw_planner.h"
+
 #include <fftw3.h>
 
 #include <algorithm>
@@ -95,9 +97,15 @@ EdgeSfr slantedEdgeSfr(const std::vector<double>& image, int width, int height, 
 
     // 4. |DFT| normalized at 0, divided by the central difference's transfer sin(2πfΔ)/(2πfΔ)
     //    (Δ = 1/4 pixel), up to twice the Nyquist frequency.
-    double* in = fftw_alloc_real(size_t(n));
-    fftw_complex* spectrum = fftw_alloc_complex(size_t(n / 2 + 1));
-    fftw_plan plan = fftw_plan_dft_r2c_1d(n, in, spectrum, FFTW_ESTIMATE);
+    double* in;
+    fftw_complex* spectrum;
+    fftw_plan plan;
+    {
+        std::lock_guard<std::mutex> lock(fftwPlannerMutex());
+        in = fftw_alloc_real(size_t(n));
+        spectrum = fftw_alloc_complex(size_t(n / 2 + 1));
+        plan = fftw_plan_dft_r2c_1d(n, in, spectrum, FFTW_ESTIMATE);
+    }
     std::copy(lsf.begin(), lsf.end(), in);
     fftw_execute(plan);
     const double dc = std::hypot(spectrum[0][0], spectrum[0][1]);
@@ -109,9 +117,12 @@ EdgeSfr slantedEdgeSfr(const std::vector<double>& image, int width, int height, 
         out.frequency.push_back(f);
         out.mtf.push_back(std::hypot(spectrum[k][0], spectrum[k][1]) / dc / derivative);
     }
-    fftw_destroy_plan(plan);
-    fftw_free(in);
-    fftw_free(spectrum);
+    {
+        std::lock_guard<std::mutex> lock(fftwPlannerMutex());
+        fftw_destroy_plan(plan);
+        fftw_free(in);
+        fftw_free(spectrum);
+    }
     for (size_t k = 1; k < out.mtf.size(); ++k)
         if (out.mtf[k] <= 0.5) {
             const double t = (out.mtf[k - 1] - 0.5) / (out.mtf[k - 1] - out.mtf[k]);
