@@ -302,7 +302,8 @@ TEST(BatchCli, AJobWhoseCaptureFailsWritesNoneOfItsFiles) {
         if (fs::exists(e.path() / "small.exr")) {
             ++lit;
             EXPECT_EQ(names, (std::vector<std::string>{"job.json", "small.electrons.exr", "small.exr", "small.png",
-                                                       "small.raw.dng", "small.raw.json", "small.raw.png"}));
+                                                       "small.raw.dng", "small.raw.json", "small.raw.png",
+                                                       "small.raw.srgb.png"}));
         } else {
             ++unlit;
             EXPECT_EQ(names, std::vector<std::string>{"job.json"});  // the failed job's record only

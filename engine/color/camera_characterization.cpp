@@ -98,6 +98,8 @@ CameraCharacterization characterizeCamera(const Detector& camera, const std::vec
         sum2 += de * de;
     }
     c.rmsDeltaE2000 = std::sqrt(sum2 / static_cast<double>(raw.size()));
+    c.patchBalancedRaw = std::move(raw);
+    c.patchXyz = std::move(target);
     return c;
 }
 

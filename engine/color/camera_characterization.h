@@ -34,6 +34,8 @@ struct CameraCharacterization {
     double rmsDeltaE2000 = 0.0;    // over the 24 patches, CIELAB relative to whiteXyz
     double maxDeltaE2000 = 0.0;
     std::vector<double> patchDeltaE2000;  // per patch, in colorCheckerPatchNames() order
+    std::vector<glm::dvec3> patchBalancedRaw;  // b_p: each patch's white-balanced raw (the white's is 1, 1, 1)
+    std::vector<glm::dvec3> patchXyz;          // its CIE 1931 XYZ under the reference white (the white's Y = 1)
 };
 
 // The 24 ColorChecker Classic patches in chart order (row by row from dark skin to black), as

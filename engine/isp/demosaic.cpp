@@ -6,9 +6,15 @@ namespace metamer {
 
 namespace {
 
-// Index i mirrored half a sample beyond [0, n): −1 → 0, −2 → 1, n → n − 1.
-int mirror(int i, int n) {
-    while (i < 0 || i >= n) i = i < 0 ? -i - 1 : 2 * n - i - 1;
+// Index i mirrored beyond [0, n): half a sample out (Reflect: −1 → 0, −2 → 1, n → n − 1), or
+// about the edge sample (Mirror: −1 → 1, −2 → 2, n → n − 2), which keeps every index's parity
+// and so the CFA's colour.
+int mirror(int i, int n, DemosaicBorder border) {
+    if (border == DemosaicBorder::Reflect) {
+        while (i < 0 || i >= n) i = i < 0 ? -i - 1 : 2 * n - i - 1;
+    } else {
+        while (i < 0 || i >= n) i = i < 0 ? -i : 2 * n - 2 - i;
+    }
     return i;
 }
 
@@ -16,8 +22,11 @@ struct Mosaic {
     const std::vector<double>& v;
     int w, h;
     std::array<int, 4> pattern;
-    double at(int x, int y) const { return v[size_t(mirror(y, h)) * size_t(w) + size_t(mirror(x, w))]; }
-    int colour(int x, int y) const { return pattern[size_t(mirror(y, h) % 2) * 2 + size_t(mirror(x, w) % 2)]; }
+    DemosaicBorder border;
+    int mx(int x) const { return mirror(x, w, border); }
+    int my(int y) const { return mirror(y, h, border); }
+    double at(int x, int y) const { return v[size_t(my(y)) * size_t(w) + size_t(mx(x))]; }
+    int colour(int x, int y) const { return pattern[size_t(my(y) % 2) * 2 + size_t(mx(x) % 2)]; }
 };
 
 // Σ k[j][i] · m(x + i − r, y + j − r) over a (2r+1)² kernel (symmetric: correlation = convolution).
@@ -91,11 +100,11 @@ std::array<int, 4> bayerPattern(const std::string& name, const Where& where) {
 }
 
 std::vector<double> demosaic(const std::vector<double>& mosaic, int width, int height, const std::array<int, 4>& pattern,
-                             DemosaicMethod method) {
+                             DemosaicMethod method, DemosaicBorder border) {
     if (width < 2 || height < 2 || mosaic.size() != size_t(width) * size_t(height))
         failInput(Where{"mosaic"}, "expected at least 2 × 2 values, width × height of them; got {} for {} × {}",
                   mosaic.size(), width, height);
-    const Mosaic m{mosaic, width, height, pattern};
+    const Mosaic m{mosaic, width, height, pattern, border};
     std::vector<double> rgb(size_t(width) * size_t(height) * 3);
     for (int y = 0; y < height; ++y)
         for (int x = 0; x < width; ++x)

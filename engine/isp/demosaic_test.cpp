@@ -37,6 +37,22 @@ TEST(Demosaic, AFlatColourComesBackExactlyByEitherMethodAndPattern) {
         }
 }
 
+TEST(Demosaic, MirroredInTheCfasPhaseAFlatColourIsExactUpToTheEdgesAndColourDemosaicingsReflectIsNot) {
+    const std::array<double, 3> flat{0.2, 0.5, 0.7};
+    for (const char* name : {"RGGB", "BGGR", "GRBG", "GBRG"})
+        for (DemosaicMethod method : {DemosaicMethod::Bilinear, DemosaicMethod::Malvar2004}) {
+            const auto p = bayerPattern(name, Where{"cfa"});
+            const std::vector<double> m = mosaicOf(7, 5, p, [&](int, int) { return flat; });
+            const std::vector<double> mirrored = demosaic(m, 7, 5, p, method, DemosaicBorder::Mirror);
+            for (size_t i = 0; i < mirrored.size(); ++i) EXPECT_NEAR(mirrored[i], flat[i % 3], 1e-12) << name << " " << i;
+            // Reflect repeats the edge row, whose colours are the wrong ones for the phase beyond it.
+            const std::vector<double> reflected = demosaic(m, 7, 5, p, method, DemosaicBorder::Reflect);
+            double worst = 0.0;
+            for (size_t i = 0; i < reflected.size(); ++i) worst = std::max(worst, std::abs(reflected[i] - flat[i % 3]));
+            EXPECT_GT(worst, 0.05) << name;
+        }
+}
+
 TEST(Demosaic, MalvarIsExactOnALinearRamp) {
     // Malvar's gradient corrections are Laplacians, 0 on a plane: its filters stay exact for images
     // linear in x and y whose colours differ by constants (as bilinear interpolation is).

@@ -1,12 +1,16 @@
-// metamer.demosaic and metamer.slanted_edge_sfr: the image processor's demosaicing (isp/demosaic.h)
-// and the slanted-edge SFR (sensor/slanted_edge.h) on numpy arrays; metamer/_api.py converts its
-// arguments to C-ordered float64 first.
+// metamer.demosaic, metamer.fit_colour_correction, metamer.develop and metamer.slanted_edge_sfr: the
+// image processor (isp/) and the slanted-edge SFR (sensor/slanted_edge.h) on numpy arrays;
+// metamer/_api.py converts its arguments to C-ordered arrays of the right type first.
 // Tests: tests/python/test_isp.py.
 #include "core/error.h"
 #include "isp/colour_correction.h"
 #include "isp/demosaic.h"
+#include "isp/image_processor.h"
+#include "python/arguments.h"
 #include "python/bindings.h"
 #include "python/numpy_views.h"
+#include "sensor/sensor_colour.h"
+#include "sensor/sensor_spec.h"
 #include "sensor/slanted_edge.h"
 
 #include <pybind11/numpy.h>
@@ -78,9 +82,92 @@ py::array fitCorrection(const py::buffer& rgb, const py::buffer& xyz, const std:
     return a;
 }
 
+// metamer.develop: a raw frame (rows × columns uint16, as metamer.capture returns) developed by the
+// sensor's processor (isp/image_processor.h), with any of its settings given here instead.
+py::dict developRaw(const py::buffer& rawArg, const py::object& sensorName, const py::object& whiteBalance,
+                    const py::object& patch, const py::object& illuminant, const py::object& demosaicName,
+                    const py::object& correction, const py::object& exposure) {
+    const py::buffer_info info = rawArg.request();
+    if (info.ndim != 2 || info.format != py::format_descriptor<uint16_t>::format() ||
+        info.strides[1] != py::ssize_t(sizeof(uint16_t)) || info.strides[0] != info.shape[1] * py::ssize_t(sizeof(uint16_t)))
+        failInput(Where{"", "raw"}, "expected one frame: a C-ordered uint16 array of rows × columns (metamer.capture's raw)");
+    const SpectrumLibrary library;
+    SensorSpec sensor = readSensor(sensorFile(pathOf(sensorName, "sensor").string(), library), library);
+    ProcessorSpec& p = sensor.processor;
+    if (!whiteBalance.is_none()) p.whiteBalance = parseWhiteBalance(text(whiteBalance, "white_balance"), Where{"", "white_balance"});
+    if (!patch.is_none()) {
+        const std::vector<double> r = patch.cast<std::vector<double>>();
+        if (r.size() != 4) failInput(Where{"", "patch"}, "expected [x, y, width, height] in pixels; got {} numbers", r.size());
+        for (size_t i = 0; i < 4; ++i) {
+            if (!(r[i] >= 0 && r[i] <= 65536 && r[i] == std::floor(r[i])))
+                failInput(Where{"", "patch"}, "expected whole numbers of pixels, 0 … 65536; got {:g}", r[i]);
+            p.patch[i] = int(r[i]);
+        }
+    }
+    if (p.whiteBalance == WhiteBalance::Patch && p.patch[2] == 0)
+        failInput(Where{"", "patch"}, "the patch white balance needs patch=[x, y, width, height], a neutral area of the frame");
+    if (!illuminant.is_none()) {
+        p.illuminant = text(illuminant, "illuminant");
+        library.get(p.illuminant, Where{"", "illuminant"});
+    }
+    if (!demosaicName.is_none()) p.demosaic = parseDemosaicMethod(text(demosaicName, "demosaic"), Where{"", "demosaic"});
+    if (!correction.is_none())
+        p.correction = parseCorrectionForm(text(correction, "colour_correction"), Where{"", "colour_correction"});
+    if (const std::optional<double> e = optionalNumber(exposure, "exposure")) {
+        if (!(*e >= 1e-4 && *e <= 1e4)) failInput(Where{"", "exposure"}, "expected a gain of 10⁻⁴ … 10⁴, got {:g}", *e);
+        p.exposure = *e;
+    }
+    const std::optional<SensorColour> colour = sensorColour(sensor, library);
+    if (!colour)
+        failInput(Where{"", "sensor"}, "{} is not an RGB Bayer sensor (its CFA is {}): only those are developed",
+                  sensor.file.string(), sensor.cfaName);
+    RawFrame f{int(info.shape[1]), int(info.shape[0]), static_cast<const uint16_t*>(info.ptr), sensor.blackLevel_dn,
+               double(sensor.whiteLevel()), {}};
+    for (size_t i = 0; i < 4; ++i) f.cfa[i] = colour->cfa[i];
+    DevelopedImage d;
+    {
+        py::gil_scoped_release release;
+        d = develop(f, p, colour->processor, Where{"", "raw"});
+    }
+    const std::vector<py::ssize_t> shape{py::ssize_t(f.height), py::ssize_t(f.width), 3};
+    py::array linear(py::dtype::of<double>(), shape, cStrides<double>(shape));
+    std::copy(d.linearSrgb.begin(), d.linearSrgb.end(), static_cast<double*>(linear.mutable_data()));
+    py::array encoded(py::dtype::of<uint8_t>(), shape, cStrides<uint8_t>(shape));
+    const std::vector<uint16_t> counts = encodeSrgb(d, 8);
+    std::copy(counts.begin(), counts.end(), static_cast<uint8_t*>(encoded.mutable_data()));
+    const ProcessorColour& c = colour->processor;
+    const std::vector<py::ssize_t> three{3, 3}, terms{3, py::ssize_t(c.toXyz.columns.size())};
+    py::array matrix(py::dtype::of<double>(), three, cStrides<double>(three));
+    std::copy(c.dngColorMatrix.begin(), c.dngColorMatrix.end(), static_cast<double*>(matrix.mutable_data()));
+    py::array columns(py::dtype::of<double>(), terms, cStrides<double>(terms));
+    for (size_t t = 0; t < c.toXyz.columns.size(); ++t)
+        for (int r = 0; r < 3; ++r) static_cast<double*>(columns.mutable_data())[size_t(r) * c.toXyz.columns.size() + t] = c.toXyz.columns[t][r];
+    py::dict out;
+    out["linear_srgb"] = linear;
+    out["srgb"] = encoded;
+    out["neutral"] = std::vector<double>{d.neutral.x, d.neutral.y, d.neutral.z};
+    out["gains"] = std::vector<double>{d.gains.x, d.gains.y, d.gains.z};
+    out["illuminant_neutral"] = std::vector<double>{c.illuminantNeutral.x, c.illuminantNeutral.y, c.illuminantNeutral.z};
+    out["dng_color_matrix"] = matrix;
+    out["correction"] = columns;
+    out["colorchecker_delta_e2000"] = c.patchDeltaE2000;
+    out["illuminant"] = p.illuminant;
+    out["white_balance"] = whiteBalanceName(p.whiteBalance);
+    return out;
+}
+
 }  // namespace
 
 void bindCamera(py::module_& m) {
+    m.def("develop", &developRaw, py::arg("raw"), py::arg("sensor"), py::kw_only(), py::arg("white_balance") = py::none(),
+          py::arg("patch") = py::none(), py::arg("illuminant") = py::none(), py::arg("demosaic") = py::none(),
+          py::arg("colour_correction") = py::none(), py::arg("exposure") = py::none(),
+          "A raw frame of an RGB Bayer sensor developed by its image processor (docs/camera.md): black and white "
+          "levels, white balance (illuminant, grey-world or patch), demosaicing, the colour correction fitted on the "
+          "ColorChecker under the illuminant, XYZ adapted to D65 → sRGB. Keywords override the sensor file's "
+          "\"processor\". Returns linear_srgb (rows × columns × 3, float64), srgb (uint8, encoded), neutral, gains, "
+          "illuminant_neutral, dng_color_matrix (XYZ → camera), correction (3 × terms) and the fit's "
+          "colorchecker_delta_e2000 per patch");
     m.def("fit_colour_correction", &fitCorrection, py::arg("rgb"), py::arg("xyz"), py::arg("form"),
           "The least-squares colour correction from white-balanced camera RGB (N × 3) to XYZ (N × 3): a 3 × 3 "
           "matrix (form 'linear') or Finlayson's root-polynomial of degree 2, 3 × 6 over the terms r, g, b, "

@@ -97,6 +97,17 @@ CaptureFiles stageCaptureFiles(const ExpectedElectrons& e, const SensorSpec& sen
         const std::string name = a.frames == 1 ? stem + ".raw" : fmt::format("{}.raw.{}", stem, frame);
         std::vector<uint16_t> counts(raw.begin(), raw.end());
         writeImage(stage(name + ".png"), ImageFile{e.width, e.height, {"Y"}, {}}, counts, 16);
+        // An RGB Bayer frame developed by the image processor, and its white balance's neutral:
+        // the DNG's AsShotNeutral, so a raw converter balances as the processor did.
+        std::optional<DevelopedImage> developed;
+        if (colour) {
+            RawFrame f{e.width, e.height, raw.data(), sensor.blackLevel_dn, double(sensor.whiteLevel()), {}};
+            for (size_t i = 0; i < 4; ++i) f.cfa[i] = colour->cfa[i];
+            developed = develop(f, sensor.processor, colour->processor, Where{sensor.file.string(), "processor"});
+            writeImage(stage(name + ".srgb.png"),
+                       ImageFile{e.width, e.height, {"R", "G", "B"}, {{"oiio:ColorSpace", "sRGB"}}},
+                       encodeSrgb(*developed, 8), 8);
+        }
         if (dngWritten) {
             DngRaw dng;
             dng.width = e.width;
@@ -105,8 +116,8 @@ CaptureFiles stageCaptureFiles(const ExpectedElectrons& e, const SensorSpec& sen
             dng.monochrome = !colour;
             if (colour) {
                 dng.cfa = colour->cfa;
-                dng.colorMatrix1 = colour->xyzToCamera;
-                dng.asShotNeutral = colour->asShotNeutral;
+                dng.colorMatrix1 = colour->processor.dngColorMatrix;
+                dng.asShotNeutral = {developed->neutral.x, developed->neutral.y, developed->neutral.z};
             }
             dng.blackLevel = sensor.blackLevel_dn;
             dng.whiteLevel = sensor.whiteLevel();
@@ -142,13 +153,31 @@ CaptureFiles stageCaptureFiles(const ExpectedElectrons& e, const SensorSpec& sen
             {"quantum_efficiency", sensor.qeSource},
         };
         if (colour) {
-            meta["xyz_to_camera_d65"] = colour->xyzToCamera;
-            meta["as_shot_neutral"] = colour->asShotNeutral;
-            meta["characterization_rms_delta_e2000"] = colour->rmsDeltaE2000;
+            const ProcessorSpec& p = sensor.processor;
+            const ProcessorColour& c = colour->processor;
+            meta["developed"] = name + ".srgb.png";
+            meta["xyz_to_camera_d65"] = c.dngColorMatrix;
+            meta["as_shot_neutral"] = {developed->neutral.x, developed->neutral.y, developed->neutral.z};
+            meta["characterization_rms_delta_e2000"] = c.rmsDeltaE2000;
+            nlohmann::ordered_json correction = nlohmann::ordered_json::array();
+            for (const glm::dvec3& column : c.toXyz.columns) correction.push_back({column.x, column.y, column.z});
+            meta["processor"] = {
+                {"white_balance", whiteBalanceName(p.whiteBalance)},
+                {"illuminant", p.illuminant},
+                {"demosaic", p.demosaic == DemosaicMethod::Bilinear ? "bilinear" : "malvar2004"},
+                {"colour_correction", p.correction == CorrectionForm::Linear ? "linear" : "root-polynomial"},
+                {"correction_columns", correction},
+                {"adaptation", adaptationName(p.adaptation)},
+                {"exposure", p.exposure},
+                {"white_balance_gains", {developed->gains.x, developed->gains.y, developed->gains.z}},
+                {"colorchecker_delta_e2000", c.patchDeltaE2000},
+                {"output", "sRGB (IEC 61966-2-1), 8 bits"},
+            };
         }
         writeFileAtomically(stage(name + ".json"), meta.dump(2) + "\n");
         written.lines.push_back(fmt::format("wrote {}{} ({}×{}, {}, exposure {:.6g} s{}, {})",
-                                            staging.finalPath(name + ".png").string(), dngWritten ? " and .dng" : "",
+                                            staging.finalPath(name + ".png").string(),
+                                            colour ? ", .dng and .srgb.png" : dngWritten ? " and .dng" : "",
                                             e.width, e.height, sensor.cfaName, e.exposure_s,
                                             e.autoExposed ? " (auto)" : "",
                                             a.noise ? fmt::format("seed {}, frame {}", a.seed, frame)

@@ -1,6 +1,5 @@
 #include "sensor/sensor_colour.h"
 
-#include "color/camera_characterization.h"
 #include "core/error.h"
 #include "spectral/resampling.h"
 
@@ -41,31 +40,10 @@ std::optional<SensorColour> sensorColour(const SensorSpec& sensor, const Spectru
         for (size_t b = 0; b < nm.size(); ++b) w[b] = qe[b] * lens[b] * nm[b] * grid.step_nm;
         camera.weights.push_back(std::move(w));
     }
-    const std::vector<double> d65 = resample(library.get("illuminants/D65", Where{"illuminants/D65"}), grid);
-    const CameraCharacterization c = characterizeCamera(camera, d65, library, grid, Integration::Riemann);
-    // Channels whose quantum efficiencies are linearly dependent (two alike, or one the sum of
-    // the others) leave the fit singular: no colour matrix a raw converter could use.
-    auto singular = [&] {
-        failInput(Where{sensor.file.string(), "quantum_efficiency"},
-                  "the R, G and B channels' quantum efficiencies are linearly dependent: the ColorChecker fit has no "
-                  "colour matrix for the DNG (ColorMatrix1, AsShotNeutral)");
-    };
-    const glm::dmat3 rawToXyz = cameraResponseToXyz(c);
-    const double det = glm::determinant(rawToXyz);  // not finite when an entry is not
-    if (!std::isfinite(det) || det == 0.0) singular();
-    // raw → XYZ is rawToXyz·diag(whiteBalance); DNG wants its inverse, XYZ → raw, with the white's
-    // raw response scaled to a maximum of 1 (and that response as the as-shot neutral).
-    const glm::dmat3 xyzToRaw = glm::inverse(rawToXyz);
-    const glm::dvec3 white = xyzToRaw * c.whiteXyz;
-    const double peak = std::max({white.x, white.y, white.z});
-    bool finite = std::isfinite(peak) && peak > 0.0;
-    for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) finite = finite && std::isfinite(xyzToRaw[i][j]);
-    if (!finite) singular();  // nearly singular: the inverse overflows
-    for (int r = 0; r < 3; ++r)
-        for (int col = 0; col < 3; ++col) out.xyzToCamera[size_t(r * 3 + col)] = xyzToRaw[col][r] / peak;  // glm: [column][row]
-    out.asShotNeutral = {white.x / peak, white.y / peak, white.z / peak};
-    out.rmsDeltaE2000 = c.rmsDeltaE2000;
+    const std::string& light = sensor.processor.illuminant;
+    const std::vector<double> illuminant = resample(library.get(light, Where{sensor.file.string(), "processor"}), grid);
+    out.processor = fitProcessorColour(camera, illuminant, grid, library, sensor.processor,
+                                       Where{sensor.file.string(), "quantum_efficiency"});
     return out;
 }
 

@@ -121,6 +121,44 @@ LensSpec readLens(const Json& v, const Where& w) {
     return lens;
 }
 
+ProcessorSpec readProcessor(const Json& v, const Where& w, const SpectrumLibrary& library) {
+    asObject(v, w);
+    checkKeys(v, w, {"white_balance", "patch", "illuminant", "demosaic", "colour_correction", "adaptation", "exposure"},
+              "the processor");
+    ProcessorSpec p;
+    if (const Json* b = find(v, "white_balance"))
+        p.whiteBalance = parseWhiteBalance(choice(*b, w.child("white_balance"), {"illuminant", "grey-world", "patch"}),
+                                           w.child("white_balance"));
+    if (const Json* r = find(v, "patch")) {
+        if (p.whiteBalance != WhiteBalance::Patch)
+            failInput(w.child("patch"), "a patch is for \"white_balance\": \"patch\"; the white balance is {}",
+                      whiteBalanceName(p.whiteBalance));
+        const glm::dvec4 rect = vector<4>(*r, w.child("patch"));
+        for (int i = 0; i < 4; ++i) {
+            if (!(rect[i] >= 0 && rect[i] <= 65536 && std::floor(rect[i]) == rect[i]))
+                failInput(w.child("patch").index(size_t(i)), "expected a whole number of pixels, 0 … 65536; got {:g}",
+                          rect[i]);
+            p.patch[size_t(i)] = int(rect[i]);
+        }
+    } else if (p.whiteBalance == WhiteBalance::Patch) {
+        failInput(w.child("patch"), "the patch white balance needs \"patch\": [x, y, width, height] in pixels, a "
+                  "neutral area of the frame");
+    }
+    if (const Json* i = find(v, "illuminant")) {
+        p.illuminant = string(*i, w.child("illuminant"));
+        library.get(p.illuminant, w.child("illuminant"));  // an unknown name is an error here, with a suggestion
+    }
+    if (const Json* d = find(v, "demosaic"))
+        p.demosaic = parseDemosaicMethod(choice(*d, w.child("demosaic"), {"bilinear", "malvar2004"}), w.child("demosaic"));
+    if (const Json* c = find(v, "colour_correction"))
+        p.correction = parseCorrectionForm(choice(*c, w.child("colour_correction"), {"linear", "root-polynomial"}),
+                                           w.child("colour_correction"));
+    if (const Json* a = find(v, "adaptation")) p.adaptation = parseAdaptation(string(*a, w.child("adaptation")), w.child("adaptation"));
+    // A gain past 10⁴ makes every pixel white; below 10⁻⁴ black.
+    if (const Json* e = find(v, "exposure")) p.exposure = numberIn(*e, w.child("exposure"), 1e-4, 1e4, false, false);
+    return p;
+}
+
 std::vector<std::vector<int>> cfaFromLetters(const std::string& letters, const std::vector<std::string>& channels,
                                              const Where& w) {
     std::vector<int> tile;
@@ -172,7 +210,7 @@ SensorSpec readSensor(const fs::path& file, const SpectrumLibrary& library) {
     checkKeys(doc, root,
               {"description", "optics", "pixel", "quantum_efficiency", "cfa", "exposure_s", "auto_exposure_full_well",
                "dark_current_e_per_s", "full_well_e", "conversion_gain_dn_per_e", "read_noise_e", "prnu", "dsnu_e",
-               "black_level_dn", "adc_bits", "fpn_seed"},
+               "black_level_dn", "adc_bits", "fpn_seed", "processor"},
               "a sensor");
     if (const Json* d = find(doc, "description")) s.description = string(*d, root.child("description"));
 
@@ -307,6 +345,7 @@ SensorSpec readSensor(const fs::path& file, const SpectrumLibrary& library) {
         if (std::floor(seed) != seed) failInput(root.child("fpn_seed"), "expected a whole number, got {:g}", seed);
         s.fpnSeed = uint64_t(seed);
     }
+    if (const Json* p = find(doc, "processor")) s.processor = readProcessor(*p, root.child("processor"), library);
     return s;
 }
 

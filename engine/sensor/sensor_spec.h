@@ -5,6 +5,7 @@
 // Tests: sensor/sensor_spec_test.cpp, tests/bad-inputs (the sensor- cases).
 #pragma once
 
+#include "isp/image_processor.h"
 #include "sensor/lens.h"
 #include "spectral/library.h"
 #include "spectral/spectrum.h"
@@ -56,6 +57,9 @@ struct SensorSpec {
     double blackLevel_dn = 0.0;
     int adcBits = 12;
     uint64_t fpnSeed = 1;            // the fixed-pattern maps' seed: one sensor, one pattern
+    // How an RGB Bayer sensor's frames are developed (isp/image_processor.h) and what its DNGs'
+    // colour tags say: the defaults when the file has no "processor".
+    ProcessorSpec processor;
     std::vector<std::filesystem::path> inputs;  // the files it was read from (itself, its tables)
 
     // The area the QE's photons are counted on: the pixel's, times the fill factor when the QE

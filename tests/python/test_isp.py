@@ -1,6 +1,7 @@
 """The image processor and the camera's metrics (issue 48) against independent implementations:
-metamer.demosaic against colour-demosaicing's bilinear and Malvar (2004) demosaicing, and
-metamer.slanted_edge_sfr on an edge whose MTF numpy computes in closed form.
+metamer.demosaic against colour-demosaicing's bilinear and Malvar (2004) demosaicing,
+metamer.slanted_edge_sfr on an edge whose MTF numpy computes in closed form, a capture's developed
+image against LibRaw's development of its DNG, and the developed ColorChecker's ΔE00 by colour-science.
 Run by CTest (tests/CMakeLists.txt, test `python_isp`)."""
 
 from __future__ import annotations
@@ -121,3 +122,148 @@ def test_the_bundled_slanted_edge_through_a_lens_measures_the_lenss_mtf(tmp_path
     keep = f <= 0.5
     print(f"slanted edge end to end: worst |MTF − expected| {np.abs(sfr['mtf'][keep] - want[keep]).max():.4f}, MTF50 {sfr['mtf50']:.4f}")
     np.testing.assert_allclose(sfr["mtf"][keep], want[keep], atol=0.03)
+
+
+# --- The image processor on a capture of the bundled ColorChecker (issue 48, items 2 and 3) ------
+
+REPO = __import__("pathlib").Path(__file__).resolve().parents[2]
+
+
+def _binary():
+    import os
+    return os.environ.get("METAMER_BINARY", str(REPO / "build" / "metamer"))
+
+
+def _run(*args):
+    import subprocess
+    p = subprocess.run([_binary(), *map(str, args)], capture_output=True, text=True)
+    assert p.returncode == 0, p.stderr
+    return p
+
+
+def _colorchecker(tmp_path, light, scale=0.01):
+    """scenes/colorchecker.json at 300 × 200 (1 mm per pixel: 40-pixel patches on a 45-pixel pitch)
+    under `light`, its spectral cube written."""
+    _run("render", REPO / "scenes" / "colorchecker.json", "--out", tmp_path, "--write", "cube",
+         "--set", "camera.width=300", "--set", "camera.height=200",
+         "--set", f"lights.0.spectrum={light}", "--set", f"lights.0.scale={scale}")
+    return tmp_path / "colorchecker.exr"
+
+
+def _patch_means(image, half=12):
+    """The mean of each of the 24 patches' middles, in chart order (row by row)."""
+    out = []
+    for j in range(4):
+        for i in range(6):
+            cx, cy = int(150 + (i - 2.5) * 45), int(100 + (j - 1.5) * 45)
+            out.append(image[cy - half:cy + half, cx - half:cx + half].reshape(-1, image.shape[-1]).mean(0))
+    return np.array(out)
+
+
+def _sensor(tmp_path, processor, name="sensor.json", **changes):
+    import json
+    s = json.loads((REPO / "spectra" / "sensors" / "aps_c_rggb.json").read_text())
+    s["processor"] = processor
+    s.update(changes)
+    path = tmp_path / name
+    path.write_text(json.dumps(s))
+    return path
+
+
+@pytest.mark.parametrize("white_balance", ["illuminant", "grey-world"])
+def test_libraw_develops_metamers_dng_to_the_processors_image(tmp_path, white_balance):
+    """The DNG's ColorMatrix1 and AsShotNeutral are the processor's own: LibRaw (rawpy), which builds its
+    camera → sRGB matrix from them, develops a noisy capture under illuminant A — demosaicing bilinearly
+    as the processor is told to, sRGB's curve, no auto-brightening — to the processor's 8-bit image,
+    every pixel within rounding but the outermost ring."""
+    import json
+
+    import OpenImageIO as oiio
+    import rawpy
+    cube = _colorchecker(tmp_path, "illuminants/A")
+    sensor = _sensor(tmp_path, {"illuminant": "illuminants/A", "demosaic": "bilinear", "white_balance": white_balance})
+    _run("capture", cube, "--sensor", sensor, "--out", tmp_path / "cap", "--seed", 4)
+    meta = json.loads((tmp_path / "cap" / "colorchecker.raw.json").read_text())
+    ours = oiio.ImageBuf(str(tmp_path / "cap" / meta["developed"])).get_pixels(oiio.UINT8).astype(float)
+    with rawpy.imread(str(tmp_path / "cap" / meta["dng"])) as r:
+        theirs = r.postprocess(use_camera_wb=True, no_auto_bright=True, output_bps=16, gamma=(2.4, 12.92),
+                               output_color=rawpy.ColorSpace.sRGB, adjust_maximum_thr=0.0, bright=1.0,
+                               demosaic_algorithm=rawpy.DemosaicAlgorithm.LINEAR, user_flip=0,
+                               highlight_mode=rawpy.HighlightMode.Clip).astype(float) / 257.0
+    diff = np.abs(ours - theirs)
+    # LibRaw fills the outermost ring of pixels by its own rule (border_interpolate); the processor
+    # mirrors the mosaic in the CFA's phase there.
+    diff = diff[1:-1, 1:-1]
+    print(f"LibRaw vs the processor ({white_balance}): 8-bit |Δ| median {np.median(diff):.3f}, max {diff.max():.3f}")
+    assert diff.max() <= 1.0      # LibRaw rounds to 16 bits at each step, the processor once to 8
+
+
+def _reference_xyz(cube_path, light, scale):
+    """CIE 1931 XYZ of the cube's patches by colour-science, relative to a perfect white diffuser under
+    the library's light (its radiance E·scale/π), adapted to D65 by Bradford."""
+    import colour
+
+    import metamer
+    c = metamer.load_cube(cube_path)
+    nm = np.asarray(c["wavelengths_nm"])
+    cmfs = colour.MSDS_CMFS["CIE 1931 2 Degree Standard Observer"].copy().align(colour.SpectralShape(nm[0], nm[-1], nm[1] - nm[0]))
+    xyz = np.asarray(c["cube"]) @ cmfs.values
+    table = np.loadtxt(REPO / "spectra" / "illuminants" / f"{light}.csv", delimiter=",", skiprows=1)
+    illuminant = np.interp(nm, table[:, 0], table[:, 1]) * scale / np.pi   # the scene's light, as the render read it
+    white = illuminant @ cmfs.values
+    xyz, white = xyz / white[1], white / white[1]
+    d65 = colour.xy_to_XYZ(colour.CCS_ILLUMINANTS["CIE 1931 2 Degree Standard Observer"]["D65"])
+    return colour.adaptation.chromatic_adaptation_VonKries(_patch_means(xyz), white, d65, transform="Bradford"), d65
+
+
+def _developed_delta_e(developed, reference, d65):
+    import colour
+    rgb = _patch_means(developed["linear_srgb"])
+    xyz = colour.RGB_to_XYZ(rgb, colour.RGB_COLOURSPACES["sRGB"], apply_cctf_decoding=False)
+    xyz *= reference[18, 1] / xyz[18, 1]   # the exposure: the white patch's luminance factor as the render's
+    return colour.delta_E(colour.XYZ_to_Lab(xyz, colour.XYZ_to_xy(d65)), colour.XYZ_to_Lab(reference, colour.XYZ_to_xy(d65)),
+                          method="CIE 2000")
+
+
+@pytest.mark.parametrize("light,form", [("A", "linear"), ("D65", "linear"), ("A", "root-polynomial")])
+def test_delta_e_per_patch_after_the_processor_is_the_fits_as_colour_science_measures_it(tmp_path, light, form):
+    """ΔE00 per ColorChecker patch after the processor, measured on a noise-free capture by colour-science
+    (the developed linear sRGB → XYZ against the cube's own XYZ, adapted to D65 by Bradford), equals the
+    error the processor's ColorChecker fit reports for each patch."""
+    import metamer
+    cube = _colorchecker(tmp_path, f"illuminants/{light}")
+    sensor = _sensor(tmp_path, {"illuminant": f"illuminants/{light}", "colour_correction": form})
+    frame = metamer.capture(str(cube), str(sensor), noise=False)
+    developed = metamer.develop(frame["raw"], str(sensor))
+    reference, d65 = _reference_xyz(cube, light, 0.01)
+    measured = _developed_delta_e(developed, reference, d65)
+    fitted = np.array(developed["colorchecker_delta_e2000"])
+    print(f"{light} {form}: ΔE00 after the processor, mean {measured.mean():.3f} max {measured.max():.3f}; "
+          f"the fit's mean {fitted.mean():.3f}; worst disagreement {np.abs(measured - fitted).max():.3f}")
+    np.testing.assert_allclose(measured, fitted, atol=0.1)
+    assert 0.3 < fitted.mean() < 5            # a real camera is not colorimetric
+
+
+def test_a_camera_that_is_a_linear_transform_of_the_cmfs_develops_with_no_colour_error(tmp_path):
+    """Issue 48's known answer end to end: quantum efficiencies M·(x̄, ȳ, z̄)/λ captured without noise under
+    illuminant A and developed by the 3 × 3 fit: every patch's ΔE00 is 0 but for the raw's rounding."""
+    import colour
+
+    import metamer
+    cmfs = colour.MSDS_CMFS["CIE 1931 2 Degree Standard Observer"].copy().align(colour.SpectralShape(380, 780, 5))
+    m = np.array([[0.9, 0.3, -0.05], [0.1, 0.8, 0.15], [0.02, 0.1, 0.95]])
+    qe = cmfs.values @ m.T / cmfs.wavelengths[:, None]   # a photon counter: its response is Σ QE·λ·L
+    table = np.column_stack([cmfs.wavelengths, qe / qe.max()])
+    np.savetxt(tmp_path / "luther_qe.csv", table, delimiter=",", header="wavelength_nm,r,g,b", comments="", fmt="%.9g")
+    # 16 bits and a deep well: the dark patches' raw rounding (0.13 % of dark skin's blue at 14 bits,
+    # ΔE00 0.1 through the matrix's cross-talk) is the only error left, and small.
+    sensor = _sensor(tmp_path, {"illuminant": "illuminants/A"},
+                     quantum_efficiency={"table": "luther_qe.csv", "peak": 0.5},
+                     adc_bits=16, full_well_e=200000, conversion_gain_dn_per_e=0.3)
+    cube = _colorchecker(tmp_path, "illuminants/A")
+    developed = metamer.develop(metamer.capture(str(cube), str(sensor), noise=False)["raw"], str(sensor))
+    reference, d65 = _reference_xyz(cube, "A", 0.01)
+    measured = _developed_delta_e(developed, reference, d65)
+    print(f"Luther camera after the processor: ΔE00 max {measured.max():.4f}")
+    assert measured.max() < 0.05
+    assert max(developed["colorchecker_delta_e2000"]) < 1e-6

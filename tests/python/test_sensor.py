@@ -198,7 +198,7 @@ def test_a_render_whose_capture_fails_puts_none_of_its_files_in_place(tmp_path):
     run("render", scene, "--out", tmp_path, "--sensor", "aps_c_rggb", "--seed", 3)
     before = files_in(tmp_path)
     assert set(before) == {"small.exr", "small.png", "small.raw.png", "small.raw.dng", "small.raw.json",
-                           "small.electrons.exr"}
+                           "small.raw.srgb.png", "small.electrons.exr"}
     unlit = [a for i in range(3) for a in ("--set", f"lights.{i}.scale=0")]
     p = subprocess.run([BINARY, "render", scene, "--out", tmp_path, "--sensor", "aps_c_rggb", *unlit],
                        capture_output=True, text=True)
@@ -218,7 +218,7 @@ def test_a_capture_that_fails_at_a_later_frame_writes_no_frame(cube, tmp_path):
     assert files_in(tmp_path) == {"metamers.raw.2.json": None}
     run("capture", cube, "--sensor", SENSOR, "--out", tmp_path / "ok", "--frames", "4")
     assert sorted(files_in(tmp_path / "ok")) == sorted(
-        ["metamers.electrons.exr"] + [f"metamers.raw.{f}.{e}" for f in range(4) for e in ("png", "dng", "json")])
+        ["metamers.electrons.exr"] + [f"metamers.raw.{f}.{e}" for f in range(4) for e in ("png", "dng", "json", "srgb.png")])
 
 
 def test_a_monochrome_sensors_frames_are_linear_raw_dngs_rawpy_reads(cube, tmp_path):

@@ -56,9 +56,9 @@ from ._metamer import (  # noqa: E402  (after the check, so a missing driver is 
     __version__,
     _context_count,
 )
-from ._api import capture, compare, demosaic, fit_colour_correction, load_cube, render, slanted_edge_sfr  # noqa: E402
+from ._api import capture, compare, demosaic, develop, fit_colour_correction, load_cube, render, slanted_edge_sfr  # noqa: E402
 from . import kubelka_munk  # noqa: E402  (the engine's Kubelka–Munk functions, typed and checked)
 from . import _notebook  # noqa: E402,F401  (gives Render its notebook methods)
 
 __all__ = ["Error", "InputError", "NotFoundError", "Render", "VulkanUnavailableError", "Warning", "__version__",
-           "capture", "compare", "demosaic", "fit_colour_correction", "kubelka_munk", "load_cube", "render", "slanted_edge_sfr"]
+           "capture", "compare", "demosaic", "develop", "fit_colour_correction", "kubelka_munk", "load_cube", "render", "slanted_edge_sfr"]

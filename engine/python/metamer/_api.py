@@ -314,6 +314,32 @@ def demosaic(mosaic: Any, *, cfa: str = "RGGB", method: str = "bilinear") -> Any
 
 
 @_keywords_checked
+def develop(
+    raw: Any,
+    sensor: PathLike,
+    *,
+    white_balance: Optional[str] = None,
+    patch: Optional[Any] = None,
+    illuminant: Optional[str] = None,
+    demosaic: Optional[str] = None,
+    colour_correction: Optional[str] = None,
+    exposure: Optional[float] = None,
+) -> dict[str, Any]:
+    import numpy
+    frame = numpy.asarray(raw)
+    if frame.dtype.kind not in "ui":
+        raise _metamer.InputError(f"raw: expected the sensor's digital numbers (an integer array, as metamer.capture's raw); "
+                         f"got {frame.dtype}")
+    if frame.size and (frame.min() < 0 or frame.max() > 65535):
+        raise _metamer.InputError("raw: digital numbers must lie in 0 … 65535")
+    result: dict[str, Any] = _metamer.develop(numpy.ascontiguousarray(frame, dtype=numpy.uint16), sensor,
+                                              white_balance=white_balance, patch=patch, illuminant=illuminant,
+                                              demosaic=demosaic, colour_correction=colour_correction,
+                                              exposure=exposure)
+    return result
+
+
+@_keywords_checked
 def slanted_edge_sfr(image: Any) -> dict[str, Any]:
     import numpy
     result: dict[str, Any] = _metamer.slanted_edge_sfr(numpy.ascontiguousarray(image, dtype=numpy.float64))
@@ -352,3 +378,4 @@ capture.__doc__ = _engine_doc(_metamer.capture)
 demosaic.__doc__ = _engine_doc(_metamer.demosaic)
 slanted_edge_sfr.__doc__ = _engine_doc(_metamer.slanted_edge_sfr)
 fit_colour_correction.__doc__ = _engine_doc(_metamer.fit_colour_correction)
+develop.__doc__ = _engine_doc(_metamer.develop)

@@ -1,0 +1,162 @@
+#include "isp/image_processor.h"
+
+#include "color/camera_characterization.h"
+#include "color/delta_e.h"
+#include "color/lab.h"
+#include "color/srgb.h"
+
+#include <glm/glm.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace metamer {
+
+WhiteBalance parseWhiteBalance(const std::string& name, const Where& where) {
+    if (name == "illuminant") return WhiteBalance::Illuminant;
+    if (name == "grey-world") return WhiteBalance::GreyWorld;
+    if (name == "patch") return WhiteBalance::Patch;
+    failInput(where, "unknown white balance '{}'; expected illuminant, grey-world or patch", name);
+}
+
+std::string whiteBalanceName(WhiteBalance w) {
+    switch (w) {
+        case WhiteBalance::Illuminant: return "illuminant";
+        case WhiteBalance::GreyWorld: return "grey-world";
+        case WhiteBalance::Patch: return "patch";
+    }
+    return "?";
+}
+
+ProcessorColour fitProcessorColour(const Detector& camera, const std::vector<double>& illuminantOnGrid,
+                                   const Grid& grid, const SpectrumLibrary& library, const ProcessorSpec& spec,
+                                   const Where& where) {
+    const CameraCharacterization c =
+        characterizeCamera(camera, illuminantOnGrid, library, grid, Integration::Riemann, CameraFit::WhitePreserving);
+    auto singular = [&] {
+        failInput(where, "the R, G and B channels' sensitivities are linearly dependent: the ColorChecker fit has no "
+                  "colour correction (and the DNG no ColorMatrix1, AsShotNeutral)");
+    };
+    // The targets: the patches' XYZ under the illuminant, adapted to D65. Least squares is linear in
+    // its targets, so the 3 × 3 fitted to adapted targets is the adaptation times the one fitted to
+    // the XYZ themselves (the white-preserving constraint moves with them).
+    const glm::dmat3 cat = adaptationMatrix(spec.adaptation, c.whiteXyz, kD65WhiteXyz);
+    const glm::dvec3 white = cat * c.whiteXyz;
+    std::vector<glm::dvec3> target;
+    for (const glm::dvec3& xyz : c.patchXyz) target.push_back(cat * xyz);
+
+    ProcessorColour out;
+    out.linearToXyz = cat * c.rawToXyz;
+    const double det = glm::determinant(out.linearToXyz);
+    if (!std::isfinite(det) || std::abs(det) < 1e-12) singular();
+    const glm::dvec3 raw = 1.0 / c.whiteBalance;  // the white's raw response
+    const double peak = std::max({raw.x, raw.y, raw.z});
+    out.illuminantNeutral = raw / peak;
+
+    if (spec.correction == CorrectionForm::Linear) {
+        out.toXyz.form = CorrectionForm::Linear;
+        out.toXyz.columns = {out.linearToXyz[0], out.linearToXyz[1], out.linearToXyz[2]};
+    } else {
+        out.toXyz = fitColourCorrection(spec.correction, c.patchBalancedRaw, target, where);
+    }
+
+    // ColorMatrix1: XYZ → raw, diag(n̂)·M⁻¹, so that the D65 white (M·1 = white) maps to n̂.
+    const glm::dmat3 inverse = glm::inverse(out.linearToXyz);
+    for (int r = 0; r < 3; ++r)
+        for (int col = 0; col < 3; ++col) {
+            const double v = out.illuminantNeutral[r] * inverse[col][r];  // glm: [column][row]
+            if (!std::isfinite(v)) singular();
+            out.dngColorMatrix[size_t(r * 3 + col)] = v;
+        }
+
+    double sum2 = 0.0;
+    for (size_t p = 0; p < target.size(); ++p) {
+        const double de = deltaE2000(xyzToLab(applyColourCorrection(out.toXyz, c.patchBalancedRaw[p]), white),
+                                     xyzToLab(target[p], white));
+        out.patchDeltaE2000.push_back(de);
+        sum2 += de * de;
+    }
+    out.rmsDeltaE2000 = std::sqrt(sum2 / double(target.size()));
+    return out;
+}
+
+namespace {
+
+// v = max(DN − black, 0) / (white − black) per site.
+std::vector<double> normalizedRaw(const RawFrame& f) {
+    const size_t n = size_t(f.width) * size_t(f.height);
+    std::vector<double> v(n);
+    const double range = f.white - f.black;
+    for (size_t i = 0; i < n; ++i) v[i] = std::max(double(f.dn[i]) - f.black, 0.0) / range;
+    return v;
+}
+
+int siteColour(const RawFrame& f, int x, int y) { return f.cfa[size_t((y & 1) * 2 + (x & 1))]; }
+
+}  // namespace
+
+glm::dvec3 whiteBalanceNeutral(const RawFrame& f, const ProcessorSpec& spec, const ProcessorColour& colour,
+                               const Where& where) {
+    if (spec.whiteBalance == WhiteBalance::Illuminant) return colour.illuminantNeutral;
+    int x0 = 0, y0 = 0, x1 = f.width, y1 = f.height;
+    if (spec.whiteBalance == WhiteBalance::Patch) {
+        const auto& [px, py, pw, ph] = spec.patch;
+        if (px < 0 || py < 0 || pw < 2 || ph < 2 || px > f.width - pw || py > f.height - ph)
+            failInput(where.child("patch"),
+                      "the patch [{}, {}, {}, {}] (x, y, width, height) is not a rectangle of at least 2 × 2 pixels "
+                      "inside the {}×{} frame",
+                      px, py, pw, ph, f.width, f.height);
+        x0 = px, y0 = py, x1 = px + pw, y1 = py + ph;
+    }
+    glm::dvec3 sum(0.0), count(0.0);
+    const double range = f.white - f.black;
+    for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x) {
+            const int c = siteColour(f, x, y);
+            sum[c] += std::max(double(f.dn[size_t(y) * size_t(f.width) + size_t(x)]) - f.black, 0.0) / range;
+            count[c] += 1.0;
+        }
+    const glm::dvec3 mean = sum / count;
+    const double peak = std::max({mean.x, mean.y, mean.z});
+    for (int c = 0; c < 3; ++c)
+        if (!(mean[c] > 0.0))
+            failInput(spec.whiteBalance == WhiteBalance::Patch ? where.child("patch") : where.child("white_balance"),
+                      "the {} white balance finds no signal above black in channel {} of the frame: no neutral to "
+                      "balance to",
+                      whiteBalanceName(spec.whiteBalance), "RGB"[c]);
+    return mean / peak;
+}
+
+DevelopedImage develop(const RawFrame& f, const ProcessorSpec& spec, const ProcessorColour& colour,
+                       const Where& where) {
+    if (!(f.white > f.black)) failInput(where, "the white level {:g} is not above the black level {:g}", f.white, f.black);
+    DevelopedImage out;
+    out.width = f.width;
+    out.height = f.height;
+    out.neutral = whiteBalanceNeutral(f, spec, colour, where);
+    out.gains = std::max({out.neutral.x, out.neutral.y, out.neutral.z}) / out.neutral;
+    std::vector<double> balanced = normalizedRaw(f);
+    for (int y = 0; y < f.height; ++y)
+        for (int x = 0; x < f.width; ++x) {
+            double& v = balanced[size_t(y) * size_t(f.width) + size_t(x)];
+            v = std::min(v * out.gains[siteColour(f, x, y)], 1.0);
+        }
+    const std::vector<double> rgb = demosaic(balanced, f.width, f.height, f.cfa, spec.demosaic, DemosaicBorder::Mirror);
+    out.linearSrgb.resize(rgb.size());
+    for (size_t i = 0; i + 2 < rgb.size(); i += 3) {
+        const glm::dvec3 xyz = applyColourCorrection(colour.toXyz, {rgb[i], rgb[i + 1], rgb[i + 2]});
+        const glm::dvec3 srgb = xyzToLinearSrgb(xyz) * spec.exposure;
+        out.linearSrgb[i] = srgb.x, out.linearSrgb[i + 1] = srgb.y, out.linearSrgb[i + 2] = srgb.z;
+    }
+    return out;
+}
+
+std::vector<uint16_t> encodeSrgb(const DevelopedImage& image, int bits) {
+    const double top = bits == 16 ? 65535.0 : 255.0;
+    std::vector<uint16_t> out(image.linearSrgb.size());
+    for (size_t i = 0; i < out.size(); ++i)
+        out[i] = uint16_t(std::lround(srgbEncode(std::clamp(image.linearSrgb[i], 0.0, 1.0)) * top));
+    return out;
+}
+
+}  // namespace metamer

@@ -1,0 +1,107 @@
+// The image processor after the raw (issue 48, item 2; docs/camera.md, "The image processor"): a
+// Bayer raw frame to a displayable sRGB image, in the order a raw converter runs —
+//   1. black level and white level: v = max(DN − black, 0) / (white − black);
+//   2. white balance: gains g_c = max(n) / n_c for the camera's neutral n (its raw response to the
+//      named illuminant's white, or the frame's grey world, or a patch of it), each site clipped at
+//      1 after its gain (a saturated site is white, as a raw converter clips);
+//   3. demosaicing (isp/demosaic);
+//   4. the colour correction: balanced raw → CIE 1931 XYZ adapted to D65, fitted on the 24
+//      ColorChecker patches as the camera sees them under the illuminant (3 × 3 white-preserving,
+//      or root-polynomial), then XYZ → linear sRGB, times the exposure;
+//   5. the sRGB encoding, clipped to 0 … 1.
+// The DNG a capture writes carries the same numbers (ColorMatrix1 = diag(n̂_illuminant)·M⁻¹,
+// AsShotNeutral = n̂), so LibRaw, which builds its camera → sRGB matrix from those two tags,
+// develops the DNG to the processor's image: tests/python/test_isp.py checks it within rounding.
+// The processor knows a camera as a detector (color/detector.h): the sensor builds that from its
+// quantum efficiencies (sensor/sensor_colour). Tests: engine/isp/image_processor_test.cpp,
+// tests/python/test_isp.py.
+#pragma once
+
+#include "color/adaptation.h"
+#include "color/detector.h"
+#include "isp/colour_correction.h"
+#include "isp/demosaic.h"
+#include "spectral/library.h"
+
+#include <glm/mat3x3.hpp>
+#include <glm/vec3.hpp>
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace metamer {
+
+enum class WhiteBalance {
+    Illuminant,  // the camera's response to the named illuminant's white (a perfect diffuser)
+    GreyWorld,   // the frame's mean per channel: the scene averages to grey
+    Patch,       // the mean per channel in a rectangle of the frame that is known to be neutral
+};
+
+// "illuminant", "grey-world" or "patch"; an input error at `where` otherwise.
+WhiteBalance parseWhiteBalance(const std::string& name, const Where& where);
+std::string whiteBalanceName(WhiteBalance w);
+
+// What a sensor file's "processor" section says (docs/sensor.md, "The sensor file").
+struct ProcessorSpec {
+    WhiteBalance whiteBalance = WhiteBalance::Illuminant;
+    std::array<int, 4> patch{};  // x, y, width, height in pixels, for WhiteBalance::Patch
+    // The scene's light, a library illuminant: the colour correction is fitted under it, and the
+    // "illuminant" white balance is its white.
+    std::string illuminant = "illuminants/D65";
+    DemosaicMethod demosaic = DemosaicMethod::Malvar2004;
+    CorrectionForm correction = CorrectionForm::Linear;
+    Adaptation adaptation = Adaptation::Bradford;  // the illuminant's white → D65, sRGB's
+    double exposure = 1.0;                         // linear gain: white level × exposure → sRGB 1
+};
+
+// The processor's colour for one camera under one illuminant: fitted once per capture.
+struct ProcessorColour {
+    glm::dvec3 illuminantNeutral{1.0};  // the camera's raw response to the illuminant's white, max 1
+    ColourCorrection toXyz;             // balanced raw → XYZ adapted to D65 (the white's Y = 1)
+    glm::dmat3 linearToXyz{1.0};        // the 3 × 3 white-preserving fit, adapted: what the DNG holds
+    // XYZ → the camera's raw, row-major, diag(illuminantNeutral)·linearToXyz⁻¹: the D65 white maps to
+    // illuminantNeutral (DNG's ColorMatrix1, with CalibrationIlluminant1 D65).
+    std::array<double, 9> dngColorMatrix{};
+    std::vector<double> patchDeltaE2000;  // of toXyz on the 24 patches (CIELAB of the D65 white)
+    double rmsDeltaE2000 = 0.0;
+};
+
+// Fits the processor's colour for `camera` (3 channels R, G, B; weights per photon or per watt, on
+// `grid`) under `illuminantOnGrid`: an input error at `where` (the camera's sensitivities) when its
+// channels are linearly dependent (no colour matrix exists).
+ProcessorColour fitProcessorColour(const Detector& camera, const std::vector<double>& illuminantOnGrid,
+                                   const Grid& grid, const SpectrumLibrary& library, const ProcessorSpec& spec,
+                                   const Where& where);
+
+// One raw frame as the sensor wrote it.
+struct RawFrame {
+    int width = 0, height = 0;
+    const uint16_t* dn = nullptr;     // width × height digital numbers, row 0 at the top
+    double black = 0.0, white = 0.0;  // the black level and the white (saturation) level, DN
+    std::array<int, 4> cfa{};         // the 2 × 2 tile's colours, row by row: 0 R, 1 G, 2 B
+};
+
+struct DevelopedImage {
+    int width = 0, height = 0;
+    glm::dvec3 neutral{1.0};  // the white balance's neutral (max 1): the DNG's AsShotNeutral
+    glm::dvec3 gains{1.0};    // max(neutral) / neutral
+    // width × height × 3 linear sRGB (D65), not clipped: a perfect diffuser lit by the illuminant
+    // at the white level is 1, 1, 1 at exposure 1
+    std::vector<double> linearSrgb;
+};
+
+// The neutral of `frame` the white balance uses (max 1); input errors at `where` (the sensor
+// file's processor) for a patch outside the frame or a channel with no signal in it.
+glm::dvec3 whiteBalanceNeutral(const RawFrame& frame, const ProcessorSpec& spec, const ProcessorColour& colour,
+                               const Where& where);
+
+// Steps 1–4 above.
+DevelopedImage develop(const RawFrame& frame, const ProcessorSpec& spec, const ProcessorColour& colour,
+                       const Where& where);
+
+// Step 5: 8- or 16-bit sRGB-encoded R, G, B per pixel.
+std::vector<uint16_t> encodeSrgb(const DevelopedImage& image, int bits);
+
+}  // namespace metamer
