@@ -53,6 +53,11 @@ fi
 if ! "$venv/bin/python" -c "import h5py, spectral" 2>/dev/null; then
   "${pip_in_venv[@]}" "h5py==3.13.0" "spectral==0.24" "numpy==2.2.6"
 fi
+# matplotlib draws the camera report's plots (metamer.camera_report, docs/camera.md). Debian's
+# python3-matplotlib is built for Debian's numpy 1.x, not the pinned 2.2.6: pip's wheel instead.
+if ! "$venv/bin/python" -c "import matplotlib" 2>/dev/null; then
+  "${pip_in_venv[@]}" "matplotlib==3.10.3" "numpy==2.2.6"
+fi
 # tmm (Byrnes' transfer-matrix method) is the independent oracle for the dielectric slabs.
 if ! "$venv/bin/python" -c "import tmm" 2>/dev/null; then
   "${pip_in_venv[@]}" "tmm==0.2.0" "numpy==2.2.6"

@@ -148,6 +148,42 @@ TEST_F(SensorFile, LinearlyDependentChannelsHaveNoColourMatrix) {
     EXPECT_TRUE(sensorColour(readSensor(library.root() / "sensors" / "aps_c_rggb.json", library), library).has_value());
 }
 
+TEST_F(SensorFile, TheProcessorIsReadWithItsKeysAndNamesChecked) {
+    auto processor = [&](const char* text) {
+        auto j = base();
+        j["processor"] = nlohmann::ordered_json::parse(text);
+        return j;
+    };
+    const SensorSpec s = read(processor(R"({"white_balance": "patch", "patch": [10, 20, 30, 40],
+        "illuminant": "illuminants/A", "demosaic": "bilinear", "colour_correction": "root-polynomial",
+        "adaptation": "cat16", "exposure": 2})"));
+    EXPECT_EQ(s.processor.whiteBalance, WhiteBalance::Patch);
+    EXPECT_EQ(s.processor.patch, (std::array<int, 4>{10, 20, 30, 40}));
+    EXPECT_EQ(s.processor.illuminant, "illuminants/A");
+    EXPECT_EQ(s.processor.demosaic, DemosaicMethod::Bilinear);
+    EXPECT_EQ(s.processor.correction, CorrectionForm::RootPolynomial2);
+    EXPECT_EQ(s.processor.adaptation, Adaptation::Cat16);
+    EXPECT_EQ(s.processor.exposure, 2.0);
+    const ProcessorSpec defaults = read(base()).processor;
+    EXPECT_EQ(defaults.whiteBalance, WhiteBalance::Illuminant);
+    EXPECT_EQ(defaults.illuminant, "illuminants/D65");
+    for (const auto& [text, expected] : std::vector<std::pair<const char*, const char*>>{
+             {R"({"white_balance": "grey world"})", "processor.white_balance: 'grey world' is not one of"},
+             {R"({"white_balance": "patch"})", "processor.patch: the patch white balance needs"},
+             {R"({"patch": [0, 0, 4, 4]})", "processor.patch: a patch is for \"white_balance\": \"patch\""},
+             {R"({"white_balance": "patch", "patch": [0, 0, 4.5, 4]})", "processor.patch.2: expected a whole number"},
+             {R"({"illuminant": "illuminants/D66"})", "processor.illuminant"},
+             {R"({"demosaic": "ahd"})", "processor.demosaic: 'ahd' is not one of bilinear, malvar2004"},
+             {R"({"colour_correction": "cubic"})", "processor.colour_correction"},
+             {R"({"adaptation": "brad"})", "processor.adaptation"},
+             {R"({"exposure": 0})", "processor.exposure"},
+             {R"({"gamma": 2.2})", "processor.gamma: unknown key for the processor"},
+         }) {
+        const std::string e = error(processor(text));
+        EXPECT_NE(e.find(expected), std::string::npos) << text << " → " << e;
+    }
+}
+
 TEST_F(SensorFile, ALensIsReadWithItsKeysChecked) {
     auto j = base();
     j["optics"]["lens"] = nlohmann::ordered_json::parse(
