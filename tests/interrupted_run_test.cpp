@@ -178,7 +178,7 @@ TEST(InterruptedRun, SigintDuringALongCaptureRemovesItsStagingFolder) {
     pid_t pid = start(out, {"--backend", "cpu", "--sensor", "aps_c_rggb"});
     ASSERT_EQ(wait(pid), 0) << log(out);
     const auto before = snapshot(out);
-    ASSERT_EQ(before.size(), 6u);  // cube, PNG, raw PNG, DNG, JSON, electrons
+    ASSERT_EQ(before.size(), 7u);  // cube, PNG, raw PNG, DNG, JSON, developed sRGB PNG, electrons
     pid = startMetamer(out, {"capture", (out / "small.exr").string(), "--sensor", "aps_c_rggb", "--frames", "100000",
                              "--out", out.string()});
     bool sawStaging = false;

@@ -3,6 +3,9 @@
 // metamer/_api.py converts its arguments to C-ordered arrays of the right type first.
 // Tests: tests/python/test_isp.py.
 #include "core/error.h"
+#include "color/delta_e.h"
+#include "color/detector_registry.h"
+#include "isp/camera_metrics.h"
 #include "isp/colour_correction.h"
 #include "isp/demosaic.h"
 #include "isp/image_processor.h"
@@ -12,10 +15,17 @@
 #include "sensor/sensor_colour.h"
 #include "sensor/sensor_spec.h"
 #include "sensor/slanted_edge.h"
+#include "spectral/resampling.h"
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <algorithm>
+#include <cmath>
 
 namespace metamer::python {
 
@@ -156,9 +166,94 @@ py::dict developRaw(const py::buffer& rawArg, const py::object& sensorName, cons
     return out;
 }
 
+// CIE 1931 XYZ (Y = 100) of a library illuminant's perfect white, or three numbers as given.
+glm::dvec3 whiteOf(const py::object& white) {
+    if (py::isinstance<py::str>(white)) {
+        const SpectrumLibrary library;
+        const std::string name = white.cast<std::string>();
+        const Grid grid{360, 830, 1};
+        const std::vector<double> e = resample(library.get(name, Where{"", "white"}), grid);
+        const Detector cmf = makeDetector("cie1931", library, grid, Integration::Riemann, Where{"", "white"});
+        const glm::dvec3 xyz = detectorResponse3(cmf, e.data());
+        if (!(xyz.y > 0.0)) failInput(Where{"", "white"}, "'{}' has no luminance", name);
+        return 100.0 * xyz / xyz.y;
+    }
+    const std::vector<double> v = white.cast<std::vector<double>>();
+    if (v.size() != 3) failInput(Where{"", "white"}, "expected the white's X, Y, Z or a library illuminant; got {} numbers", v.size());
+    return {v[0], v[1], v[2]};
+}
+
+py::dict developedError(const py::buffer& developed, const py::buffer& reference, const py::object& white,
+                        const std::string& adaptation, int exposureFrom) {
+    if (exposureFrom < 0) failInput(Where{"", "exposure_from"}, "expected a colour's index, ≥ 0; got {}", exposureFrom);
+    const DevelopedColourError e =
+        developedColourError(triples(developed, "developed"), triples(reference, "reference"), whiteOf(white),
+                             parseAdaptation(adaptation, Where{"", "adaptation"}), size_t(exposureFrom), Where{"", "developed"});
+    auto rows = [](const std::vector<glm::dvec3>& v) {
+        const std::vector<py::ssize_t> shape{py::ssize_t(v.size()), 3};
+        py::array a(py::dtype::of<double>(), shape, cStrides<double>(shape));
+        double* out = static_cast<double*>(a.mutable_data());
+        for (const glm::dvec3& x : v) *out++ = x.x, *out++ = x.y, *out++ = x.z;
+        return a;
+    };
+    py::dict d;
+    d["delta_e2000"] = doubles(e.deltaE2000);
+    d["developed_lab"] = rows(e.developedLab);
+    d["reference_lab"] = rows(e.referenceLab);
+    d["exposure_scale"] = e.exposureScale;
+    return d;
+}
+
+py::dict photonTransferOf(const py::buffer& a, const py::buffer& b, const py::object& sensorName,
+                          const std::vector<int>& rect, const std::string& channel) {
+    const py::buffer_info ia = a.request(), ib = b.request();
+    for (const auto* info : {&ia, &ib})
+        if (info->ndim != 2 || info->format != py::format_descriptor<uint16_t>::format() ||
+            info->strides[1] != py::ssize_t(sizeof(uint16_t)) || info->strides[0] != info->shape[1] * py::ssize_t(sizeof(uint16_t)))
+            failInput(Where{"", info == &ia ? "a" : "b"}, "expected a frame: a C-ordered uint16 array of rows × columns");
+    if (ia.shape != ib.shape) failInput(Where{"", "b"}, "the two frames differ in size");
+    if (rect.size() != 4) failInput(Where{"", "rect"}, "expected [x, y, width, height]; got {} numbers", rect.size());
+    const SpectrumLibrary library;
+    const SensorSpec sensor = readSensor(sensorFile(pathOf(sensorName, "sensor").string(), library), library);
+    const auto it = std::find(sensor.channels.begin(), sensor.channels.end(), channel);
+    if (it == sensor.channels.end())
+        failInput(Where{"", "channel"}, "'{}' is not a channel of {} (its channels are {})", channel, sensor.file.string(),
+                  fmt::format("{}", fmt::join(sensor.channels, ", ")));
+    const PhotonTransferPoint p = photonTransfer(
+        static_cast<const uint16_t*>(ia.ptr), static_cast<const uint16_t*>(ib.ptr), int(ia.shape[1]), int(ia.shape[0]),
+        PixelRect{rect[0], rect[1], rect[2], rect[3]}, int(it - sensor.channels.begin()),
+        [&](int x, int y) { return sensor.channelAt(x, y); }, sensor.blackLevel_dn, Where{"", "rect"});
+    py::dict d;
+    d["mean_dn"] = p.mean_dn;
+    d["variance_dn2"] = p.variance_dn2;
+    d["snr"] = p.snr;
+    d["pixels"] = p.sites;
+    return d;
+}
+
+py::array deltaE2000Rows(const py::buffer& a, const py::buffer& b) {
+    const std::vector<glm::dvec3> x = triples(a, "lab_a"), y = triples(b, "lab_b");
+    if (x.size() != y.size()) failInput(Where{"", "lab_b"}, "expected as many colours as lab_a ({}); got {}", x.size(), y.size());
+    std::vector<double> d;
+    for (size_t i = 0; i < x.size(); ++i) d.push_back(deltaE2000(x[i], y[i]));
+    return doubles(d);
+}
+
 }  // namespace
 
 void bindCamera(py::module_& m) {
+    m.def("delta_e2000", &deltaE2000Rows, py::arg("lab_a"), py::arg("lab_b"),
+          "CIEDE2000 colour differences between two N × 3 arrays of CIELAB colours (the engine's color/delta_e)");
+    m.def("developed_colour_error", &developedError, py::arg("developed"), py::arg("reference"), py::arg("white"),
+          py::arg("adaptation"), py::arg("exposure_from"),
+          "ΔE00 of developed colours (N × 3 linear sRGB) against the scene's (N × 3 CIE 1931 XYZ whose perfect white "
+          "under the light is `white`: X, Y, Z or a library illuminant at Y = 100), the scene's adapted to D65; the "
+          "developed exposure scaled so colour `exposure_from` has the reference's Y. Returns delta_e2000, "
+          "developed_lab, reference_lab (CIELAB of D65) and exposure_scale");
+    m.def("photon_transfer", &photonTransferOf, py::arg("a"), py::arg("b"), py::arg("sensor"), py::arg("rect"),
+          py::arg("channel"),
+          "EMVA 1288's photon transfer from two raw frames of one exposure, over the pixels of channel `channel` in "
+          "rect = [x, y, width, height]: mean_dn (above black), variance_dn2 (temporal: var(a − b)/2), snr, pixels");
     m.def("develop", &developRaw, py::arg("raw"), py::arg("sensor"), py::kw_only(), py::arg("white_balance") = py::none(),
           py::arg("patch") = py::none(), py::arg("illuminant") = py::none(), py::arg("demosaic") = py::none(),
           py::arg("colour_correction") = py::none(), py::arg("exposure") = py::none(),

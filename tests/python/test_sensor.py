@@ -67,10 +67,19 @@ def expected_electrons(cube_path, sensor, exposure):
     return exposure * (signal + sensor["dark_current_e_per_s"]), signal
 
 
-def test_without_noise_the_raw_is_the_rounded_camera_equation(cube, tmp_path):
-    run("capture", cube, "--sensor", SENSOR, "--out", tmp_path, "--no-noise")
-    meta = json.loads((tmp_path / "metamers.raw.json").read_text())
+def perfect_lens(folder):
+    """The bundled sensor without its lens's blur (a perfect lens: the camera equation alone, pixel by
+    pixel; the lens, which darkens a frame's borders, is tested in test_isp.py and lens_test.cpp)."""
     sensor = json.loads(SENSOR.read_text())
+    del sensor["optics"]["lens"]
+    (folder / "perfect_lens.json").write_text(json.dumps(sensor))
+    return folder / "perfect_lens.json", sensor
+
+
+def test_without_noise_the_raw_is_the_rounded_camera_equation(cube, tmp_path):
+    path, sensor = perfect_lens(tmp_path)
+    run("capture", cube, "--sensor", path, "--out", tmp_path, "--no-noise")
+    meta = json.loads((tmp_path / "metamers.raw.json").read_text())
     raw = read(tmp_path / "metamers.raw.png", oiio.UINT16)[..., 0].astype(np.int64)
     mu, signal = expected_electrons(cube, sensor, meta["exposure_s"])
     # Auto-exposure: the 99th-percentile (nearest rank) signal reaches 0.7 of the full well.
@@ -95,7 +104,7 @@ def test_a_flat_field_mosaic_is_colour_demosaicings_bayer_mosaic(tmp_path):
              "objects": [{"shape": "quad", "center": [0, 0, 0], "normal": [0, 0, 1], "size": [4, 4], "material": "chart"}]}
     (tmp_path / "flat.json").write_text(json.dumps(scene))
     run("render", tmp_path / "flat.json", "--out", tmp_path, "--write", "cube")
-    run("capture", tmp_path / "flat.exr", "--sensor", SENSOR, "--out", tmp_path, "--no-noise")
+    run("capture", tmp_path / "flat.exr", "--sensor", perfect_lens(tmp_path)[0], "--out", tmp_path, "--no-noise")
     raw = read(tmp_path / "flat.raw.png", oiio.UINT16)[..., 0].astype(np.float64)
     rgb = np.empty(raw.shape + (3,))
     rgb[..., 0], rgb[..., 1], rgb[..., 2] = raw[0, 0], raw[0, 1], raw[1, 1]

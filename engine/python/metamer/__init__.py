@@ -56,9 +56,10 @@ from ._metamer import (  # noqa: E402  (after the check, so a missing driver is 
     __version__,
     _context_count,
 )
-from ._api import capture, compare, demosaic, develop, fit_colour_correction, load_cube, render, slanted_edge_sfr  # noqa: E402
+from ._api import capture, compare, delta_e2000, demosaic, develop, developed_colour_error, fit_colour_correction, load_cube, photon_transfer, render, slanted_edge_sfr  # noqa: E402
+from .camera_report import camera_report  # noqa: E402
 from . import kubelka_munk  # noqa: E402  (the engine's Kubelka–Munk functions, typed and checked)
 from . import _notebook  # noqa: E402,F401  (gives Render its notebook methods)
 
 __all__ = ["Error", "InputError", "NotFoundError", "Render", "VulkanUnavailableError", "Warning", "__version__",
-           "capture", "compare", "demosaic", "develop", "fit_colour_correction", "kubelka_munk", "load_cube", "render", "slanted_edge_sfr"]
+           "camera_report", "capture", "compare", "delta_e2000", "demosaic", "develop", "developed_colour_error", "fit_colour_correction", "kubelka_munk", "load_cube", "photon_transfer", "render", "slanted_edge_sfr"]

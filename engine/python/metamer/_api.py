@@ -340,6 +340,43 @@ def develop(
 
 
 @_keywords_checked
+def developed_colour_error(
+    developed: Any,
+    reference: Any,
+    *,
+    white: Union[str, Sequence[float]],
+    adaptation: str = "bradford",
+    exposure_from: int = 0,
+) -> dict[str, Any]:
+    import numpy
+    result: dict[str, Any] = _metamer.developed_colour_error(
+        numpy.ascontiguousarray(numpy.atleast_2d(developed), dtype=numpy.float64),
+        numpy.ascontiguousarray(numpy.atleast_2d(reference), dtype=numpy.float64),
+        white if isinstance(white, str) else [float(v) for v in white], adaptation, exposure_from)
+    return result
+
+
+@_keywords_checked
+def delta_e2000(lab_a: Any, lab_b: Any) -> Any:
+    import numpy
+    return _metamer.delta_e2000(numpy.ascontiguousarray(numpy.atleast_2d(lab_a), dtype=numpy.float64),
+                                numpy.ascontiguousarray(numpy.atleast_2d(lab_b), dtype=numpy.float64))
+
+
+@_keywords_checked
+def photon_transfer(a: Any, b: Any, sensor: PathLike, *, rect: Sequence[int], channel: str) -> dict[str, Any]:
+    import numpy
+    frames = []
+    for name, frame in (("a", a), ("b", b)):
+        f = numpy.asarray(frame)
+        if f.dtype.kind not in "ui":
+            raise _metamer.InputError(f"{name}: expected a raw frame's digital numbers (integers); got {f.dtype}")
+        frames.append(numpy.ascontiguousarray(f, dtype=numpy.uint16))
+    result: dict[str, Any] = _metamer.photon_transfer(frames[0], frames[1], sensor, [int(v) for v in rect], channel)
+    return result
+
+
+@_keywords_checked
 def slanted_edge_sfr(image: Any) -> dict[str, Any]:
     import numpy
     result: dict[str, Any] = _metamer.slanted_edge_sfr(numpy.ascontiguousarray(image, dtype=numpy.float64))
@@ -379,3 +416,6 @@ demosaic.__doc__ = _engine_doc(_metamer.demosaic)
 slanted_edge_sfr.__doc__ = _engine_doc(_metamer.slanted_edge_sfr)
 fit_colour_correction.__doc__ = _engine_doc(_metamer.fit_colour_correction)
 develop.__doc__ = _engine_doc(_metamer.develop)
+developed_colour_error.__doc__ = _engine_doc(_metamer.developed_colour_error)
+photon_transfer.__doc__ = _engine_doc(_metamer.photon_transfer)
+delta_e2000.__doc__ = _engine_doc(_metamer.delta_e2000)
