@@ -1,5 +1,5 @@
 // The lens between the radiance cube and the sensor, per wavelength (issue 48, item 1;
-// docs/sensor.md, "The lens"): each band of the cube is filtered by the lens's optical transfer
+// docs/camera.md, "The lens"): each band of the cube is filtered by the lens's optical transfer
 // function on the sensor's pixel grid — the diffraction of a circular aperture at the working
 // f-number, defocus (a focus error plus the longitudinal chromatic aberration at that band), the
 // pixel's own aperture and an optional 4-spot optical low-pass filter — and scaled about the image

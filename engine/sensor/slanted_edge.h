@@ -3,7 +3,7 @@
 // them, every pixel is binned by its distance from the line into a 4× oversampled edge-spread
 // function, whose derivative (the line-spread function, Hamming-windowed) is Fourier transformed.
 // The MTF is its modulus normalized at f = 0, corrected for the derivative's own transfer, at
-// frequencies along the edge's normal in cycles per pixel. Issue 48, item 3; docs/sensor.md,
+// frequencies along the edge's normal in cycles per pixel. Issue 48, item 3; docs/camera.md,
 // "Slanted-edge SFR". Tests: engine/sensor/slanted_edge_test.cpp (an edge through the lens, against
 // the lens's closed-form MTF).
 #pragma once

@@ -243,10 +243,14 @@ def _figure(report: dict[str, Any], rendered: Any, developed: Any, rects: dict[s
 
     signal = np.array([p["mean_dn"] for p in ptc])
     variance = np.array([p["variance_dn2"] for p in ptc])
-    keep = signal > 0
+    gain = report["photon_transfer"]["fitted_gain_dn_per_e"]
+    # Past the full well the variance collapses: those points are marked, not joined.
+    saturated = variance < 0.25 * (gain or 0) * signal
+    keep = (signal > 0) & ~saturated
     ax = axes[1, 0]
     ax.loglog(signal[keep], variance[keep], "o", color="tab:green")
-    gain = report["photon_transfer"]["fitted_gain_dn_per_e"]
+    if saturated.any():
+        ax.loglog(signal[saturated], np.maximum(variance[saturated], 1e-3), "x", color="tab:red", label="saturated")
     if gain:
         xs = np.geomspace(signal[keep].min(), signal[keep].max(), 50)
         ax.loglog(xs, gain * xs, "k--", lw=0.8, label=f"K = {gain:.3f} DN/e⁻ (sensor {report['photon_transfer']['sensor_gain_dn_per_e']:g})")
@@ -255,7 +259,8 @@ def _figure(report: dict[str, Any], rendered: Any, developed: Any, rects: dict[s
            title="Photon transfer (white patch, green pixels)")
 
     ax = axes[1, 1]
-    ax.loglog(signal[keep], [p["snr"] for p, k in zip(ptc, keep) if k], "o-", color="tab:green", label="white patch, exposure series")
+    ax.loglog(signal[keep], [p["snr"] for p, k in zip(ptc, keep) if k], "o-", color="tab:green",
+              label="white patch, exposure series (unsaturated)")
     greys = report["grey_patch_snr"]["patches"]
     ax.loglog([g["mean_dn"] for g in greys], [g["snr"] for g in greys], "s", color="k", label="grey patches, one exposure")
     ax.set(xlabel="mean signal μ − black, DN", ylabel="SNR", title="SNR against signal")
