@@ -45,9 +45,12 @@ ColourCorrection fitColourCorrection(CorrectionForm form, const std::vector<glm:
 }
 
 glm::dvec3 applyColourCorrection(const ColourCorrection& c, const glm::dvec3& rgb) {
-    const std::vector<double> t = correctionTerms(c.form, rgb);
-    glm::dvec3 xyz(0.0);
-    for (size_t k = 0; k < t.size(); ++k) xyz += t[k] * c.columns[k];
+    // Per pixel of a developed frame: the terms without correctionTerms' allocation.
+    glm::dvec3 xyz = rgb.r * c.columns[0] + rgb.g * c.columns[1] + rgb.b * c.columns[2];
+    if (c.form == CorrectionForm::RootPolynomial2) {
+        const double r = std::max(rgb.r, 0.0), g = std::max(rgb.g, 0.0), b = std::max(rgb.b, 0.0);
+        xyz += std::sqrt(r * g) * c.columns[3] + std::sqrt(g * b) * c.columns[4] + std::sqrt(r * b) * c.columns[5];
+    }
     return xyz;
 }
 

@@ -1,5 +1,7 @@
 #include "isp/demosaic.h"
 
+#include "core/parallel_for.h"
+
 #include <algorithm>
 
 namespace metamer {
@@ -106,11 +108,14 @@ std::vector<double> demosaic(const std::vector<double>& mosaic, int width, int h
                   mosaic.size(), width, height);
     const Mosaic m{mosaic, width, height, pattern, border};
     std::vector<double> rgb(size_t(width) * size_t(height) * 3);
-    for (int y = 0; y < height; ++y)
+    // Rows on threads: every pixel is computed from the mosaic alone, so any split is the same.
+    parallelFor(size_t(height), 0, 64, [&](size_t row) {
+        const int y = int(row);
         for (int x = 0; x < width; ++x)
             for (int c = 0; c < 3; ++c)
                 rgb[(size_t(y) * width + size_t(x)) * 3 + size_t(c)] =
                     method == DemosaicMethod::Bilinear ? bilinear(m, x, y, c) : malvar(m, x, y, c);
+    });
     return rgb;
 }
 

@@ -4,6 +4,7 @@
 #include "color/delta_e.h"
 #include "color/lab.h"
 #include "color/srgb.h"
+#include "core/parallel_for.h"
 
 #include <glm/glm.hpp>
 
@@ -143,11 +144,12 @@ DevelopedImage develop(const RawFrame& f, const ProcessorSpec& spec, const Proce
         }
     const std::vector<double> rgb = demosaic(balanced, f.width, f.height, f.cfa, spec.demosaic, DemosaicBorder::Mirror);
     out.linearSrgb.resize(rgb.size());
-    for (size_t i = 0; i + 2 < rgb.size(); i += 3) {
+    parallelFor(rgb.size() / 3, 0, 16384, [&](size_t p) {
+        const size_t i = 3 * p;
         const glm::dvec3 xyz = applyColourCorrection(colour.toXyz, {rgb[i], rgb[i + 1], rgb[i + 2]});
         const glm::dvec3 srgb = xyzToLinearSrgb(xyz) * spec.exposure;
         out.linearSrgb[i] = srgb.x, out.linearSrgb[i + 1] = srgb.y, out.linearSrgb[i + 2] = srgb.z;
-    }
+    });
     return out;
 }
 

@@ -1,8 +1,7 @@
 #include "sensor/capture.h"
 
-#include "core/cpu_count.h"
-
 #include "core/error.h"
+#include "core/parallel_for.h"
 #include "core/statistics.h"
 #include "sensor/poisson.h"
 #include "spectral/resampling.h"
@@ -11,7 +10,6 @@
 #include <atomic>
 #include <cmath>
 #include <numbers>
-#include <thread>
 
 namespace metamer {
 
@@ -20,21 +18,6 @@ namespace {
 // Streams: the key is (seed, purpose), the counter (pixel, frame, 0), so a pixel's shot noise, read
 // noise, PRNU and DSNU never share words, whatever the seeds.
 constexpr uint64_t kPrnuStream = 1, kDsnuStream = 2, kShotStream = 3, kReadStream = 4;
-
-// f(i) for i in [0, n), in contiguous blocks on `threads` threads (0: one per CPU; at most one per
-// 16 384 pixels).
-template <typename F>
-void forEachPixel(size_t n, int threads, F&& f) {
-    size_t t = threads > 0 ? size_t(threads) : size_t(usableCpuCount());
-    t = std::clamp<size_t>(std::min(t, n / 16384), 1, 256);
-    auto block = [&](size_t k) {
-        for (size_t i = n * k / t; i < n * (k + 1) / t; ++i) f(i);
-    };
-    std::vector<std::thread> pool;
-    for (size_t k = 1; k < t; ++k) pool.emplace_back(block, k);
-    block(0);
-    for (std::thread& th : pool) th.join();
-}
 
 }  // namespace
 
@@ -104,7 +87,7 @@ ExpectedElectrons expectedElectrons(const SpectralCube& scene, const SensorSpec&
     out.channel.resize(pixels);
     const double cx = 0.5 * cube.width, cy = 0.5 * cube.height;
     std::atomic<size_t> firstBad{pixels};  // the first pixel whose rate is not a number ≥ 0
-    forEachPixel(pixels, threads, [&](size_t i) {
+    parallelFor(pixels, threads, 16384, [&](size_t i) {
         const int x = int(i % size_t(cube.width)), y = int(i / size_t(cube.width));
         const int c = sensor.channelAt(x, y);
         out.channel[i] = uint8_t(c);
@@ -149,7 +132,7 @@ ExpectedElectrons expectedElectrons(const SpectralCube& scene, const SensorSpec&
     out.electrons.resize(pixels);
     const bool dsnu = fixedPattern && sensor.dsnu_e > 0.0;
     if (dsnu) out.darkOffset.resize(pixels);
-    forEachPixel(pixels, threads, [&](size_t i) {
+    parallelFor(pixels, threads, 16384, [&](size_t i) {
         const double gain = fixedPattern ? prnuGain(sensor, i) : 1.0;
         out.electrons[i] = out.exposure_s * (rate[i] * gain + sensor.darkCurrent_e_per_s);
         if (dsnu) out.darkOffset[i] = dsnuOffset(sensor, i);
@@ -174,7 +157,7 @@ std::vector<uint16_t> digitize(const std::vector<double>& expected, int width, c
     (void)width;
     // Each pixel draws from its own streams, so the pixels split between threads in any way give
     // the same numbers.
-    forEachPixel(expected.size(), noise.threads, [&](size_t i) {
+    parallelFor(expected.size(), noise.threads, 16384, [&](size_t i) {
         double electrons;
         if (noise.enabled) {
             CounterStream shot({noise.seed, kShotStream}, i, noise.frame, 0), read({noise.seed, kReadStream}, i, noise.frame, 0);
