@@ -23,6 +23,9 @@ CLI::App* addCaptureCommand(CLI::App& app, CaptureArgs& a) {
         ->capture_default_str();
     c->add_option("--exposure", a.exposure, "exposure time in seconds, overriding the sensor file's");
     c->add_flag("--no-noise", a.noNoise, "the expected values, rounded: no shot, read or fixed-pattern noise drawn");
+    c->add_option("--illuminant", a.illuminant,
+                  "the scene's light, a library spectrum (illuminants/A): the image processor's white balance and "
+                  "colour correction, and the DNG's, overriding the sensor file's processor.illuminant (docs/camera.md)");
     return c;
 }
 
@@ -37,6 +40,7 @@ int runCapture(const CaptureArgs& a) {
     request.frames = a.frames;
     request.exposure = a.exposure;
     request.noise = !a.noNoise;
+    if (!a.illuminant.empty()) request.illuminant = a.illuminant;
     captureToFiles(request, library, [](const std::string& line) { std::printf("%s\n", line.c_str()); });
     return 0;
 }

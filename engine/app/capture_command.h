@@ -20,6 +20,7 @@ struct CaptureArgs {
     int frames = 1;              // frames seed … with frame numbers frame, frame + 1, …
     std::optional<double> exposure;
     bool noNoise = false;
+    std::string illuminant;      // the scene's light for the image processor; empty: the sensor file's
 };
 
 CLI::App* addCaptureCommand(CLI::App& app, CaptureArgs& args);

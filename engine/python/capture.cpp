@@ -30,14 +30,18 @@ namespace {
 // metamer.capture: the simulated sensor (docs/sensor.md) on a Render's cube or a cube file.
 py::dict capture(const py::object& source, const py::object& sensorName, const py::object& seedArg,
                  const py::object& frameArg, const py::object& framesArg, const py::object& exposureArg, bool noise,
-                 const py::object& outArg) {
+                 const py::object& outArg, const py::object& illuminantArg) {
     discardPendingWarning();
     const uint64_t seed = unsignedInteger(seedArg, "seed"), frame = unsignedInteger(frameArg, "frame");
     const int frames = int(integer(framesArg, "frames", INT_MIN, INT_MAX));
     const std::optional<double> exposure = optionalNumber(exposureArg, "exposure");
     checkCaptureNumbers(exposure, frame, frames, "");
     const SpectrumLibrary library;
-    const SensorSpec sensor = readSensor(sensorFile(pathOf(sensorName, "sensor").string(), library), library);
+    CaptureRequest request;
+    request.sensor = pathOf(sensorName, "sensor").string();
+    if (!illuminantArg.is_none()) request.illuminant = text(illuminantArg, "illuminant");
+    request.illuminantKey = "illuminant";
+    const SensorSpec sensor = readCaptureSensor(request, library);
     SpectralCube cube;
     if (py::isinstance<Render>(source)) {
         const Render& r = source.cast<const Render&>();
@@ -104,8 +108,6 @@ py::dict capture(const py::object& source, const py::object& sensorName, const p
         // The files `metamer capture` writes — raw PNGs, DNGs, JSON, electrons — byte for byte,
         // into `out`, all put in place together, from the electrons above (the frames are
         // digitized again for them; the camera equation and the lens are not run again).
-        CaptureRequest request;
-        request.sensor = pathOf(sensorName, "sensor").string();
         request.seed = seed;
         request.frame = frame;
         request.frames = frames;
@@ -136,12 +138,13 @@ py::dict capture(const py::object& source, const py::object& sensorName, const p
 void bindCapture(py::module_& m) {
     m.def("capture", &capture, py::arg("source"), py::arg("sensor"), py::kw_only(), py::arg("seed") = 0,
           py::arg("frame") = 0, py::arg("frames") = 1, py::arg("exposure") = py::none(), py::arg("noise") = true,
-          py::arg("out") = py::none(),
+          py::arg("out") = py::none(), py::arg("illuminant") = py::none(),
           "What a simulated sensor records from a Render's cube or a cube file (docs/sensor.md): a dict with raw "
           "(rows × columns uint16 digital numbers; frames × rows × columns when frames > 1), electrons (the "
           "mean recorded electrons μe + DSNU offset, float64), channels, cfa, black and white levels, conversion "
-          "gain, exposure; with out=FOLDER also the files `metamer capture` writes (raw PNG, DNG, JSON per frame, "
-          "the electrons EXR), listed under files");
+          "gain, exposure; with out=FOLDER also the files `metamer capture` writes (raw PNG, DNG, developed sRGB "
+          "PNG, JSON per frame, the electrons EXR), listed under files; illuminant: the scene's light for the image "
+          "processor and the DNG (a library spectrum), instead of the sensor file's");
 }
 
 }  // namespace metamer::python

@@ -49,10 +49,19 @@ void checkCaptureNumbers(std::optional<double> exposure, uint64_t frame, int fra
                   std::numeric_limits<uint64_t>::max());
 }
 
+SensorSpec readCaptureSensor(const CaptureRequest& a, const SpectrumLibrary& library) {
+    SensorSpec sensor = readSensor(sensorFile(a.sensor, library), library);
+    if (a.illuminant) {
+        library.get(*a.illuminant, Where{a.illuminantKey});  // an unknown name, with a suggestion
+        sensor.processor.illuminant = *a.illuminant;
+    }
+    return sensor;
+}
+
 CaptureFiles stageCapture(const CaptureRequest& a, const SpectrumLibrary& library, StagingFolder& staging) {
     checkCaptureNumbers(a.exposure, a.frame, a.frames, "--");
     const fs::path& cubeName = a.cubeName.empty() ? a.cube : a.cubeName;
-    const SensorSpec sensor = readSensor(sensorFile(a.sensor, library), library);  // its mistakes before the cube's
+    const SensorSpec sensor = readCaptureSensor(a, library);  // its mistakes before the cube's
     SpectralCube cube;
     try {
         cube = readRadianceCube(a.cube);

@@ -29,7 +29,14 @@ struct CaptureRequest {
     int frames = 1;
     std::optional<double> exposure;
     bool noise = true;
+    // The scene's light for the image processor (a library spectrum), instead of the sensor file's
+    // processor.illuminant; errors name `illuminantKey` (the CLI's flag or Python's keyword).
+    std::optional<std::string> illuminant;
+    std::string illuminantKey = "--illuminant";
 };
+
+// The sensor of `request`, read, with the request's illuminant (if any) as its processor's.
+SensorSpec readCaptureSensor(const CaptureRequest& request, const SpectrumLibrary& library);
 
 // A capture's numbers, for the CLI and Python alike (`prefix` "--" names the CLI's flags, "" the
 // keywords): an exposure in (0, 10⁶] s, 1 … 100 000 frames, numbered from `frame` without passing

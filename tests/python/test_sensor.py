@@ -257,3 +257,24 @@ def test_python_capture_writes_the_clis_files_byte_for_byte(cube, tmp_path):
         else:
             assert (tmp_path / "cli" / name).read_bytes() == (tmp_path / "py" / name).read_bytes(), name
     np.testing.assert_array_equal(c["raw"][1], read(tmp_path / "py" / "metamers.raw.1.png", oiio.UINT16)[..., 0])
+
+
+def test_capture_names_the_scenes_light_for_the_processor_and_the_dng(cube, tmp_path):
+    """--illuminant (Python: illuminant=) replaces the sensor file's processor.illuminant: the frame is
+    balanced for it, and its DNG's AsShotNeutral is the camera's response to it (tungsten: little blue)."""
+    import metamer
+    run("capture", cube, "--sensor", SENSOR, "--out", tmp_path, "--no-noise", "--illuminant", "illuminants/A")
+    meta = json.loads((tmp_path / "metamers.raw.json").read_text())
+    assert meta["processor"]["illuminant"] == "illuminants/A"
+    neutral = np.array(meta["as_shot_neutral"])
+    assert neutral.max() == 1.0 and neutral[2] < 0.6
+    m = np.array(meta["xyz_to_camera_d65"]).reshape(3, 3)
+    np.testing.assert_allclose(m @ np.array([0.95047, 1.0, 1.08883]), neutral, atol=1e-9)
+    p = subprocess.run([BINARY, "capture", cube, "--sensor", SENSOR, "--out", tmp_path / "x", "--illuminant",
+                        "illuminants/AA"], capture_output=True, text=True)
+    assert p.returncode == 2 and "--illuminant" in p.stderr and "illuminants/A" in p.stderr, p.stderr
+    with pytest.raises(metamer.InputError, match="illuminant"):
+        metamer.capture(str(cube), str(SENSOR), illuminant="illuminants/AA")
+    files = metamer.capture(str(cube), str(SENSOR), noise=False, illuminant="illuminants/A", out=tmp_path / "py")
+    assert json.loads((tmp_path / "py" / "metamers.raw.json").read_text())["as_shot_neutral"] == meta["as_shot_neutral"]
+    assert files["raw"].shape == (32, 64)

@@ -302,9 +302,10 @@ def capture(
     exposure: Optional[float] = None,
     noise: bool = True,
     out: Optional[PathLike] = None,
+    illuminant: Optional[str] = None,
 ) -> dict[str, Any]:
     return _metamer.capture(source, sensor, seed=seed, frame=frame, frames=frames, exposure=exposure, noise=noise,
-                            out=out)
+                            out=out, illuminant=illuminant)
 
 
 @_keywords_checked
