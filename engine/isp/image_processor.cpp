@@ -96,6 +96,8 @@ int siteColour(const RawFrame& f, int x, int y) { return f.cfa[size_t((y & 1) * 
 
 }  // namespace
 
+bool developable(int width, int height) { return width >= 2 && height >= 2; }
+
 glm::dvec3 whiteBalanceNeutral(const RawFrame& f, const ProcessorSpec& spec, const ProcessorColour& colour,
                                const Where& where) {
     if (spec.whiteBalance == WhiteBalance::Illuminant) return colour.illuminantNeutral;
@@ -131,6 +133,9 @@ glm::dvec3 whiteBalanceNeutral(const RawFrame& f, const ProcessorSpec& spec, con
 DevelopedImage develop(const RawFrame& f, const ProcessorSpec& spec, const ProcessorColour& colour,
                        const Where& where) {
     if (!(f.white > f.black)) failInput(where, "the white level {:g} is not above the black level {:g}", f.white, f.black);
+    if (!developable(f.width, f.height))
+        failInput(where, "a {}×{} frame cannot be developed: demosaicing a 2 × 2 CFA needs at least 2 × 2 pixels", f.width,
+                  f.height);
     DevelopedImage out;
     out.width = f.width;
     out.height = f.height;

@@ -97,7 +97,10 @@ struct DevelopedImage {
 glm::dvec3 whiteBalanceNeutral(const RawFrame& frame, const ProcessorSpec& spec, const ProcessorColour& colour,
                                const Where& where);
 
-// Steps 1–4 above.
+// Whether a frame this size can be developed: demosaicing needs 2 × 2 pixels.
+bool developable(int width, int height);
+
+// Steps 1–4 above; an input error at `where` for a frame that is not developable.
 DevelopedImage develop(const RawFrame& frame, const ProcessorSpec& spec, const ProcessorColour& colour,
                        const Where& where);
 

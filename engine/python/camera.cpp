@@ -134,10 +134,13 @@ py::dict developRaw(const py::buffer& rawArg, const py::object& sensorName, cons
     RawFrame f{int(info.shape[1]), int(info.shape[0]), static_cast<const uint16_t*>(info.ptr), sensor.blackLevel_dn,
                double(sensor.whiteLevel()), {}};
     for (size_t i = 0; i < 4; ++i) f.cfa[i] = colour->cfa[i];
+    if (!developable(f.width, f.height))
+        failInput(Where{"", "raw"}, "a {}×{} frame cannot be developed: demosaicing needs at least 2 × 2 pixels", f.width,
+                  f.height);
     DevelopedImage d;
     {
         py::gil_scoped_release release;
-        d = develop(f, p, colour->processor, Where{"", "raw"});
+        d = develop(f, p, colour->processor, Where{});
     }
     const std::vector<py::ssize_t> shape{py::ssize_t(f.height), py::ssize_t(f.width), 3};
     py::array linear(py::dtype::of<double>(), shape, cStrides<double>(shape));

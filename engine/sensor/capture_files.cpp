@@ -109,7 +109,7 @@ CaptureFiles stageCaptureFiles(const ExpectedElectrons& e, const SensorSpec& sen
         // An RGB Bayer frame developed by the image processor, and its white balance's neutral:
         // the DNG's AsShotNeutral, so a raw converter balances as the processor did.
         std::optional<DevelopedImage> developed;
-        if (colour) {
+        if (colour && developable(e.width, e.height)) {
             RawFrame f{e.width, e.height, raw.data(), sensor.blackLevel_dn, double(sensor.whiteLevel()), {}};
             for (size_t i = 0; i < 4; ++i) f.cfa[i] = colour->cfa[i];
             developed = develop(f, sensor.processor, colour->processor, Where{sensor.file.string(), "processor"});
@@ -126,7 +126,8 @@ CaptureFiles stageCaptureFiles(const ExpectedElectrons& e, const SensorSpec& sen
             if (colour) {
                 dng.cfa = colour->cfa;
                 dng.colorMatrix1 = colour->processor.dngColorMatrix;
-                dng.asShotNeutral = {developed->neutral.x, developed->neutral.y, developed->neutral.z};
+                const glm::dvec3 n = developed ? developed->neutral : colour->processor.illuminantNeutral;
+                dng.asShotNeutral = {n.x, n.y, n.z};
             }
             dng.blackLevel = sensor.blackLevel_dn;
             dng.whiteLevel = sensor.whiteLevel();
@@ -164,9 +165,13 @@ CaptureFiles stageCaptureFiles(const ExpectedElectrons& e, const SensorSpec& sen
         if (colour) {
             const ProcessorSpec& p = sensor.processor;
             const ProcessorColour& c = colour->processor;
-            meta["developed"] = name + ".srgb.png";
+            // A frame narrower than the CFA's tile is not developed (nothing to demosaic): its
+            // DNG has the illuminant's neutral.
+            const glm::dvec3 n = developed ? developed->neutral : c.illuminantNeutral;
+            const glm::dvec3 gains = developed ? developed->gains : glm::dvec3(std::max({n.x, n.y, n.z})) / n;
+            meta["developed"] = developed ? nlohmann::ordered_json(name + ".srgb.png") : nlohmann::ordered_json(nullptr);
             meta["xyz_to_camera_d65"] = c.dngColorMatrix;
-            meta["as_shot_neutral"] = {developed->neutral.x, developed->neutral.y, developed->neutral.z};
+            meta["as_shot_neutral"] = {n.x, n.y, n.z};
             meta["characterization_rms_delta_e2000"] = c.rmsDeltaE2000;
             nlohmann::ordered_json correction = nlohmann::ordered_json::array();
             for (const glm::dvec3& column : c.toXyz.columns) correction.push_back({column.x, column.y, column.z});
@@ -178,7 +183,7 @@ CaptureFiles stageCaptureFiles(const ExpectedElectrons& e, const SensorSpec& sen
                 {"correction_columns", correction},
                 {"adaptation", adaptationName(p.adaptation)},
                 {"exposure", p.exposure},
-                {"white_balance_gains", {developed->gains.x, developed->gains.y, developed->gains.z}},
+                {"white_balance_gains", {gains.x, gains.y, gains.z}},
                 {"colorchecker_delta_e2000", c.patchDeltaE2000},
                 {"output", "sRGB (IEC 61966-2-1), 8 bits"},
             };
@@ -186,7 +191,9 @@ CaptureFiles stageCaptureFiles(const ExpectedElectrons& e, const SensorSpec& sen
         writeFileAtomically(stage(name + ".json"), meta.dump(2) + "\n");
         written.lines.push_back(fmt::format("wrote {}{} ({}×{}, {}, exposure {:.6g} s{}, {})",
                                             staging.finalPath(name + ".png").string(),
-                                            colour ? ", .dng and .srgb.png" : dngWritten ? " and .dng" : "",
+                                            developed ? ", .dng and .srgb.png"
+                                            : dngWritten ? (colour ? " and .dng (too small to develop)" : " and .dng")
+                                                         : "",
                                             e.width, e.height, sensor.cfaName, e.exposure_s,
                                             e.autoExposed ? " (auto)" : "",
                                             a.noise ? fmt::format("seed {}, frame {}", a.seed, frame)

@@ -267,3 +267,39 @@ def test_a_camera_that_is_a_linear_transform_of_the_cmfs_develops_with_no_colour
     print(f"Luther camera after the processor: ΔE00 max {measured.max():.4f}")
     assert measured.max() < 0.05
     assert max(developed["colorchecker_delta_e2000"]) < 1e-6
+
+
+def test_develop_names_its_mistakes(tmp_path):
+    import subprocess
+
+    import metamer
+    frame = np.full((8, 8), 500, np.uint16)
+    for keywords, message in [
+        ({"white_balance": "gray"}, "white_balance: unknown white balance 'gray'"),
+        ({"white_balance": "patch"}, "patch: the patch white balance needs patch="),
+        ({"white_balance": "patch", "patch": ["a", 1, 2, 3]}, "patch: expected \\[x, y, width, height\\]"),
+        ({"white_balance": "patch", "patch": [0, 0, 9, 9]}, "patch: the patch \\[0, 0, 9, 9\\] .* inside the 8×8 frame"),
+        ({"illuminant": "illuminants/D66"}, "illuminant"),
+        ({"demosaic": "ahd"}, "demosaic: 'ahd' is not a demosaicing method"),
+        ({"colour_correction": "cubic"}, "colour_correction"),
+        ({"exposure": 0.0}, "exposure: expected a gain"),
+    ]:
+        with pytest.raises(metamer.InputError, match=message):
+            metamer.develop(frame, "aps_c_rggb", **keywords)
+    with pytest.raises(metamer.InputError, match="raw: a 5×1 frame cannot be developed"):
+        metamer.develop(np.zeros((1, 5), np.uint16), "aps_c_rggb")
+    with pytest.raises(metamer.InputError, match="raw: expected the sensor's digital numbers"):
+        metamer.develop(frame.astype(float), "aps_c_rggb")
+    with pytest.raises(metamer.InputError, match="not an RGB Bayer sensor"):
+        metamer.develop(frame, "mono_silicon")
+    # A capture too narrow to develop still writes its raw frame and DNG, and says why it has no sRGB.
+    cube = _colorchecker(tmp_path, "illuminants/D65")
+    one = tmp_path / "one"
+    _run("render", REPO / "scenes" / "colorchecker.json", "--out", one, "--write", "cube",
+         "--set", "camera.width=1", "--set", "camera.height=7")
+    p = _run("capture", one / "colorchecker.exr", "--sensor", "aps_c_rggb", "--out", one)
+    assert "too small to develop" in p.stdout
+    import json
+    meta = json.loads((one / "colorchecker.raw.json").read_text())
+    assert meta["developed"] is None and (one / "colorchecker.raw.dng").exists()
+    assert not (one / "colorchecker.raw.srgb.png").exists() and cube.exists()

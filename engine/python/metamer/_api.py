@@ -333,6 +333,11 @@ def develop(
                          f"got {frame.dtype}")
     if frame.size and (frame.min() < 0 or frame.max() > 65535):
         raise _metamer.InputError("raw: digital numbers must lie in 0 … 65535")
+    if patch is not None:
+        values = list(patch) if isinstance(patch, (list, tuple, numpy.ndarray)) else None
+        if values is None or len(values) != 4 or not all(isinstance(v, (int, numpy.integer)) for v in values):
+            raise _metamer.InputError(f"patch: expected [x, y, width, height], four whole numbers of pixels; got {patch!r}")
+        patch = [int(v) for v in values]
     result: dict[str, Any] = _metamer.develop(numpy.ascontiguousarray(frame, dtype=numpy.uint16), sensor,
                                               white_balance=white_balance, patch=patch, illuminant=illuminant,
                                               demosaic=demosaic, colour_correction=colour_correction,
