@@ -82,4 +82,14 @@ std::vector<uint8_t> displayIccProfile(const DisplayModel& display, const std::s
     return bytes;
 }
 
+DisplayColourTag displayColourTag(const DisplayModel& display) {
+    DisplayColourTag tag;
+    if (display.kind == DisplayKind::Srgb)
+        tag.srgbChunk = true;
+    else
+        tag.iccProfile =
+            displayIccProfile(display, "Metamer display: " + display.name + " (gain-offset-gamma model, docs/color.md)");
+    return tag;
+}
+
 }  // namespace metamer

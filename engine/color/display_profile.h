@@ -27,4 +27,13 @@ inline constexpr uint16_t kProfileDate[6] = {2026, 1, 1, 0, 0, 0};
 // profileDescriptionTag. A runtime error if Little CMS fails.
 std::vector<uint8_t> displayIccProfile(const DisplayModel& display, const std::string& description);
 
+// How an image of a display model's counts says what colour space it is in, for colour-managed
+// viewers: sRGB's own PNG chunk for the sRGB model, the model's ICC profile for any other (the
+// render's display PNG, the preview's screenshots and a capture's developed frames).
+struct DisplayColourTag {
+    bool srgbChunk = false;
+    std::vector<uint8_t> iccProfile;
+};
+DisplayColourTag displayColourTag(const DisplayModel& display);
+
 }  // namespace metamer

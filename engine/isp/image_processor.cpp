@@ -41,13 +41,15 @@ ProcessorColour fitProcessorColour(const Detector& camera, const std::vector<dou
     // The targets: the patches' XYZ under the illuminant, adapted to D65. Least squares is linear in
     // its targets, so the 3 × 3 fitted to adapted targets is the adaptation times the one fitted to
     // the XYZ themselves (the white-preserving constraint moves with them).
-    const glm::dmat3 cat = adaptationMatrix(spec.adaptation, c.whiteXyz, kD65WhiteXyz);
+    ProcessorColour out;
+    out.display = parseDisplay(spec.display, spec.bits, where.child("display"));
+    const glm::dvec3 displayWhite = out.display.whiteXyz / out.display.whiteXyz.y;
+    const glm::dmat3 cat = adaptationMatrix(spec.adaptation, c.whiteXyz, displayWhite);
     const glm::dvec3 white = cat * c.whiteXyz;
     std::vector<glm::dvec3> target;
     for (const glm::dvec3& xyz : c.patchXyz) target.push_back(cat * xyz);
 
-    ProcessorColour out;
-    out.linearToXyz = cat * c.rawToXyz;
+    out.linearToXyz = adaptationMatrix(spec.adaptation, c.whiteXyz, kD65WhiteXyz) * c.rawToXyz;
     const double det = glm::determinant(out.linearToXyz);
     if (!std::isfinite(det) || std::abs(det) < 1e-12) singular();
     const glm::dvec3 raw = 1.0 / c.whiteBalance;  // the white's raw response
@@ -55,8 +57,9 @@ ProcessorColour fitProcessorColour(const Detector& camera, const std::vector<dou
     out.illuminantNeutral = raw / peak;
 
     if (spec.correction == CorrectionForm::Linear) {
+        const glm::dmat3 m = cat * c.rawToXyz;
         out.toXyz.form = CorrectionForm::Linear;
-        out.toXyz.columns = {out.linearToXyz[0], out.linearToXyz[1], out.linearToXyz[2]};
+        out.toXyz.columns = {m[0], m[1], m[2]};
     } else {
         out.toXyz = fitColourCorrection(spec.correction, c.patchBalancedRaw, target, where);
     }
@@ -148,21 +151,25 @@ DevelopedImage develop(const RawFrame& f, const ProcessorSpec& spec, const Proce
             v = std::min(v * out.gains[siteColour(f, x, y)], 1.0);
         }
     const std::vector<double> rgb = demosaic(balanced, f.width, f.height, f.cfa, spec.demosaic, DemosaicBorder::Mirror);
-    out.linearSrgb.resize(rgb.size());
+    out.xyz.resize(rgb.size());
+    out.linearRgb.resize(rgb.size());
+    const glm::dmat3 toRgb = glm::inverse(colour.display.rgbToXyz);
     parallelFor(rgb.size() / 3, 0, 16384, [&](size_t p) {
         const size_t i = 3 * p;
-        const glm::dvec3 xyz = applyColourCorrection(colour.toXyz, {rgb[i], rgb[i + 1], rgb[i + 2]});
-        const glm::dvec3 srgb = xyzToLinearSrgb(xyz) * spec.exposure;
-        out.linearSrgb[i] = srgb.x, out.linearSrgb[i + 1] = srgb.y, out.linearSrgb[i + 2] = srgb.z;
+        const glm::dvec3 xyz = applyColourCorrection(colour.toXyz, {rgb[i], rgb[i + 1], rgb[i + 2]}) * spec.exposure;
+        const glm::dvec3 linear = toRgb * (xyz - colour.display.blackXyz);
+        for (int c = 0; c < 3; ++c) out.xyz[i + size_t(c)] = xyz[c], out.linearRgb[i + size_t(c)] = linear[c];
     });
     return out;
 }
 
-std::vector<uint16_t> encodeSrgb(const DevelopedImage& image, int bits) {
-    const double top = bits == 16 ? 65535.0 : 255.0;
-    std::vector<uint16_t> out(image.linearSrgb.size());
-    for (size_t i = 0; i < out.size(); ++i)
-        out[i] = uint16_t(std::lround(srgbEncode(std::clamp(image.linearSrgb[i], 0.0, 1.0)) * top));
+std::vector<uint16_t> encodeCounts(const DevelopedImage& image, const DisplayModel& display) {
+    std::vector<uint16_t> out(image.xyz.size());
+    parallelFor(out.size() / 3, 0, 16384, [&](size_t p) {
+        const size_t i = 3 * p;
+        const glm::dvec3 counts = encodeXyz(display, {image.xyz[i], image.xyz[i + 1], image.xyz[i + 2]}).counts;
+        for (int c = 0; c < 3; ++c) out[i + size_t(c)] = uint16_t(counts[c]);
+    });
     return out;
 }
 

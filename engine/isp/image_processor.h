@@ -5,10 +5,11 @@
 //      named illuminant's white, or the frame's grey world, or a patch of it), each site clipped at
 //      1 after its gain (a saturated site is white, as a raw converter clips);
 //   3. demosaicing (isp/demosaic);
-//   4. the colour correction: balanced raw → CIE 1931 XYZ adapted to D65, fitted on the 24
-//      ColorChecker patches as the camera sees them under the illuminant (3 × 3 white-preserving,
-//      or root-polynomial), then XYZ → linear sRGB, times the exposure;
-//   5. the sRGB encoding, clipped to 0 … 1.
+//   4. the colour correction: balanced raw → CIE 1931 XYZ adapted to the display's white (D65 for
+//      sRGB), fitted on the 24 ColorChecker patches as the camera sees them under the illuminant
+//      (3 × 3 white-preserving, or root-polynomial), times the exposure;
+//   5. the display model's encoding (color/display_model: sRGB, or the CRT's gain-offset-gamma),
+//      as the render's display PNG is encoded.
 // The DNG a capture writes carries the same numbers (ColorMatrix1 = diag(n̂_illuminant)·M⁻¹,
 // AsShotNeutral = n̂), so LibRaw, which builds its camera → sRGB matrix from those two tags,
 // develops the DNG to the processor's image: tests/python/test_isp.py checks it within rounding.
@@ -19,6 +20,7 @@
 
 #include "color/adaptation.h"
 #include "color/detector.h"
+#include "color/display_model.h"
 #include "isp/colour_correction.h"
 #include "isp/demosaic.h"
 #include "spectral/library.h"
@@ -52,19 +54,24 @@ struct ProcessorSpec {
     std::string illuminant = "illuminants/D65";
     DemosaicMethod demosaic = DemosaicMethod::Malvar2004;
     CorrectionForm correction = CorrectionForm::Linear;
-    Adaptation adaptation = Adaptation::Bradford;  // the illuminant's white → D65, sRGB's
-    double exposure = 1.0;                         // linear gain: white level × exposure → sRGB 1
+    Adaptation adaptation = Adaptation::Bradford;  // the illuminant's white → the display's
+    double exposure = 1.0;                         // linear gain: white level × exposure → display white
+    std::string display = "srgb";                  // the output's display model: "srgb" or "crt"
+    int bits = 8;                                  // its counts: 8 or 16
 };
 
 // The processor's colour for one camera under one illuminant: fitted once per capture.
 struct ProcessorColour {
     glm::dvec3 illuminantNeutral{1.0};  // the camera's raw response to the illuminant's white, max 1
-    ColourCorrection toXyz;             // balanced raw → XYZ adapted to D65 (the white's Y = 1)
-    glm::dmat3 linearToXyz{1.0};        // the 3 × 3 white-preserving fit, adapted: what the DNG holds
+    DisplayModel display;               // the output's (its white is the adaptation's destination)
+    ColourCorrection toXyz;             // balanced raw → XYZ adapted to the display's white (Y = 1)
+    // The 3 × 3 white-preserving fit adapted to D65, whatever the display: what the DNG holds (a raw
+    // converter's XYZ are D65's), equal to toXyz's for an sRGB display and the linear correction.
+    glm::dmat3 linearToXyz{1.0};
     // XYZ → the camera's raw, row-major, diag(illuminantNeutral)·linearToXyz⁻¹: the D65 white maps to
     // illuminantNeutral (DNG's ColorMatrix1, with CalibrationIlluminant1 D65).
     std::array<double, 9> dngColorMatrix{};
-    std::vector<double> patchDeltaE2000;  // of toXyz on the 24 patches (CIELAB of the D65 white)
+    std::vector<double> patchDeltaE2000;  // of toXyz on the 24 patches (CIELAB of the display's white)
     double rmsDeltaE2000 = 0.0;
 };
 
@@ -87,9 +94,12 @@ struct DevelopedImage {
     int width = 0, height = 0;
     glm::dvec3 neutral{1.0};  // the white balance's neutral (max 1): the DNG's AsShotNeutral
     glm::dvec3 gains{1.0};    // max(neutral) / neutral
-    // width × height × 3 linear sRGB (D65), not clipped: a perfect diffuser lit by the illuminant
-    // at the white level is 1, 1, 1 at exposure 1
-    std::vector<double> linearSrgb;
+    // width × height × 3 CIE 1931 XYZ adapted to the display's white, times the exposure: a perfect
+    // diffuser lit by the illuminant at the white level is the display's white (Y = 1) at exposure 1
+    std::vector<double> xyz;
+    // width × height × 3: the display's linear RGB, rgbToXyz⁻¹·(XYZ − black), not clipped (for
+    // sRGB: linear sRGB, the perfect diffuser above 1, 1, 1)
+    std::vector<double> linearRgb;
 };
 
 // The neutral of `frame` the white balance uses (max 1); input errors at `where` (the sensor
@@ -104,7 +114,8 @@ bool developable(int width, int height);
 DevelopedImage develop(const RawFrame& frame, const ProcessorSpec& spec, const ProcessorColour& colour,
                        const Where& where);
 
-// Step 5: 8- or 16-bit sRGB-encoded R, G, B per pixel.
-std::vector<uint16_t> encodeSrgb(const DevelopedImage& image, int bits);
+// Step 5: the display model's counts (its bits) per pixel, R, G, B, as color/display_model's
+// encodeXyz writes the render's display PNG.
+std::vector<uint16_t> encodeCounts(const DevelopedImage& image, const DisplayModel& display);
 
 }  // namespace metamer

@@ -77,9 +77,9 @@ TEST(ImageProcessor, APerfectWhiteAtAKnownRawLevelDevelopsToThatLevelNeutral) {
         const std::vector<uint16_t> dn = flatFrame(16, 12, c.illuminantNeutral, 0.4, black, white);
         const DevelopedImage d = develop(RawFrame{16, 12, dn.data(), black, white, {0, 1, 1, 2}}, spec, c, Where{"p"});
         // v_c = 0.4·n_c → balanced 0.4 → XYZ = 0.4·D65 white → sRGB 0.4 (to the DN's rounding).
-        for (double v : d.linearSrgb) EXPECT_NEAR(v, 0.4, 2e-4);
+        for (double v : d.linearRgb) EXPECT_NEAR(v, 0.4, 2e-4);
         // sRGB 0.4 encodes to 170.4 of 255.
-        for (uint16_t e : encodeSrgb(d, 8)) EXPECT_EQ(e, 170);
+        for (uint16_t e : encodeCounts(d, c.display)) EXPECT_EQ(e, 170);
     }
 }
 
@@ -121,9 +121,9 @@ TEST(ImageProcessor, ASaturatedSiteIsWhiteAndNegativeSignalIsBlack) {
     const ProcessorColour c = fitProcessorColour(camera("camera:nikon_d5100"), light("D65"), kGrid, library(), spec, Where{"qe"});
     std::vector<uint16_t> saturated(64, 4095), dark(64, 10);
     const DevelopedImage s = develop(RawFrame{8, 8, saturated.data(), 64, 4095, {0, 1, 1, 2}}, spec, c, Where{"p"});
-    for (double v : s.linearSrgb) EXPECT_NEAR(v, 1.0, 1e-9);  // every channel clipped at 1 after its gain
+    for (double v : s.linearRgb) EXPECT_NEAR(v, 1.0, 1e-9);  // every channel clipped at 1 after its gain
     const DevelopedImage d = develop(RawFrame{8, 8, dark.data(), 64, 4095, {0, 1, 1, 2}}, spec, c, Where{"p"});
-    for (double v : d.linearSrgb) EXPECT_EQ(v, 0.0);  // below black: 0, as a raw converter clips
+    for (double v : d.linearRgb) EXPECT_EQ(v, 0.0);  // below black: 0, as a raw converter clips
 }
 
 TEST(ImageProcessor, APatchOutsideTheFrameOrAChannelWithNoSignalIsAnInputError) {
@@ -148,4 +148,30 @@ TEST(ImageProcessor, APatchOutsideTheFrameOrAChannelWithNoSignalIsAnInputError) 
     Detector twins = camera("camera:nikon_d5100");
     twins.weights[2] = twins.weights[1];
     EXPECT_THROW(fitProcessorColour(twins, light("D65"), kGrid, library(), ProcessorSpec{}, Where{"qe"}), Error);
+}
+
+TEST(ImageProcessor, ACrtDisplayGetsTheWhiteItShowsAndTheRendersEncodingWhileTheDngStaysD65s) {
+    // The output for the CRT model of color/display_model: the illuminant's white adapts to the
+    // CRT's white, a perfect diffuser at 0.4 of the white level is 0.4 × that white in XYZ, and its
+    // counts are what the render's encoder writes for it; the DNG's matrix still maps D65 to the
+    // neutral (a raw converter's XYZ are D65's).
+    ProcessorSpec spec;
+    spec.illuminant = "illuminants/A";
+    spec.display = "crt";
+    spec.bits = 16;
+    const ProcessorColour c = fitProcessorColour(camera("camera:nikon_d5100"), light("A"), kGrid, library(), spec, Where{"qe"});
+    ASSERT_EQ(c.display.kind, DisplayKind::CrtGog);
+    const glm::dvec3 crtWhite = c.display.whiteXyz / c.display.whiteXyz.y;
+    const std::vector<uint16_t> dn = flatFrame(8, 8, c.illuminantNeutral, 0.4, 0, 16383);
+    const DevelopedImage d = develop(RawFrame{8, 8, dn.data(), 0, 16383, {0, 1, 1, 2}}, spec, c, Where{"p"});
+    for (size_t i = 0; i < d.xyz.size(); ++i) EXPECT_NEAR(d.xyz[i], 0.4 * crtWhite[int(i % 3)], 2e-4);
+    const glm::dvec3 want = encodeXyz(c.display, 0.4 * crtWhite).counts;
+    const std::vector<uint16_t> counts = encodeCounts(d, c.display);
+    for (size_t i = 0; i < counts.size(); ++i) EXPECT_NEAR(counts[i], want[int(i % 3)], 2.0);  // 16 bits: the DN's rounding
+    for (int r = 0; r < 3; ++r) {
+        double mapped = 0.0;
+        for (int k = 0; k < 3; ++k) mapped += c.dngColorMatrix[size_t(r * 3 + k)] * kD65WhiteXyz[k];
+        EXPECT_NEAR(mapped, c.illuminantNeutral[r], 1e-9);
+    }
+    EXPECT_THROW(parseDisplay("lcd", 8, Where{"display"}), Error);
 }

@@ -96,7 +96,8 @@ py::array fitCorrection(const py::buffer& rgb, const py::buffer& xyz, const std:
 // sensor's processor (isp/image_processor.h), with any of its settings given here instead.
 py::dict developRaw(const py::buffer& rawArg, const py::object& sensorName, const py::object& whiteBalance,
                     const py::object& patch, const py::object& illuminant, const py::object& demosaicName,
-                    const py::object& correction, const py::object& exposure) {
+                    const py::object& correction, const py::object& exposure, const py::object& displayName,
+                    const py::object& bits) {
     const py::buffer_info info = rawArg.request();
     if (info.ndim != 2 || info.format != py::format_descriptor<uint16_t>::format() ||
         info.strides[1] != py::ssize_t(sizeof(uint16_t)) || info.strides[0] != info.shape[1] * py::ssize_t(sizeof(uint16_t)))
@@ -123,6 +124,11 @@ py::dict developRaw(const py::buffer& rawArg, const py::object& sensorName, cons
     if (!demosaicName.is_none()) p.demosaic = parseDemosaicMethod(text(demosaicName, "demosaic"), Where{"", "demosaic"});
     if (!correction.is_none())
         p.correction = parseCorrectionForm(text(correction, "colour_correction"), Where{"", "colour_correction"});
+    if (!displayName.is_none()) p.display = text(displayName, "display");
+    if (!bits.is_none()) {
+        p.bits = int(integer(bits, "bits", 8, 16));
+        if (p.bits != 8 && p.bits != 16) failInput(Where{"", "bits"}, "expected 8 or 16 bits per channel, got {}", p.bits);
+    }
     if (const std::optional<double> e = optionalNumber(exposure, "exposure")) {
         if (!(*e >= 1e-4 && *e <= 1e4)) failInput(Where{"", "exposure"}, "expected a gain of 10⁻⁴ … 10⁴, got {:g}", *e);
         p.exposure = *e;
@@ -143,11 +149,19 @@ py::dict developRaw(const py::buffer& rawArg, const py::object& sensorName, cons
         d = develop(f, p, colour->processor, Where{});
     }
     const std::vector<py::ssize_t> shape{py::ssize_t(f.height), py::ssize_t(f.width), 3};
-    py::array linear(py::dtype::of<double>(), shape, cStrides<double>(shape));
-    std::copy(d.linearSrgb.begin(), d.linearSrgb.end(), static_cast<double*>(linear.mutable_data()));
-    py::array encoded(py::dtype::of<uint8_t>(), shape, cStrides<uint8_t>(shape));
-    const std::vector<uint16_t> counts = encodeSrgb(d, 8);
-    std::copy(counts.begin(), counts.end(), static_cast<uint8_t*>(encoded.mutable_data()));
+    auto doublesOf = [&](const std::vector<double>& v) {
+        py::array a(py::dtype::of<double>(), shape, cStrides<double>(shape));
+        std::copy(v.begin(), v.end(), static_cast<double*>(a.mutable_data()));
+        return a;
+    };
+    const DisplayModel& display = colour->processor.display;
+    const std::vector<uint16_t> counts = encodeCounts(d, display);
+    py::array encoded = display.bits == 8 ? py::array(py::dtype::of<uint8_t>(), shape, cStrides<uint8_t>(shape))
+                                          : py::array(py::dtype::of<uint16_t>(), shape, cStrides<uint16_t>(shape));
+    if (display.bits == 8)
+        std::copy(counts.begin(), counts.end(), static_cast<uint8_t*>(encoded.mutable_data()));
+    else
+        std::copy(counts.begin(), counts.end(), static_cast<uint16_t*>(encoded.mutable_data()));
     const ProcessorColour& c = colour->processor;
     const std::vector<py::ssize_t> three{3, 3}, terms{3, py::ssize_t(c.toXyz.columns.size())};
     py::array matrix(py::dtype::of<double>(), three, cStrides<double>(three));
@@ -156,8 +170,10 @@ py::dict developRaw(const py::buffer& rawArg, const py::object& sensorName, cons
     for (size_t t = 0; t < c.toXyz.columns.size(); ++t)
         for (int r = 0; r < 3; ++r) static_cast<double*>(columns.mutable_data())[size_t(r) * c.toXyz.columns.size() + t] = c.toXyz.columns[t][r];
     py::dict out;
-    out["linear_srgb"] = linear;
-    out["srgb"] = encoded;
+    out["xyz"] = doublesOf(d.xyz);
+    out["linear_rgb"] = doublesOf(d.linearRgb);
+    out["counts"] = encoded;
+    out["display"] = display.name;
     out["neutral"] = std::vector<double>{d.neutral.x, d.neutral.y, d.neutral.z};
     out["gains"] = std::vector<double>{d.gains.x, d.gains.y, d.gains.z};
     out["illuminant_neutral"] = std::vector<double>{c.illuminantNeutral.x, c.illuminantNeutral.y, c.illuminantNeutral.z};
@@ -259,11 +275,13 @@ void bindCamera(py::module_& m) {
           "rect = [x, y, width, height]: mean_dn (above black), variance_dn2 (temporal: var(a − b)/2), snr, pixels");
     m.def("develop", &developRaw, py::arg("raw"), py::arg("sensor"), py::kw_only(), py::arg("white_balance") = py::none(),
           py::arg("patch") = py::none(), py::arg("illuminant") = py::none(), py::arg("demosaic") = py::none(),
-          py::arg("colour_correction") = py::none(), py::arg("exposure") = py::none(),
+          py::arg("colour_correction") = py::none(), py::arg("exposure") = py::none(), py::arg("display") = py::none(),
+          py::arg("bits") = py::none(),
           "A raw frame of an RGB Bayer sensor developed by its image processor (docs/camera.md): black and white "
           "levels, white balance (illuminant, grey-world or patch), demosaicing, the colour correction fitted on the "
           "ColorChecker under the illuminant, XYZ adapted to D65 → sRGB. Keywords override the sensor file's "
-          "\"processor\". Returns linear_srgb (rows × columns × 3, float64), srgb (uint8, encoded), neutral, gains, "
+          "\"processor\". Returns xyz (rows × columns × 3, float64, adapted to the display's white), linear_rgb (the "
+          "display's linear RGB), counts (uint8 or uint16, encoded for the display), display, neutral, gains, "
           "illuminant_neutral, dng_color_matrix (XYZ → camera), correction (3 × terms) and the fit's "
           "colorchecker_delta_e2000 per patch");
     m.def("fit_colour_correction", &fitCorrection, py::arg("rgb"), py::arg("xyz"), py::arg("form"),

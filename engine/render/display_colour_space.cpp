@@ -5,11 +5,9 @@
 namespace metamer {
 
 void tagDisplayColourSpace(ImageFile& image, const DisplayModel& display) {
-    if (display.kind == DisplayKind::Srgb)
-        image.attributes.push_back({"oiio:ColorSpace", "sRGB"});
-    else
-        image.iccProfile =
-            displayIccProfile(display, "Metamer display: " + display.name + " (gain-offset-gamma model, docs/color.md)");
+    DisplayColourTag tag = displayColourTag(display);
+    if (tag.srgbChunk) image.attributes.push_back({"oiio:ColorSpace", "sRGB"});
+    image.iccProfile = std::move(tag.iccProfile);
 }
 
 }  // namespace metamer

@@ -1,5 +1,6 @@
 #include "sensor/capture_files.h"
 
+#include "color/display_profile.h"
 #include "core/error.h"
 #include "core/json.h"
 #include "io/atomic_file.h"
@@ -113,9 +114,12 @@ CaptureFiles stageCaptureFiles(const ExpectedElectrons& e, const SensorSpec& sen
             RawFrame f{e.width, e.height, raw.data(), sensor.blackLevel_dn, double(sensor.whiteLevel()), {}};
             for (size_t i = 0; i < 4; ++i) f.cfa[i] = colour->cfa[i];
             developed = develop(f, sensor.processor, colour->processor, Where{sensor.file.string(), "processor"});
-            writeImage(stage(name + ".srgb.png"),
-                       ImageFile{e.width, e.height, {"R", "G", "B"}, {{"oiio:ColorSpace", "sRGB"}}},
-                       encodeSrgb(*developed, 8), 8);
+            const DisplayModel& display = colour->processor.display;
+            ImageFile image{e.width, e.height, {"R", "G", "B"}, {}};
+            DisplayColourTag tag = displayColourTag(display);
+            if (tag.srgbChunk) image.attributes.push_back({"oiio:ColorSpace", "sRGB"});
+            image.iccProfile = std::move(tag.iccProfile);
+            writeImage(stage(name + "." + display.name + ".png"), image, encodeCounts(*developed, display), display.bits);
         }
         if (dngWritten) {
             DngRaw dng;
@@ -169,7 +173,8 @@ CaptureFiles stageCaptureFiles(const ExpectedElectrons& e, const SensorSpec& sen
             // DNG has the illuminant's neutral.
             const glm::dvec3 n = developed ? developed->neutral : c.illuminantNeutral;
             const glm::dvec3 gains = developed ? developed->gains : glm::dvec3(std::max({n.x, n.y, n.z})) / n;
-            meta["developed"] = developed ? nlohmann::ordered_json(name + ".srgb.png") : nlohmann::ordered_json(nullptr);
+            meta["developed"] = developed ? nlohmann::ordered_json(name + "." + c.display.name + ".png")
+                                          : nlohmann::ordered_json(nullptr);
             meta["xyz_to_camera_d65"] = c.dngColorMatrix;
             meta["as_shot_neutral"] = {n.x, n.y, n.z};
             meta["characterization_rms_delta_e2000"] = c.rmsDeltaE2000;
@@ -185,15 +190,16 @@ CaptureFiles stageCaptureFiles(const ExpectedElectrons& e, const SensorSpec& sen
                 {"exposure", p.exposure},
                 {"white_balance_gains", {gains.x, gains.y, gains.z}},
                 {"colorchecker_delta_e2000", c.patchDeltaE2000},
-                {"output", "sRGB (IEC 61966-2-1), 8 bits"},
+                {"display", c.display.name},
+                {"bits", c.display.bits},
             };
         }
         writeFileAtomically(stage(name + ".json"), meta.dump(2) + "\n");
         written.lines.push_back(fmt::format("wrote {}{} ({}×{}, {}, exposure {:.6g} s{}, {})",
                                             staging.finalPath(name + ".png").string(),
-                                            developed ? ", .dng and .srgb.png"
-                                            : dngWritten ? (colour ? " and .dng (too small to develop)" : " and .dng")
-                                                         : "",
+                                            developed ? fmt::format(", .dng and .{}.png", colour->processor.display.name)
+                                            : dngWritten ? std::string(colour ? " and .dng (too small to develop)" : " and .dng")
+                                                         : std::string(),
                                             e.width, e.height, sensor.cfaName, e.exposure_s,
                                             e.autoExposed ? " (auto)" : "",
                                             a.noise ? fmt::format("seed {}, frame {}", a.seed, frame)

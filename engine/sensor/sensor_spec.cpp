@@ -123,7 +123,9 @@ LensSpec readLens(const Json& v, const Where& w) {
 
 ProcessorSpec readProcessor(const Json& v, const Where& w, const SpectrumLibrary& library) {
     asObject(v, w);
-    checkKeys(v, w, {"white_balance", "patch", "illuminant", "demosaic", "colour_correction", "adaptation", "exposure"},
+    checkKeys(v, w,
+              {"white_balance", "patch", "illuminant", "demosaic", "colour_correction", "adaptation", "exposure",
+               "display", "bits"},
               "the processor");
     ProcessorSpec p;
     if (const Json* b = find(v, "white_balance"))
@@ -156,6 +158,11 @@ ProcessorSpec readProcessor(const Json& v, const Where& w, const SpectrumLibrary
     if (const Json* a = find(v, "adaptation")) p.adaptation = parseAdaptation(string(*a, w.child("adaptation")), w.child("adaptation"));
     // A gain past 10⁴ makes every pixel white; below 10⁻⁴ black.
     if (const Json* e = find(v, "exposure")) p.exposure = numberIn(*e, w.child("exposure"), 1e-4, 1e4, false, false);
+    if (const Json* d = find(v, "display")) p.display = choice(*d, w.child("display"), {"srgb", "crt"});
+    if (const Json* b = find(v, "bits")) {
+        p.bits = integerIn(*b, w.child("bits"), 8, 16);
+        if (p.bits != 8 && p.bits != 16) failInput(w.child("bits"), "expected 8 or 16 bits per channel, got {}", p.bits);
+    }
     return p;
 }
 

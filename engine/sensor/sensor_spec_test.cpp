@@ -156,7 +156,7 @@ TEST_F(SensorFile, TheProcessorIsReadWithItsKeysAndNamesChecked) {
     };
     const SensorSpec s = read(processor(R"({"white_balance": "patch", "patch": [10, 20, 30, 40],
         "illuminant": "illuminants/A", "demosaic": "bilinear", "colour_correction": "root-polynomial",
-        "adaptation": "cat16", "exposure": 2})"));
+        "adaptation": "cat16", "exposure": 2, "display": "crt", "bits": 16})"));
     EXPECT_EQ(s.processor.whiteBalance, WhiteBalance::Patch);
     EXPECT_EQ(s.processor.patch, (std::array<int, 4>{10, 20, 30, 40}));
     EXPECT_EQ(s.processor.illuminant, "illuminants/A");
@@ -164,6 +164,8 @@ TEST_F(SensorFile, TheProcessorIsReadWithItsKeysAndNamesChecked) {
     EXPECT_EQ(s.processor.correction, CorrectionForm::RootPolynomial2);
     EXPECT_EQ(s.processor.adaptation, Adaptation::Cat16);
     EXPECT_EQ(s.processor.exposure, 2.0);
+    EXPECT_EQ(s.processor.display, "crt");
+    EXPECT_EQ(s.processor.bits, 16);
     const ProcessorSpec defaults = read(base()).processor;
     EXPECT_EQ(defaults.whiteBalance, WhiteBalance::Illuminant);
     EXPECT_EQ(defaults.illuminant, "illuminants/D65");
@@ -178,6 +180,8 @@ TEST_F(SensorFile, TheProcessorIsReadWithItsKeysAndNamesChecked) {
              {R"({"adaptation": "brad"})", "processor.adaptation"},
              {R"({"exposure": 0})", "processor.exposure"},
              {R"({"gamma": 2.2})", "processor.gamma: unknown key for the processor"},
+             {R"({"display": "lcd"})", "processor.display: 'lcd' is not one of srgb, crt"},
+             {R"({"bits": 12})", "processor.bits: expected 8 or 16 bits per channel, got 12"},
          }) {
         const std::string e = error(processor(text));
         EXPECT_NE(e.find(expected), std::string::npos) << text << " → " << e;

@@ -218,7 +218,7 @@ def _reference_xyz(cube_path, light, scale):
 
 def _developed_delta_e(developed, reference, d65):
     import colour
-    rgb = _patch_means(developed["linear_srgb"])
+    rgb = _patch_means(developed["linear_rgb"])
     xyz = colour.RGB_to_XYZ(rgb, colour.RGB_COLOURSPACES["sRGB"], apply_cctf_decoding=False)
     xyz *= reference[18, 1] / xyz[18, 1]   # the exposure: the white patch's luminance factor as the render's
     return colour.delta_E(colour.XYZ_to_Lab(xyz, colour.XYZ_to_xy(d65)), colour.XYZ_to_Lab(reference, colour.XYZ_to_xy(d65)),
@@ -303,3 +303,27 @@ def test_develop_names_its_mistakes(tmp_path):
     meta = json.loads((one / "colorchecker.raw.json").read_text())
     assert meta["developed"] is None and (one / "colorchecker.raw.dng").exists()
     assert not (one / "colorchecker.raw.srgb.png").exists() and cube.exists()
+
+
+def test_a_crt_processor_writes_its_counts_with_the_displays_icc_profile(tmp_path):
+    """processor.display "crt", 16 bits: the developed frame is <stem>.raw.crt.png, 16-bit, carrying the
+    CRT model's ICC profile (no sRGB chunk), its counts metamer.develop's for the same frame."""
+    import json
+
+    import OpenImageIO as oiio
+
+    import metamer
+    cube = _colorchecker(tmp_path, "illuminants/D65")
+    sensor = _sensor(tmp_path, {"display": "crt", "bits": 16})
+    _run("capture", cube, "--sensor", sensor, "--out", tmp_path / "cap", "--seed", 2)
+    meta = json.loads((tmp_path / "cap" / "colorchecker.raw.json").read_text())
+    assert meta["developed"] == "colorchecker.raw.crt.png" and meta["processor"]["display"] == "crt"
+    png = tmp_path / "cap" / meta["developed"]
+    data = png.read_bytes()
+    assert b"iCCP" in data and b"sRGB" not in data[:data.index(b"IDAT")]
+    buf = oiio.ImageBuf(str(png))
+    assert buf.spec().format == oiio.UINT16 and buf.spec().nchannels == 3
+    raw = oiio.ImageBuf(str(tmp_path / "cap" / "colorchecker.raw.png")).get_pixels(oiio.UINT16)[..., 0]
+    developed = metamer.develop(raw, str(sensor))
+    assert developed["display"] == "crt" and developed["counts"].dtype == np.uint16
+    np.testing.assert_array_equal(buf.get_pixels(oiio.UINT16), developed["counts"])

@@ -325,6 +325,8 @@ def develop(
     demosaic: Optional[str] = None,
     colour_correction: Optional[str] = None,
     exposure: Optional[float] = None,
+    display: Optional[Literal["srgb", "crt"]] = None,
+    bits: Optional[Literal[8, 16]] = None,
 ) -> dict[str, Any]:
     import numpy
     frame = numpy.asarray(raw)
@@ -341,7 +343,7 @@ def develop(
     result: dict[str, Any] = _metamer.develop(numpy.ascontiguousarray(frame, dtype=numpy.uint16), sensor,
                                               white_balance=white_balance, patch=patch, illuminant=illuminant,
                                               demosaic=demosaic, colour_correction=colour_correction,
-                                              exposure=exposure)
+                                              exposure=exposure, display=display, bits=bits)
     return result
 
 

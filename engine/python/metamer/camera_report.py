@@ -99,6 +99,9 @@ def camera_report(sensor: PathLike, out: PathLike, *, illuminant: str = "illumin
     folder.mkdir(parents=True, exist_ok=True)
     light = {"lights.0.spectrum": illuminant}
     sensor = str(sensor)
+    # Developed for the sRGB display, 8 bits, whatever the sensor file's processor says: the report's
+    # colour is measured in D65's CIELAB.
+    srgb = {"illuminant": illuminant, "display": "srgb", "bits": 8}
 
     # The ColorChecker: rendered (cube and XYZ), two noisy frames, the first developed.
     chart_scene = json.loads(_scene("colorchecker.json").read_text())
@@ -109,8 +112,8 @@ def camera_report(sensor: PathLike, out: PathLike, *, illuminant: str = "illumin
     if len(channels) != 3:
         raise _api._metamer.InputError(f"sensor: the report develops an RGB Bayer sensor; {sensor} has "
                                        f"{len(channels)} channel(s)")
-    developed = _api.develop(raw[0], sensor, illuminant=illuminant)
-    dev_means = np.array([_mean(developed["linear_srgb"], rects[p]) for p in PATCHES])
+    developed = _api.develop(raw[0], sensor, **srgb)
+    dev_means = np.array([_mean(developed["linear_rgb"], rects[p]) for p in PATCHES])
     ref_means = np.array([_mean(np.asarray(chart.xyz, dtype=np.float64), rects[p]) for p in PATCHES])
     colour_error = _api.developed_colour_error(dev_means, ref_means, white=illuminant, exposure_from=WHITE_PATCH)
     green = _green(channels)
@@ -133,18 +136,18 @@ def camera_report(sensor: PathLike, out: PathLike, *, illuminant: str = "illumin
 
     # The slanted edge, noise-free, developed; the SFR of each channel in the middle of the frame.
     edge = _api.render(str(_scene("slanted-edge.json")), overrides=light, write=["cube"], backend=backend)
-    edge_dev = _api.develop(_api.capture(edge, sensor, noise=False)["raw"], sensor, illuminant=illuminant)
-    h, w = edge_dev["linear_srgb"].shape[:2]
-    region = edge_dev["linear_srgb"][h // 4:3 * h // 4, w // 4:3 * w // 4]
+    edge_dev = _api.develop(_api.capture(edge, sensor, noise=False)["raw"], sensor, **srgb)
+    h, w = edge_dev["linear_rgb"].shape[:2]
+    region = edge_dev["linear_rgb"][h // 4:3 * h // 4, w // 4:3 * w // 4]
     sfr = {c: _api.slanted_edge_sfr(np.ascontiguousarray(region[..., i])) for i, c in enumerate("RGB")}
 
     # The metameric pair: the camera's ΔE00 between the developed squares beside the observer's.
     pair_scene = json.loads(_scene("metamers.json").read_text())
     pair_rects = _object_rects(pair_scene)
     pair = _api.render(str(_scene("metamers.json")), overrides=light, write=["cube", "xyz"], backend=backend)
-    pair_dev = _api.develop(_api.capture(pair, sensor, noise=False)["raw"], sensor, illuminant=illuminant)
+    pair_dev = _api.develop(_api.capture(pair, sensor, noise=False)["raw"], sensor, **srgb)
     pair_error = _api.developed_colour_error(
-        np.array([_mean(pair_dev["linear_srgb"], pair_rects[m]) for m in ("base", "metamer")]),
+        np.array([_mean(pair_dev["linear_rgb"], pair_rects[m]) for m in ("base", "metamer")]),
         np.array([_mean(np.asarray(pair.xyz, dtype=np.float64), pair_rects[m]) for m in ("base", "metamer")]),
         white=illuminant, exposure_from=0)
     camera_de = float(_api.delta_e2000(pair_error["developed_lab"][0], pair_error["developed_lab"][1])[0])
@@ -192,7 +195,7 @@ def camera_report(sensor: PathLike, out: PathLike, *, illuminant: str = "illumin
         [["frequency_cycles_per_pixel", "mtf_R", "mtf_G", "mtf_B"]]
         + [[f, *(sfr[c]["mtf"][i] for c in "RGB")] for i, f in enumerate(sfr["G"]["frequency"])]))
     _write_atomically(folder / "report.json", (json.dumps(report, indent=2) + "\n").encode())
-    figure = _figure(report, np.asarray(chart.display), developed["srgb"], rects, colour_error["delta_e2000"], sfr, ptc)
+    figure = _figure(report, np.asarray(chart.display), developed["counts"], rects, colour_error["delta_e2000"], sfr, ptc)
     for ext in ("png", "svg"):
         buffer = io.BytesIO()
         figure.savefig(buffer, format=ext, dpi=100)
