@@ -9,6 +9,9 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -104,6 +107,41 @@ TEST(Library, EveryFileLoadsAndValidates) {
         // Every single-spectrum file has a header naming its one column ("value" for spectra).
         EXPECT_EQ(table.columnNames.size(), 1u);
     }
+}
+
+// Issue 49, item 3: the measured reflectances (spectra/generate_reflectances.py), every one listed
+// in the index with its source's label, and every listed one in the library.
+TEST(Library, TheReflectanceSetsAreAllThereAndIndexed) {
+    std::ifstream index(libraryRoot() / "reflectances" / "index.tsv");
+    ASSERT_TRUE(index) << "spectra/reflectances/index.tsv";
+    std::string line;
+    std::getline(index, line);
+    EXPECT_EQ(line, "set\tname\tlibrary_name\tsource_label\tstart_nm\tend_nm\tstep_nm");
+    std::map<std::string, int> perSet;
+    std::set<std::string> listed;
+    while (std::getline(index, line)) {
+        std::vector<std::string> fields;
+        for (size_t start = 0;;) {
+            const size_t tab = line.find('\t', start);
+            fields.push_back(line.substr(start, tab == std::string::npos ? std::string::npos : tab - start));
+            if (tab == std::string::npos) break;
+            start = tab + 1;
+        }
+        ASSERT_EQ(fields.size(), 7u) << line;
+        ++perSet[fields[0]];
+        EXPECT_TRUE(library().contains(fields[2])) << fields[2];
+        EXPECT_EQ(fields[2], "reflectances/" + fields[0] + "/" + fields[1]);
+        listed.insert(fields[2]);
+        const Spectrum& s = get(fields[2]);
+        EXPECT_EQ(s.minWavelength(), std::stod(fields[4])) << fields[2];
+        EXPECT_EQ(s.maxWavelength(), std::stod(fields[5])) << fields[2];
+        EXPECT_LE(maxValue(s), 1.0) << fields[2];  // reflectances, not a fluorescent sample's radiance factor
+    }
+    EXPECT_EQ(perSet, (std::map<std::string, int>{{"aces_training", 185}, {"babelcolor_average", 24}, {"cie_2017_ces", 99},
+                                                  {"cie_tcs", 15}, {"nist_cqs_vs", 15}, {"pmc", 30}}));
+    for (const std::string& name : library().names())
+        if (name.rfind("reflectances/", 0) == 0) EXPECT_TRUE(listed.count(name)) << name << " is not in the index";
+    EXPECT_EQ(listed.size(), 368u);
 }
 
 TEST(Library, D65AndAAre100At560) {
