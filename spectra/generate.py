@@ -130,6 +130,11 @@ def illuminants() -> None:
         write_sd(f"illuminants/{key}.csv", cie[key], sig=7)
     wl = grid(200, 2500, 10)
     write_csv("illuminants/E.csv", wl, {"value": np.full(wl.shape, 100.0)})
+    # The CIE daylight components S0, S1, S2 (CIE 15:2004 Table T.2), from which a scene's
+    # {"daylight_cct": T} is built (spectral/illuminant_models.h).
+    from colour.colorimetry.datasets.illuminants import SDS_BASIS_FUNCTIONS_CIE_ILLUMINANT_D_SERIES as basis
+    write_csv("illuminants/daylight_components.csv", basis["S0"].wavelengths,
+              {"s0": basis["S0"].values, "s1": basis["S1"].values, "s2": basis["S2"].values}, sig=7)
     blacklight()
 
 

@@ -9,6 +9,7 @@
 #include "core/file_reads.h"
 #include "io/spectral_exr.h"
 #include "spectral/csv.h"
+#include "spectral/illuminant_models.h"
 
 #include <algorithm>
 #include <cctype>
@@ -102,6 +103,15 @@ SceneSpectrum SceneReader::spectrum(const Json& v, const Where& w, SpectrumKind 
                 failInput(w, "library spectrum '{}': {}", name, e.text());
             }
         }
+    } else if (v.is_object() && (find(v, "blackbody_k") || find(v, "daylight_cct"))) {
+        // A light by its temperature (spectral/illuminant_models.h): Planck's law, or CIE daylight.
+        const bool blackbody = find(v, "blackbody_k") != nullptr;
+        const char* key = blackbody ? "blackbody_k" : "daylight_cct";
+        checkKeys(v, w, {key}, blackbody ? "a blackbody spectrum" : "a daylight spectrum");
+        if (kind != SpectrumKind::Light)
+            failInput(w.child(key), "a spectrum by temperature is a light's; this is a {}", kindName(kind));
+        const double kelvin = number(*find(v, key), w.child(key));
+        s.spectrum = blackbody ? blackbodySpectrum(kelvin, w.child(key)) : daylightSpectrum(kelvin, lib_, w.child(key));
     } else if (v.is_object()) {
         checkKeys(v, w, {"wavelengths_nm", "values"}, "an inline spectrum");
         auto numbers = [&](const char* key) {
@@ -118,8 +128,9 @@ SceneSpectrum SceneReader::spectrum(const Json& v, const Where& w, SpectrumKind 
         s.spectrum.validate(w);
     } else {
         failInput(w,
-                  "expected a spectrum (a library name, a .csv path, a number or "
-                  "{{\"wavelengths_nm\": [...], \"values\": [...]}}), got {}",
+                  "expected a spectrum (a library name, a .csv path, a number, "
+                  "{{\"wavelengths_nm\": [...], \"values\": [...]}}, or for a light {{\"blackbody_k\": T}} or "
+                  "{{\"daylight_cct\": T}}), got {}",
                   describe(v));
     }
     if (!s.spectrum.isConstant()) checkValues(s);
