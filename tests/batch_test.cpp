@@ -520,3 +520,51 @@ TEST(BatchCli, TheRecordKeepsTheThreadCount) {
         }
     EXPECT_EQ(records, 2u);
 }
+
+// Issue 49, item 2: a sweep that draws its scenes. Every job's drawn values are in its record and
+// the index; the dataset is the same bytes run whole or in shards; and a job re-rendered alone from
+// its record's overrides gives the same cube.
+TEST(BatchCli, DrawnScenesAreRecordedAndEachJobRendersAloneToTheSameBytes) {
+    const fs::path dir = freshDir("draws");
+    std::ofstream(dir / "draws.json") << fmt::format(
+        R"({{"scenes": ["{}/scenes/spheres.json"], "render": {{"size": "32x24", "write": "cube"}},
+             "draws": {{"count": 4, "seed": 5, "values": [
+               {{"name": "light", "set": "lights.0.spectrum",
+                 "choose": ["illuminants/FL11", {{"daylight_cct": [4000, 10000]}}, {{"blackbody_k": [2500, 3500]}}]}},
+               {{"name": "paint", "set": "materials.matte.diffuse", "choose_spectra": "reflectances/cie_2017_ces"}},
+               {{"name": "level", "set": "lights.0.scale", "uniform": [0.5, 2]}}]}}}})",
+        METAMER_SOURCE_DIR);
+    const std::string sweep = (dir / "draws.json").string();
+    ASSERT_EQ(test::runMetamer(fmt::format("batch {} --out {} -q", sweep, (dir / "whole").string())).code, 0);
+    for (const char* shard : {"0/2", "1/2"}) {
+        const test::CliRun r = test::runMetamer(fmt::format("batch {} --out {} --shard {} -q", sweep, (dir / "shards").string(), shard));
+        ASSERT_EQ(r.code, 0) << r.output;
+    }
+    size_t jobs = 0;
+    for (const auto& e : fs::directory_iterator(dir / "whole")) {
+        if (!e.is_directory()) continue;
+        ++jobs;
+        const nlohmann::json record = nlohmann::json::parse(bytesOf(e.path() / "job.json"));
+        const auto& axes = record.at("axes");
+        ASSERT_TRUE(axes.contains("draw") && axes.contains("light") && axes.contains("paint") && axes.contains("level"))
+            << record.dump();
+        EXPECT_EQ(bytesOf(e.path() / "spheres.exr"), bytesOf(dir / "shards" / e.path().filename() / "spheres.exr"))
+            << e.path().filename() << ": whole vs shards";
+        if (axes.at("draw") != 2) continue;
+        // Re-rendered alone with the record's overrides.
+        std::string sets;
+        for (const auto& o : record.at("settings").at("set")) sets += " --set '" + o.get<std::string>() + "'";
+        const test::CliRun alone = test::runMetamer(fmt::format("render {}/scenes/spheres.json{} --set camera.width=32 "
+                                                                "--set camera.height=24 --write cube -o {}",
+                                                                METAMER_SOURCE_DIR, sets, (dir / "alone").string()));
+        ASSERT_EQ(alone.code, 0) << alone.output;
+        EXPECT_TRUE(bytesOf(e.path() / "spheres.exr") == bytesOf(dir / "alone" / "spheres.exr")) << "in the batch vs alone";
+    }
+    EXPECT_EQ(jobs, 4u);
+    ASSERT_TRUE(fs::exists(dir / "alone" / "spheres.exr"));
+    const test::CliRun index = test::runMetamer(fmt::format("batch --index {}", (dir / "whole").string()));
+    ASSERT_EQ(index.code, 0) << index.output;
+    const std::string csv = bytesOf(dir / "whole" / "index.csv");
+    for (const char* column : {"draw", "light", "paint", "level"})
+        EXPECT_NE(csv.substr(0, csv.find('\n')).find(column), std::string::npos) << column << " in " << csv.substr(0, csv.find('\n'));
+}

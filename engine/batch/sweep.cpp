@@ -208,7 +208,7 @@ Sweep readSweepJson(const fs::path& file, Sweep sweep) {
     const Json doc = json_read::parseJson(readWholeFile(file, Where{file.string()}, "sweep file"), file.string());
     const Where top{file.string()};
     if (!doc.is_object()) failInput(top, "expected a sweep object {{\"scenes\": [...], \"axes\": [...], ...}}");
-    requireKeys(doc, top, {"scenes", "rows", "set", "render", "axes", "out"}, "sweep key");
+    requireKeys(doc, top, {"scenes", "rows", "set", "render", "axes", "draws", "out"}, "sweep key");
     if (doc.contains("set")) sweep.common = readOverrides(doc["set"], top.child("set"));
     if (doc.contains("render")) sweep.commonRender = readRender(doc["render"], top.child("render"));
     if (doc.contains("out")) {
@@ -241,6 +241,13 @@ Sweep readSweepJson(const fs::path& file, Sweep sweep) {
         const Json& a = doc["axes"];
         if (!a.is_array()) failInput(top.child("axes"), "expected an array of axes, got {}", jsonTypeName(a));
         for (size_t i = 0; i < a.size(); ++i) sweep.axes.push_back(readAxis(a[i], top.child("axes").index(i)));
+    }
+    if (doc.contains("draws")) {
+        sweep.draws = readSweepDraws(doc["draws"], top.child("draws"), SpectrumLibrary());
+        // Every listed value must make a valid override; drawn numbers always do.
+        for (const SweepDrawValue& v : sweep.draws->values)
+            for (size_t k = 0; k < v.choices.size(); ++k)
+                parseOverride(overrideText(v.setKey, v.choices[k]), v.where.child("choose").index(k).str());
     }
     return sweep;
 }
@@ -366,9 +373,14 @@ void checkJobCount(const Sweep& sweep) {
         approx *= double(a.values.size());
         if (__builtin_mul_overflow(n, a.values.size(), &n) || n > kMaxSweepJobs) over = true;
     }
+    if (sweep.draws) {
+        approx *= double(sweep.draws->count);
+        if (__builtin_mul_overflow(n, sweep.draws->count, &n) || n > kMaxSweepJobs) over = true;
+    }
     if (!over) return;
     std::vector<std::string> factors{fmt::format("{} base job(s)", sweep.bases.size())};
     for (const SweepAxis& a : sweep.axes) factors.push_back(fmt::format("{} ({} values)", a.name, a.values.size()));
+    if (sweep.draws) factors.push_back(fmt::format("{} draws", sweep.draws->count));
     failInput(Where{sweep.file.string(), sweep.axes.empty() ? "" : "axes"},
               "the sweep has {:.3g} jobs ({}), more than the limit of {} (docs/batch.md, \"Limits\"): split it "
               "into several sweeps or list fewer values",
@@ -401,19 +413,22 @@ void checkNoDuplicateJobs(const Sweep& sweep) {
 size_t Sweep::size() const {
     size_t n = bases.size();
     for (const SweepAxis& a : axes) n *= a.values.size();  // checked when read (checkJobCount)
+    if (draws) n *= draws->count;
     return n;
 }
 
 SweepJob Sweep::job(size_t position) const {
     size_t perBase = 1;
     for (const SweepAxis& a : axes) perBase *= a.values.size();
-    if (position >= bases.size() * perBase) failRuntime("job {} of a sweep of {} jobs", position, bases.size() * perBase);
-    SweepJob j = bases[position / perBase];
+    const size_t drawCount = draws ? draws->count : 1;
+    if (position >= bases.size() * perBase * drawCount)
+        failRuntime("job {} of a sweep of {} jobs", position, bases.size() * perBase * drawCount);
+    SweepJob j = bases[position / (perBase * drawCount)];
     j.overrides.insert(j.overrides.begin(), common.begin(), common.end());
     Json render = commonRender;
     merge(render, j.render);
     std::vector<std::string> picked;
-    size_t rest = position % perBase;
+    size_t rest = position % (perBase * drawCount) / drawCount;
     for (const SweepAxis& a : axes) {
         perBase /= a.values.size();
         const Json& v = a.values[rest / perBase];
@@ -424,6 +439,17 @@ SweepJob Sweep::job(size_t position) const {
             render[a.renderKey] = v;
         picked.push_back(a.name + "=" + shortValue(v));
         j.axes[a.name] = v;
+    }
+    if (draws) {
+        // Drawn last, so they override the axes' values of the same key.
+        const size_t d = position % drawCount;
+        j.draw = d;
+        j.axes["draw"] = d;
+        for (const DrawnValue& v : drawValues(*draws, position)) {
+            j.overrides.push_back(overrideText(v.setKey, v.value));
+            j.axes[v.name] = v.value;
+        }
+        picked.push_back(fmt::format("draw {}", d));
     }
     j.render = render;
     if (!picked.empty()) j.origin += fmt::format(" × {}", fmt::join(picked, ", "));
@@ -449,6 +475,9 @@ Json SweepJob::settings() const {
     std::sort(keys.begin(), keys.end());
     for (const std::string& k : keys) r[k] = render[k];
     s["render"] = r;
+    // A draw is a sample: two draws that happen to pick the same values are two jobs of the
+    // dataset (drawn with replacement), not one job listed twice.
+    if (draw) s["draw"] = *draw;
     return s;
 }
 

@@ -5,6 +5,7 @@
 // "The sweep file". Tests: engine/batch/sweep_test.cpp.
 #pragma once
 
+#include "batch/sweep_draws.h"
 #include "core/error.h"
 #include "render/render_job.h"
 #include "sensor/capture_files.h"
@@ -12,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -26,10 +28,11 @@ struct SweepJob {
     nlohmann::ordered_json render = nlohmann::ordered_json::object();  // key → value, sweepRenderKeys()
     std::string origin;  // "rows[2] × axes illuminant=illuminants/A", "line 7": for messages
     nlohmann::ordered_json axes = nlohmann::ordered_json::object();  // axis name → this job's value
+    std::optional<size_t> draw;  // the job's draw (0 … draws.count − 1), when the sweep draws
     Where where;         // the sweep file and the row's key or line
 
-    // What the job renders, as one canonical JSON object (sorted render keys): what its id hashes,
-    // with the content of the files it reads (batch/batch.h).
+    // What the job renders, as one canonical JSON object (sorted render keys, and its draw when it
+    // has one): what its id hashes, with the content of the files it reads (batch/batch.h).
     nlohmann::ordered_json settings() const;
 };
 
@@ -47,8 +50,8 @@ constexpr size_t kMaxSweepJobs = 1000000;
 
 // A sweep is counted when it is read and its jobs are made one at a time, on demand: a shard
 // never builds the jobs of other shards, and a product of axes too large is refused before any
-// job exists. Every base (a scene, a row, a manifest line) × the product of the axes, the last
-// axis varying fastest.
+// job exists. Every base (a scene, a row, a manifest line) × the product of the axes × the draws,
+// the draws varying fastest, then the last axis.
 struct Sweep {
     std::filesystem::path file;    // the sweep or manifest as given
     std::filesystem::path folder;  // the folder its relative paths resolve against
@@ -58,6 +61,7 @@ struct Sweep {
     std::vector<std::string> common;              // "set": overrides before every job's own
     nlohmann::ordered_json commonRender = nlohmann::ordered_json::object();  // "render"
     std::vector<SweepAxis> axes;
+    std::optional<SweepDraws> draws;              // "draws": crossed last, its draws varying fastest
 
     size_t size() const;                  // the number of jobs
     SweepJob job(size_t position) const;  // job `position` (0-based) of size()

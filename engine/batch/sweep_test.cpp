@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <map>
+#include <set>
 #include <unistd.h>
 
 using namespace metamer;
@@ -275,4 +277,104 @@ TEST(Sweep, TwoJobsThatRenderTheSameThingAreRefusedWhenTheSweepIsRead) {
     EXPECT_NE(e.find("jobs 1 (line 2) and 2 (line 3)"), std::string::npos) << e;
     // Different settings are different jobs, even when one is the default of the other.
     EXPECT_NO_THROW(readSweep(write("u5.csv", "scene,bits\na.json,8\na.json,\n")));
+}
+
+// Issue 49, item 2: random draws. Each job's values come from (seed, its position) alone: reading
+// the sweep again gives the same values, the jobs differ, every value lies in its range, a choice
+// picks every entry about as often, a folder of spectra is the library's, and the mistakes name
+// their keys.
+TEST(SweepDraws, EachJobsValuesAreItsOwnReproducibleAndInRange) {
+    const std::string text = R"({
+  "scenes": ["a.json", "b.json"],
+  "axes": [{"name": "detector", "render": "detector", "values": ["cie1931", "cie1964"]}],
+  "draws": {"count": 250, "seed": 11, "values": [
+    {"name": "light", "set": "lights.0.spectrum",
+     "choose": ["illuminants/A", {"daylight_cct": [4000, 10000]}, {"blackbody_k": [2500, 3500]}]},
+    {"name": "paint", "set": "materials.patch.diffuse", "choose_spectra": "reflectances/cie_2017_ces"},
+    {"set": "lights.0.scale", "uniform": [0.005, 0.02]},
+    {"name": "where", "set": "objects.1.center", "uniform": [[-0.1, -0.1, 0], [0.1, 0.1, 0]]}
+  ]}
+})";
+    const Sweep a = readSweep(write("draws.json", text)), b = readSweep(write("draws2.json", text));
+    ASSERT_EQ(a.size(), 2u * 2u * 250u);
+    std::map<std::string, int> lights;
+    std::set<std::string> paints, scales;
+    for (size_t p = 0; p < a.size(); ++p) {
+        const SweepJob j = a.job(p);
+        EXPECT_EQ(j.settings(), b.job(p).settings()) << p;  // the same sweep, the same values
+        EXPECT_EQ(j.axes["draw"].get<size_t>(), p % 250);
+        const auto& light = j.axes["light"];
+        if (light.is_string()) {
+            ++lights["A"];
+        } else if (light.contains("daylight_cct")) {
+            ++lights["daylight"];
+            EXPECT_GE(light["daylight_cct"].get<double>(), 4000.0);
+            EXPECT_LE(light["daylight_cct"].get<double>(), 10000.0);
+        } else {
+            ++lights["blackbody"];
+            EXPECT_GE(light["blackbody_k"].get<double>(), 2500.0);
+            EXPECT_LE(light["blackbody_k"].get<double>(), 3500.0);
+        }
+        paints.insert(j.axes["paint"].get<std::string>());
+        const double scale = j.axes["lights.0.scale"].get<double>();
+        EXPECT_GE(scale, 0.005);
+        EXPECT_LE(scale, 0.02);
+        scales.insert(j.axes["lights.0.scale"].dump());
+        const auto& where = j.axes["where"];
+        ASSERT_EQ(where.size(), 3u);
+        EXPECT_LE(std::abs(where[0].get<double>()), 0.1);
+        EXPECT_EQ(where[2].get<double>(), 0.0);
+        // The drawn values are the job's last overrides, as the record keeps them.
+        EXPECT_EQ(j.overrides.back().rfind("objects.1.center=[", 0), 0u) << j.overrides.back();
+    }
+    // 1000 jobs, three choices: each about 333 (±3σ = ±45).
+    for (const auto& [k, n] : lights) EXPECT_NEAR(n, 1000.0 / 3.0, 45.0) << k;
+    EXPECT_EQ(lights.size(), 3u);
+    EXPECT_GT(paints.size(), 90u);       // nearly all 99 samples drawn in 1000 tries
+    EXPECT_EQ(scales.size(), a.size());  // no two jobs alike
+    for (const std::string& p : paints) EXPECT_EQ(p.rfind("reflectances/cie_2017_ces/ces", 0), 0u) << p;
+    // Another seed, other values.
+    std::string other = text;
+    other.replace(other.find("\"seed\": 11"), 10, "\"seed\": 12");
+    EXPECT_NE(readSweep(write("draws3.json", other)).job(0).settings(), a.job(0).settings());
+}
+
+TEST(SweepDraws, MistakesNameTheirKeys) {
+    auto with = [&](const std::string& draws) {
+        return errorOf("bad-draws.json", R"({"scenes": ["a.json"], "draws": )" + draws + "}");
+    };
+    EXPECT_NE(with(R"({"values": [{"set": "k", "uniform": [0, 1]}]})").find("draws.count: missing required key"),
+              std::string::npos);
+    EXPECT_NE(with(R"({"count": 0, "values": [{"set": "k", "uniform": [0, 1]}]})").find("draws.count"), std::string::npos);
+    EXPECT_NE(with(R"({"count": 2, "values": []})").find("draws.values: expected a non-empty array"), std::string::npos);
+    EXPECT_NE(with(R"({"count": 2, "values": [{"set": "k"}]})").find("draws.values.0: a drawn value has exactly one of"),
+              std::string::npos);
+    EXPECT_NE(with(R"({"count": 2, "values": [{"set": "k", "uniform": [2, 1]}]})")
+                  .find("draws.values.0.uniform: the lowest (2) is above the highest (1)"),
+              std::string::npos);
+    EXPECT_NE(with(R"({"count": 2, "values": [{"set": "k", "daylight_cct": [3000, 6000]}]})")
+                  .find("draws.values.0.daylight_cct: expected lowest ≤ highest within 4000 … 25000 K"),
+              std::string::npos);
+    EXPECT_NE(with(R"({"count": 2, "values": [{"set": "k", "choose": ["x", {"blackbody_k": [10, 20]}]}]})")
+                  .find("draws.values.0.choose.1.blackbody_k"),
+              std::string::npos);
+    EXPECT_NE(with(R"({"count": 2, "values": [{"set": "k", "choose_spectra": "reflectances/none"}]})")
+                  .find("draws.values.0.choose_spectra: the library has no spectra in 'reflectances/none'"),
+              std::string::npos);
+    EXPECT_NE(with(R"({"count": 2, "values": [{"set": "k", "uniform": [0, 1], "seed": 3}]})").find("draws.values.0.seed"),
+              std::string::npos);
+    EXPECT_NE(errorOf("big-draws.json", R"({"scenes": ["a.json", "b.json"],
+        "draws": {"count": 600000, "values": [{"set": "k", "uniform": [0, 1]}]}})")
+                  .find("the sweep has 1.2e+06 jobs (2 base job(s) × 600000 draws)"),
+              std::string::npos);
+}
+
+TEST(SweepDraws, DrawsThatPickTheSameValuesAreStillTwoJobs) {
+    // Sampling with replacement: 10 draws from two lights repeat values, and every draw is a job.
+    const Sweep s = readSweep(write("repeat.json", R"({"scenes": ["a.json"],
+        "draws": {"count": 10, "values": [{"set": "lights.0.spectrum", "choose": ["illuminants/A", "illuminants/D65"]}]}})"));
+    ASSERT_EQ(s.size(), 10u);
+    std::set<std::string> settings;
+    for (size_t p = 0; p < s.size(); ++p) settings.insert(s.job(p).settings().dump());
+    EXPECT_EQ(settings.size(), 10u);
 }
