@@ -58,6 +58,10 @@ fi
 if ! "$venv/bin/python" -c "import matplotlib" 2>/dev/null; then
   "${pip_in_venv[@]}" "matplotlib==3.10.3" "numpy==2.2.6"
 fi
+# mat73 reads MATLAB v7.3 files as the ARAD / NTIRE challenge's users do (tests/python/test_arad.py).
+if ! "$venv/bin/python" -c "import mat73" 2>/dev/null; then
+  "${pip_in_venv[@]}" "mat73==0.65" "numpy==2.2.6"
+fi
 # tmm (Byrnes' transfer-matrix method) is the independent oracle for the dielectric slabs.
 if ! "$venv/bin/python" -c "import tmm" 2>/dev/null; then
   "${pip_in_venv[@]}" "tmm==0.2.0" "numpy==2.2.6"

@@ -526,7 +526,7 @@ TEST(CliOutputName, RefusedOrUnwrittenNamesAreErrors) {
     EXPECT_EQ(tiff.code, 2) << tiff.output;
     EXPECT_NE(tiff.output.find("--out: '" + (d / "result.tiff").string() + "' names a .tiff file, which Metamer does not "
                                "write"), std::string::npos) << tiff.output;
-    EXPECT_NE(tiff.output.find("Metamer writes NAME.exr, NAME.h5, NAME.hdr or NAME.png"), std::string::npos) << tiff.output;
+    EXPECT_NE(tiff.output.find("Metamer writes NAME.exr, NAME.h5, NAME.mat, NAME.hdr or NAME.png"), std::string::npos) << tiff.output;
     CliRun jpeg = run("render " + kScene + " -o " + (d / "result.JPEG").string());
     EXPECT_EQ(jpeg.code, 2) << jpeg.output;
     EXPECT_NE(jpeg.output.find("names a .JPEG file"), std::string::npos) << jpeg.output;

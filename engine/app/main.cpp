@@ -169,7 +169,7 @@ int main(int argc, char** argv) {
     auto* render = app.add_subcommand("render", "render a scene to a spectral radiance cube (EXR) and a quick-look PNG");
     render->add_option("scene", scenePath, "scene file (JSON, docs/scene-format.md); - reads it from stdin, its "
                                            "relative paths then resolved against the current folder")->required();
-    render->add_option("--out,--output,-o", outText, "output folder (created if missing), or NAME.exr, NAME.h5, NAME.hdr "
+    render->add_option("--out,--output,-o", outText, "output folder (created if missing), or NAME.exr, NAME.h5, NAME.mat, NAME.hdr "
                        "or NAME.png: every output named NAME.* in that file's folder; another image's extension "
                        "(.tiff, .jpg, ...) is an error (docs/cli.md, \"Output names\")")
         ->capture_default_str();

@@ -4,6 +4,7 @@
 #include "core/file_reads.h"
 #include "core/memory_limits.h"
 #include "io/atomic_file.h"
+#include "spectral/resampling.h"
 
 #include <hdf5.h>
 #include <hdf5_hl.h>
@@ -285,6 +286,128 @@ void writeHdf5Cube(const fs::path& path, const SpectralCube& cube, const Hdf5Wri
     Hdf5CubeWriter writer(path, cube.width, cube.height, cube.grid, options);
     writer.writeRows(0, cube.height, cube.data.data());
     writer.commit();
+}
+
+// --- The ARAD layout (MATLAB v7.3) ---------------------------------------------------------------
+
+namespace {
+
+constexpr int kAradBands = 31;
+const Grid kAradGrid{400, 700, 10};
+
+// A fixed-length ASCII string attribute: MATLAB's MATLAB_class must be one.
+void writeFixedStringAttribute(hid_t object, const char* name, const std::string& value, const fs::path& path) {
+    Handle type = made(H5Tcopy(H5T_C_S1), H5Tclose, path, "make a string type");
+    check(H5Tset_size(type.get(), value.size()), path, "make a string type");
+    Handle space = made(H5Screate(H5S_SCALAR), H5Sclose, path, "make a scalar dataspace");
+    Handle attribute = made(H5Acreate2(object, name, type.get(), space.get(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose,
+                            path, "create an attribute");
+    check(H5Awrite(attribute.get(), type.get(), value.data()), path, "write an attribute");
+}
+
+// A MATLAB array: HDF5 dims are MATLAB's reversed.
+void writeMatlabArray(hid_t file, const char* name, hid_t fileType, hid_t memoryType, const char* matlabClass,
+                      std::initializer_list<hsize_t> dims, const void* data, const fs::path& path) {
+    const std::vector<hsize_t> d(dims);
+    Handle space = made(H5Screate_simple(int(d.size()), d.data(), nullptr), H5Sclose, path, "make a dataspace");
+    Handle set = made(H5Dcreate2(file, name, fileType, space.get(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Dclose,
+                      path, "create a dataset");
+    check(H5Dwrite(set.get(), memoryType, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), path, "write a dataset");
+    writeFixedStringAttribute(set.get(), "MATLAB_class", matlabClass, path);
+}
+
+}  // namespace
+
+struct AradMatWriter::Impl {
+    fs::path path;
+    int width = 0, height = 0, nextRow = 0, renderBands = 0;
+    BandWeights weights;
+    StringAttributes attributes;
+    std::vector<float> bands;  // [31][columns][rows]: MATLAB's rows × columns × 31, column-major
+    AtomicOutput out;
+    explicit Impl(const fs::path& p) : path(p), out(p) {}
+};
+
+AradMatWriter::AradMatWriter(const fs::path& path, int width, int height, const Grid& grid,
+                             const StringAttributes& attributes)
+    : impl_(std::make_unique<Impl>(path)) {
+    Impl& m = *impl_;
+    m.width = width;
+    m.height = height;
+    m.attributes = attributes;
+    if (grid.start_nm > 400.0 + kCoincidence_nm || grid.end_nm < 700.0 - kCoincidence_nm)
+        failInput(Where{"", "--format"},
+                  "the ARAD layout holds 400–700 nm in 10 nm bands; the render's grid {} does not reach {}: render "
+                  "with a grid that covers it (e.g. --grid 400:700:10)",
+                  grid.str(), grid.start_nm > 400.0 ? "400 nm" : "700 nm");
+    const uint64_t values = uint64_t(width) * uint64_t(height) * kAradBands;
+    if (width <= 0 || height <= 0 || values > kMaxValues)
+        failRuntime("cannot write '{}': a {}×{} ARAD cube", path.string(), width, height);
+    m.renderBands = grid.bands();
+    m.weights = bandWeights(grid.wavelengths(), kAradGrid);
+    m.bands.assign(values, 0.0f);
+}
+
+AradMatWriter::~AradMatWriter() { quietHdf5(); }
+
+void AradMatWriter::writeRows(int firstRow, int rows, const float* data) {
+    Impl& m = *impl_;
+    if (firstRow != m.nextRow || rows <= 0 || firstRow > m.height - rows)
+        failRuntime("cannot write '{}': rows {}..{} out of order (next is {}, height {})", m.path.string(), firstRow,
+                    int64_t(firstRow) + rows, m.nextRow, m.height);
+    for (int r = 0; r < rows; ++r)
+        for (int x = 0; x < m.width; ++x) {
+            const float* px = data + (size_t(r) * size_t(m.width) + size_t(x)) * size_t(m.renderBands);
+            const size_t y = size_t(firstRow + r);
+            for (size_t b = 0; b < size_t(kAradBands); ++b) {
+                double v = 0.0;
+                const std::vector<double>& w = m.weights.weights[b];
+                for (size_t k = 0; k < w.size(); ++k) v += w[k] * double(px[m.weights.first[b] + k]);
+                m.bands[(b * size_t(m.width) + size_t(x)) * size_t(m.height) + y] = float(v);
+            }
+        }
+    m.nextRow = firstRow + rows;
+}
+
+std::vector<AtomicOutput*> AradMatWriter::finish() {
+    quietHdf5();
+    Impl& m = *impl_;
+    if (m.nextRow != m.height)
+        failRuntime("cannot write '{}': {} of {} rows written", m.path.string(), m.nextRow, m.height);
+    if (m.out.committed()) return {};
+    // The divisor: the cube's largest value (1 for a black image, which stays 0).
+    float peak = 0.0f;
+    for (float v : m.bands) peak = std::max(peak, v);
+    const double normFactor = peak > 0.0f ? double(peak) : 1.0;
+    for (float& v : m.bands) v = float(double(v) / normFactor);
+    {
+        // MATLAB's header takes the first 512 bytes: the HDF5 file starts after a user block.
+        Handle fcpl = made(H5Pcreate(H5P_FILE_CREATE), H5Pclose, m.path, "make file properties");
+        check(H5Pset_userblock(fcpl.get(), 512), m.path, "reserve MATLAB's header");
+        const Handle fapl = fileAccess();
+        Handle file = made(H5Fcreate(m.out.tempPath().c_str(), H5F_ACC_TRUNC, fcpl.get(), orDefault(fapl)), H5Fclose,
+                           m.path, "create the file");
+        writeMatlabArray(file.get(), "cube", H5T_IEEE_F32LE, H5T_NATIVE_FLOAT, "single",
+                         {hsize_t(kAradBands), hsize_t(m.width), hsize_t(m.height)}, m.bands.data(), m.path);
+        const std::vector<double> centres = kAradGrid.wavelengths();
+        writeMatlabArray(file.get(), "bands", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, "double", {hsize_t(kAradBands), 1},
+                         centres.data(), m.path);
+        writeMatlabArray(file.get(), "norm_factor", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, "double", {1, 1}, &normFactor,
+                         m.path);
+        for (const auto& [name, value] : m.attributes) writeStringAttribute(file.get(), name, value, m.path);
+        if (!file.close()) failWrite(m.path, "finish the file");
+    }
+    // The header: 116 bytes of text, 8 of subsystem offset, the version 0x0200 and the endian mark "IM".
+    std::string header = "MATLAB 7.3 MAT-file, Platform: GLNXA64, Created by: Metamer (ARAD layout), HDF5 schema 1.00 .";
+    header.resize(116, ' ');
+    header.append(8, ' ');
+    header += std::string("\x00\x02", 2) + "IM";
+    header.resize(512, '\0');
+    std::fstream f(m.out.tempPath(), std::ios::in | std::ios::out | std::ios::binary);
+    if (!f || !f.write(header.data(), std::streamsize(header.size())) || !f.flush())
+        failRuntime("cannot write '{}': the MATLAB header", m.path.string());
+    m.bands = {};
+    return {&m.out};
 }
 
 // --- Reading -----------------------------------------------------------------------------------

@@ -1,7 +1,8 @@
 // Hyperspectral cubes as HDF5 files (libhdf5), the layout h5py, MATLAB and most remote-sensing
-// tools read without a plugin: dataset /cube float32 [rows, columns, bands] (chunked one row at a
+// tools read without a plugin (and the ARAD challenge's MATLAB v7.3 layout, AradMatWriter below): dataset /cube float32 [rows, columns, bands] (chunked one row at a
 // time, optionally gzip with shuffle), /wavelength_nm and /fwhm_nm float64 [bands], and string
-// attributes saying what the numbers are. See docs/io.md. Tests: engine/io/hdf5_cube_test.cpp.
+// attributes saying what the numbers are. See docs/io.md. Tests: engine/io/hdf5_cube_test.cpp,
+// tests/python/test_arad.py (h5py and mat73 read the ARAD layout).
 #pragma once
 
 #include "io/cube_writer.h"
@@ -49,6 +50,30 @@ public:
     // which renames a run's files into place together; commit() is finish() and that.
     std::vector<AtomicOutput*> finish() override;
     void commit();
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+// The ARAD / NTIRE spectral-reconstruction layout (issue 49, item 4; docs/io.md, "ARAD layout"): a
+// MATLAB v7.3 MAT-file (an HDF5 file behind a 512-byte MATLAB header) holding
+//   cube         single, rows × columns × 31 in MATLAB (HDF5 [31, columns, rows]): the render's
+//                bands put onto 400, 410, …, 700 nm by the engine's one rule (spectral/resampling.h:
+//                the render's own band where its grid has that centre, else the mean over the 10 nm
+//                band or the interpolant), divided by norm_factor so the largest is 1
+//   bands        double, 1 × 31: the band centres in nm
+//   norm_factor  double, 1 × 1: the divisor — cube·norm_factor is spectral radiance, W·sr⁻¹·m⁻²·nm⁻¹
+// each with its MATLAB_class attribute, so MATLAB's load, h5py and the mat73 package read it. The
+// bands need the whole image (the divisor is its maximum): rows are held until finish(), 31 floats
+// a pixel. The render's grid must cover 400–700 nm (an input error naming --format otherwise).
+class AradMatWriter : public CubeWriter {
+public:
+    AradMatWriter(const std::filesystem::path& path, int width, int height, const Grid& grid,
+                  const StringAttributes& attributes = {});
+    ~AradMatWriter() override;
+    void writeRows(int firstRow, int rows, const float* data) override;
+    std::vector<AtomicOutput*> finish() override;
 
 private:
     struct Impl;

@@ -52,6 +52,19 @@ std::vector<CubeContainer> makeTable() {
         },
     });
     t.push_back(CubeContainer{
+        "arad", {"mat"}, "arad", {"arad"}, ".mat",
+        [](const std::string&, const std::string& options, const Where&, std::string& out) {
+            return out.clear(), options.empty();
+        },
+        [](const std::filesystem::path& path, int width, int height, const Grid& grid, const CubeWriteSettings& s) {
+            return std::unique_ptr<CubeWriter>(std::make_unique<AradMatWriter>(path, width, height, grid, s.provenance));
+        },
+        [](const std::filesystem::path&, const CubeWriteSettings&, const std::string&) {
+            return std::string("the ARAD layout, MATLAB v7.3: cube rows × columns × 31 (400–700 nm / 10 nm) / "
+                               "norm_factor, bands");
+        },
+    });
+    t.push_back(CubeContainer{
         "envi", {}, "envi[:bsq|bil|bip]", {"envi", "envi:bsq", "envi:bil", "envi:bip"}, ".hdr",
         [](const std::string&, const std::string& options, const Where&, std::string& out) {
             if (options.empty() || options == "bsq" || options == "bil" || options == "bip")

@@ -51,7 +51,7 @@ constexpr RefusedExtension kRefused[] = {
     {".bsq", "an ENVI cube is named by its header, NAME.hdr, its layout chosen with --format envi:bsq"},
     {".bil", "an ENVI cube is named by its header, NAME.hdr, its layout chosen with --format envi:bil"},
     {".bip", "an ENVI cube is named by its header, NAME.hdr, its layout chosen with --format envi:bip"},
-    {".nc", ""}, {".fits", ""}, {".fit", ""}, {".fts", ""}, {".npy", ""}, {".npz", ""}, {".mat", ""}, {".zarr", ""},
+    {".nc", ""}, {".fits", ""}, {".fit", ""}, {".fts", ""}, {".npy", ""}, {".npz", ""}, {".zarr", ""},
 };
 
 const RefusedExtension* refused(const std::string& lowerExtension) {

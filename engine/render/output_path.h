@@ -1,6 +1,6 @@
 // What `metamer render -o PATH` means: a folder the outputs go into under the scene's name, or one
 // output file whose name gives every output its stem (-o result.exr: result.exr and result.png).
-// An existing folder or a path ending in '/' is a folder. Otherwise NAME.exr, NAME.h5 or NAME.hdr
+// An existing folder or a path ending in '/' is a folder. Otherwise NAME.exr, NAME.h5, NAME.mat or NAME.hdr
 // (the cube formats' extensions, render/cube_formats.h) or NAME.png (the display image) is a file;
 // a name ending in the extension of an image or cube Metamer does not write (.tiff, .jpg, .hdf5,
 // .img, ...: refusedOutputExtensions, in any case) or in an output's extension in another case
@@ -20,7 +20,7 @@ namespace metamer {
 struct OutputPath {
     std::filesystem::path folder;
     std::string stem;       // the named file's stem; empty: the scene's
-    std::string extension;  // the named file's (".exr", ".h5", ".hdr", ".png"); empty: a folder
+    std::string extension;  // the named file's (".exr", ".h5", ".mat", ".hdr", ".png"); empty: a folder
 };
 
 // Reads `text`, the value of `flag` (for errors), as above. A path that exists is checked now: a

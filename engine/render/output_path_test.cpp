@@ -77,7 +77,7 @@ TEST(OutputPath, AnImageOrCubeMetamerDoesNotWriteIsAnErrorNamingTheFlag) {
     const std::string tiff = inputError("result.tiff");
     EXPECT_NE(tiff.find("--out: 'result.tiff' names a .tiff file, which Metamer does not write"), std::string::npos)
         << tiff;
-    EXPECT_NE(tiff.find("Metamer writes NAME.exr, NAME.h5, NAME.hdr or NAME.png"), std::string::npos) << tiff;
+    EXPECT_NE(tiff.find("Metamer writes NAME.exr, NAME.h5, NAME.mat, NAME.hdr or NAME.png"), std::string::npos) << tiff;
     EXPECT_NE(tiff.find("'result.tiff/'"), std::string::npos) << tiff;
     // In any case, and every listed one.
     EXPECT_NE(inputError("shots/A.JPG").find("'shots/A.JPG' names a .JPG file"), std::string::npos);

@@ -30,8 +30,8 @@ const char* renderSettingHelp(const std::string& name) {
         {"memory-budget", "MiB the render may hold at once (default: a quarter of the machine's memory); a larger image "
                           "is rendered in strips and streamed to the files"},
         {"write", "outputs, comma-separated: cube, png, xyz, responses, edges (default cube,png)"},
-        {"format", "the cube's containers, comma-separated: exr (default), hdf5, hdf5:gzip[:1-9], envi[:bsq|bil|bip] "
-                   "(docs/io.md)"},
+        {"format", "the cube's containers, comma-separated: exr (default), hdf5, hdf5:gzip[:1-9], arad (MATLAB v7.3, "
+                   "400-700 nm / 10 nm), envi[:bsq|bil|bip] (docs/io.md)"},
         {"no-png", "skip the display PNG"},
         {"frames", "render N frames (timing: first frame and median of the rest)"},
         {"validation", "enable Vulkan validation layers; any error fails the run"},
