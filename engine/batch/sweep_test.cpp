@@ -378,3 +378,17 @@ TEST(SweepDraws, DrawsThatPickTheSameValuesAreStillTwoJobs) {
     for (size_t p = 0; p < s.size(); ++p) settings.insert(s.job(p).settings().dump());
     EXPECT_EQ(settings.size(), 10u);
 }
+
+// The bundled training-set sweep (scenes/dataset/, issue 49, item 3) reads: 10 000 jobs, each with its
+// draws as overrides of the base scene's keys.
+TEST(SweepDraws, TheBundledDatasetSweepReads) {
+    const Sweep s = readSweep(fs::path(METAMER_SOURCE_DIR) / "scenes" / "dataset" / "sweep.json");
+    ASSERT_EQ(s.size(), 10000u);
+    ASSERT_TRUE(s.draws.has_value());
+    for (size_t p : {size_t(0), size_t(4321), size_t(9999)}) {
+        const SweepJob j = s.job(p);
+        EXPECT_EQ(j.axes["draw"].get<size_t>(), p);
+        EXPECT_EQ(j.overrides.size(), s.draws->values.size());
+        EXPECT_EQ(j.axes["reflectance2"].get<std::string>().rfind("reflectances/pmc/", 0), 0u);
+    }
+}
