@@ -56,8 +56,20 @@ from ._metamer import (  # noqa: E402  (after the check, so a missing driver is 
     __version__,
     _context_count,
 )
+from typing import Any as _Any, Dict as _Dict  # noqa: E402
+from ._api import PathLike as _PathLike  # noqa: E402
 from ._api import capture, compare, delta_e2000, demosaic, develop, developed_colour_error, fit_colour_correction, load_cube, photon_transfer, render, slanted_edge_sfr  # noqa: E402
-from .camera_report import camera_report  # noqa: E402
+
+
+def camera_report(sensor: _PathLike, out: _PathLike, *, illuminant: str = "illuminants/D65", seed: int = 0,
+                  backend: str = "gpu", exposures: int = 16) -> _Dict[str, _Any]:
+    """The camera report (metamer/report.py, docs/camera.md): renders the charts under `illuminant`,
+    captures and develops them with `sensor`, writes report.png, report.svg, report.json and CSVs
+    into `out`, and returns what report.json holds. Imported on first use (matplotlib is heavy)."""
+    from . import report
+    return report.camera_report(sensor, out, illuminant=illuminant, seed=seed, backend=backend, exposures=exposures)
+
+
 from . import kubelka_munk  # noqa: E402  (the engine's Kubelka–Munk functions, typed and checked)
 from . import _notebook  # noqa: E402,F401  (gives Render its notebook methods)
 

@@ -1,4 +1,4 @@
-"""metamer.camera_report: the one-page report a camera engineer reads (issue 48, item 5;
+"""metamer.camera_report (this module, metamer.report): the one-page report a camera engineer reads (issue 48, item 5;
 docs/camera.md, "The camera report"). It renders the package's charts — the ColorChecker, the
 slanted edge and the metameric pair — under one light, captures them with a sensor, develops them
 with the sensor's image processor, and measures them with the engine's functions:
@@ -13,6 +13,8 @@ with the sensor's image processor, and measures them with the engine's functions
 Plots by matplotlib (report.png, report.svg); the numbers in report.json and three CSV files. Each
 file is written whole or not at all (a temporary beside it, renamed). Only the plotting and the
 orchestration are here: every measurement is the engine's.
+`metamer camera-report --sensor S --out DIR` (the package's command, metamer/__main__.py) and
+`python -m metamer.report …` run main().
 Tests: tests/python/test_camera_report.py."""
 
 from __future__ import annotations
@@ -290,7 +292,7 @@ def _figure(report: dict[str, Any], rendered: Any, developed: Any, rects: dict[s
 
 def main(argv: Optional[list[str]] = None) -> None:
     import argparse
-    parser = argparse.ArgumentParser(prog="python -m metamer.camera_report", description=camera_report.__doc__)
+    parser = argparse.ArgumentParser(prog="metamer camera-report", description=camera_report.__doc__)
     parser.add_argument("--sensor", required=True, help="an RGB Bayer sensor file or library sensor")
     parser.add_argument("--out", required=True, help="the folder the report goes to")
     parser.add_argument("--illuminant", default="illuminants/D65", help="the charts' light (default illuminants/D65)")
