@@ -341,8 +341,13 @@ AradMatWriter::AradMatWriter(const fs::path& path, int width, int height, const 
                   "with a grid that covers it (e.g. --grid 400:700:10)",
                   grid.str(), grid.start_nm > 400.0 ? "400 nm" : "700 nm");
     const uint64_t values = uint64_t(width) * uint64_t(height) * kAradBands;
-    if (width <= 0 || height <= 0 || values > kMaxValues)
-        failRuntime("cannot write '{}': a {}×{} ARAD cube", path.string(), width, height);
+    if (width <= 0 || height <= 0) failRuntime("cannot write '{}': a {}×{} ARAD cube", path.string(), width, height);
+    // The 31 bands of the whole image are held until the end: within the quarter of the machine a
+    // decoded image may take, or refused before the render starts.
+    if (values > kMaxValues || values * sizeof(float) > decodedImageLimitBytes())
+        failInput(Where{"", "--format"}, "the ARAD layout holds the whole {}×{} image's 31 bands ({}) until it is written; "
+                  "the limit is {}, a quarter of this machine's memory: render it smaller, or as exr or hdf5",
+                  width, height, memorySize(values * sizeof(float)), memorySize(decodedImageLimitBytes()));
     m.renderBands = grid.bands();
     m.weights = bandWeights(grid.wavelengths(), kAradGrid);
     m.bands.assign(values, 0.0f);
