@@ -364,12 +364,8 @@ void AradMatWriter::writeRows(int firstRow, int rows, const float* data) {
         for (int x = 0; x < m.width; ++x) {
             const float* px = data + (size_t(r) * size_t(m.width) + size_t(x)) * size_t(m.renderBands);
             const size_t y = size_t(firstRow + r);
-            for (size_t b = 0; b < size_t(kAradBands); ++b) {
-                double v = 0.0;
-                const std::vector<double>& w = m.weights.weights[b];
-                for (size_t k = 0; k < w.size(); ++k) v += w[k] * double(px[m.weights.first[b] + k]);
-                m.bands[(b * size_t(m.width) + size_t(x)) * size_t(m.height) + y] = float(v);
-            }
+            for (size_t b = 0; b < size_t(kAradBands); ++b)
+                m.bands[(b * size_t(m.width) + size_t(x)) * size_t(m.height) + y] = float(m.weights.at(b, px));
         }
     m.nextRow = firstRow + rows;
 }

@@ -144,16 +144,7 @@ BandWeights bandWeights(const std::vector<double>& w, const Grid& grid) {
 
 std::vector<double> BandWeights::apply(const std::vector<double>& values) const {
     std::vector<double> out(first.size(), 0.0);
-    for (size_t b = 0; b < first.size(); ++b) {
-        const auto& wb = weights[b];
-        if (wb.size() == 1 && wb[0] == 1.0) {  // a tabulated value: copied, not multiplied
-            out[b] = values[first[b]];
-            continue;
-        }
-        double s = 0.0;
-        for (size_t k = 0; k < wb.size(); ++k) s += wb[k] * values[first[b] + k];
-        out[b] = s;
-    }
+    for (size_t b = 0; b < first.size(); ++b) out[b] = at(b, values.data());
     return out;
 }
 

@@ -20,6 +20,7 @@
 #include "spectral/grid.h"
 #include "spectral/spectrum.h"
 
+#include <cstddef>
 #include <vector>
 
 namespace metamer {
@@ -34,6 +35,16 @@ struct BandWeights {
     std::vector<std::vector<double>> weights;  // per band, the weights from first[b] on
 
     std::vector<double> apply(const std::vector<double>& values) const;
+    // Band b alone from values at the data wavelengths (a pixel's bands, say), without a copy: a
+    // tabulated value comes back as it is, not multiplied.
+    template <typename T>
+    double at(size_t b, const T* values) const {
+        const std::vector<double>& wb = weights[b];
+        if (wb.size() == 1 && wb[0] == 1.0) return double(values[first[b]]);
+        double s = 0.0;
+        for (size_t k = 0; k < wb.size(); ++k) s += wb[k] * double(values[first[b] + k]);
+        return s;
+    }
 };
 BandWeights bandWeights(const std::vector<double>& wavelengths_nm, const Grid& grid);
 
