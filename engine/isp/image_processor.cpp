@@ -86,14 +86,8 @@ ProcessorColour fitProcessorColour(const Detector& camera, const std::vector<dou
 
 namespace {
 
-// v = max(DN − black, 0) / (white − black) per site.
-std::vector<double> normalizedRaw(const RawFrame& f) {
-    const size_t n = size_t(f.width) * size_t(f.height);
-    std::vector<double> v(n);
-    const double range = f.white - f.black;
-    for (size_t i = 0; i < n; ++i) v[i] = std::max(double(f.dn[i]) - f.black, 0.0) / range;
-    return v;
-}
+// Step 1 at site i: v = max(DN − black, 0) / (white − black).
+double normalizedSite(const RawFrame& f, size_t i) { return std::max(double(f.dn[i]) - f.black, 0.0) / (f.white - f.black); }
 
 int siteColour(const RawFrame& f, int x, int y) { return f.cfa[size_t((y & 1) * 2 + (x & 1))]; }
 
@@ -115,11 +109,10 @@ glm::dvec3 whiteBalanceNeutral(const RawFrame& f, const ProcessorSpec& spec, con
         x0 = px, y0 = py, x1 = px + pw, y1 = py + ph;
     }
     glm::dvec3 sum(0.0), count(0.0);
-    const double range = f.white - f.black;
     for (int y = y0; y < y1; ++y)
         for (int x = x0; x < x1; ++x) {
             const int c = siteColour(f, x, y);
-            sum[c] += std::max(double(f.dn[size_t(y) * size_t(f.width) + size_t(x)]) - f.black, 0.0) / range;
+            sum[c] += normalizedSite(f, size_t(y) * size_t(f.width) + size_t(x));
             count[c] += 1.0;
         }
     const glm::dvec3 mean = sum / count;
@@ -144,11 +137,11 @@ DevelopedImage develop(const RawFrame& f, const ProcessorSpec& spec, const Proce
     out.height = f.height;
     out.neutral = whiteBalanceNeutral(f, spec, colour, where);
     out.gains = std::max({out.neutral.x, out.neutral.y, out.neutral.z}) / out.neutral;
-    std::vector<double> balanced = normalizedRaw(f);
+    std::vector<double> balanced(size_t(f.width) * size_t(f.height));
     for (int y = 0; y < f.height; ++y)
         for (int x = 0; x < f.width; ++x) {
-            double& v = balanced[size_t(y) * size_t(f.width) + size_t(x)];
-            v = std::min(v * out.gains[siteColour(f, x, y)], 1.0);
+            const size_t i = size_t(y) * size_t(f.width) + size_t(x);
+            balanced[i] = std::min(normalizedSite(f, i) * out.gains[siteColour(f, x, y)], 1.0);
         }
     const std::vector<double> rgb = demosaic(balanced, f.width, f.height, f.cfa, spec.demosaic, DemosaicBorder::Mirror);
     out.xyz.resize(rgb.size());

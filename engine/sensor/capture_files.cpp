@@ -101,6 +101,14 @@ CaptureFiles stageCaptureFiles(const ExpectedElectrons& e, const SensorSpec& sen
         for (int c : row) r.push_back(sensor.channels[size_t(c)]);
         cfa.push_back(r);
     }
+    // The developed frames' PNG and its colour tag (a CRT's ICC profile is built by Little CMS):
+    // once, for every frame.
+    ImageFile developedImage{e.width, e.height, {"R", "G", "B"}, {}};
+    if (colour) {
+        DisplayColourTag tag = displayColourTag(colour->processor.display);
+        if (tag.srgbChunk) developedImage.attributes.push_back({"oiio:ColorSpace", "sRGB"});
+        developedImage.iccProfile = std::move(tag.iccProfile);
+    }
     for (int f = 0; f < a.frames; ++f) {
         const uint64_t frame = a.frame + uint64_t(f);
         const std::vector<uint16_t> raw = digitize(e, sensor, CaptureNoise{a.noise, a.seed, frame});
@@ -115,11 +123,8 @@ CaptureFiles stageCaptureFiles(const ExpectedElectrons& e, const SensorSpec& sen
             for (size_t i = 0; i < 4; ++i) f.cfa[i] = colour->cfa[i];
             developed = develop(f, sensor.processor, colour->processor, Where{sensor.file.string(), "processor"});
             const DisplayModel& display = colour->processor.display;
-            ImageFile image{e.width, e.height, {"R", "G", "B"}, {}};
-            DisplayColourTag tag = displayColourTag(display);
-            if (tag.srgbChunk) image.attributes.push_back({"oiio:ColorSpace", "sRGB"});
-            image.iccProfile = std::move(tag.iccProfile);
-            writeImage(stage(name + "." + display.name + ".png"), image, encodeCounts(*developed, display), display.bits);
+            writeImage(stage(name + "." + display.name + ".png"), developedImage, encodeCounts(*developed, display),
+                       display.bits);
         }
         if (dngWritten) {
             DngRaw dng;
