@@ -29,6 +29,17 @@ std::string whiteBalanceName(WhiteBalance w) {
     return "?";
 }
 
+int patchCoordinate(double v, const Where& where) {
+    if (!(v >= 0 && v <= 65536 && std::floor(v) == v))
+        failInput(where, "expected a whole number of pixels, 0 … 65536; got {:g}", v);
+    return int(v);
+}
+
+int displayBits(long long bits, const Where& where) {
+    if (bits != 8 && bits != 16) failInput(where, "expected 8 or 16 bits per channel, got {}", bits);
+    return int(bits);
+}
+
 ProcessorColour fitProcessorColour(const Detector& camera, const std::vector<double>& illuminantOnGrid,
                                    const Grid& grid, const SpectrumLibrary& library, const ProcessorSpec& spec,
                                    const Where& where) {

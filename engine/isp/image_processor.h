@@ -60,6 +60,14 @@ struct ProcessorSpec {
     int bits = 8;                                  // its counts: 8 or 16
 };
 
+// The bounds of a processor's numbers, wherever they are given (a sensor file's "processor",
+// Python's keywords): a gain past 10⁴ makes every pixel white, below 10⁻⁴ black.
+inline constexpr double kMinProcessorExposure = 1e-4, kMaxProcessorExposure = 1e4;
+// A patch coordinate: a whole number of pixels, 0 … 65536; an input error at `where` otherwise.
+int patchCoordinate(double v, const Where& where);
+// The counts' bits, 8 or 16; an input error at `where` otherwise.
+int displayBits(long long bits, const Where& where);
+
 // The processor's colour for one camera under one illuminant: fitted once per capture.
 struct ProcessorColour {
     glm::dvec3 illuminantNeutral{1.0};  // the camera's raw response to the illuminant's white, max 1

@@ -109,11 +109,7 @@ py::dict developRaw(const py::buffer& rawArg, const py::object& sensorName, cons
     if (!patch.is_none()) {
         const std::vector<double> r = patch.cast<std::vector<double>>();
         if (r.size() != 4) failInput(Where{"", "patch"}, "expected [x, y, width, height] in pixels; got {} numbers", r.size());
-        for (size_t i = 0; i < 4; ++i) {
-            if (!(r[i] >= 0 && r[i] <= 65536 && r[i] == std::floor(r[i])))
-                failInput(Where{"", "patch"}, "expected whole numbers of pixels, 0 … 65536; got {:g}", r[i]);
-            p.patch[i] = int(r[i]);
-        }
+        for (size_t i = 0; i < 4; ++i) p.patch[i] = patchCoordinate(r[i], Where{"", "patch"});
     }
     if (p.whiteBalance == WhiteBalance::Patch && p.patch[2] == 0)
         failInput(Where{"", "patch"}, "the patch white balance needs patch=[x, y, width, height], a neutral area of the frame");
@@ -124,13 +120,14 @@ py::dict developRaw(const py::buffer& rawArg, const py::object& sensorName, cons
     if (!demosaicName.is_none()) p.demosaic = parseDemosaicMethod(text(demosaicName, "demosaic"), Where{"", "demosaic"});
     if (!correction.is_none())
         p.correction = parseCorrectionForm(text(correction, "colour_correction"), Where{"", "colour_correction"});
-    if (!displayName.is_none()) p.display = text(displayName, "display");
-    if (!bits.is_none()) {
-        p.bits = int(integer(bits, "bits", 8, 16));
-        if (p.bits != 8 && p.bits != 16) failInput(Where{"", "bits"}, "expected 8 or 16 bits per channel, got {}", p.bits);
+    if (!bits.is_none()) p.bits = displayBits(integer(bits, "bits", 8, 16), Where{"", "bits"});
+    if (!displayName.is_none()) {
+        p.display = text(displayName, "display");
+        parseDisplay(p.display, p.bits, Where{"", "display"});  // named here, not at the fit
     }
     if (const std::optional<double> e = optionalNumber(exposure, "exposure")) {
-        if (!(*e >= 1e-4 && *e <= 1e4)) failInput(Where{"", "exposure"}, "expected a gain of 10⁻⁴ … 10⁴, got {:g}", *e);
+        if (!(*e >= kMinProcessorExposure && *e <= kMaxProcessorExposure))
+            failInput(Where{"", "exposure"}, "expected a gain of 10⁻⁴ … 10⁴, got {:g}", *e);
         p.exposure = *e;
     }
     const std::optional<SensorColour> colour = sensorColour(sensor, library);

@@ -136,12 +136,7 @@ ProcessorSpec readProcessor(const Json& v, const Where& w, const SpectrumLibrary
             failInput(w.child("patch"), "a patch is for \"white_balance\": \"patch\"; the white balance is {}",
                       whiteBalanceName(p.whiteBalance));
         const glm::dvec4 rect = vector<4>(*r, w.child("patch"));
-        for (int i = 0; i < 4; ++i) {
-            if (!(rect[i] >= 0 && rect[i] <= 65536 && std::floor(rect[i]) == rect[i]))
-                failInput(w.child("patch").index(size_t(i)), "expected a whole number of pixels, 0 … 65536; got {:g}",
-                          rect[i]);
-            p.patch[size_t(i)] = int(rect[i]);
-        }
+        for (int i = 0; i < 4; ++i) p.patch[size_t(i)] = patchCoordinate(rect[i], w.child("patch").index(size_t(i)));
     } else if (p.whiteBalance == WhiteBalance::Patch) {
         failInput(w.child("patch"), "the patch white balance needs \"patch\": [x, y, width, height] in pixels, a "
                   "neutral area of the frame");
@@ -156,13 +151,10 @@ ProcessorSpec readProcessor(const Json& v, const Where& w, const SpectrumLibrary
         p.correction = parseCorrectionForm(choice(*c, w.child("colour_correction"), {"linear", "root-polynomial"}),
                                            w.child("colour_correction"));
     if (const Json* a = find(v, "adaptation")) p.adaptation = parseAdaptation(string(*a, w.child("adaptation")), w.child("adaptation"));
-    // A gain past 10⁴ makes every pixel white; below 10⁻⁴ black.
-    if (const Json* e = find(v, "exposure")) p.exposure = numberIn(*e, w.child("exposure"), 1e-4, 1e4, false, false);
+    if (const Json* e = find(v, "exposure"))
+        p.exposure = numberIn(*e, w.child("exposure"), kMinProcessorExposure, kMaxProcessorExposure, false, false);
     if (const Json* d = find(v, "display")) p.display = choice(*d, w.child("display"), {"srgb", "crt"});
-    if (const Json* b = find(v, "bits")) {
-        p.bits = integerIn(*b, w.child("bits"), 8, 16);
-        if (p.bits != 8 && p.bits != 16) failInput(w.child("bits"), "expected 8 or 16 bits per channel, got {}", p.bits);
-    }
+    if (const Json* b = find(v, "bits")) p.bits = displayBits(integerIn(*b, w.child("bits"), 8, 16), w.child("bits"));
     return p;
 }
 

@@ -283,6 +283,8 @@ def test_develop_names_its_mistakes(tmp_path):
         ({"demosaic": "ahd"}, "demosaic: 'ahd' is not a demosaicing method"),
         ({"colour_correction": "cubic"}, "colour_correction"),
         ({"exposure": 0.0}, "exposure: expected a gain"),
+        ({"display": "lcd"}, "^display: "),
+        ({"bits": 12}, "bits: expected 8 or 16 bits per channel, got 12"),
     ]:
         with pytest.raises(metamer.InputError, match=message):
             metamer.develop(frame, "aps_c_rggb", **keywords)
