@@ -116,7 +116,8 @@ def camera_report(sensor: PathLike, out: PathLike, *, illuminant: str = "illumin
                                        f"{len(channels)} channel(s)")
     developed = _api.develop(raw[0], sensor, **srgb)
     dev_means = np.array([_mean(developed["linear_rgb"], rects[p]) for p in PATCHES])
-    ref_means = np.array([_mean(np.asarray(chart.xyz, dtype=np.float64), rects[p]) for p in PATCHES])
+    chart_xyz = np.asarray(chart.xyz, dtype=np.float64)
+    ref_means = np.array([_mean(chart_xyz, rects[p]) for p in PATCHES])
     colour_error = _api.developed_colour_error(dev_means, ref_means, white=illuminant, exposure_from=WHITE_PATCH)
     green = _green(channels)
     grey_snr = {p: _api.photon_transfer(raw[0], raw[1], sensor, rect=rects[p], channel=green) for p in GREYS}
@@ -147,10 +148,11 @@ def camera_report(sensor: PathLike, out: PathLike, *, illuminant: str = "illumin
     pair_scene = json.loads(_scene("metamers.json").read_text())
     pair_rects = _object_rects(pair_scene)
     pair = _api.render(str(_scene("metamers.json")), overrides=light, write=["cube", "xyz"], backend=backend)
+    pair_xyz = np.asarray(pair.xyz, dtype=np.float64)
     pair_dev = _api.develop(_api.capture(pair, sensor, noise=False)["raw"], sensor, **srgb)
     pair_error = _api.developed_colour_error(
         np.array([_mean(pair_dev["linear_rgb"], pair_rects[m]) for m in ("base", "metamer")]),
-        np.array([_mean(np.asarray(pair.xyz, dtype=np.float64), pair_rects[m]) for m in ("base", "metamer")]),
+        np.array([_mean(pair_xyz, pair_rects[m]) for m in ("base", "metamer")]),
         white=illuminant, exposure_from=0)
     camera_de = float(_api.delta_e2000(pair_error["developed_lab"][0], pair_error["developed_lab"][1])[0])
     observer_de = float(_api.delta_e2000(pair_error["reference_lab"][0], pair_error["reference_lab"][1])[0])
