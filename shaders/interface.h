@@ -133,6 +133,12 @@ using mat4 = glm::mat4;
 // Any self-luminous material: without one, no band program tests a material's MATERIAL_EMITTER
 // per fragment (a scene without emitters pays nothing for them).
 #define SPEC_HAS_EMITTERS 19
+// What the band passes compute (scene/surface_quantity.h): the radiance, or a ground-truth map —
+// the illumination (ρd := 1, no specular, fluorescence or emission) or the reflectance ρd alone.
+#define SPEC_QUANTITY 20
+#define QUANTITY_RADIANCE 0
+#define QUANTITY_ILLUMINATION 1
+#define QUANTITY_REFLECTANCE 2
 
 // The hemisphere lights' lobe integrals are independent of wavelength but costly: with several band
 // passes and at most MAX_LOBE_LIGHTS hemisphere lights, a lobe pass (one RGBA32F attachment, after
@@ -338,15 +344,16 @@ struct SpectralSpecialization {
     int32_t bandLayers;                          // SPEC_BAND_LAYERS
     int32_t emitterTriangles, emitters;          // SPEC_EMITTER_TRIANGLES, SPEC_EMITTERS
     uint32_t hasEmitters;                        // SPEC_HAS_EMITTERS (VkBool32)
+    int32_t quantity;                            // SPEC_QUANTITY: QUANTITY_*
 };
-static_assert(sizeof(SpectralSpecialization) == 4 * (SPEC_HAS_EMITTERS + 1), "one 4-byte field per id");
+static_assert(sizeof(SpectralSpecialization) == 4 * (SPEC_QUANTITY + 1), "one 4-byte field per id");
 static_assert(SPEC_AMBIENT_COUNT == 0 && SPEC_DIRECTIONAL_COUNT == 1 && SPEC_POINT_COUNT == 2 && SPEC_HAS_SPECULAR == 3 &&
                   SPEC_HAS_FLUORESCENCE == 4 && SPEC_HAS_TEXTURES == 5 && SPEC_HAS_NORMAL_MAPS == 6 &&
                   SPEC_FLUORESCENCE_SPECTRA == 7 && SPEC_RESPONSES == 8 && SPEC_HEMISPHERE_COUNT == 9 &&
                   SPEC_SHADOWS == 10 && SPEC_LOBE_MODE == 11 && SPEC_SHADOWED_DIRECTIONAL == 12 &&
                   SPEC_SHADOWED_POINT == 13 && SPEC_HEMISPHERE_PAIRED == 14 && SPEC_FILTERED_SHADOWS == 15 &&
                   SPEC_BAND_LAYERS == 16 && SPEC_EMITTER_TRIANGLES == 17 && SPEC_EMITTERS == 18 &&
-                  SPEC_HAS_EMITTERS == 19,
+                  SPEC_HAS_EMITTERS == 19 && SPEC_QUANTITY == 20,
               "SpectralSpecialization's fields are in id order");
 
 // transmit.frag's specialization constants, in id order.

@@ -38,6 +38,11 @@ layout(constant_id = SPEC_BAND_LAYERS) const int BAND_LAYERS = 1;
 layout(constant_id = SPEC_EMITTER_TRIANGLES) const int EMITTER_TRIANGLES = 0;
 layout(constant_id = SPEC_EMITTERS) const int EMITTERS = 0;
 layout(constant_id = SPEC_HAS_EMITTERS) const bool HAS_EMITTERS = true;
+// The ground truth's band passes (render/ground_truth.h): the illumination (ρd := 1, no specular,
+// fluorescence or emission) or the reflectance, instead of the radiance.
+layout(constant_id = SPEC_QUANTITY) const int QUANTITY = QUANTITY_RADIANCE;
+const bool RADIANCE = QUANTITY == QUANTITY_RADIANCE;
+const bool ILLUMINATION = QUANTITY == QUANTITY_ILLUMINATION;
 
 layout(set = 0, binding = BINDING_LIGHTS, std140) uniform Lights { GpuLightBlock L; };
 layout(set = 0, binding = BINDING_LIGHT_SPECTRA, std140) uniform LightSpectra { GpuLightSpectraBlock E; };
@@ -245,8 +250,8 @@ void addLight(int l, float diffuseWeight, float specularWeight) {
         return;
     }
     [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) {
-        vec4 reflectance = diffuseAt(k) * diffuseWeight;
-        if (HAS_SPECULAR) reflectance += specularAt(k) * specularWeight;
+        vec4 reflectance = ILLUMINATION ? vec4(diffuseWeight) : diffuseAt(k) * diffuseWeight;
+        if (HAS_SPECULAR && RADIANCE) reflectance += specularAt(k) * specularWeight;
         vec4 e = E.lightBands[l * MAX_OUTPUTS + k];
         if (FILTERED_SHADOWS && filtered) e *= lightFilter[k];
         acc[k] += e * reflectance;
@@ -272,7 +277,7 @@ void addFilteredEmission(int l, float g) {
 // Light l's fluorescence with geometric factor g: the rank-one form sums g·coupling_l (times ê/λ
 // at the end); with a Donaldson matrix in the scene, every fluorescent material adds g·F_l(λ).
 void addFluorescence(int l, float g) {
-    if (!HAS_FLUORESCENCE) return;
+    if (!HAS_FLUORESCENCE || !RADIANCE) return;
     if (RESPONSES) {
         [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) acc[k] += g * R.fluorescence[l * RESPONSE_VEC4 + k];
         return;
@@ -330,6 +335,8 @@ void pointLight(int i, vec3 n, vec3 v, vec3 ng) {
     addFluorescence(l, g);
 }
 
+void writeOutputs();  // acc to the attachments (after main)
+
 void main() {
     // The face normal, from the position's screen-space derivatives: taken here, in uniform
     // control flow, because derivatives are undefined inside a branch.
@@ -362,6 +369,11 @@ void main() {
     [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) acc[k] = vec4(0.0);
     fluorescence = 0.0;
     if (HAS_TEXTURES) sampleTextures();
+    if (QUANTITY == QUANTITY_REFLECTANCE) {  // ρd of the surface seen, textures included
+        [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) acc[k] = diffuseAt(k);
+        writeOutputs();
+        return;
+    }
 
     filtered = false;
     [[unroll]] for (int i = 0; i < min(AMBIENT_COUNT, UNROLLED_LIGHTS); ++i) ambientLight(i);
@@ -387,10 +399,10 @@ void main() {
     }
     // ê/λ and the couplings come scaled by reciprocal powers of two (pack() in spectral_pass.cpp)
     // so that neither overflows before their product does.
-    if (HAS_FLUORESCENCE && !FLUORESCENCE_SPECTRA && !RESPONSES)
+    if (HAS_FLUORESCENCE && !FLUORESCENCE_SPECTRA && !RESPONSES && RADIANCE)
         [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) acc[k] += fluorescence * M.emissionOverLambda[k];
     // A self-luminous surface's own radiance, on its front (the side its winding faces).
-    if (HAS_EMITTERS && !RESPONSES && gl_FrontFacing && (runtimeValue(M.switches.x) & MATERIAL_EMITTER) != 0u)
+    if (HAS_EMITTERS && !RESPONSES && RADIANCE && gl_FrontFacing && (runtimeValue(M.switches.x) & MATERIAL_EMITTER) != 0u)
         [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) acc[k] += M.emitted[k];
 #ifdef INDIRECT
     // The indirect light, on the side the elements were solved for (an open surface's other side is
@@ -398,7 +410,9 @@ void main() {
     // surface's own ρd here, textures included; a fluorescent surface's comes whole.
     if (gl_FrontFacing) {
         const bool whole = (runtimeValue(M.switches.x) & MATERIAL_FLUORESCENT) != 0u;
-        [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) acc[k] += (whole ? vec4(1.0) : diffuseAt(k)) * indirect[k];
+        // The illumination map takes H/π itself (a fluorescent surface's vertices carry its
+        // radiance whole, so there the map holds that: the mask flags it).
+        [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) acc[k] += (whole || ILLUMINATION ? vec4(1.0) : diffuseAt(k)) * indirect[k];
         // The emitters' direct light, per pixel: L_e × the unoccluded form factor here (closed
         // form) × the share that reaches past the occluders, interpolated from the vertices (0 on
         // a fluorescent surface, whose vertices carry it whole).
@@ -411,11 +425,15 @@ void main() {
         factor *= indirect[INDIRECT_SHARE];
         for (int e = 0; e < EMITTERS; ++e) {
             const int first = (AMBIENT_COUNT + DIRECTIONAL_COUNT + POINT_COUNT + HEMISPHERE_COUNT + e) * MAX_OUTPUTS;
-            [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) acc[k] += diffuseAt(k) * factor[e] * E.lightBands[first + k];
+            [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k)
+                acc[k] += (ILLUMINATION ? vec4(1.0) : diffuseAt(k)) * factor[e] * E.lightBands[first + k];
         }
     }
 #endif
+    writeOutputs();
+}
 
+void writeOutputs() {
     out0 = acc[0];
 #if OUTPUT_COUNT > 1
     out1 = acc[1];

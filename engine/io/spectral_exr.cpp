@@ -21,6 +21,7 @@ namespace {
 constexpr float kHalfMax = 65504.0f;
 constexpr double kGridTolerance_nm = 1e-4;
 constexpr const char* kQuantity = "spectral radiance per band (docs/physics.md), W·sr⁻¹·m⁻²·nm⁻¹";
+constexpr const char* kReflectanceQuantity = "reflectance factor per band, relative (1: a perfect white diffuser)";
 
 // A parsed S0.<λ><unit> / T.<λ><unit> channel.
 struct BandChannel {
@@ -128,11 +129,11 @@ Grid gridOfWavelengths(const std::vector<double>& wl, const std::string& gridTex
     return g;
 }
 
-std::string spectralChannelName(double wavelength_nm) {
-    std::string n = fmt::format("S0.{:.6f}nm", wavelength_nm);
+std::string spectralChannelName(double wavelength_nm, SpectralComponent component) {
+    const std::string prefix = component == SpectralComponent::Reflective ? "T" : "S0";
+    std::string n = fmt::format("{:.6f}nm", wavelength_nm);
     std::replace(n.begin(), n.end(), '.', ',');
-    n[2] = '.';  // the separator after the component stays a dot
-    return n;
+    return prefix + "." + n;  // the separator after the component stays a dot
 }
 
 struct SpectralExrWriter::Impl {
@@ -162,13 +163,14 @@ SpectralExrWriter::SpectralExrWriter(const fs::path& path, int width, int height
         failInput(Where{"", "compression"}, "unknown OpenEXR compression '{}' ({}; zip, zips take :1 to :9, dwaa, "
                   "dwab a :level)", options.compression, exrCompressionNames());
     std::vector<std::string> channels;
-    for (int b = 0; b < m.bands; ++b) channels.push_back(spectralChannelName(grid.wavelength(b)));
-    StringAttributes a = {{"spectralLayoutVersion", "1.0"},
-                          {"emissiveUnits", "W.m^-2.sr^-1"},
-                          {"metamer:grid", grid.str()},
-                          {"metamer:quantity", kQuantity},
-                          {"metamer:resampling", resamplingName(grid.resampling)},
-                          {"Software", "metamer"}};
+    const bool reflective = options.component == SpectralComponent::Reflective;
+    for (int b = 0; b < m.bands; ++b) channels.push_back(spectralChannelName(grid.wavelength(b), options.component));
+    StringAttributes a = {{"spectralLayoutVersion", "1.0"}};
+    if (!reflective) a.push_back({"emissiveUnits", "W.m^-2.sr^-1"});
+    a.insert(a.end(), {{"metamer:grid", grid.str()},
+                       {"metamer:quantity", reflective ? kReflectanceQuantity : kQuantity},
+                       {"metamer:resampling", resamplingName(grid.resampling)},
+                       {"Software", "metamer"}});
     a.insert(a.end(), options.extraAttributes.begin(), options.extraAttributes.end());
     ExrWriterExtras extras;
     if (options.preview) {

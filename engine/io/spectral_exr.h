@@ -20,6 +20,11 @@ namespace metamer {
 
 class AtomicOutput;
 
+enum class SpectralComponent {
+    Emissive,    // S0.<λ>nm: spectral radiance
+    Reflective,  // T.<λ>nm: reflectance
+};
+
 struct ExrWriteOptions {
     bool half = false;               // float16 instead of float32
     std::string compression = "piz"; // an OpenEXR compression (io/exr_file.h): none, rle, zips, zip, piz, ...
@@ -28,6 +33,9 @@ struct ExrWriteOptions {
     // than the first three bands, with the chromaticities of R, G, B (docs/io.md, "Preview
     // channels"). Absent: the bands alone.
     std::optional<ExrChromaticities> preview;
+    // Emissive: S0.<λ>nm channels of spectral radiance; reflective: T.<λ>nm channels of a
+    // reflectance factor (the ground truth's reflectance map), read back as a reflective cube.
+    SpectralComponent component = SpectralComponent::Emissive;
 };
 
 // The preview's channel names, in the order its pixels are interleaved.
@@ -38,8 +46,8 @@ struct ExrWriteReport {
     size_t nonFinite = 0;         // NaN or ±Inf values, written unchanged
 };
 
-// Channel name of an emissive band: 552.5 -> "S0.552,500000nm".
-std::string spectralChannelName(double wavelength_nm);
+// Channel name of an emissive band: 552.5 -> "S0.552,500000nm"; of a reflective one, "T.552,500000nm".
+std::string spectralChannelName(double wavelength_nm, SpectralComponent component = SpectralComponent::Emissive);
 
 // Writes the cube as emissive spectral radiance (S0 channels) through AtomicOutput, so the file
 // appears complete or not at all. Header: spectralLayoutVersion, emissiveUnits, metamer:grid,
@@ -70,11 +78,6 @@ public:
 private:
     struct Impl;
     std::unique_ptr<Impl> impl_;
-};
-
-enum class SpectralComponent {
-    Emissive,    // S0.<λ>nm: spectral radiance
-    Reflective,  // T.<λ>nm: reflectance
 };
 
 struct SpectralExrImage {

@@ -119,7 +119,8 @@ std::shared_ptr<Render> renderFromState(const py::tuple& t) {
     StageTimings& times = r->result.timings;
     const std::map<std::string, double*> stages{{"load", &times.load_ms},       {"upload", &times.upload_ms},
                                                 {"shading", &times.shading_ms}, {"readback", &times.readback_ms},
-                                                {"tonemap", &times.tonemap_ms}, {"write", &times.write_ms},
+                                                {"tonemap", &times.tonemap_ms}, {"ground_truth", &times.ground_truth_ms},
+                                                {"write", &times.write_ms},
                                                 {"total", &times.total_ms}};
     for (auto [stage, ms] : d["timings_ms"].cast<py::dict>())
         if (auto it = stages.find(stage.cast<std::string>()); it != stages.end()) *it->second = ms.cast<double>();

@@ -160,7 +160,7 @@ ReferenceRenderer::ReferenceRenderer(const Scene& scene, const SceneOnGrid& onGr
     }
     // Interreflection, the reference's own way (reference/indirect_light.h): patches half the
     // scene's element size (or its opaque objects' diagonal / 48), 32 × 32 strata.
-    if (scene.interreflection) {
+    if (scene.interreflection && options_.interreflection) {
         glm::dvec3 lo(INFINITY), hi(-INFINITY);
         for (const BvhTriangle& t : bvh_.triangles())
             for (const glm::dvec3& p : {t.p0, t.p1, t.p2}) {
@@ -220,6 +220,10 @@ void ReferenceRenderer::addIndirect(uint32_t material, uint32_t triangle, const 
     const MaterialOnGrid& mat = onGrid_.materials[material];
     std::vector<double> H(static_cast<size_t>(bands_));
     indirect_->irradiance(p, n, triangle, H.data());
+    if (options_.quantity == SurfaceQuantity::Illumination) {  // H/π, what a white diffuser would send
+        for (int b = 0; b < bands_; ++b) radiance[b] += H[size_t(b)] / kPi;
+        return;
+    }
     for (int b = 0; b < bands_; ++b)
         radiance[b] += mat.diffuse[size_t(b)] * (diffuseTexture ? diffuseTexture[b] : 1.0) * H[size_t(b)] / kPi;
     if (!mat.fluorescent) return;
@@ -261,9 +265,11 @@ int32_t ReferenceRenderer::trace(const Ray& ray, double* radiance, uint64_t* blo
     if (blocked) *blocked = 0;
     if (crossings) *crossings = 0;
     auto hit = bvh_.intersect(ray, kRayTMin);
+    // The ground-truth maps are of the opaque surface seen, not of what lies in front of it.
+    const bool seenThrough = options_.quantity == SurfaceQuantity::Radiance && !clearBvh_.triangles().empty();
     if (!hit) {
         // The background is black, but a slab in front of it still reflects.
-        if (!clearBvh_.triangles().empty()) {
+        if (seenThrough) {
             const uint32_t c = transmit(ray, std::numeric_limits<double>::infinity(), radiance);
             if (crossings) *crossings = c;
         }
@@ -273,7 +279,7 @@ int32_t ReferenceRenderer::trace(const Ray& ray, double* radiance, uint64_t* blo
     uint32_t lit = 0;  // the shadow rays' crossings
     shade(*hit, ray, radiance, b, lit);
     if (!clearBvh_.triangles().empty()) {
-        uint32_t c = transmit(ray, hit->t, radiance) + lit;
+        uint32_t c = (seenThrough ? transmit(ray, hit->t, radiance) : 0) + lit;
         if (c == kMixedCrossings) --c;
         if (crossings) *crossings = c;
     }
@@ -438,42 +444,42 @@ bool ReferenceRenderer::inShadow(size_t l, const glm::dvec3& p, const glm::dvec3
     return tMax > eps && bvh_.occluded(Ray{p, w}, eps, tMax, triangle);
 }
 
-void ReferenceRenderer::shade(const RayHit& hit, const Ray& ray, double* radiance, uint64_t& blocked,
-                              uint32_t& crossed) const {
+ReferenceRenderer::SurfacePoint ReferenceRenderer::surfacePoint(const RayHit& hit, const Ray& ray) const {
     const BvhTriangle& tri = bvh_.triangles()[hit.index];
     const Mesh& mesh = scene_.meshes[tri.mesh];
-    const uint32_t material = mesh.material;
+    SurfacePoint s;
+    s.mesh = tri.mesh;
+    s.material = mesh.material;
     const double b1 = hit.b1, b2 = hit.b2, b0 = 1.0 - b1 - b2;
 
     // The point on the triangle (as a rasterizer interpolates it), and its normals.
-    const glm::dvec3 p = b0 * tri.p0 + b1 * tri.p1 + b2 * tri.p2;
-    const glm::dvec3 ng = glm::normalize(glm::cross(tri.p1 - tri.p0, tri.p2 - tri.p0));
-    glm::dvec3 n = ng;
+    s.p = b0 * tri.p0 + b1 * tri.p1 + b2 * tri.p2;
+    s.ng = glm::normalize(glm::cross(tri.p1 - tri.p0, tri.p2 - tri.p0));
+    glm::dvec3 n = s.ng;
     bool mappable = true;  // normal maps apply unless usable vertex normals cancel here
     if (!mesh.normals.empty()) {
         const uint32_t* idx = &mesh.indices[3 * static_cast<size_t>(tri.triangle)];
-        const glm::dvec3 s =
+        const glm::dvec3 sum =
             b0 * mesh.normals[idx[0]] + b1 * mesh.normals[idx[1]] + b2 * mesh.normals[idx[2]];
         // Opposing vertex normals can cancel; the face normal is then the only sensible choice.
-        if (glm::length(s) > 1e-12) {
-            n = glm::normalize(s);
+        if (glm::length(sum) > 1e-12) {
+            n = glm::normalize(sum);
         } else {
             bool anyUsable = false;
             for (int k = 0; k < 3; ++k) anyUsable = anyUsable || glm::length(mesh.normals[idx[k]]) > 1e-12;
             mappable = !anyUsable;
         }
     }
-    const MaterialOnGrid& mat = onGrid_.materials[material];
+    const MaterialOnGrid& mat = onGrid_.materials[s.material];
     const uint32_t* corner = &mesh.indices[3 * static_cast<size_t>(tri.triangle)];
-    glm::dvec2 uv(0.0);
-    if (!mesh.uvs.empty()) uv = b0 * mesh.uvs[corner[0]] + b1 * mesh.uvs[corner[1]] + b2 * mesh.uvs[corner[2]];
+    if (!mesh.uvs.empty()) s.uv = b0 * mesh.uvs[corner[0]] + b1 * mesh.uvs[corner[1]] + b2 * mesh.uvs[corner[2]];
     // Normal mapping, on the front side's normal: the map's vector m in the frame (t, b, n), t the
     // interpolated tangent made perpendicular to n, b = cross(n, t)·w.
     if (mat.normalTexture >= 0 && !mesh.tangents.empty() && mappable) {
         const glm::dvec4 t4 = b0 * mesh.tangents[corner[0]] + b1 * mesh.tangents[corner[1]] + b2 * mesh.tangents[corner[2]];
         glm::dvec3 t = glm::dvec3(t4) - n * glm::dot(n, glm::dvec3(t4));
         double m[3];
-        onGrid_.textures[size_t(mat.normalTexture)].bilinear(uv, m);
+        onGrid_.textures[size_t(mat.normalTexture)].bilinear(s.uv, m);
         glm::dvec3 mv(m[0], m[1], m[2]);
         if (glm::dot(t, t) > 1e-12 && glm::dot(mv, mv) > 1e-12) {
             t = glm::normalize(t);
@@ -482,9 +488,24 @@ void ReferenceRenderer::shade(const RayHit& hit, const Ray& ray, double* radianc
             n = glm::normalize(t * mv.x + b * mv.y + n * mv.z);
         }
     }
-    const glm::dvec3 v = -ray.direction;
     // Two-sided: a back face is shaded as if seen from its front.
-    if (glm::dot(ng, v) < 0.0) n = -n;
+    s.front = glm::dot(s.ng, -ray.direction) >= 0.0;
+    if (glm::dot(s.ng, -ray.direction) < 0.0) n = -n;
+    s.n = n;
+    return s;
+}
+
+void ReferenceRenderer::shade(const RayHit& hit, const Ray& ray, double* radiance, uint64_t& blocked,
+                              uint32_t& crossed, double* specular) const {
+    const SurfacePoint surface = surfacePoint(hit, ray);
+    const Mesh& mesh = scene_.meshes[surface.mesh];
+    const uint32_t material = surface.material;
+    const MaterialOnGrid& mat = onGrid_.materials[material];
+    const glm::dvec3& p = surface.p;
+    const glm::dvec3& ng = surface.ng;
+    const glm::dvec3& n = surface.n;
+    const glm::dvec2& uv = surface.uv;
+    const glm::dvec3 v = -ray.direction;
 
     // Textured reflectance: the texture's bands multiply the material's (precomputed) terms.
     thread_local std::vector<double> diffuseTex, specularTex;
@@ -497,6 +518,11 @@ void ReferenceRenderer::shade(const RayHit& hit, const Ray& ray, double* radianc
         specularTex.resize(bands_);
         onGrid_.textures[size_t(mat.specularTexture)].bilinear(uv, specularTex.data());
     }
+    if (options_.quantity == SurfaceQuantity::Reflectance) {  // ρd, as the diffuse term has it
+        for (int b = 0; b < bands_; ++b) radiance[b] = mat.diffuse[size_t(b)] * (diffuseTextured ? diffuseTex[b] : 1.0);
+        return;
+    }
+    const bool illumination = options_.quantity == SurfaceQuantity::Illumination;
 
     const double gloss = onGrid_.materials[material].gloss;
     glm::dvec2 previousLobe(0.0);  // the last hemisphere light's (I, I_unoccluded): a ground after its sky shares it
@@ -554,6 +580,11 @@ void ReferenceRenderer::shade(const RayHit& hit, const Ray& ray, double* radianc
         const size_t o = termOffset(material, l);
         const double* d = &diffuseTerm_[o];
         auto filtered = [tau](int b) { return tau ? tau[b] : 1.0; };
+        if (illumination) {  // E/π with the diffuse term's geometric factor, shadow and filter; ρd := 1
+            const std::vector<double>& e = onGrid_.lights[l];
+            for (int b = 0; b < bands_; ++b) radiance[b] += gDiffuse * e[size_t(b)] / kPi * filtered(b);
+            continue;
+        }
         if (diffuseTextured)
             for (int b = 0; b < bands_; ++b) radiance[b] += gDiffuse * d[b] * diffuseTex[b] * filtered(b);
         else
@@ -564,6 +595,10 @@ void ReferenceRenderer::shade(const RayHit& hit, const Ray& ray, double* radianc
                 for (int b = 0; b < bands_; ++b) radiance[b] += gSpecular * s[b] * specularTex[b] * filtered(b);
             else
                 for (int b = 0; b < bands_; ++b) radiance[b] += gSpecular * s[b] * filtered(b);
+            if (specular) {  // the lobe's share, for the ground truth's specular flag (reference/geometry_maps.h)
+                for (int b = 0; b < bands_; ++b)
+                    specular[b] += gSpecular * s[b] * (specularTextured ? specularTex[b] : 1.0) * filtered(b);
+            }
         }
         if (hasFluorescence_[material]) {
             // Excited by the light that arrives: through a filter, the sums over E·τ.
@@ -577,10 +612,10 @@ void ReferenceRenderer::shade(const RayHit& hit, const Ray& ray, double* radianc
         }
     }
     // A self-luminous surface's own radiance, seen on its front (the side its winding faces).
-    if (mat.isEmitter() && glm::dot(ng, v) > 0.0)
+    if (!illumination && mat.isEmitter() && glm::dot(ng, v) > 0.0)
         for (int b = 0; b < bands_; ++b) radiance[b] += mat.emitted[size_t(b)];
     // The light that bounced, on the side the eye sees (n faces it); a closed mesh's inside gets none.
-    if (indirect_ && (glm::dot(ng, v) >= 0.0 || !mesh.closed))
+    if (indirect_ && !specular && (glm::dot(ng, v) >= 0.0 || !mesh.closed))
         addIndirect(material, hit.index, p, n, diffuseTextured ? diffuseTex.data() : nullptr, radiance);
 }
 

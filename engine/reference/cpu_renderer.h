@@ -11,9 +11,11 @@
 #include "reference/lobe_table.h"
 
 #include "reference/bvh.h"
+#include "reference/geometry_maps.h"
 #include "reference/indirect_light.h"
 #include "scene/scene.h"
 #include "scene/scene_on_grid.h"
+#include "scene/surface_quantity.h"
 #include "spectral/cube.h"
 
 #include <cstdint>
@@ -26,6 +28,11 @@ namespace metamer {
 struct ReferenceOptions {
     int ssaa = 1;     // s×s sub-samples per pixel on a regular grid, box-averaged
     int threads = 0;  // 0 = usableCpuCount() (core/cpu_count.h)
+    // What the cube holds: the radiance, or a ground-truth map (scene/surface_quantity.h).
+    SurfaceQuantity quantity = SurfaceQuantity::Radiance;
+    // False: the scene's interreflection is not solved (no indirect light), for a renderer that
+    // only casts the geometry maps (render/ground_truth.cpp on the GPU backend).
+    bool interreflection = true;
     // Rows finished so far of all rows, on the calling thread, at most about 4 times a second;
     // it may throw to stop the render (the exception comes out of render()). Empty: none.
     std::function<void(int rowsDone, int rows)> progress;
@@ -81,11 +88,34 @@ public:
     int32_t pixel(int x, int y, double* radiance, uint64_t* blocked = nullptr, uint32_t* crossings = nullptr) const;
 
     ReferenceImage render() const;
+    // What render() computes from now on (options.quantity): one renderer, and one solve of the
+    // interreflection, for the radiance and every ground-truth map.
+    void setQuantity(SurfaceQuantity quantity) { options_.quantity = quantity; }
+
+    // Object and material ids, depth, normal and the ground-truth mask at every pixel's central
+    // sample (reference/geometry_maps.h); the specular share is the radiance's, whatever
+    // options.quantity says, and of the direct light only (the mask's test needs no indirect
+    // light: a lobe's share of the direct light is at least its share of all). reference/geometry_maps.cpp.
+    GeometryMaps geometryMaps() const;
 
 private:
-    // Outgoing radiance at a hit, towards -ray.direction. `crossed` gets the signature of the
-    // transparent objects its lights came through (coloured shadows), added to.
-    void shade(const RayHit& hit, const Ray& ray, double* radiance, uint64_t& blocked, uint32_t& crossed) const;
+    // A ray's hit as the shading sees it: the point, the face normal, the shading normal (vertex
+    // normals interpolated, the normal map applied, turned towards the eye), the texture coordinates.
+    struct SurfacePoint {
+        uint32_t mesh = 0, material = 0;
+        glm::dvec3 p{0.0}, ng{0.0}, n{0.0};
+        glm::dvec2 uv{0.0};
+        bool front = true;  // the eye is on the side the triangle's winding faces (or in its plane)
+    };
+    SurfacePoint surfacePoint(const RayHit& hit, const Ray& ray) const;
+    // The ground-truth mask's specular test at one sample (geometryMaps).
+    bool specularDominates(const RayHit& hit, const Ray& ray) const;
+    // Outgoing radiance at a hit, towards -ray.direction (or options.quantity's map). `crossed`
+    // gets the signature of the transparent objects its lights came through (coloured shadows),
+    // added to; `specular`, when given (bands() values), the specular lobe's part, added to, and
+    // then the radiance is the direct light's alone (no indirect light).
+    void shade(const RayHit& hit, const Ray& ray, double* radiance, uint64_t& blocked, uint32_t& crossed,
+               double* specular = nullptr) const;
     // Whether light l is blocked between p (on triangle `triangle`) and the light, along w.
     bool inShadow(size_t l, const glm::dvec3& p, const glm::dvec3& w, uint32_t triangle) const;
     // Multiplies `radiance` by the transmittance of the transparent surfaces and media the ray

@@ -24,6 +24,7 @@ std::vector<CubeContainer> makeTable() {
             o.compression = s.compression;
             o.extraAttributes = s.provenance;
             o.preview = s.preview;
+            o.component = s.component;
             return std::unique_ptr<CubeWriter>(std::make_unique<SpectralExrWriter>(path, width, height, grid, o));
         },
         nullptr,  // the spectral EXR's line says float16 or float32 (RenderOutputs::commit)
@@ -44,6 +45,7 @@ std::vector<CubeContainer> makeTable() {
             Hdf5WriteOptions o;
             o.gzipLevel = s.options.empty() ? 0 : s.options.back() - '0';
             o.attributes = s.provenance;
+            o.component = s.component;
             return std::unique_ptr<CubeWriter>(std::make_unique<Hdf5CubeWriter>(path, width, height, grid, o));
         },
         [](const std::filesystem::path&, const CubeWriteSettings& s, const std::string& cube) {
@@ -77,6 +79,7 @@ std::vector<CubeContainer> makeTable() {
             // The writer says the grid and its rule itself (`metamer grid`, `metamer resampling`).
             for (const auto& a : s.provenance)
                 if (a.first != "metamer:grid" && a.first != "metamer:resampling") o.attributes.push_back(a);
+            o.component = s.component;
             return std::unique_ptr<CubeWriter>(std::make_unique<EnviCubeWriter>(path, width, height, grid, o));
         },
         [](const std::filesystem::path& path, const CubeWriteSettings& s, const std::string& cube) {

@@ -7,6 +7,7 @@
 #include "core/error.h"
 #include "io/cube_writer.h"
 #include "io/exr_file.h"
+#include "io/spectral_exr.h"
 #include "spectral/grid.h"
 
 #include <filesystem>
@@ -31,6 +32,7 @@ struct CubeWriteSettings {
     // The display preview's primaries, when the render writes a display image: OpenEXR then
     // carries R, G, B, A beside the bands (io/spectral_exr.h); the other containers hold bands only.
     std::optional<ExrChromaticities> preview;
+    SpectralComponent component = SpectralComponent::Emissive;  // radiance (and illumination), or reflectance
 };
 
 struct CubeContainer {

@@ -8,6 +8,9 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <fstream>
 
 namespace metamer {
 
@@ -43,6 +46,18 @@ OutputTargets renderTargets(const std::filesystem::path& dir, const std::string&
     if (files.xyz && plan && !responsesOnly(plan)) t.xyz = dir / (stem + ".xyz.exr");
     if (files.responses && plan) t.responses = dir / (stem + "." + detectorFileName(plan->detector.name) + ".exr");
     if (files.edges) t.edges = dir / (stem + ".edges.png");
+    // The spectral maps in the cube's containers, by the cube's own rule for their names.
+    for (const ChosenCubeFormat& f : formats) {
+        if (files.reflectance) t.reflectance.push_back({f, dir / (stem + ".reflectance" + f.format->extension)});
+        if (files.illumination) t.illumination.push_back({f, dir / (stem + ".illumination" + f.format->extension)});
+    }
+    if (files.ids) {
+        t.ids = dir / (stem + ".ids.exr");
+        t.legend = dir / (stem + ".ids.json");
+    }
+    if (files.depth) t.depth = dir / (stem + ".depth.exr");
+    if (files.normal) t.normal = dir / (stem + ".normal.exr");
+    if (files.groundTruth()) t.mask = dir / (stem + ".mask.png");
     return t;
 }
 
@@ -138,9 +153,103 @@ RenderOutputs::RenderOutputs(const OutputTargets& targets, int width, int height
         ImageFile f{width_, height_, {"Y"}, provenance_};
         edges_ = std::make_unique<ImageFileWriter>(targets_.edges, f, 8);
     }
+    openGroundTruth();
 }
 
 RenderOutputs::~RenderOutputs() = default;
+
+void RenderOutputs::openGroundTruth() {
+    // What each map is, said in every file of it (docs/io.md, "Ground truth").
+    auto with = [&](std::vector<std::pair<std::string, std::string>> extra) {
+        Attributes a = provenance_;
+        a.insert(a.end(), extra.begin(), extra.end());
+        return a;
+    };
+    const std::string sample = "metamer:sample";
+    const std::string centre = "each pixel's central sample, ray cast through the reference's BVH";
+    auto openCubes = [&](const std::vector<CubeTarget>& targets, SurfaceQuantity q, const std::string& what) {
+        for (const CubeTarget& t : targets) {
+            CubeWriteSettings settings{t.format.options, with({{"metamer:ground_truth", what}}), false, options_.compression,
+                                       std::nullopt,
+                                       q == SurfaceQuantity::Reflectance ? SpectralComponent::Reflective
+                                                                         : SpectralComponent::Emissive};
+            std::unique_ptr<CubeWriter> writer = t.format.format->open(t.path, width_, height_, grid_, settings);
+            truthCubes_.push_back({q, OpenCube{t, std::move(settings), std::move(writer)}});
+        }
+    };
+    openCubes(targets_.reflectance, SurfaceQuantity::Reflectance,
+              "reflectance: the diffuse reflectance factor of the surface seen, per band (relative); 0 at the background");
+    openCubes(targets_.illumination, SurfaceQuantity::Illumination,
+              "illumination: the spectral irradiance at the surface seen / pi (W·sr⁻¹·m⁻²·nm⁻¹), the radiance a "
+              "perfect white diffuser would send there; 0 at the background");
+    if (!targets_.ids.empty()) {
+        ImageFile f{width_, height_, {"object", "material"},
+                    with({{"metamer:ground_truth", "object and material ids: indices into the legend " +
+                                                       targets_.legend.filename().string() +
+                                                       ", integers held exactly as float32, -1 at the background"},
+                          {sample, centre}})};
+        ids_ = std::make_unique<ImageFileWriter>(targets_.ids, f, 32);
+        legend_ = std::make_unique<AtomicOutput>(targets_.legend);
+    }
+    if (!targets_.depth.empty()) {
+        ImageFile f{width_, height_, {"Z"},
+                    with({{"metamer:ground_truth", "depth: metres from the camera along the ray (orthographic: from "
+                                                   "the image plane), 0 at the background"},
+                          {sample, centre}})};
+        depth_ = std::make_unique<ImageFileWriter>(targets_.depth, f, 32);
+    }
+    if (!targets_.normal.empty()) {
+        ImageFile f{width_, height_, {"N.X", "N.Y", "N.Z"},
+                    with({{"metamer:ground_truth", "normal: the unit shading normal in the camera frame (x right, y up, "
+                                                   "z towards the camera), 0 at the background"},
+                          {sample, centre}})};
+        normal_ = std::make_unique<ImageFileWriter>(targets_.normal, f, 32);
+    }
+    if (!targets_.mask.empty()) {
+        ImageFile f{width_, height_, {"Y"},
+                    with({{"metamer:ground_truth", "mask: bits 1 background, 2 fluorescent, 4 specular share over 1 %, "
+                                                   "8 transparent in front, 16 self-luminous, 32 edge; 0 where "
+                                                   "radiance = reflectance × illumination"},
+                          {sample, centre}})};
+        mask_ = std::make_unique<ImageFileWriter>(targets_.mask, f, 8);
+    }
+}
+
+void RenderOutputs::writeGroundTruth(const GroundTruthImages& truth) {
+    const size_t pixels = size_t(width_) * size_t(height_);
+    for (TruthCube& t : truthCubes_) {
+        const float* data = t.quantity == SurfaceQuantity::Reflectance ? truth.reflectance : truth.illumination;
+        if (!data) failRuntime("cannot write '{}': the render made no {} map", t.cube.target.path.string(),
+                               surfaceQuantityName(t.quantity));
+        t.cube.writer->writeRows(0, height_, data);
+    }
+    if (!ids_ && !depth_ && !normal_ && !mask_) return;
+    if (!truth.geometry || truth.geometry->mask.size() != pixels)
+        failRuntime("cannot write the ground truth's geometry maps: the render made none of {}×{} pixels", width_, height_);
+    const GeometryMaps& g = *truth.geometry;
+    if (ids_) {
+        std::vector<float> ids(2 * pixels);
+        for (size_t i = 0; i < pixels; ++i) {
+            ids[2 * i] = float(g.object[i]);
+            ids[2 * i + 1] = float(g.material[i]);
+        }
+        ids_->writeRows(0, height_, ids);
+        legend_->naming([&] {
+            std::ofstream f(legend_->tempPath(), std::ios::binary | std::ios::trunc);
+            f << truth.legend;
+            if (!f.flush()) failRuntime("cannot write '{}': {}", legend_->tempPath().string(), std::strerror(errno));
+        });
+    }
+    if (depth_) depth_->writeRows(0, height_, g.depth_m);
+    if (normal_) normal_->writeRows(0, height_, g.normal);
+    if (mask_) {
+        mask_->writeRows(0, height_, std::vector<uint16_t>(g.mask.begin(), g.mask.end()));
+        const size_t clean = size_t(std::count(g.mask.begin(), g.mask.end(), uint8_t(0)));
+        maskWhat_ = fmt::format("ground-truth mask: {} of {} pixels where radiance = reflectance × illumination (0); "
+                                "bits 1 background, 2 fluorescent, 4 specular, 8 transparent in front, 16 "
+                                "self-luminous, 32 edge", clean, pixels);
+    }
+}
 
 void RenderOutputs::captureInto(CapturedOutputs* capture) {
     capture_ = capture;
@@ -298,6 +407,35 @@ std::vector<WrittenFile> RenderOutputs::commit(int strips, int stripRows, const 
     if (edges_) {
         add(edges_->finish());
         written.push_back({targets_.edges, line(edgesWhat_)});
+    }
+    for (TruthCube& t : truthCubes_) {
+        add(t.cube.writer->finish());
+        const std::string what = t.quantity == SurfaceQuantity::Reflectance
+                                     ? fmt::format("reflectance (ground truth), {}×{} px, {} bands {} nm, relative",
+                                                   width_, height_, grid_.bands(), grid_.str())
+                                     : fmt::format("illumination (ground truth: irradiance/π), {}", cubeWhat);
+        written.push_back({t.cube.target.path, t.cube.target.format.format->describe
+                                                   ? t.cube.target.format.format->describe(t.cube.target.path,
+                                                                                           t.cube.settings, what)
+                                                   : what});
+    }
+    if (ids_) {
+        add(ids_->finish());
+        written.push_back({targets_.ids, "object and material ids (ground truth), central sample"});
+        add({legend_.get()});
+        written.push_back({targets_.legend, "the ids' legend: object and material names"});
+    }
+    if (depth_) {
+        add(depth_->finish());
+        written.push_back({targets_.depth, "depth (ground truth), metres along the ray, central sample"});
+    }
+    if (normal_) {
+        add(normal_->finish());
+        written.push_back({targets_.normal, "shading normal (ground truth), camera frame, central sample"});
+    }
+    if (mask_) {
+        add(mask_->finish());
+        written.push_back({targets_.mask, maskWhat_});
     }
     std::vector<StagingFolder*> staged;
     if (beforeCommit) staged = beforeCommit(files);

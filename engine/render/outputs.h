@@ -13,6 +13,8 @@
 #include "render/render_job_spec.h"
 #include "io/image_file.h"
 #include "io/spectral_exr.h"
+#include "reference/geometry_maps.h"
+#include "scene/surface_quantity.h"
 #include "represent/representation.h"
 #include "spectral/cube.h"
 #include "spectral/library.h"
@@ -34,6 +36,13 @@ struct OutputFiles {
     bool edges = false;      // <scene>.edges.png: 255 where a pixel's 3×3 neighbourhood sees more
                              // than one surface, 128 where it sees a shadow boundary (CPU backend
                              // only: the goldens' comparison mask)
+    // The ground truth (docs/io.md, "Ground truth"), each with <scene>.mask.png beside it:
+    bool reflectance = false;   // <scene>.reflectance.<cube>: ρd of the surface seen, per band
+    bool illumination = false;  // <scene>.illumination.<cube>: irradiance/π there, W·sr⁻¹·m⁻²·nm⁻¹
+    bool ids = false;           // <scene>.ids.exr (object, material) and its legend <scene>.ids.json
+    bool depth = false;         // <scene>.depth.exr: metres along the ray
+    bool normal = false;        // <scene>.normal.exr: the shading normal in the camera frame
+    bool groundTruth() const { return reflectance || illumination || ids || depth || normal; }
 };
 
 struct WrittenFile {
@@ -52,6 +61,17 @@ struct OutputTargets {
     std::vector<CubeTarget> cubes;    // spectral modes: the cube in each chosen container (render/cube_formats.h)
     std::filesystem::path png;        // the display image, or a custom detector's quick look
     std::filesystem::path xyz, responses, edges;
+    std::vector<CubeTarget> reflectance, illumination;  // the spectral ground truth, in the cube's containers
+    std::filesystem::path ids, legend, depth, normal, mask;
+};
+
+// The ground truth of a render, whole images (render/ground_truth.h makes them): the spectral
+// maps pixel-interleaved on the render's grid (null: not made), the geometry maps, the ids' legend.
+struct GroundTruthImages {
+    const float* reflectance = nullptr;
+    const float* illumination = nullptr;
+    const GeometryMaps* geometry = nullptr;
+    std::string legend;  // JSON: the names behind the ids
 };
 
 // `metamer render`'s names in `dir` for a scene file's `stem`: <stem>.exr (<stem>.<mode>.exr for a
@@ -127,6 +147,10 @@ public:
     // responses for the cie1931 detector, riemann).
     void writeQuickLookFromXyz(const std::vector<float>& xyz);
     void writeEdges(const std::vector<uint16_t>& edges);
+    // The ground-truth files the targets name, from whole images.
+    void writeGroundTruth(const GroundTruthImages& truth);
+    // Whether any ground-truth file is to be written (the render must then make the maps).
+    bool needsGroundTruth() const { return !truthCubes_.empty() || ids_ || depth_ || normal_; }
 
     // Keeps what `capture->keep` names in `capture` as well as (or instead of) the files; call
     // before the first writeRows. `capture` must outlive this.
@@ -139,6 +163,7 @@ public:
 
 private:
     void writeQuickLookImage(const QuickLook& q);
+    void openGroundTruth();
     // The preview's rows: the display image's counts as the display's linear RGB, and A = 1.
     const float* previewOf(int rows, const DisplayImage* image);
 
@@ -155,6 +180,14 @@ private:
         std::unique_ptr<CubeWriter> writer;
     };
     std::vector<OpenCube> cubes_;  // the spectral cube, one writer per container
+    struct TruthCube {
+        SurfaceQuantity quantity;
+        OpenCube cube;
+    };
+    std::vector<TruthCube> truthCubes_;  // the reflectance and illumination maps, one writer per container
+    std::unique_ptr<ImageFileWriter> ids_, depth_, normal_, mask_;
+    std::unique_ptr<AtomicOutput> legend_;
+    std::string maskWhat_;
     bool preview_ = false;         // the cube's EXR carries the display image's linear RGB (docs/io.md, "Preview channels")
     std::vector<float> previewRows_;  // R, G, B, A per pixel of the rows being written
     std::unique_ptr<ImageFileWriter> channels_, png_, xyz_, responses_, edges_;

@@ -8,6 +8,7 @@
 #include "interface.h"
 #include "io/exr_file.h"
 #include "render/display_frame.h"
+#include "render/ground_truth.h"
 #include "render/output_path.h"
 #include "render/render_setup.h"
 #include "render/strip_render.h"
@@ -31,18 +32,23 @@ const char* metamerVersion() { return METAMER_VERSION; }
 namespace {
 OutputFiles parseWrite(const std::vector<std::string>& names, const Where& where) {
     OutputFiles f{false, false, false, false, false};
-    if (names.empty()) failInput(where, "no output named; expected one or more of cube, png, xyz, responses, edges");
+    const std::vector<std::pair<std::string, bool*>> outputs = {
+        {"cube", &f.cube},         {"png", &f.png},          {"xyz", &f.xyz},          {"responses", &f.responses},
+        {"edges", &f.edges},       {"reflectance", &f.reflectance}, {"illumination", &f.illumination},
+        {"ids", &f.ids},           {"depth", &f.depth},      {"normal", &f.normal}};
+    std::vector<std::string> known;
+    for (const auto& o : outputs) known.push_back(o.first);
+    const std::string list = fmt::format("{}", fmt::join(known, ", "));
+    if (names.empty()) failInput(where, "no output named; expected one or more of {}", list);
     for (const auto& n : names) {
-        if (n == "cube") f.cube = true;
-        else if (n == "png") f.png = true;
-        else if (n == "xyz") f.xyz = true;
-        else if (n == "responses") f.responses = true;
-        else if (n == "edges") f.edges = true;
-        else {
-            std::string near = closestMatch(n, {"cube", "png", "xyz", "responses", "edges"});
-            failInput(where, "'{}' is not an output; expected cube, png, xyz, responses or edges{}", n,
-                      near.empty() ? "" : fmt::format(" (did you mean '{}'?)", near));
+        const auto found = std::find_if(outputs.begin(), outputs.end(), [&](const auto& o) { return o.first == n; });
+        if (found != outputs.end()) {
+            *found->second = true;
+            continue;
         }
+        std::string near = closestMatch(n, known);
+        failInput(where, "'{}' is not an output; expected one of {}{}", n, list,
+                  near.empty() ? "" : fmt::format(" (did you mean '{}'?)", near));
     }
     return f;
 }
@@ -259,6 +265,25 @@ int stripRowsFor(const RenderJob& job, const Scene& scene, uint64_t budget, cons
     return interruptRows > 0 ? std::min(rows, interruptRows) : rows;
 }
 
+// The ground truth `files` asks for, made by the job's backend and written to `out`
+// (render/ground_truth.h); nothing without.
+void writeGroundTruth(const RenderJob& job, const LoadedScene& loaded, const OutputFiles& files, vk::Context* ctx,
+                      RenderOutputs& out, RenderJobResult& r) {
+    if (!files.groundTruth()) return;
+    GroundTruthJob g;
+    g.scene = &loaded.scene;
+    g.spectra = &loaded.spectra;
+    g.backend = job.backend;
+    g.ssaa = job.ssaa;
+    g.readback = job.readback;
+    g.context = ctx;
+    const GroundTruth truth = renderGroundTruth(g, files);
+    const auto t = Clock::now();
+    out.writeGroundTruth(truth.images());
+    r.timings.ground_truth_ms = truth.ms;
+    r.timings.write_ms += msSince(t);
+}
+
 // The job's progress hook with the time since the job started (render/render_progress.h); a no-op
 // without a hook.
 using ProgressReport = std::function<void(const char* unit, int done, int total)>;
@@ -292,8 +317,8 @@ int renderStripsInto(const RenderJob& job, LoadedScene& loaded, const TonemapPla
 
 // Display outputs only, on the GPU into `out`: the response pass and the tonemap pass
 // (render/display_frame.h), one or more whole frames; the bands are never drawn.
-void renderDisplayFrames(const RenderJob& job, LoadedScene& loaded, const TonemapPlan& plan, RenderOutputs& out,
-                         RenderJobResult& r, const ProgressReport& report) {
+void renderDisplayFrames(const RenderJob& job, LoadedScene& loaded, const TonemapPlan& plan, const OutputFiles& files,
+                         RenderOutputs& out, RenderJobResult& r, const ProgressReport& report) {
     JobContext ctx(job);
     {
         refuseOversizedTarget(job, loaded.scene, *ctx);
@@ -335,13 +360,14 @@ void renderDisplayFrames(const RenderJob& job, LoadedScene& loaded, const Tonema
             out.writeQuickLookFromXyz(look.render().responses);
         }
         r.timings.write_ms = msSince(t);
+        writeGroundTruth(job, loaded, files, ctx.get(), out, r);
     }
     r.validationErrors = ctx.finish();
 }
 
 // One or more whole frames on the GPU into `out`: the bands, and the display path over them.
-void renderGpuFrames(const RenderJob& job, LoadedScene& loaded, const TonemapPlan* plan, RenderOutputs& out,
-                     RenderJobResult& r, const ProgressReport& report) {
+void renderGpuFrames(const RenderJob& job, LoadedScene& loaded, const TonemapPlan* plan, const OutputFiles& files,
+                     RenderOutputs& out, RenderJobResult& r, const ProgressReport& report) {
     JobContext ctx(job);
     {
         refuseOversizedTarget(job, loaded.scene, *ctx);
@@ -395,13 +421,14 @@ void renderGpuFrames(const RenderJob& job, LoadedScene& loaded, const TonemapPla
                       tonemap ? &image : nullptr);
         out.writeQuickLook(cube, loaded.library);
         r.timings.write_ms = msSince(t);
+        writeGroundTruth(job, loaded, files, ctx.get(), out, r);
     }
     r.validationErrors = ctx.finish();
 }
 
 // The CPU reference (double precision) and its tonemap into `out`.
-void renderReferenceFrame(const RenderJob& job, LoadedScene& loaded, const TonemapPlan* plan, RenderOutputs& out,
-                          RenderJobResult& r, const ProgressReport& report) {
+void renderReferenceFrame(const RenderJob& job, LoadedScene& loaded, const TonemapPlan* plan, const OutputFiles& files,
+                          RenderOutputs& out, RenderJobResult& r, const ProgressReport& report) {
     auto t = Clock::now();
     ReferenceOptions ro;
     ro.ssaa = job.ssaa;
@@ -426,6 +453,7 @@ void renderReferenceFrame(const RenderJob& job, LoadedScene& loaded, const Tonem
     out.writeQuickLook(img.cube, loaded.library);
     out.writeEdges(edgeMask(img));
     r.timings.write_ms = msSince(t);
+    writeGroundTruth(job, loaded, files, nullptr, out, r);
 }
 
 }  // namespace
@@ -455,6 +483,9 @@ RenderJobResult runRenderJob(const RenderJob& job) {
                   "take a level :1 to :9, dwaa and dwab a :level)", job.compression, exrCompressionNames());
     if (files.edges && job.backend != Backend::Cpu)
         failInput(Where{"", "--write"}, "the edges mask comes from the CPU reference's object ids; use --backend cpu");
+    if (files.groundTruth() && job.capture)
+        failInput(Where{"", "write"}, "the ground-truth maps (reflectance, illumination, ids, depth, normal) are "
+                  "written as files only; render with out= (or metamer render --write)");
 
     // 2. Refuse absurd sizes before anything that grows with the image is allocated.
     const int W = scene.camera.width, H = scene.camera.height, channels = loaded->rendered.grid.bands();
@@ -475,8 +506,11 @@ RenderJobResult runRenderJob(const RenderJob& job) {
     // (display_frame.cpp): its memory is counted as the cube path's (the cube itself is not held,
     // so this errs high).
     const bool drawsBands = needsBands || scene.displayNeedsBands();
-    const RenderMemory memory =
+    RenderMemory memory =
         estimateRenderMemory(W, H, loaded->grid.bands(), job.ssaa, job.backend, display, drawsBands);
+    // The spectral ground truth: a cube each, held whole (and a target of the cube's size to draw it).
+    const uint64_t truthCubes = uint64_t(files.reflectance) + uint64_t(files.illumination);
+    memory.cube += truthCubes * uint64_t(W) * uint64_t(H) * uint64_t(loaded->grid.bands()) * sizeof(float);
     const RenderMemory perRow = estimateRenderMemory(W, 1, channels, job.ssaa, job.backend, display, drawsBands);
     uint64_t budget = job.memoryBudget ? job.memoryBudget : defaultMemoryBudget();
     uint64_t held = 0;
@@ -495,6 +529,9 @@ RenderJobResult runRenderJob(const RenderJob& job) {
     // 3. Every output opened at once (temporary files), whatever renders the pixels.
     std::string why;
     const int stripRows = stripRowsFor(job, scene, budget, memory, perRow, files.edges || quickLook, why);
+    if (stripRows > 0 && files.groundTruth())
+        failInput(Where{"", "--memory-budget"}, "{}; the ground-truth maps are made whole, not in strips (raise "
+                  "--memory-budget, or render fewer bands or pixels)", why.empty() ? "the render is in strips" : why);
     OutputOptions oo;
     oo.half = job.half;
     oo.compression = job.compression;
@@ -554,11 +591,11 @@ RenderJobResult runRenderJob(const RenderJob& job) {
                                           : why + fmt::format("; rendered in {} strips of {} rows and streamed to the "
                                                               "files", strips, stripRows));
     } else if (job.backend == Backend::Gpu && !out.needsCube() && planPtr) {
-        renderDisplayFrames(job, *loaded, *planPtr, out, r, report);
+        renderDisplayFrames(job, *loaded, *planPtr, files, out, r, report);
     } else if (job.backend == Backend::Gpu) {
-        renderGpuFrames(job, *loaded, planPtr, out, r, report);
+        renderGpuFrames(job, *loaded, planPtr, files, out, r, report);
     } else {
-        renderReferenceFrame(job, *loaded, planPtr, out, r, report);
+        renderReferenceFrame(job, *loaded, planPtr, files, out, r, report);
     }
 
     // 5. Every file renamed into place.

@@ -27,17 +27,19 @@ struct LoadedScene;  // render/render_setup.h
 struct StageTimings {
     double load_ms = 0, upload_ms = 0, shading_ms = 0, readback_ms = 0, tonemap_ms = 0, write_ms = 0, total_ms = 0;
     double shadow_ms = 0;  // of upload_ms: the shadow maps' depth passes (once per scene)
+    double ground_truth_ms = 0;  // the ground-truth maps (render/ground_truth.h), 0 without
     // With frames > 1: the first frame's shading (includes the driver's shader compilation on
     // lavapipe) and the medians over the later frames.
     int frames = 1;
     double first_shading_ms = 0, median_shading_ms = 0, median_readback_ms = 0, median_tonemap_ms = 0;
 
-    // The stages and their times, ms, in order — load, upload, shading, readback, tonemap, write,
-    // total: what `metamer render --timings` prints, the Python module's timings_ms and a batch
+    // The stages and their times, ms, in order — load, upload, shading, readback, tonemap,
+    // ground_truth, write, total: what `metamer render --timings` prints, the Python module's timings_ms and a batch
     // job's record hold, written in this one place.
     std::vector<std::pair<const char*, double>> stages() const {
         return {{"load", load_ms},       {"upload", upload_ms}, {"shading", shading_ms}, {"readback", readback_ms},
-                {"tonemap", tonemap_ms}, {"write", write_ms},   {"total", total_ms}};
+                {"tonemap", tonemap_ms}, {"ground_truth", ground_truth_ms}, {"write", write_ms},
+                {"total", total_ms}};
     }
 };
 

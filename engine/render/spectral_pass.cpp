@@ -66,6 +66,9 @@ SpectralPass::SpectralPass(vk::Context& ctx, const Scene& scene, const SceneOnGr
                   options.ssaa);
     SpectralPassPlan& p = plan_;
     p.responses = !options.responseWeights.empty();
+    p.quantity = options.quantity;
+    if (p.responses && p.quantity != SurfaceQuantity::Radiance)
+        failRuntime("the response pass draws radiance only; the {} map is drawn in bands", surfaceQuantityName(p.quantity));
     if (p.responses && !options.sampled)
         failRuntime("the response pass's target is read by the tonemap pass only: set SpectralPassOptions::sampled");
     p.bands = p.responses ? int(options.responseWeights.size()) : spectra.grid.bands();

@@ -56,9 +56,10 @@ VkPipeline SpectralResources::makePipeline(const vk::SharedHandle<VkRenderPass>&
                                            packed.bandLayers,
                                            int32_t(packed.lights.emitters.x),
                                            int32_t(packed.lights.emitters.y),
-                                           scene.hasEmitters()};
+                                           scene.hasEmitters(),
+                                           int32_t(plan.quantity)};
     // interface.h orders the struct's 4-byte fields by id.
-    constexpr uint32_t kIds = SPEC_HAS_EMITTERS + 1;
+    constexpr uint32_t kIds = SPEC_QUANTITY + 1;
     VkSpecializationMapEntry entries[kIds];
     for (uint32_t id = 0; id < kIds; ++id) entries[id] = {id, id * 4, 4};
     VkSpecializationInfo si{kIds, entries, sizeof(spec), &spec};

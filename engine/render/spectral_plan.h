@@ -5,6 +5,8 @@
 #pragma once
 
 #include <cstddef>
+#include "scene/surface_quantity.h"
+
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -32,11 +34,15 @@ struct SpectralPassOptions {
     // the display path that never writes the bands (docs/color.md, "The response pass"). The
     // target is then only sampled (needs `sampled`); it has no cube to read back.
     std::vector<std::vector<double>> responseWeights;
+    // What the band passes compute: the radiance, or a ground-truth map (render/ground_truth.h),
+    // drawn without the transparent objects (the map is of the opaque surface behind them).
+    SurfaceQuantity quantity = SurfaceQuantity::Radiance;
 };
 
 // What this scene needs from the GPU: decided once, before any Vulkan object is made.
 struct SpectralPassPlan {
     bool responses = false;  // the response pass: `bands` are a detector's channels
+    SurfaceQuantity quantity = SurfaceQuantity::Radiance;  // the band passes' (SpectralPassOptions::quantity)
     int bands = 0;           // the grid's bands, or the response pass's channels
     int layers = 0;          // ceil(bands / 4)
     int passes = 0;          // ceil(layers / 8)

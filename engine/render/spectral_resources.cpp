@@ -30,7 +30,9 @@ vk::OwnedBufferView texelBufferView(VkDevice device, const vk::Buffer& buffer, V
 SpectralResources::SpectralResources(vk::Context& c, const Scene& s, const SceneOnGrid& spectra,
                                      const PackedScene& p, SpectralPassPlan& pl, const SpectralPassOptions& options)
     : ctx(c), scene(s), packed(p), plan(pl) {
-    hasTransmission = std::any_of(packed.draws.begin(), packed.draws.end(), [](const PackedDraw& d) { return d.transparent; });
+    // The ground-truth maps are of the opaque surface seen: nothing transparent is drawn for them.
+    hasTransmission = plan.quantity == SurfaceQuantity::Radiance &&
+                      std::any_of(packed.draws.begin(), packed.draws.end(), [](const PackedDraw& d) { return d.transparent; });
     if (hasTransmission && packed.responses)
         failRuntime("the response pass cannot show transparent objects (radiance through a filter is not linear in "
                     "each material's spectra): render bands (render/display_frame.cpp does)");
