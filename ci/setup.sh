@@ -62,6 +62,11 @@ fi
 if ! "$venv/bin/python" -c "import mat73" 2>/dev/null; then
   "${pip_in_venv[@]}" "mat73==0.65" "numpy==2.2.6"
 fi
+# OpenEXR's own Python binding (the ASWF's) reads the ground truth's ids, depth and normal as a
+# learner's loader does (docs/io.md, "Ground truth"; tests/python/test_ground_truth.py).
+if ! "$venv/bin/python" -c "import OpenEXR" 2>/dev/null; then
+  "${pip_in_venv[@]}" "OpenEXR==3.5.3" "numpy==2.2.6"
+fi
 # tmm (Byrnes' transfer-matrix method) is the independent oracle for the dielectric slabs.
 if ! "$venv/bin/python" -c "import tmm" 2>/dev/null; then
   "${pip_in_venv[@]}" "tmm==0.2.0" "numpy==2.2.6"

@@ -39,7 +39,7 @@ std::vector<T> fromRawBytes(const py::handle& b, const char* what) {
     return v;
 }
 
-constexpr int kPickleVersion = 1;
+constexpr int kPickleVersion = 2;  // 2: the ground truth
 
 py::tuple renderState(const Render& r) {
     const CapturedOutputs& c = r.captured.outputs;
@@ -55,6 +55,15 @@ py::tuple renderState(const Render& r) {
     d["responses"] = rawBytes(c.responses);
     d["response_channels_count"] = c.responseChannels;
     d["edges"] = rawBytes(c.edges);
+    d["reflectance"] = rawBytes(c.reflectance);
+    d["illumination"] = rawBytes(c.illumination);
+    d["truth_bands"] = c.truthBands;
+    d["object_ids"] = rawBytes(c.objectIds);
+    d["material_ids"] = rawBytes(c.materialIds);
+    d["depth"] = rawBytes(c.depth);
+    d["normal"] = rawBytes(c.normal);
+    d["truth_mask"] = rawBytes(c.mask);
+    d["ids_legend"] = c.legend;
     d["grid"] = r.captured.grid.str();
     d["spectral"] = r.spectral;
     d["channel_names"] = r.channelNames;
@@ -88,6 +97,15 @@ std::shared_ptr<Render> renderFromState(const py::tuple& t) {
     c.responses = fromRawBytes<float>(d["responses"], "responses");
     c.responseChannels = d["response_channels_count"].cast<size_t>();
     c.edges = fromRawBytes<uint16_t>(d["edges"], "edges");
+    c.reflectance = fromRawBytes<float>(d["reflectance"], "reflectance");
+    c.illumination = fromRawBytes<float>(d["illumination"], "illumination");
+    c.truthBands = d["truth_bands"].cast<size_t>();
+    c.objectIds = fromRawBytes<int32_t>(d["object_ids"], "object_ids");
+    c.materialIds = fromRawBytes<int32_t>(d["material_ids"], "material_ids");
+    c.depth = fromRawBytes<float>(d["depth"], "depth");
+    c.normal = fromRawBytes<float>(d["normal"], "normal");
+    c.mask = fromRawBytes<uint8_t>(d["truth_mask"], "truth_mask");
+    c.legend = d["ids_legend"].cast<std::string>();
     // A state is input: its sizes within what a render can make (camera.width and height 1..16384)
     // before anything is multiplied by them, and every array exactly that size or absent (issue 51,
     // class 9: a forged negative size passed, its arrays read out of bounds later).
@@ -100,7 +118,10 @@ std::shared_ptr<Render> renderFromState(const py::tuple& t) {
     const size_t pixels = size_t(c.width) * size_t(c.height);
     auto sized = [&](size_t n, size_t per) { return n == 0 || n == pixels * per; };
     if (c.cube.size() != pixels * c.cubeChannels || !sized(c.xyz.size(), 3) || !sized(c.counts.size(), 3) ||
-        !sized(c.edges.size(), 1) || c.responseChannels > 100000 || !sized(c.responses.size(), c.responseChannels))
+        !sized(c.edges.size(), 1) || c.responseChannels > 100000 || !sized(c.responses.size(), c.responseChannels) ||
+        c.truthBands > 100000 || !sized(c.reflectance.size(), c.truthBands) || !sized(c.illumination.size(), c.truthBands) ||
+        !sized(c.objectIds.size(), 1) || !sized(c.materialIds.size(), 1) || !sized(c.depth.size(), 1) ||
+        !sized(c.normal.size(), 3) || !sized(c.mask.size(), 1))
         failInput(Where{"", "pickle"}, "a metamer.Render whose arrays do not match its {}×{} size", c.width, c.height);
     r->captured.grid = Grid::parse(d["grid"].cast<std::string>(), Where{"", "pickle"});
     r->spectral = d["spectral"].cast<bool>();
@@ -209,6 +230,65 @@ void bindRenderClass(py::module_& m) {
                 return view(c.edges, {c.height, c.width}, self);
             },
             "rows × columns uint16, 255 where a pixel's 3×3 neighbourhood sees more than one surface (cpu)")
+        // The ground truth (write=["reflectance", "illumination", "ids", "depth", "normal"]; docs/io.md).
+        .def_property_readonly(
+            "reflectance",
+            [](py::object self) -> py::object {
+                const CapturedOutputs& c = self.cast<const Render&>().captured.outputs;
+                return view(c.reflectance, {c.height, c.width, py::ssize_t(c.truthBands)}, self);
+            },
+            "rows × columns × bands float32: the diffuse reflectance factor of the surface seen (relative)")
+        .def_property_readonly(
+            "illumination",
+            [](py::object self) -> py::object {
+                const CapturedOutputs& c = self.cast<const Render&>().captured.outputs;
+                return view(c.illumination, {c.height, c.width, py::ssize_t(c.truthBands)}, self);
+            },
+            "rows × columns × bands float32: irradiance/π at the surface seen, W·sr⁻¹·m⁻²·nm⁻¹")
+        .def_property_readonly(
+            "object_ids",
+            [](py::object self) -> py::object {
+                const CapturedOutputs& c = self.cast<const Render&>().captured.outputs;
+                return view(c.objectIds, {c.height, c.width}, self);
+            },
+            "rows × columns int32: the object (mesh) seen at each pixel's central sample, −1 background (ids_legend)")
+        .def_property_readonly(
+            "material_ids",
+            [](py::object self) -> py::object {
+                const CapturedOutputs& c = self.cast<const Render&>().captured.outputs;
+                return view(c.materialIds, {c.height, c.width}, self);
+            },
+            "rows × columns int32: its material, −1 background (ids_legend)")
+        .def_property_readonly(
+            "ids_legend",
+            [](const Render& r) -> py::object {
+                const std::string& legend = r.captured.outputs.legend;
+                if (legend.empty()) return py::none();
+                return py::module_::import("json").attr("loads")(legend);
+            },
+            "the names behind object_ids and material_ids: {objects: [{id, name, material}], materials: [{id, name}]}")
+        .def_property_readonly(
+            "depth",
+            [](py::object self) -> py::object {
+                const CapturedOutputs& c = self.cast<const Render&>().captured.outputs;
+                return view(c.depth, {c.height, c.width}, self);
+            },
+            "rows × columns float32: metres from the camera along the ray, 0 at the background")
+        .def_property_readonly(
+            "normal",
+            [](py::object self) -> py::object {
+                const CapturedOutputs& c = self.cast<const Render&>().captured.outputs;
+                return view(c.normal, {c.height, c.width, 3}, self);
+            },
+            "rows × columns × 3 float32: the shading normal in the camera frame (x right, y up, z to the camera)")
+        .def_property_readonly(
+            "truth_mask",
+            [](py::object self) -> py::object {
+                const CapturedOutputs& c = self.cast<const Render&>().captured.outputs;
+                return view(c.mask, {c.height, c.width}, self);
+            },
+            "rows × columns uint8: why radiance ≠ reflectance × illumination (1 background, 2 fluorescent, 4 specular, "
+            "8 transparent in front, 16 self-luminous, 32 edge); 0 where it is equal")
         .def_property_readonly("clipped_pixels", [](const Render& r) { return r.result.clippedPixels; },
                                "pixels whose display counts clipped at 0 or full scale")
         .def_property_readonly("camera_fit_rms_delta_e2000",
@@ -225,7 +305,8 @@ void bindRenderClass(py::module_& m) {
                                    py::dict d;
                                    for (const auto& [stage, ms] : r.result.timings.stages()) d[stage] = ms;
                                    return d;
-                               }, "milliseconds per stage: load, upload, shading, readback, tonemap, write, total")
+                               }, "milliseconds per stage: load, upload, shading, readback, tonemap, ground_truth, "
+                                  "write, total")
         .def(
             "save",
             [](const Render& r, const py::object& dir) {

@@ -217,6 +217,25 @@ void RenderOutputs::openGroundTruth() {
 
 void RenderOutputs::writeGroundTruth(const GroundTruthImages& truth) {
     const size_t pixels = size_t(width_) * size_t(height_);
+    if (capture_) {  // kept as arrays, as the files would hold them
+        CapturedOutputs& c = *capture_;
+        const size_t bands = size_t(grid_.bands());
+        c.truthBands = bands;
+        if (c.keep.reflectance && truth.reflectance) c.reflectance.assign(truth.reflectance, truth.reflectance + pixels * bands);
+        if (c.keep.illumination && truth.illumination)
+            c.illumination.assign(truth.illumination, truth.illumination + pixels * bands);
+        if (truth.geometry) {
+            const GeometryMaps& g = *truth.geometry;
+            if (c.keep.ids) {
+                c.objectIds = g.object;
+                c.materialIds = g.material;
+                c.legend = truth.legend;
+            }
+            if (c.keep.depth) c.depth = g.depth_m;
+            if (c.keep.normal) c.normal = g.normal;
+            if (c.keep.groundTruth()) c.mask = g.mask;
+        }
+    }
     for (TruthCube& t : truthCubes_) {
         const float* data = t.quantity == SurfaceQuantity::Reflectance ? truth.reflectance : truth.illumination;
         if (!data) failRuntime("cannot write '{}': the render made no {} map", t.cube.target.path.string(),

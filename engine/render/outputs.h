@@ -110,6 +110,13 @@ struct CapturedOutputs {
     std::vector<float> responses;  // responseChannels per pixel, the detector's units
     size_t responseChannels = 0;
     std::vector<uint16_t> edges;   // 0, 128 (shadow boundary) or 255 (surface edge) per pixel
+    // The ground truth (OutputFiles::reflectance … normal; the mask with any of them).
+    std::vector<float> reflectance, illumination;  // the render grid's bands per pixel
+    size_t truthBands = 0;
+    std::vector<int32_t> objectIds, materialIds;  // ids: one each per pixel, −1 at the background
+    std::vector<float> depth, normal;             // 1 and 3 per pixel
+    std::vector<uint8_t> mask;                    // GroundTruthFlag bits
+    std::string legend;                           // the ids' legend, JSON
 };
 
 struct OutputOptions {

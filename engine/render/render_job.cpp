@@ -214,6 +214,13 @@ uint64_t capturedBytes(int width, int height, const OutputFiles& files, const Re
     if (files.xyz && colorimetric) perPixel += 3 * sizeof(float);
     if (files.responses && plan) perPixel += plan->detector.channels.size() * sizeof(float);
     if (files.edges) perPixel += sizeof(uint16_t);
+    const uint64_t bands = uint64_t(representation.grid.bands());
+    if (files.reflectance) perPixel += bands * sizeof(float);
+    if (files.illumination) perPixel += bands * sizeof(float);
+    if (files.ids) perPixel += 2 * sizeof(int32_t);
+    if (files.depth) perPixel += sizeof(float);
+    if (files.normal) perPixel += 3 * sizeof(float);
+    if (files.groundTruth()) perPixel += 1;
     return pixels * perPixel;
 }
 
@@ -256,8 +263,8 @@ int stripRowsFor(const RenderJob& job, const Scene& scene, uint64_t budget, cons
         failInput(Where{"", "--memory-budget"}, "{}; the CPU reference renders whole images (use the GPU backend, "
                   "which renders in strips, or raise --memory-budget)", why);
     if (quickLookOrEdges || job.frames > 1)
-        failInput(Where{"", "--memory-budget"}, "{}; strips cannot make the edges mask, a quick look or "
-                  "repeated frames", why);
+        failInput(Where{"", "--memory-budget"}, "{}; strips cannot make the edges mask, a quick look, the "
+                  "ground truth (reflectance, illumination, ids, depth, normal) or repeated frames", why);
     // Half the budget per strip (the rest for the writers and the process), in whole 16-row EXR
     // blocks when there is room; no taller than the hook's strips.
     int rows = int(std::max<uint64_t>(1, budget / 2 / std::max<uint64_t>(1, perRow.total())));
@@ -483,9 +490,7 @@ RenderJobResult runRenderJob(const RenderJob& job) {
                   "take a level :1 to :9, dwaa and dwab a :level)", job.compression, exrCompressionNames());
     if (files.edges && job.backend != Backend::Cpu)
         failInput(Where{"", "--write"}, "the edges mask comes from the CPU reference's object ids; use --backend cpu");
-    if (files.groundTruth() && job.capture)
-        failInput(Where{"", "write"}, "the ground-truth maps (reflectance, illumination, ids, depth, normal) are "
-                  "written as files only; render with out= (or metamer render --write)");
+
 
     // 2. Refuse absurd sizes before anything that grows with the image is allocated.
     const int W = scene.camera.width, H = scene.camera.height, channels = loaded->rendered.grid.bands();
@@ -528,10 +533,9 @@ RenderJobResult runRenderJob(const RenderJob& job) {
 
     // 3. Every output opened at once (temporary files), whatever renders the pixels.
     std::string why;
-    const int stripRows = stripRowsFor(job, scene, budget, memory, perRow, files.edges || quickLook, why);
-    if (stripRows > 0 && files.groundTruth())
-        failInput(Where{"", "--memory-budget"}, "{}; the ground-truth maps are made whole, not in strips (raise "
-                  "--memory-budget, or render fewer bands or pixels)", why.empty() ? "the render is in strips" : why);
+    // Whole images only: the edges mask, a quick look and the ground truth (no strips for a hook either).
+    const int stripRows = stripRowsFor(job, scene, budget, memory, perRow,
+                                       files.edges || quickLook || files.groundTruth(), why);
     OutputOptions oo;
     oo.half = job.half;
     oo.compression = job.compression;
@@ -638,6 +642,22 @@ std::vector<WrittenFile> saveCapturedRender(const CapturedRender& render, const 
     image.responses = c.responses;
     out.writeRows(0, c.height, c.cube.empty() ? nullptr : c.cube.data(), plan ? &image : nullptr);
     if (!c.edges.empty()) out.writeEdges(c.edges);
+    if (out.needsGroundTruth()) {
+        GeometryMaps g;
+        g.width = c.width;
+        g.height = c.height;
+        g.object = c.objectIds;
+        g.material = c.materialIds;
+        g.depth_m = c.depth;
+        g.normal = c.normal;
+        g.mask = c.mask;
+        GroundTruthImages truth;
+        truth.reflectance = c.reflectance.empty() ? nullptr : c.reflectance.data();
+        truth.illumination = c.illumination.empty() ? nullptr : c.illumination.data();
+        truth.geometry = &g;
+        truth.legend = c.legend;
+        out.writeGroundTruth(truth);
+    }
     return out.commit();
 }
 

@@ -29,7 +29,8 @@ const char* renderSettingHelp(const std::string& name) {
         {"strict-coverage", "error when a spectrum's data do not cover the grid"},
         {"memory-budget", "MiB the render may hold at once (default: a quarter of the machine's memory); a larger image "
                           "is rendered in strips and streamed to the files"},
-        {"write", "outputs, comma-separated: cube, png, xyz, responses, edges (default cube,png)"},
+        {"write", "outputs, comma-separated: cube, png, xyz, responses, edges, and the ground truth: reflectance, "
+                  "illumination, ids, depth, normal (docs/io.md; default cube,png)"},
         {"format", "the cube's containers, comma-separated: exr (default), hdf5, hdf5:gzip[:1-9], arad (MATLAB v7.3, "
                    "400-700 nm / 10 nm), envi[:bsq|bil|bip] (docs/io.md)"},
         {"no-png", "skip the display PNG"},
