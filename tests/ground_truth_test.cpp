@@ -271,7 +271,9 @@ TEST(GroundTruth, TheMaskNamesEachReason) {
     scene.meshes.push_back(quad({0.5, -0.5, 0.5}, {0, 0, 1}, 0.4, 0.4, 4, {0, 1, 0}, "filter"));
     scene.lights.push_back(directionalLight({0, 0, -1}, constantSpectrum(1.0)));
     const SceneOnGrid spectra = onGrid(scene);
-    const GeometryMaps g = ReferenceRenderer(scene, spectra).geometryMaps();
+    ReferenceRenderer reference(scene, spectra);
+    reference.setQuantity(SurfaceQuantity::Illumination);  // the mask is the radiance's, whatever the maps are
+    const GeometryMaps g = reference.geometryMaps();
     auto at = [&](int x, int y) { return g.mask[size_t(y) * 40 + size_t(x)]; };
     EXPECT_EQ(at(10, 10), kTruthFluorescent);
     EXPECT_EQ(at(30, 10), kTruthSpecular);  // the light straight down the view: the lobe's peak

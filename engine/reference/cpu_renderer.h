@@ -95,7 +95,7 @@ public:
     // Object and material ids, depth, normal and the ground-truth mask at every pixel's central
     // sample (reference/geometry_maps.h); the specular share is the radiance's, whatever
     // options.quantity says, and of the direct light only (the mask's test needs no indirect
-    // light: a lobe's share of the direct light is at least its share of all). reference/geometry_maps.cpp.
+    // light: a lobe's share of the direct light is at least its share of all).
     GeometryMaps geometryMaps() const;
 
 private:

@@ -1,7 +1,7 @@
 // The ground truth that is not spectral: per pixel, which object and material the camera sees,
 // how far along the ray, its shading normal, and a mask of why radiance is not reflectance ×
 // illumination there. Ray cast through the reference's BVH at each pixel's central sample, for
-// both backends (ReferenceRenderer::geometryMaps). docs/io.md, "Ground truth".
+// both backends (ReferenceRenderer::geometryMaps, reference/cpu_renderer.cpp). docs/io.md, "Ground truth".
 // Tests: tests/ground_truth_test.cpp.
 #pragma once
 

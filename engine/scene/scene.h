@@ -222,7 +222,8 @@ struct Mesh {
 struct OutputSettings {
     std::optional<std::string> detector, adaptation, display, integration, xyz;  // xyz: relative|absolute
     std::optional<int> bits;
-    std::optional<std::vector<std::string>> write;  // of "cube", "png", "xyz", "responses"
+    std::optional<std::vector<std::string>> write;  // of "cube", "png", "xyz", "responses" and the ground truth's
+                                                    // "reflectance", "illumination", "ids", "depth", "normal"
     std::optional<std::vector<std::string>> format;  // the cube's containers: exr, hdf5[:gzip[:N]], envi[:bsq|bil|bip]
     Where where;                                     // the "output" key
 };

@@ -143,7 +143,8 @@ private:
             const Json& list = asArray(*wr, w.child("write"));
             o.write.emplace();
             for (size_t i = 0; i < list.size(); ++i)
-                o.write->push_back(choice(list[i], w.child("write").index(i), {"cube", "png", "xyz", "responses"}));
+                o.write->push_back(choice(list[i], w.child("write").index(i), {"cube", "png", "xyz", "responses", "reflectance", "illumination",
+                                                                         "ids", "depth", "normal"}));  // render/outputs.h
         }
         // The container names are checked with the render's (render/cube_formats.h, parseCubeFormats).
         if (const Json* f = find(v, "format")) {

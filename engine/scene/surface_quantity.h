@@ -2,6 +2,7 @@
 // ground-truth maps beside it (docs/io.md, "Ground truth"). Both renderers take it: the CPU
 // reference (reference/cpu_renderer.h, ReferenceOptions) and the GPU's band passes
 // (render/spectral_plan.h, SpectralPassOptions; shaders/spectral.frag, SPEC_QUANTITY).
+// Tests: tests/ground_truth_test.cpp.
 #pragma once
 
 namespace metamer {

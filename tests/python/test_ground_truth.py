@@ -103,3 +103,23 @@ def test_a_render_without_the_maps_has_none():
     import metamer
     r = metamer.render(REPO / "scenes" / "spheres.json", overrides=["camera.width=16", "camera.height=12"])
     assert r.reflectance is None and r.object_ids is None and r.truth_mask is None and r.ids_legend is None
+
+
+def test_the_arad_layout_carries_the_spectral_maps_beside_the_cube(tmp_path):
+    import mat73
+    p = subprocess.run([BINARY, "render", str(REPO / "scenes" / "colorchecker.json"), "--out", str(tmp_path), *SIZE,
+                        "--grid", "400:700:10", "--format", "arad", "--write", "cube,reflectance,illumination"],
+                       capture_output=True, text=True)
+    assert p.returncode == 0, p.stdout + p.stderr
+
+    def load(name):
+        m = mat73.loadmat(str(tmp_path / name))
+        assert m["cube"].shape == (48, 64, 31)
+        return m["cube"] * m["norm_factor"]
+
+    radiance, reflectance, illumination = (load(f"colorchecker{s}.mat") for s in ("", ".reflectance", ".illumination"))
+    from PIL import Image
+    clean = np.asarray(Image.open(tmp_path / "colorchecker.mask.png")) == 0
+    assert clean.sum() > 0.2 * clean.size
+    np.testing.assert_allclose(radiance[clean], (reflectance * illumination)[clean], rtol=1e-5)
+    assert 0 < reflectance.max() <= 1
