@@ -92,7 +92,7 @@ def main():
               f"{size / 2**20:.1f} MiB a job")
         print("  median ms per job: " + "  ".join(f"{s} {v:.0f}" for s, v in med.items()))
         if figures.get("row_b_ms"):
-            print(f"  a job's total / row (b): {med.get('total', 0) / figures['row_b_ms']:.1f}")
+            print(f"  a job's render (job) / row (b): {med.get('job', med.get('total', 0)) / figures['row_b_ms']:.1f}")
     names = list(runs)
     w0, w1 = (figures["variants"][n]["wall_s_per_job"] for n in names)
     print(f"\nthe ground truth's share: {w0 / w1:.2f} × the job without it (wall per job)")

@@ -135,11 +135,21 @@ void writeDoubleAttribute(hid_t object, const char* name, double value, const fs
     check(H5Awrite(attribute.get(), H5T_NATIVE_DOUBLE, &value), path, "write a number attribute");
 }
 
+// Dataset properties without modification times: HDF5 stamps every object header with the time it
+// was written unless told not to, and a file must be the same bytes however and whenever its job
+// ran (a batch split into shards, a job re-rendered alone: docs/batch.md).
+Handle untimed(hid_t propertyClass, const fs::path& path) {
+    Handle p = made(H5Pcreate(propertyClass), H5Pclose, path, "make object properties");
+    check(H5Pset_obj_track_times(p.get(), false), path, "leave out modification times");
+    return p;
+}
+
 // A float64 [bands] dataset in nm; returned open, for dimension scales.
 Handle writeDoubles(hid_t file, const char* name, const std::vector<double>& values, const fs::path& path) {
     const hsize_t n = values.size();
     Handle space = made(H5Screate_simple(1, &n, nullptr), H5Sclose, path, "make a dataspace");
-    Handle set = made(H5Dcreate2(file, name, H5T_IEEE_F64LE, space.get(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+    const Handle dcpl = untimed(H5P_DATASET_CREATE, path);
+    Handle set = made(H5Dcreate2(file, name, H5T_IEEE_F64LE, space.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT),
                       H5Dclose, path, "create a wavelength dataset");
     check(H5Dwrite(set.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), path,
           "write a wavelength dataset");
@@ -154,7 +164,8 @@ Handle writeIndices(hid_t file, const char* name, int n, const char* longName, c
     std::vector<int32_t> index(static_cast<size_t>(n));
     for (int i = 0; i < n; ++i) index[size_t(i)] = i;
     Handle space = made(H5Screate_simple(1, &size, nullptr), H5Sclose, path, "make a dataspace");
-    Handle set = made(H5Dcreate2(file, name, H5T_STD_I32LE, space.get(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+    const Handle dcpl = untimed(H5P_DATASET_CREATE, path);
+    Handle set = made(H5Dcreate2(file, name, H5T_STD_I32LE, space.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT),
                       H5Dclose, path, "create a pixel index dataset");
     check(H5Dwrite(set.get(), H5T_NATIVE_INT32, H5S_ALL, H5S_ALL, H5P_DEFAULT, index.data()), path,
           "write a pixel index dataset");
@@ -198,11 +209,12 @@ Hdf5CubeWriter::Hdf5CubeWriter(const fs::path& path, int width, int height, cons
         failRuntime("cannot write '{}': this HDF5 library has no gzip (deflate) filter", path.string());
 
     const Handle fapl = fileAccess();
-    m.file = made(H5Fcreate(m.out.tempPath().c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, orDefault(fapl)), H5Fclose, path,
+    const Handle fcpl = untimed(H5P_FILE_CREATE, path);
+    m.file = made(H5Fcreate(m.out.tempPath().c_str(), H5F_ACC_TRUNC, fcpl.get(), orDefault(fapl)), H5Fclose, path,
                   "create the file");
     const hsize_t dims[3] = {hsize_t(height), hsize_t(width), hsize_t(m.bands)};
     m.fileSpace = made(H5Screate_simple(3, dims, nullptr), H5Sclose, path, "make the cube's dataspace");
-    Handle dcpl = made(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, path, "make dataset properties");
+    Handle dcpl = untimed(H5P_DATASET_CREATE, path);
     // One chunk is (part of) one row with all its bands: each strip writes whole chunks, never
     // reading one back, and a reader of a pixel's spectrum decompresses one chunk.
     const hsize_t chunk[3] = {1, std::min(hsize_t(width), kMaxChunkColumns), hsize_t(m.bands)};
@@ -310,7 +322,8 @@ void writeMatlabArray(hid_t file, const char* name, hid_t fileType, hid_t memory
                       std::initializer_list<hsize_t> dims, const void* data, const fs::path& path) {
     const std::vector<hsize_t> d(dims);
     Handle space = made(H5Screate_simple(int(d.size()), d.data(), nullptr), H5Sclose, path, "make a dataspace");
-    Handle set = made(H5Dcreate2(file, name, fileType, space.get(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Dclose,
+    const Handle dcpl = untimed(H5P_DATASET_CREATE, path);
+    Handle set = made(H5Dcreate2(file, name, fileType, space.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT), H5Dclose,
                       path, "create a dataset");
     check(H5Dwrite(set.get(), memoryType, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), path, "write a dataset");
     writeFixedStringAttribute(set.get(), "MATLAB_class", matlabClass, path);
@@ -383,7 +396,7 @@ std::vector<AtomicOutput*> AradMatWriter::finish() {
     for (float& v : m.bands) v = float(double(v) / normFactor);
     {
         // MATLAB's header takes the first 512 bytes: the HDF5 file starts after a user block.
-        Handle fcpl = made(H5Pcreate(H5P_FILE_CREATE), H5Pclose, m.path, "make file properties");
+        Handle fcpl = untimed(H5P_FILE_CREATE, m.path);
         check(H5Pset_userblock(fcpl.get(), 512), m.path, "reserve MATLAB's header");
         const Handle fapl = fileAccess();
         Handle file = made(H5Fcreate(m.out.tempPath().c_str(), H5F_ACC_TRUNC, fcpl.get(), orDefault(fapl)), H5Fclose,

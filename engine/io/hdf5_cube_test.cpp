@@ -11,6 +11,7 @@
 #include <hdf5_hl.h>
 
 #include <cmath>
+#include <chrono>
 #include <cstring>
 #include <fstream>
 #include <functional>
@@ -18,6 +19,7 @@
 #include <random>
 #include <poll.h>
 #include <signal.h>
+#include <thread>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -584,4 +586,25 @@ TEST_F(Hdf5Cube, AUserBlockBeforeTheSignatureReads) {
     std::ofstream(dir / "text.h5") << std::string(4096, 'x');
     EXPECT_FALSE(hasHdf5Signature(dir / "text.h5"));
     EXPECT_FALSE(hasHdf5Signature(dir));
+}
+
+// A file is the same bytes whenever it is written: no object carries HDF5's modification time
+// (a batch's jobs, split into shards or re-rendered alone, give identical files; docs/batch.md).
+TEST_F(Hdf5Cube, TheSameCubeWrittenASecondApartIsTheSameBytes) {
+    const SpectralCube cube = randomCube(6, 4, Grid{400, 700, 10}, 3);
+    writeInStrips(dir / "a.h5", cube, {4}, {.gzipLevel = 4});
+    {
+        AradMatWriter arad(dir / "a.mat", cube.width, cube.height, cube.grid, {});
+        arad.writeRows(0, cube.height, cube.pixel(0, 0));
+        commitTogether(arad.finish());
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(1100));  // HDF5's times have one-second steps
+    writeInStrips(dir / "b.h5", cube, {4}, {.gzipLevel = 4});
+    {
+        AradMatWriter arad(dir / "b.mat", cube.width, cube.height, cube.grid, {});
+        arad.writeRows(0, cube.height, cube.pixel(0, 0));
+        commitTogether(arad.finish());
+    }
+    EXPECT_EQ(test::slurp(dir / "a.h5"), test::slurp(dir / "b.h5"));
+    EXPECT_EQ(test::slurp(dir / "a.mat"), test::slurp(dir / "b.mat"));
 }
