@@ -527,7 +527,8 @@ TEST(BatchCli, TheRecordKeepsTheThreadCount) {
 TEST(BatchCli, DrawnScenesAreRecordedAndEachJobRendersAloneToTheSameBytes) {
     const fs::path dir = freshDir("draws");
     std::ofstream(dir / "draws.json") << fmt::format(
-        R"({{"scenes": ["{}/scenes/spheres.json"], "render": {{"size": "32x24", "write": "cube"}},
+        R"({{"scenes": ["{}/scenes/spheres.json"],
+             "render": {{"size": "32x24", "write": "cube,reflectance,illumination,ids,depth,normal", "format": "exr,hdf5,arad"}},
              "draws": {{"count": 4, "seed": 5, "values": [
                {{"name": "light", "set": "lights.0.spectrum",
                  "choose": ["illuminants/FL11", {{"daylight_cct": [4000, 10000]}}, {{"blackbody_k": [2500, 3500]}}]}},
@@ -548,17 +549,27 @@ TEST(BatchCli, DrawnScenesAreRecordedAndEachJobRendersAloneToTheSameBytes) {
         const auto& axes = record.at("axes");
         ASSERT_TRUE(axes.contains("draw") && axes.contains("light") && axes.contains("paint") && axes.contains("level"))
             << record.dump();
-        EXPECT_EQ(bytesOf(e.path() / "spheres.exr"), bytesOf(dir / "shards" / e.path().filename() / "spheres.exr"))
-            << e.path().filename() << ": whole vs shards";
+        // Every file but the record (which holds timings): the cube in each container, the ground truth.
+        size_t files = 0;
+        for (const auto& f : fs::directory_iterator(e.path())) {
+            if (f.path().filename() == "job.json") continue;
+            ++files;
+            EXPECT_TRUE(bytesOf(f.path()) == bytesOf(dir / "shards" / e.path().filename() / f.path().filename()))
+                << e.path().filename() << "/" << f.path().filename() << ": whole vs shards";
+        }
+        EXPECT_EQ(files, 14u) << e.path();  // 3 containers × (cube, reflectance, illumination), ids + legend, depth, normal, mask
         if (axes.at("draw") != 2) continue;
         // Re-rendered alone with the record's overrides.
         std::string sets;
         for (const auto& o : record.at("settings").at("set")) sets += " --set '" + o.get<std::string>() + "'";
         const test::CliRun alone = test::runMetamer(fmt::format("render {}/scenes/spheres.json{} --set camera.width=32 "
-                                                                "--set camera.height=24 --write cube -o {}",
+                                                                "--set camera.height=24 --write cube,reflectance,illumination,"
+                                                                "ids,depth,normal --format exr,hdf5,arad -o {}",
                                                                 METAMER_SOURCE_DIR, sets, (dir / "alone").string()));
         ASSERT_EQ(alone.code, 0) << alone.output;
-        EXPECT_TRUE(bytesOf(e.path() / "spheres.exr") == bytesOf(dir / "alone" / "spheres.exr")) << "in the batch vs alone";
+        for (const char* f : {"spheres.exr", "spheres.h5", "spheres.mat", "spheres.reflectance.mat", "spheres.illumination.h5",
+                              "spheres.ids.exr", "spheres.mask.png", "spheres.depth.exr"})
+            EXPECT_TRUE(bytesOf(e.path() / f) == bytesOf(dir / "alone" / f)) << f << " in the batch vs alone";
     }
     EXPECT_EQ(jobs, 4u);
     ASSERT_TRUE(fs::exists(dir / "alone" / "spheres.exr"));

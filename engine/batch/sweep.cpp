@@ -6,6 +6,7 @@
 #include "core/file_reads.h"
 #include "core/json.h"
 #include "io/exr_file.h"
+#include "render/cube_formats.h"
 #include "scene/json_values.h"
 #include "scene/overrides.h"
 #include "sensor/sensor_spec.h"
@@ -38,7 +39,7 @@ const RenderKey kRenderKeys[] = {
     {"mode", KeyType::String},        {"grid", KeyType::String},        {"resample", KeyType::String},
     {"write", KeyType::StringList},   {"size", KeyType::String},        {"ssaa", KeyType::Int},
     {"half", KeyType::Bool},          {"compression", KeyType::String}, {"backend", KeyType::String},
-    {"strict_coverage", KeyType::Bool},
+    {"strict_coverage", KeyType::Bool}, {"format", KeyType::StringList},  // the cube's containers (render/cube_formats.h)
     // The simulated sensor (docs/sensor.md): a job that names one is captured after it renders.
     {"sensor", KeyType::String},      {"seed", KeyType::Int},           {"frames", KeyType::Int},
     {"exposure", KeyType::Number},
@@ -57,7 +58,7 @@ const RenderKey* findRenderKey(const std::string& name) {
               near.empty() ? "" : fmt::format(" (did you mean '{}'?)", near), fmt::join(allowed, ", "));
 }
 
-// A render setting's value, checked for its type; "write" as a list of names ("png,xyz" or an array).
+// A render setting's value, checked for its type; "write" and "format" as lists of names ("png,xyz" or an array).
 Json renderValue(const std::string& key, const Json& v, const Where& where) {
     const RenderKey* k = findRenderKey(key);
     if (!k) unknownKey(where, key, sweepRenderKeys(), "render setting");
@@ -526,6 +527,10 @@ RenderJob makeRenderJob(const Sweep& sweep, const SweepJob& j, const fs::path& o
         } else if (key == "grid") job.grid = Grid::parse(v.get<std::string>(), where);
         else if (key == "resample") job.resampling = parseResampling(v.get<std::string>(), where);
         else if (key == "write") job.write = v.get<std::vector<std::string>>();
+        else if (key == "format") {
+            parseCubeFormats(v.get<std::vector<std::string>>(), where);  // checked now, with the sweep's key
+            job.format = v.get<std::vector<std::string>>();
+        }
         else if (key == "size") {
             const std::string s = v.get<std::string>();
             // Digits only, each side 1 … 65536: "4294967304x8" must not wrap around to 8×8.
