@@ -46,6 +46,42 @@ void checkFamily(const Json& e, const Where& w) {
 
 double between(double lo, double hi, double u) { return lo + (hi - lo) * u; }
 
+constexpr double kPi = 3.14159265358979323846;
+
+// A unit vector uniform on the cap of half-angle θ about unit `a`: cos α uniform in [cos θ, 1]
+// (Archimedes: equal heights, equal areas), the azimuth uniform.
+Json drawDirection(const double a[3], double withinDeg, CounterStream& s) {
+    const double cosAlpha = 1.0 - s.uniform() * (1.0 - std::cos(withinDeg * kPi / 180.0));
+    const double sinAlpha = std::sqrt(std::max(0.0, 1.0 - cosAlpha * cosAlpha)), phi = 2.0 * kPi * s.uniform();
+    // A frame (t, b, a): t perpendicular to a, from the world axis least aligned with it.
+    const int axis = std::fabs(a[0]) <= std::fabs(a[1]) && std::fabs(a[0]) <= std::fabs(a[2]) ? 0 : std::fabs(a[1]) <= std::fabs(a[2]) ? 1 : 2;
+    double e[3] = {0, 0, 0};
+    e[axis] = 1;
+    double t[3] = {a[1] * e[2] - a[2] * e[1], a[2] * e[0] - a[0] * e[2], a[0] * e[1] - a[1] * e[0]};
+    const double tn = std::sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]);
+    for (double& c : t) c /= tn;
+    const double b[3] = {a[1] * t[2] - a[2] * t[1], a[2] * t[0] - a[0] * t[2], a[0] * t[1] - a[1] * t[0]};
+    Json v = Json::array();
+    for (int c = 0; c < 3; ++c)
+        v.push_back(sinAlpha * (std::cos(phi) * t[c] + std::sin(phi) * b[c]) + cosAlpha * a[c]);
+    return v;
+}
+
+// A rotation uniform over all orientations (Shoemake's unit quaternion from three uniforms), as a
+// glTF object's "rotate_deg" [x, y, z]: M = Rz(γ)·Ry(β)·Rx(α) (docs/scene-format.md, "Object transform").
+Json drawRotation(CounterStream& s) {
+    const double u1 = s.uniform(), u2 = s.uniform(), u3 = s.uniform();
+    const double x = std::sqrt(1 - u1) * std::sin(2 * kPi * u2), y = std::sqrt(1 - u1) * std::cos(2 * kPi * u2);
+    const double z = std::sqrt(u1) * std::sin(2 * kPi * u3), w = std::sqrt(u1) * std::cos(2 * kPi * u3);
+    // The quaternion's matrix entries that the Euler angles need.
+    const double r00 = 1 - 2 * (y * y + z * z), r10 = 2 * (x * y + w * z), r20 = 2 * (x * z - w * y);
+    const double r21 = 2 * (y * z + w * x), r22 = 1 - 2 * (x * x + y * y);
+    const double alpha = std::atan2(r21, r22), beta = std::atan2(-r20, std::sqrt(r00 * r00 + r10 * r10)),
+                 gamma = std::atan2(r10, r00);
+    const double deg = 180.0 / kPi;
+    return Json::array({alpha * deg, beta * deg, gamma * deg});
+}
+
 Json drawFamily(const Json& e, CounterStream& s) {
     const char* key = e.contains("daylight_cct") ? "daylight_cct" : "blackbody_k";
     const Json& r = e[key];
@@ -72,7 +108,8 @@ SweepDraws readSweepDraws(const Json& v, const Where& w, const SpectrumLibrary& 
         const Json& e = values[i];
         const Where ew = vw.index(i);
         asObject(e, ew);
-        checkKeys(e, ew, {"set", "name", "choose", "choose_spectra", "uniform", "daylight_cct", "blackbody_k"},
+        checkKeys(e, ew, {"set", "name", "choose", "choose_spectra", "uniform", "daylight_cct", "blackbody_k",
+                          "direction", "rotation"},
                   "a drawn value");
         SweepDrawValue x;
         x.where = ew;
@@ -80,9 +117,11 @@ SweepDraws readSweepDraws(const Json& v, const Where& w, const SpectrumLibrary& 
         if (x.setKey.empty()) failInput(ew.child("set"), "expected a scene key path, e.g. \"lights.0.spectrum\"");
         x.name = find(e, "name") ? string(e["name"], ew.child("name")) : x.setKey;
         int kinds = 0;
-        for (const char* k : {"choose", "choose_spectra", "uniform", "daylight_cct", "blackbody_k"}) kinds += find(e, k) ? 1 : 0;
+        for (const char* k : {"choose", "choose_spectra", "uniform", "daylight_cct", "blackbody_k", "direction", "rotation"})
+            kinds += find(e, k) ? 1 : 0;
         if (kinds != 1)
-            failInput(ew, "a drawn value has exactly one of choose, choose_spectra, uniform, daylight_cct, blackbody_k");
+            failInput(ew, "a drawn value has exactly one of choose, choose_spectra, uniform, daylight_cct, blackbody_k, "
+                          "direction, rotation");
         if (const Json* c = find(e, "choose")) {
             if (!c->is_array() || c->empty()) failInput(ew.child("choose"), "expected a non-empty array of values");
             for (size_t k = 0; k < c->size(); ++k) {
@@ -116,6 +155,23 @@ SweepDraws readSweepDraws(const Json& v, const Where& w, const SpectrumLibrary& 
             x.hi = numbers((*u)[1], uw.index(1));
             for (size_t k = 0; k < x.lo.size(); ++k)
                 if (!(x.lo[k] <= x.hi[k])) failInput(uw, "the lowest ({:g}) is above the highest ({:g})", x.lo[k], x.hi[k]);
+        } else if (const Json* dir = find(e, "direction")) {
+            x.kind = SweepDrawValue::Kind::Direction;
+            const Where dw = ew.child("direction");
+            asObject(*dir, dw);
+            checkKeys(*dir, dw, {"around", "within_deg"}, "a direction");
+            if (const Json* a = find(*dir, "around")) {
+                if (!a->is_array() || a->size() != 3) failInput(dw.child("around"), "expected [x, y, z], got {}", describe(*a));
+                double n = 0;
+                for (int c = 0; c < 3; ++c) n += std::pow(x.around[c] = number((*a)[size_t(c)], dw.child("around").index(size_t(c))), 2);
+                if (!(n > 0) || !std::isfinite(n)) failInput(dw.child("around"), "expected a non-zero, finite vector");
+                for (double& c : x.around) c /= std::sqrt(n);
+            }
+            if (const Json* t = find(*dir, "within_deg")) x.withinDeg = numberIn(*t, dw.child("within_deg"), 0, 180, true, false);
+        } else if (const Json* rot = find(e, "rotation")) {
+            x.kind = SweepDrawValue::Kind::Rotation;
+            if (!rot->is_string() || rot->get<std::string>() != "uniform")
+                failInput(ew.child("rotation"), "expected \"uniform\" (every orientation equally likely), got {}", describe(*rot));
         } else if (const Json* dcct = find(e, "daylight_cct")) {
             x.kind = SweepDrawValue::Kind::Daylight;
             familyRange(*dcct, ew.child("daylight_cct"), kDaylightMinK, kDaylightMaxK, x.lo, x.hi);
@@ -151,6 +207,8 @@ std::vector<DrawnValue> drawValues(const SweepDraws& d, uint64_t position) {
                 break;
             case SweepDrawValue::Kind::Daylight: v = Json{{"daylight_cct", between(x.lo[0], x.hi[0], s.uniform())}}; break;
             case SweepDrawValue::Kind::Blackbody: v = Json{{"blackbody_k", between(x.lo[0], x.hi[0], s.uniform())}}; break;
+            case SweepDrawValue::Kind::Direction: v = drawDirection(x.around, x.withinDeg, s); break;
+            case SweepDrawValue::Kind::Rotation: v = drawRotation(s); break;
         }
         out.push_back({x.name, x.setKey, std::move(v)});
     }

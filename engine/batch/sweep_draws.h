@@ -1,7 +1,8 @@
 // Random scene draws for a sweep (issue 49, item 2; docs/batch.md, "Random draws"): a sweep's
 // "draws" crosses every job with `count` draws of scene values — a light from a list or a family
 // (CIE daylight by CCT, a blackbody by temperature), a spectrum from a list or a library folder,
-// numbers and vectors uniform in a box — each drawn from counter-based streams keyed by the sweep's
+// numbers and vectors uniform in a box, directions uniform on a sphere or a cap, rotations uniform
+// over all orientations — each drawn from counter-based streams keyed by the sweep's
 // seed and the job's position, so a job's values never depend on how the sweep is split, and its
 // record (which holds them as overrides and as axis values) re-renders it alone.
 // Tests: engine/batch/sweep_test.cpp (SweepDraws.*), tests/batch_test.cpp.
@@ -20,7 +21,7 @@ namespace metamer {
 
 // One drawn scene value: `setKey` gets a value drawn by `kind`.
 struct SweepDrawValue {
-    enum class Kind { Choose, Uniform, Daylight, Blackbody };
+    enum class Kind { Choose, Uniform, Daylight, Blackbody, Direction, Rotation };
     std::string name, setKey;
     Kind kind = Kind::Choose;
     // Choose: the entries, one picked uniformly; an entry {"daylight_cct": [lo, hi]} or
@@ -29,6 +30,9 @@ struct SweepDrawValue {
     std::vector<nlohmann::ordered_json> choices;
     std::vector<double> lo, hi;  // Uniform (a number, or each component of a vector); Daylight, Blackbody
     bool vector = false;         // Uniform over arrays: the value is an array
+    // Direction: a unit vector uniform on the cap of half-angle withinDeg about `around` (180: the sphere).
+    double around[3] = {0, 0, 1};
+    double withinDeg = 180;
     Where where;
 };
 
@@ -41,7 +45,8 @@ struct SweepDraws {
 
 // "draws": {"count": N, "seed": S, "values": [{"set": KEY, "name": NAME, and one of "choose": [...],
 // "choose_spectra": "FOLDER", "uniform": [lo, hi] or [[lo, …], [hi, …]], "daylight_cct": [lo, hi],
-// "blackbody_k": [lo, hi]}, …]}. Input errors name the key.
+// "blackbody_k": [lo, hi], "direction": {"around": [x, y, z], "within_deg": θ}, "rotation": "uniform"},
+// …]}. Input errors name the key.
 SweepDraws readSweepDraws(const nlohmann::ordered_json& v, const Where& where, const SpectrumLibrary& library);
 
 struct DrawnValue {

@@ -1,7 +1,10 @@
 // Sweep files and manifests (batch/sweep): the jobs they expand to, in order, and the errors a
 // user gets for each mistake — naming the file, the key or the line, and what was expected.
 #include "batch/sweep.h"
+#include "batch/sweep_draws.h"
 
+#include <glm/glm.hpp>
+#include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -367,6 +370,63 @@ TEST(SweepDraws, MistakesNameTheirKeys) {
         "draws": {"count": 600000, "values": [{"set": "k", "uniform": [0, 1]}]}})")
                   .find("the sweep has 1.2e+06 jobs (2 base job(s) × 600000 draws)"),
               std::string::npos);
+}
+
+// Directions uniform on the sphere and on a cap (cos α uniform: Archimedes), rotations uniform over
+// all orientations — applied through the scene's own convention M = Rz·Ry·Rx (built here with glm),
+// they carry a fixed axis uniformly over the sphere. 4000 draws: fractions within 3σ.
+TEST(SweepDraws, DirectionsAndRotationsAreUniform) {
+    const SweepDraws d = readSweepDraws(Json::parse(R"({"count": 4000, "seed": 3, "values": [
+        {"name": "any", "set": "objects.0.normal", "direction": {}},
+        {"name": "cap", "set": "objects.1.normal", "direction": {"around": [0, 2, 0], "within_deg": 60}},
+        {"name": "turn", "set": "objects.2.rotate_deg", "rotation": "uniform"}]})"), Where{"draws.json", "draws"},
+                                        SpectrumLibrary());
+    const int n = 4000;
+    const double band = 3.0 * std::sqrt(0.25 * 0.75 / n);  // 3σ of a fraction near 1/4
+    int anyHigh = 0, capHigh = 0, turnedHigh = 0;
+    glm::dvec3 anyMean(0.0), turnedMean(0.0);
+    for (int p = 0; p < n; ++p) {
+        const std::vector<DrawnValue> v = drawValues(d, uint64_t(p));
+        ASSERT_EQ(v.size(), 3u);
+        const glm::dvec3 any(v[0].value[0].get<double>(), v[0].value[1].get<double>(), v[0].value[2].get<double>());
+        const glm::dvec3 cap(v[1].value[0].get<double>(), v[1].value[1].get<double>(), v[1].value[2].get<double>());
+        ASSERT_NEAR(glm::length(any), 1.0, 1e-12);
+        ASSERT_NEAR(glm::length(cap), 1.0, 1e-12);
+        ASSERT_GE(cap.y, 0.5 - 1e-12) << "within 60° of +y";
+        anyMean += any / double(n);
+        anyHigh += any.z > 0.5;
+        capHigh += cap.y > 0.75;  // cos α uniform in [0.5, 1]: half above 0.75
+        const double rad = 3.14159265358979323846 / 180.0;
+        glm::dmat4 m(1.0);
+        m = glm::rotate(m, v[2].value[2].get<double>() * rad, glm::dvec3(0, 0, 1));
+        m = glm::rotate(m, v[2].value[1].get<double>() * rad, glm::dvec3(0, 1, 0));
+        m = glm::rotate(m, v[2].value[0].get<double>() * rad, glm::dvec3(1, 0, 0));
+        const glm::dvec3 turned = glm::dvec3(m * glm::dvec4(0, 0, 1, 0));
+        turnedMean += turned / double(n);
+        turnedHigh += turned.z > 0.5;
+    }
+    const double meanBand = 3.0 * std::sqrt(1.0 / 3.0 / n);
+    for (int c = 0; c < 3; ++c) {
+        EXPECT_NEAR(anyMean[c], 0.0, meanBand) << c;
+        EXPECT_NEAR(turnedMean[c], 0.0, meanBand) << c;
+    }
+    EXPECT_NEAR(anyHigh / double(n), 0.25, band);
+    EXPECT_NEAR(turnedHigh / double(n), 0.25, band);
+    EXPECT_NEAR(capHigh / double(n), 0.5, 3.0 * std::sqrt(0.25 / n));
+    auto error = [](const std::string& value) {
+        try {
+            readSweepDraws(Json::parse(R"({"count": 2, "values": [{"set": "k", )" + value + "}]}"), Where{"d.json", "draws"},
+                           SpectrumLibrary());
+        } catch (const Error& e) {
+            return std::string(e.what());
+        }
+        return std::string();
+    };
+    EXPECT_NE(error(R"("direction": {"within_deg": 0})").find("draws.values.0.direction.within_deg"), std::string::npos);
+    EXPECT_NE(error(R"("direction": {"around": [0, 0, 0]})").find("draws.values.0.direction.around: expected a non-zero"),
+              std::string::npos);
+    EXPECT_NE(error(R"("direction": {"axis": [0, 0, 1]})").find("draws.values.0.direction"), std::string::npos);
+    EXPECT_NE(error(R"("rotation": "random")").find("draws.values.0.rotation: expected \"uniform\""), std::string::npos);
 }
 
 TEST(SweepDraws, DrawsThatPickTheSameValuesAreStillTwoJobs) {
