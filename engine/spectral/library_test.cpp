@@ -144,6 +144,44 @@ TEST(Library, TheReflectanceSetsAreAllThereAndIndexed) {
     EXPECT_EQ(listed.size(), 368u);
 }
 
+// Issue 49, item 2: the CIE's LED, FL3 and HP lamp series (spectra/generate_illuminants.py), for
+// scene draws that choose a light from a folder; each covers 380–780 nm, and each kind shows its
+// physics: a phosphor LED's blue pump at 440–460 nm, a violet-pumped one's below 420 nm, a
+// high-pressure sodium lamp's output in its broadened D lines (560–620 nm).
+TEST(Library, TheCieLampSeriesAreThere) {
+    std::map<std::string, int> perSeries;
+    for (const std::string& name : library().names())
+        for (const char* series : {"illuminants/cie_led/", "illuminants/cie_fl3/", "illuminants/cie_hp/"})
+            if (name.rfind(series, 0) == 0) {
+                ++perSeries[series];
+                const Spectrum& s = get(name);
+                EXPECT_EQ(s.minWavelength(), 380.0) << name;
+                EXPECT_EQ(s.maxWavelength(), 780.0) << name;
+                EXPECT_GT(maxValue(s), 0.0) << name;
+            }
+    EXPECT_EQ(perSeries, (std::map<std::string, int>{
+                             {"illuminants/cie_fl3/", 15}, {"illuminants/cie_hp/", 5}, {"illuminants/cie_led/", 9}}));
+    auto peakIn = [](const Spectrum& s, double lo, double hi) {  // the wavelength of the largest value in [lo, hi]
+        double best = lo, value = -1;
+        for (double nm = lo; nm <= hi; nm += 5)
+            if (s.at(nm) > value) value = s.at(nm), best = nm;
+        return best;
+    };
+    for (const char* b : {"B1", "B2", "B3", "B4", "B5"}) {
+        const double pump = peakIn(get(std::string("illuminants/cie_led/") + b), 380, 500);
+        EXPECT_GE(pump, 440.0) << b;
+        EXPECT_LE(pump, 460.0) << b;
+    }
+    for (const char* v : {"V1", "V2"}) EXPECT_LT(peakIn(get(std::string("illuminants/cie_led/") + v), 380, 500), 420.0) << v;
+    const Spectrum& sodium = get("illuminants/cie_hp/HP1");
+    double inLines = 0, all = 0;
+    for (double nm = 380; nm <= 780; nm += 5) {
+        all += sodium.at(nm);
+        if (nm >= 560 && nm <= 620) inLines += sodium.at(nm);
+    }
+    EXPECT_GT(inLines / all, 0.5);
+}
+
 TEST(Library, D65AndAAre100At560) {
     EXPECT_NEAR(get("illuminants/D65").at(560), 100.0, 1e-6);
     EXPECT_NEAR(get("illuminants/D50").at(560), 100.0, 1e-6);
