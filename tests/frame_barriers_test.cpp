@@ -5,6 +5,7 @@
 #include "render/tonemap_pass.h"
 #include "render/render_setup.h"
 #include "scene/scene_json.h"
+#include "support/bundled_scenes.h"
 #include "support/gpu.h"
 #include "support/scene_builders.h"
 
@@ -19,14 +20,6 @@ namespace {
 const SpectrumLibrary& library() {
     static SpectrumLibrary lib;
     return lib;
-}
-
-std::vector<fs::path> bundledScenes() {
-    std::vector<fs::path> scenes;
-    for (const auto& e : fs::directory_iterator(fs::path(METAMER_SOURCE_DIR) / "scenes"))
-        if (e.path().extension() == ".json") scenes.push_back(e.path());
-    std::sort(scenes.begin(), scenes.end());
-    return scenes;
 }
 
 size_t passIndex(const Frame& f, const std::string& name) {

@@ -11,6 +11,7 @@
 #include "render/spectral_pass.h"
 #include "scene/scene_json.h"
 #include "spectral/library.h"
+#include "support/bundled_scenes.h"
 #include "support/cli.h"
 #include "support/gpu.h"
 #include "support/interior_comparison.h"
@@ -34,11 +35,9 @@ const SpectrumLibrary& library() {
     return lib;
 }
 
-std::vector<fs::path> bundledScenes() {
-    std::vector<fs::path> scenes;
-    for (const auto& e : fs::directory_iterator(fs::path(METAMER_SOURCE_DIR) / "scenes"))
-        if (e.path().extension() == ".json") scenes.push_back(e.path());
-    std::sort(scenes.begin(), scenes.end());
+// Every bundled scene and the dataset sweep's base scene.
+std::vector<fs::path> scenesToHold() {
+    std::vector<fs::path> scenes = bundledScenes();
     scenes.push_back(fs::path(METAMER_SOURCE_DIR) / "scenes" / "dataset" / "scene.json");
     return scenes;
 }
@@ -142,7 +141,7 @@ TEST_P(GroundTruthOnBundledScene, RadianceIsReflectanceTimesIlluminationWhereThe
     EXPECT_LE(onCpu.glossy, kSpecularShare * 1.001);
 }
 
-INSTANTIATE_TEST_SUITE_P(GroundTruth, GroundTruthOnBundledScene, ::testing::ValuesIn(bundledScenes()),
+INSTANTIATE_TEST_SUITE_P(GroundTruth, GroundTruthOnBundledScene, ::testing::ValuesIn(scenesToHold()),
                          [](const ::testing::TestParamInfo<fs::path>& info) {
                              std::string name = info.param.parent_path().filename() == "dataset"
                                                     ? "dataset"

@@ -297,7 +297,7 @@ int main(int argc, char** argv) {
             capture->sensor = sensor;
             capture->seed = sensorSeed;
             capture->exposure = sensorExposure;
-            job.write = writeListWithCube(job.write);
+            job.writeCube = true;
             // The capture reads the cube before anything is renamed into place, and its files
             // join the render's: all appear together, or none (an unlit scene's auto-exposure fails).
             job.beforeCommit = [&](const std::vector<AtomicOutput*>& files) {

@@ -566,7 +566,7 @@ RenderJob makeRenderJob(const Sweep& sweep, const SweepJob& j, const fs::path& o
         }
     }
     if (j.render.contains("sensor")) {
-        job.write = writeListWithCube(job.write);
+        job.writeCube = true;  // the capture reads the cube; the scene's own write list stands otherwise
     } else {
         for (const char* k : {"seed", "frames", "exposure"})
             if (j.render.contains(k))

@@ -174,7 +174,8 @@ TEST(Sweep, ASensorJobWritesItsCubeAndCarriesItsCapture) {
     const Sweep s = readSweep(write("s12.json", R"({"scenes": ["a.json"], "render": {"write": "png",
         "sensor": "sensors/mine.json", "seed": 7, "frames": 3, "exposure": 0.004}})"));
     const RenderJob j = makeRenderJob(s, s.job(0), "out/x");
-    EXPECT_EQ(*j.write, (std::vector<std::string>{"png", "cube"}));  // the capture reads the cube
+    EXPECT_EQ(*j.write, (std::vector<std::string>{"png"}));  // as the sweep says, and
+    EXPECT_TRUE(j.writeCube);                                  // the cube besides: the capture reads it
     const std::optional<CaptureRequest> c = makeCaptureRequest(s, s.job(0));
     ASSERT_TRUE(c.has_value());
     EXPECT_EQ(c->sensor, (s.folder / "sensors/mine.json").string());
@@ -183,6 +184,9 @@ TEST(Sweep, ASensorJobWritesItsCubeAndCarriesItsCapture) {
     EXPECT_EQ(*c->exposure, 0.004);
     const Sweep library = readSweep(write("s13.json", R"({"scenes": ["a.json"], "render": {"sensor": "aps_c_rggb"}})"));
     EXPECT_EQ(makeCaptureRequest(library, library.job(0))->sensor, "aps_c_rggb");
+    // Without a write list the scene's output.write stands (its ground truth, say): only the cube is added.
+    EXPECT_FALSE(makeRenderJob(library, library.job(0), "out").write.has_value());
+    EXPECT_TRUE(makeRenderJob(library, library.job(0), "out").writeCube);
     const Sweep plain = readSweep(write("s14.json", R"({"scenes": ["a.json"]})"));
     EXPECT_FALSE(makeCaptureRequest(plain, plain.job(0)).has_value());
     // A seed without a sensor, or a bad value, names the key.

@@ -112,6 +112,7 @@ TonemapSettings tonemapSettings(const RenderJob& job, const Scene& scene, Output
         if (job.write) *files = parseWrite(*job.write, Where{"", "--write"});
         else if (o.write) *files = parseWrite(*o.write, sceneOut.child("write"));
         else *files = OutputFiles{};
+        if (job.writeCube) files->cube = true;
     }
     return s;
 }

@@ -69,6 +69,9 @@ struct RenderJob {
     size_t memoryBudget = 0;
     std::string mode = "full";  // representation mode: full, rgb, ac1c2[:N] (represent/representation.h)
     std::optional<std::vector<std::string>> write;
+    // The cube is written whatever `write` (or the scene's output.write) says: a sensor's capture
+    // reads it (app/main.cpp, batch/sweep.cpp). The other outputs stay as the list chooses them.
+    bool writeCube = false;
     std::optional<std::vector<std::string>> format;  // --format: the cube's containers (render/outputs.h)
     // A Vulkan context to render with, owned by the caller and kept between jobs (metamer batch);
     // null: the job makes its own (validation and device then come from the fields above).

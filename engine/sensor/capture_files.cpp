@@ -28,12 +28,6 @@ SpectralCube readRadianceCube(const fs::path& file) {
     return std::move(image.cube);
 }
 
-std::vector<std::string> writeListWithCube(const std::optional<std::vector<std::string>>& write) {
-    std::vector<std::string> out = write.value_or(std::vector<std::string>{"cube", "png"});
-    if (std::find(out.begin(), out.end(), "cube") == out.end()) out.push_back("cube");
-    return out;
-}
-
 fs::path renderedCube(const std::vector<fs::path>& written) {
     for (const fs::path& f : written)
         if (cubeFormatOf(f) && f.stem().extension().empty()) return f;

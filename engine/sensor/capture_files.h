@@ -54,9 +54,6 @@ struct CaptureFiles {
 // naming the file: a sensor captures radiance.
 SpectralCube readRadianceCube(const std::filesystem::path& file);
 
-// A render's `write` list for a job that is captured: the capture reads the cube, so "cube" is
-// added (to the default {"cube", "png"} when none is given).
-std::vector<std::string> writeListWithCube(const std::optional<std::vector<std::string>>& write);
 
 // Among the files a render wrote, its spectral cube (EXR, HDF5 or ENVI, named <stem>.<ext>, not
 // <stem>.xyz.exr); a runtime error when there is none.
