@@ -96,7 +96,8 @@ SpectralPass::SpectralPass(vk::Context& ctx, const Scene& scene, const SceneOnGr
         failInput(Where{scene.file.string(), "lights"}, "{} lights; the GPU path supports at most {}",
                   scene.lights.size(), MAX_LIGHTS);
     m.frame = localFrameFor(scene, scene.camera);
-    if (scene.interreflection) {
+    // The reflectance map (render/ground_truth.h) is ρd alone: no light, so no indirect light to solve for.
+    if (scene.interreflection && options.quantity != SurfaceQuantity::Reflectance) {
         // The response pass would sum the detector over materials and lights only: it cannot draw
         // the indirect light, which the band programs add (render/display_frame.cpp draws bands).
         if (p.responses)
