@@ -58,11 +58,11 @@ py::tuple renderState(const Render& r) {
     d["reflectance"] = rawBytes(c.reflectance);
     d["illumination"] = rawBytes(c.illumination);
     d["truth_bands"] = c.truthBands;
-    d["object_ids"] = rawBytes(c.objectIds);
-    d["material_ids"] = rawBytes(c.materialIds);
-    d["depth"] = rawBytes(c.depth);
-    d["normal"] = rawBytes(c.normal);
-    d["truth_mask"] = rawBytes(c.mask);
+    d["object_ids"] = rawBytes(c.geometry.object);
+    d["material_ids"] = rawBytes(c.geometry.material);
+    d["depth"] = rawBytes(c.geometry.depth_m);
+    d["normal"] = rawBytes(c.geometry.normal);
+    d["truth_mask"] = rawBytes(c.geometry.mask);
     d["ids_legend"] = c.legend;
     d["grid"] = r.captured.grid.str();
     d["spectral"] = r.spectral;
@@ -100,11 +100,14 @@ std::shared_ptr<Render> renderFromState(const py::tuple& t) {
     c.reflectance = fromRawBytes<float>(d["reflectance"], "reflectance");
     c.illumination = fromRawBytes<float>(d["illumination"], "illumination");
     c.truthBands = d["truth_bands"].cast<size_t>();
-    c.objectIds = fromRawBytes<int32_t>(d["object_ids"], "object_ids");
-    c.materialIds = fromRawBytes<int32_t>(d["material_ids"], "material_ids");
-    c.depth = fromRawBytes<float>(d["depth"], "depth");
-    c.normal = fromRawBytes<float>(d["normal"], "normal");
-    c.mask = fromRawBytes<uint8_t>(d["truth_mask"], "truth_mask");
+    GeometryMaps& g = c.geometry;
+    g.width = c.width;
+    g.height = c.height;
+    g.object = fromRawBytes<int32_t>(d["object_ids"], "object_ids");
+    g.material = fromRawBytes<int32_t>(d["material_ids"], "material_ids");
+    g.depth_m = fromRawBytes<float>(d["depth"], "depth");
+    g.normal = fromRawBytes<float>(d["normal"], "normal");
+    g.mask = fromRawBytes<uint8_t>(d["truth_mask"], "truth_mask");
     c.legend = d["ids_legend"].cast<std::string>();
     // A state is input: its sizes within what a render can make (camera.width and height 1..16384)
     // before anything is multiplied by them, and every array exactly that size or absent (issue 51,
@@ -120,8 +123,8 @@ std::shared_ptr<Render> renderFromState(const py::tuple& t) {
     if (c.cube.size() != pixels * c.cubeChannels || !sized(c.xyz.size(), 3) || !sized(c.counts.size(), 3) ||
         !sized(c.edges.size(), 1) || c.responseChannels > 100000 || !sized(c.responses.size(), c.responseChannels) ||
         c.truthBands > 100000 || !sized(c.reflectance.size(), c.truthBands) || !sized(c.illumination.size(), c.truthBands) ||
-        !sized(c.objectIds.size(), 1) || !sized(c.materialIds.size(), 1) || !sized(c.depth.size(), 1) ||
-        !sized(c.normal.size(), 3) || !sized(c.mask.size(), 1))
+        !sized(g.object.size(), 1) || !sized(g.material.size(), 1) || !sized(g.depth_m.size(), 1) ||
+        !sized(g.normal.size(), 3) || !sized(g.mask.size(), 1))
         failInput(Where{"", "pickle"}, "a metamer.Render whose arrays do not match its {}×{} size", c.width, c.height);
     r->captured.grid = Grid::parse(d["grid"].cast<std::string>(), Where{"", "pickle"});
     r->spectral = d["spectral"].cast<bool>();
@@ -249,14 +252,14 @@ void bindRenderClass(py::module_& m) {
             "object_ids",
             [](py::object self) -> py::object {
                 const CapturedOutputs& c = self.cast<const Render&>().captured.outputs;
-                return view(c.objectIds, {c.height, c.width}, self);
+                return view(c.geometry.object, {c.height, c.width}, self);
             },
             "rows × columns int32: the object (mesh) seen at each pixel's central sample, −1 background (ids_legend)")
         .def_property_readonly(
             "material_ids",
             [](py::object self) -> py::object {
                 const CapturedOutputs& c = self.cast<const Render&>().captured.outputs;
-                return view(c.materialIds, {c.height, c.width}, self);
+                return view(c.geometry.material, {c.height, c.width}, self);
             },
             "rows × columns int32: its material, −1 background (ids_legend)")
         .def_property_readonly(
@@ -271,21 +274,21 @@ void bindRenderClass(py::module_& m) {
             "depth",
             [](py::object self) -> py::object {
                 const CapturedOutputs& c = self.cast<const Render&>().captured.outputs;
-                return view(c.depth, {c.height, c.width}, self);
+                return view(c.geometry.depth_m, {c.height, c.width}, self);
             },
             "rows × columns float32: metres from the camera along the ray, 0 at the background")
         .def_property_readonly(
             "normal",
             [](py::object self) -> py::object {
                 const CapturedOutputs& c = self.cast<const Render&>().captured.outputs;
-                return view(c.normal, {c.height, c.width, 3}, self);
+                return view(c.geometry.normal, {c.height, c.width, 3}, self);
             },
             "rows × columns × 3 float32: the shading normal in the camera frame (x right, y up, z to the camera)")
         .def_property_readonly(
             "truth_mask",
             [](py::object self) -> py::object {
                 const CapturedOutputs& c = self.cast<const Render&>().captured.outputs;
-                return view(c.mask, {c.height, c.width}, self);
+                return view(c.geometry.mask, {c.height, c.width}, self);
             },
             "rows × columns uint8: why radiance ≠ reflectance × illumination (1 background, 2 fluorescent, 4 specular, "
             "8 transparent in front, 16 self-luminous, 32 edge); 0 where it is equal")

@@ -182,37 +182,30 @@ void RenderOutputs::openGroundTruth() {
     openCubes(targets_.illumination, SurfaceQuantity::Illumination,
               "illumination: the spectral irradiance at the surface seen / pi (W·sr⁻¹·m⁻²·nm⁻¹), the radiance a "
               "perfect white diffuser would send there; 0 at the background");
-    if (!targets_.ids.empty()) {
-        ImageFile f{width_, height_, {"object", "material"},
-                    with({{"metamer:ground_truth", "object and material ids: indices into the legend " +
-                                                       targets_.legend.filename().string() +
-                                                       ", integers held exactly as float32, -1 at the background"},
-                          {sample, centre}})};
-        ids_ = std::make_unique<ImageFileWriter>(targets_.ids, f, 32);
-        legend_ = std::make_unique<AtomicOutput>(targets_.legend);
-    }
-    if (!targets_.depth.empty()) {
-        ImageFile f{width_, height_, {"Z"},
-                    with({{"metamer:ground_truth", "depth: metres from the camera along the ray (orthographic: from "
-                                                   "the image plane), 0 at the background"},
-                          {sample, centre}})};
-        depth_ = std::make_unique<ImageFileWriter>(targets_.depth, f, 32);
-    }
-    if (!targets_.normal.empty()) {
-        ImageFile f{width_, height_, {"N.X", "N.Y", "N.Z"},
-                    with({{"metamer:ground_truth", "normal: the unit shading normal in the camera frame (x right, y up, "
-                                                   "z towards the camera), 0 at the background"},
-                          {sample, centre}})};
-        normal_ = std::make_unique<ImageFileWriter>(targets_.normal, f, 32);
-    }
-    if (!targets_.mask.empty()) {
-        ImageFile f{width_, height_, {"Y"},
-                    with({{"metamer:ground_truth", "mask: bits 1 background, 2 fluorescent, 4 specular share over 1 %, "
-                                                   "8 transparent in front, 16 self-luminous, 32 edge; 0 where "
-                                                   "radiance = reflectance × illumination"},
-                          {sample, centre}})};
-        mask_ = std::make_unique<ImageFileWriter>(targets_.mask, f, 8);
-    }
+    // A geometry map (ray cast at each pixel's central sample), when its target is named.
+    auto openMap = [&](const std::filesystem::path& path, std::vector<std::string> channels, const std::string& what,
+                       int bits) -> std::unique_ptr<ImageFileWriter> {
+        if (path.empty()) return nullptr;
+        ImageFile f{width_, height_, std::move(channels), with({{"metamer:ground_truth", what}, {sample, centre}})};
+        return std::make_unique<ImageFileWriter>(path, f, bits);
+    };
+    ids_ = openMap(targets_.ids, {"object", "material"},
+                   "object and material ids: indices into the legend " + targets_.legend.filename().string() +
+                       ", integers held exactly as float32, -1 at the background",
+                   32);
+    if (ids_) legend_ = std::make_unique<AtomicOutput>(targets_.legend);
+    depth_ = openMap(targets_.depth, {"Z"},
+                     "depth: metres from the camera along the ray (orthographic: from the image plane), 0 at the "
+                     "background",
+                     32);
+    normal_ = openMap(targets_.normal, {"N.X", "N.Y", "N.Z"},
+                      "normal: the unit shading normal in the camera frame (x right, y up, z towards the camera), 0 at "
+                      "the background",
+                      32);
+    mask_ = openMap(targets_.mask, {"Y"},
+                    "mask: bits 1 background, 2 fluorescent, 4 specular share over 1 %, 8 transparent in front, 16 "
+                    "self-luminous, 32 edge; 0 where radiance = reflectance × illumination",
+                    8);
 }
 
 void RenderOutputs::writeGroundTruth(const GroundTruthImages& truth) {
@@ -225,15 +218,18 @@ void RenderOutputs::writeGroundTruth(const GroundTruthImages& truth) {
         if (c.keep.illumination && truth.illumination)
             c.illumination.assign(truth.illumination, truth.illumination + pixels * bands);
         if (truth.geometry) {
-            const GeometryMaps& g = *truth.geometry;
+            const GeometryMaps& from = *truth.geometry;
+            GeometryMaps& g = c.geometry;
+            g.width = from.width;
+            g.height = from.height;
             if (c.keep.ids) {
-                c.objectIds = g.object;
-                c.materialIds = g.material;
+                g.object = from.object;
+                g.material = from.material;
                 c.legend = truth.legend;
             }
-            if (c.keep.depth) c.depth = g.depth_m;
-            if (c.keep.normal) c.normal = g.normal;
-            if (c.keep.groundTruth()) c.mask = g.mask;
+            if (c.keep.depth) g.depth_m = from.depth_m;
+            if (c.keep.normal) g.normal = from.normal;
+            if (c.keep.groundTruth()) g.mask = from.mask;
         }
     }
     for (TruthCube& t : truthCubes_) {

@@ -113,10 +113,9 @@ struct CapturedOutputs {
     // The ground truth (OutputFiles::reflectance … normal; the mask with any of them).
     std::vector<float> reflectance, illumination;  // the render grid's bands per pixel
     size_t truthBands = 0;
-    std::vector<int32_t> objectIds, materialIds;  // ids: one each per pixel, −1 at the background
-    std::vector<float> depth, normal;             // 1 and 3 per pixel
-    std::vector<uint8_t> mask;                    // GroundTruthFlag bits
-    std::string legend;                           // the ids' legend, JSON
+    // The ids, depth and normal kept (each empty unless `keep` names it) and the mask (with any map).
+    GeometryMaps geometry;
+    std::string legend;  // the ids' legend, JSON
 };
 
 struct OutputOptions {

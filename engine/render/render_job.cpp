@@ -492,7 +492,6 @@ RenderJobResult runRenderJob(const RenderJob& job) {
     if (files.edges && job.backend != Backend::Cpu)
         failInput(Where{"", "--write"}, "the edges mask comes from the CPU reference's object ids; use --backend cpu");
 
-
     // 2. Refuse absurd sizes before anything that grows with the image is allocated.
     const int W = scene.camera.width, H = scene.camera.height, channels = loaded->rendered.grid.bands();
     std::optional<TonemapPlan> plan;
@@ -644,18 +643,10 @@ std::vector<WrittenFile> saveCapturedRender(const CapturedRender& render, const 
     out.writeRows(0, c.height, c.cube.empty() ? nullptr : c.cube.data(), plan ? &image : nullptr);
     if (!c.edges.empty()) out.writeEdges(c.edges);
     if (out.needsGroundTruth()) {
-        GeometryMaps g;
-        g.width = c.width;
-        g.height = c.height;
-        g.object = c.objectIds;
-        g.material = c.materialIds;
-        g.depth_m = c.depth;
-        g.normal = c.normal;
-        g.mask = c.mask;
         GroundTruthImages truth;
         truth.reflectance = c.reflectance.empty() ? nullptr : c.reflectance.data();
         truth.illumination = c.illumination.empty() ? nullptr : c.illumination.data();
-        truth.geometry = &g;
+        truth.geometry = c.geometry.mask.empty() ? nullptr : &c.geometry;
         truth.legend = c.legend;
         out.writeGroundTruth(truth);
     }
