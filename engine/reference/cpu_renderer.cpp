@@ -491,7 +491,6 @@ ReferenceRenderer::SurfacePoint ReferenceRenderer::surfacePoint(const RayHit& hi
         }
     }
     // Two-sided: a back face is shaded as if seen from its front.
-    s.front = glm::dot(s.ng, -ray.direction) >= 0.0;
     if (glm::dot(s.ng, -ray.direction) < 0.0) n = -n;
     s.n = n;
     return s;
@@ -750,7 +749,7 @@ GeometryMaps ReferenceRenderer::geometryMaps() const {
         if (clear && !clearBvh_.allHits(ray, kRayTMin, hit ? hit->t : std::numeric_limits<double>::infinity()).empty())
             mask |= kTruthTransparent;
         if (!hit) {
-            g.mask[at] = mask | kTruthBackground;
+            mask |= kTruthBackground;
         } else {
             const SurfacePoint sp = surfacePoint(*hit, ray);
             const MaterialOnGrid& mat = onGrid_.materials[sp.material];
@@ -770,7 +769,7 @@ GeometryMaps ReferenceRenderer::geometryMaps() const {
                     mask |= kTruthEdge;
                     break;
                 }
-        g.mask[at] |= mask;
+        g.mask[at] = mask;
     });
     // A neighbour that sees another surface, or through other transparent objects: the rasterizer
     // may take the other at this pixel.

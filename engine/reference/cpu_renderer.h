@@ -105,7 +105,6 @@ private:
         uint32_t mesh = 0, material = 0;
         glm::dvec3 p{0.0}, ng{0.0}, n{0.0};
         glm::dvec2 uv{0.0};
-        bool front = true;  // the eye is on the side the triangle's winding faces (or in its plane)
     };
     SurfacePoint surfacePoint(const RayHit& hit, const Ray& ray) const;
     // The ground-truth mask's specular test at one sample (geometryMaps).

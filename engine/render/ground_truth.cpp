@@ -32,11 +32,11 @@ std::vector<float> gpuMap(const GroundTruthJob& job, SurfaceQuantity quantity) {
 GroundTruth renderGroundTruth(const GroundTruthJob& job, const OutputFiles& files) {
     const auto start = Clock::now();
     GroundTruth t;
-    // One reference renderer for its maps and the geometry (one solve of the interreflection on
-    // the CPU backend; none for the GPU's, whose geometry maps need no indirect light).
+    // One reference renderer for its maps and the geometry: it solves the interreflection only
+    // for the CPU's illumination map (the reflectance and the geometry maps need no indirect light).
     ReferenceOptions ro;
     ro.ssaa = job.ssaa;
-    ro.interreflection = job.backend == Backend::Cpu && (files.reflectance || files.illumination);
+    ro.interreflection = job.backend == Backend::Cpu && files.illumination;
     ReferenceRenderer reference(*job.scene, *job.spectra, ro);
     auto map = [&](SurfaceQuantity q) {
         if (job.backend == Backend::Gpu) return gpuMap(job, q);
