@@ -50,21 +50,15 @@ constexpr double kPi = 3.14159265358979323846;
 
 // A unit vector uniform on the cap of half-angle θ about unit `a`: cos α uniform in [cos θ, 1]
 // (Archimedes: equal heights, equal areas), the azimuth uniform.
-Json drawDirection(const double a[3], double withinDeg, CounterStream& s) {
+Json drawDirection(const glm::dvec3& a, double withinDeg, CounterStream& s) {
     const double cosAlpha = 1.0 - s.uniform() * (1.0 - std::cos(withinDeg * kPi / 180.0));
     const double sinAlpha = std::sqrt(std::max(0.0, 1.0 - cosAlpha * cosAlpha)), phi = 2.0 * kPi * s.uniform();
     // A frame (t, b, a): t perpendicular to a, from the world axis least aligned with it.
-    const int axis = std::fabs(a[0]) <= std::fabs(a[1]) && std::fabs(a[0]) <= std::fabs(a[2]) ? 0 : std::fabs(a[1]) <= std::fabs(a[2]) ? 1 : 2;
-    double e[3] = {0, 0, 0};
-    e[axis] = 1;
-    double t[3] = {a[1] * e[2] - a[2] * e[1], a[2] * e[0] - a[0] * e[2], a[0] * e[1] - a[1] * e[0]};
-    const double tn = std::sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]);
-    for (double& c : t) c /= tn;
-    const double b[3] = {a[1] * t[2] - a[2] * t[1], a[2] * t[0] - a[0] * t[2], a[0] * t[1] - a[1] * t[0]};
-    Json v = Json::array();
-    for (int c = 0; c < 3; ++c)
-        v.push_back(sinAlpha * (std::cos(phi) * t[c] + std::sin(phi) * b[c]) + cosAlpha * a[c]);
-    return v;
+    const glm::dvec3 m = glm::abs(a);
+    const glm::dvec3 axis = m.x <= m.y && m.x <= m.z ? glm::dvec3(1, 0, 0) : m.y <= m.z ? glm::dvec3(0, 1, 0) : glm::dvec3(0, 0, 1);
+    const glm::dvec3 c = glm::cross(a, axis), t = c / glm::length(c), b = glm::cross(a, t);
+    const glm::dvec3 v = sinAlpha * (std::cos(phi) * t + std::sin(phi) * b) + cosAlpha * a;
+    return Json::array({v.x, v.y, v.z});
 }
 
 // A rotation uniform over all orientations (Shoemake's unit quaternion from three uniforms), as a
@@ -162,10 +156,10 @@ SweepDraws readSweepDraws(const Json& v, const Where& w, const SpectrumLibrary& 
             checkKeys(*dir, dw, {"around", "within_deg"}, "a direction");
             if (const Json* a = find(*dir, "around")) {
                 if (!a->is_array() || a->size() != 3) failInput(dw.child("around"), "expected [x, y, z], got {}", describe(*a));
-                double n = 0;
-                for (int c = 0; c < 3; ++c) n += std::pow(x.around[c] = number((*a)[size_t(c)], dw.child("around").index(size_t(c))), 2);
+                for (int c = 0; c < 3; ++c) x.around[c] = number((*a)[size_t(c)], dw.child("around").index(size_t(c)));
+                const double n = glm::dot(x.around, x.around);
                 if (!(n > 0) || !std::isfinite(n)) failInput(dw.child("around"), "expected a non-zero, finite vector");
-                for (double& c : x.around) c /= std::sqrt(n);
+                x.around /= std::sqrt(n);
             }
             if (const Json* t = find(*dir, "within_deg")) x.withinDeg = numberIn(*t, dw.child("within_deg"), 0, 180, true, false);
         } else if (const Json* rot = find(e, "rotation")) {

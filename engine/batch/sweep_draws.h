@@ -11,6 +11,7 @@
 #include "core/error.h"
 #include "spectral/library.h"
 
+#include <glm/glm.hpp>
 #include <nlohmann/json.hpp>
 
 #include <cstdint>
@@ -31,7 +32,7 @@ struct SweepDrawValue {
     std::vector<double> lo, hi;  // Uniform (a number, or each component of a vector); Daylight, Blackbody
     bool vector = false;         // Uniform over arrays: the value is an array
     // Direction: a unit vector uniform on the cap of half-angle withinDeg about `around` (180: the sphere).
-    double around[3] = {0, 0, 1};
+    glm::dvec3 around{0, 0, 1};
     double withinDeg = 180;
     Where where;
 };
