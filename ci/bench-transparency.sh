@@ -17,7 +17,7 @@ work="$(mktemp -d)"
 sizes=("$@")
 [ ${#sizes[@]} -gt 0 ] || sizes=(512 1024)
 # The variant lives in the scenes folder so that library names resolve the same way.
-python3 - "$here/scenes/filters.json" "$here/scenes/.bench-filters-opaque.json" <<'PY'
+python3 - "$here/scenes/filters.json" "$here/scenes/bench-filters-opaque.json" <<'PY'
 import json, sys
 scene = json.load(open(sys.argv[1]))
 clear = {n for n, m in scene["materials"].items() if {"transmittance", "absorbance", "dyes", "slab"} & set(m)}
@@ -25,7 +25,7 @@ scene["objects"] = [o for o in scene["objects"] if o.get("material") not in clea
 scene["materials"] = {n: m for n, m in scene["materials"].items() if n not in clear}
 json.dump(scene, open(sys.argv[2], "w"))
 PY
-trap 'rm -rf "$work" "$here/scenes/.bench-filters-opaque.json"' EXIT
+trap 'rm -rf "$work" "$here/scenes/bench-filters-opaque.json"' EXIT
 median() { grep -oE "median of the other [0-9]+: [^;]*" <<<"$1" | head -1; }
 field() {  # OUTPUT NAME: a stage's median from the "median of the other N" line
   median "$1" | grep -oE "$2 [0-9.]+" | grep -oE "[0-9.]+$" || echo "?"
@@ -36,7 +36,7 @@ printf "%-20s %6s %10s %10s %12s %12s\n" variant size "cube ms" "upload ms" "dis
 for size in "${sizes[@]}"; do
   for name in opaque opaque-unshadowed filters filters-unshadowed; do
     scene="$here/scenes/filters.json"
-    [[ "$name" == opaque* ]] && scene="$here/scenes/.bench-filters-opaque.json"
+    [[ "$name" == opaque* ]] && scene="$here/scenes/bench-filters-opaque.json"
     common=(--set camera.width="$size" --set camera.height="$size" --frames 6 --timings)
     [[ "$name" == *unshadowed ]] && common+=(--set lights.0.shadows=false)
     cube="$("$metamer" render "$scene" --out "$work/$name" --write cube --compression none "${common[@]}" 2>&1)"
