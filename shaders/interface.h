@@ -45,14 +45,20 @@ using mat4 = glm::mat4;
                                   // value of the scene's specular materials (shaders/lobe_lookup.h;
                                   // GpuMaterialBlock.params.w is a material's table's first entry)
 #define BINDING_SHADOW_TRANSMITTANCE 10 // sampler2DArray (RGBA32F, texelFetch): coloured shadows — per shadow-map
-                                        // layer, BAND_LAYERS layers of the light's transmittance through the
-                                        // transparent objects to the nearest opaque surface, TRANSMITTANCE_MAP_SIZE²
-                                        // (read when SPEC_FILTERED_SHADOWS)
+                                        // layer, DEPTH_LAYERS layers of the optical-depth channels along the
+                                        // light's ray to the nearest opaque surface, TRANSMITTANCE_MAP_SIZE²
+                                        // (below, "Optical-depth channels"; read when SPEC_FILTERED_SHADOWS)
 #define BINDING_SHADOW_EXCITATION 11    // samplerBuffer (RGBA32F texel buffer): per fluorescent material, per light,
                                         // its excitation integrand (rank-one: a filtered light's coupling is
                                         // Σ integrand·τ) or, with SPEC_FLUORESCENCE_SPECTRA, its matrix
                                         // (1/π)·D·E·Δλ (emission = Σ τ·row) — render/spectral_packing.h
                                         // (read when SPEC_FILTERED_SHADOWS)
+#define BINDING_DEPTH_SPECTRA 12        // samplerBuffer (RGBA32F texel buffer): per optical-depth channel, BAND_LAYERS
+                                        // vec4 of what turns it into log2 τ per band (below; read when
+                                        // SPEC_FILTERED_SHADOWS)
+#define BINDING_VIEW_CHANNELS 13        // sampler2DArray (RGBA32F, texelFetch at the fragment): the camera's optical-depth
+                                        // channels of the sheets and media in front of the opaque surface, written by
+                                        // the channel pass (transmit.frag, CHANNEL_OUTPUT; read when SPEC_VIEW_CHANNELS)
 #define BINDING_OPAQUE_DISTANCE 9 // sampler2D (R32F, texelFetch): the nearest opaque surface's distance per pixel,
                                   // written by the depth pre-pass (opaque_distance.frag) and read by the
                                   // transmission pass (transmit.frag) where a scene has transparent objects
@@ -63,9 +69,20 @@ using mat4 = glm::mat4;
 #define SHADOW_MAP_SIZE 2048
 #define MAX_SHADOW_LAYERS 96
 #define SHADOW_NORMAL_OFFSET 1.0
-// Coloured shadows: the transmittance maps' size. Coarser than the depth maps, because they hold
-// every band (BAND_LAYERS RGBA32F layers per shadow-map layer: 23 MiB each at the default grid).
+// Coloured shadows: the transmittance maps' size (DEPTH_LAYERS RGBA32F layers per shadow-map layer).
 #define TRANSMITTANCE_MAP_SIZE 256
+#define MAX_DEPTH_CHANNELS 64  // optical-depth channels (below) a scene's coloured shadows may have
+// Optical-depth channels (docs/physics.md, "Coloured shadows"). What a light's ray crosses on its
+// way to a surface is summed per transparent material, not per band: a sheet's channel counts its
+// crossings n (τ = T^n), a medium's holds its path ℓ in the frame's units (τ = 2^(−k·ℓ)), both
+// linear, so the crossings add (blend one + one) and a bilinear lookup of the channels is the
+// lookup of log2 τ band by band. A slab, whose T depends on the angle, has two: its crossings n and
+// Σ cos θ, its factor n·log2 T(Σcos θ / n) evaluated per band. The channels: the sheets' and media's
+// first (SPEC_DEPTH_CHANNELS), then the slabs' pairs (SPEC_SLAB_CHANNELS pairs); a material's first
+// channel is GpuMaterialBlock::params.w. BINDING_DEPTH_SPECTRA holds per channel BAND_LAYERS vec4:
+// a sheet's log2 T (≥ −149: a black band), a medium's −k (k = a·log2(10)·unit per unit), a slab's
+// n(λ) and, in its second channel's, its attenuation a·d·log2(10). So a map's cost is the
+// transparent area a light sees times ⌈channels / 4⌉ layers, whatever the number of bands.
 
 // Descriptor set 1 of the spectral pass: the draw's material's textures (one set per material),
 // RGBA32F 2D-array images read with texelFetch (bilinear filtering is done in the shader, in
@@ -125,7 +142,7 @@ using mat4 = glm::mat4;
 // spectrum is multiplied by its transmittance map at the receiver (BINDING_SHADOW_TRANSMITTANCE),
 // and a rank-one fluorescent material's coupling is taken from the filtered light.
 #define SPEC_FILTERED_SHADOWS 15
-#define SPEC_BAND_LAYERS 16           // ⌈bands / 4⌉: the transmittance maps' layers per shadow-map layer
+#define SPEC_BAND_LAYERS 16           // ⌈bands / 4⌉: the rows of each channel in BINDING_DEPTH_SPECTRA
 // Interreflection's emitters drawn per pixel (GpuLightBlock::emitters x and y): constant, so that
 // their loops unroll (a loop bounded by a uniform cost a 512² Cornell frame 30 ms more on lavapipe).
 #define SPEC_EMITTER_TRIANGLES 17
@@ -136,6 +153,13 @@ using mat4 = glm::mat4;
 // What the band passes compute (scene/surface_quantity.h): the radiance, or a ground-truth map —
 // the illumination (ρd := 1, no specular, fluorescence or emission) or the reflectance ρd alone.
 #define SPEC_QUANTITY 20
+// Coloured shadows' optical-depth channels (above): the sheets' and media's, and the slabs' pairs.
+#define SPEC_DEPTH_CHANNELS 21
+#define SPEC_SLAB_CHANNELS 22
+// The camera's transmission as channels: the band passes multiply their radiance by
+// 2^(Σ c·k) from the first SPEC_VIEW_CHANNELS channels at the pixel (BINDING_VIEW_CHANNELS; 0: none,
+// or the transmission passes multiply the target instead — a scene with slabs).
+#define SPEC_VIEW_CHANNELS 23
 #define QUANTITY_RADIANCE 0
 #define QUANTITY_ILLUMINATION 1
 #define QUANTITY_REFLECTANCE 2
@@ -210,7 +234,8 @@ struct GpuMaterialBlock {
                                            // radiance's magnitude in float (docs/numerics.md)
     vec4 params;                           // x: gloss N; y: the texture layer of this pass's first
                                            // vec4; z: the material's first entry in
-                                           // BINDING_SHADOW_EXCITATION, −1 if none; w: 0
+                                           // BINDING_SHADOW_EXCITATION, −1 if none; w: a transparent
+                                           // material's first optical-depth channel, −1 else
     uvec4 switches;                        // x: MATERIAL_* bits (below); y, z, w: 0
     vec4 lobe;                             // x: the first entry of its lobe table in BINDING_LOBE_TABLES,
                                            // −1 if none; y, z: the table's x1 warp (lobeWarp, lobe_lookup.h)
@@ -264,11 +289,12 @@ struct SpectralPushConstants {
 };
 
 // transmit.frag's specialization constants (its own ids).
-#define TRANSMIT_SPEC_LOG_OUTPUT 0        // write log2 of the factor (the coloured shadows' maps, blended by addition)
+#define TRANSMIT_SPEC_CHANNEL_OUTPUT 0    // write the optical-depth channels (the coloured shadows' maps, added)
 #define TRANSMIT_SPEC_REFLECTION 1        // the slabs' reflection pass: add R·(the environment in the mirror direction)
 #define TRANSMIT_SPEC_AMBIENT_COUNT 2     // the environment a slab reflects: the ambient lights (0 …)
 #define TRANSMIT_SPEC_HEMISPHERE_FIRST 3  // and the hemisphere lights (their first index, their count)
 #define TRANSMIT_SPEC_HEMISPHERE_COUNT 4
+#define TRANSMIT_SPEC_FIRST_CHANNEL 5     // CHANNEL_OUTPUT: the channel of this pass's first output's x
 
 // ---------------------------------------------------------------------------------------------
 // The tonemap pass (tonemap.frag): one fragment per output pixel reads the spectral target and
@@ -345,23 +371,27 @@ struct SpectralSpecialization {
     int32_t emitterTriangles, emitters;          // SPEC_EMITTER_TRIANGLES, SPEC_EMITTERS
     uint32_t hasEmitters;                        // SPEC_HAS_EMITTERS (VkBool32)
     int32_t quantity;                            // SPEC_QUANTITY: QUANTITY_*
+    int32_t depthChannels, slabChannels;         // SPEC_DEPTH_CHANNELS, SPEC_SLAB_CHANNELS
+    int32_t viewChannels;                        // SPEC_VIEW_CHANNELS
 };
-static_assert(sizeof(SpectralSpecialization) == 4 * (SPEC_QUANTITY + 1), "one 4-byte field per id");
+static_assert(sizeof(SpectralSpecialization) == 4 * (SPEC_VIEW_CHANNELS + 1), "one 4-byte field per id");
 static_assert(SPEC_AMBIENT_COUNT == 0 && SPEC_DIRECTIONAL_COUNT == 1 && SPEC_POINT_COUNT == 2 && SPEC_HAS_SPECULAR == 3 &&
                   SPEC_HAS_FLUORESCENCE == 4 && SPEC_HAS_TEXTURES == 5 && SPEC_HAS_NORMAL_MAPS == 6 &&
                   SPEC_FLUORESCENCE_SPECTRA == 7 && SPEC_RESPONSES == 8 && SPEC_HEMISPHERE_COUNT == 9 &&
                   SPEC_SHADOWS == 10 && SPEC_LOBE_MODE == 11 && SPEC_SHADOWED_DIRECTIONAL == 12 &&
                   SPEC_SHADOWED_POINT == 13 && SPEC_HEMISPHERE_PAIRED == 14 && SPEC_FILTERED_SHADOWS == 15 &&
                   SPEC_BAND_LAYERS == 16 && SPEC_EMITTER_TRIANGLES == 17 && SPEC_EMITTERS == 18 &&
-                  SPEC_HAS_EMITTERS == 19 && SPEC_QUANTITY == 20,
+                  SPEC_HAS_EMITTERS == 19 && SPEC_QUANTITY == 20 && SPEC_DEPTH_CHANNELS == 21 &&
+                  SPEC_SLAB_CHANNELS == 22 && SPEC_VIEW_CHANNELS == 23,
               "SpectralSpecialization's fields are in id order");
 
 // transmit.frag's specialization constants, in id order.
 struct TransmitSpecialization {
-    uint32_t logOutput, reflection;                        // VkBool32
+    uint32_t channelOutput, reflection;                    // VkBool32
     int32_t ambientCount, hemisphereFirst, hemisphereCount;
+    int32_t firstChannel;
 };
-static_assert(sizeof(TransmitSpecialization) == 4 * (TRANSMIT_SPEC_HEMISPHERE_COUNT + 1), "one 4-byte field per id");
+static_assert(sizeof(TransmitSpecialization) == 4 * (TRANSMIT_SPEC_FIRST_CHANNEL + 1), "one 4-byte field per id");
 
 // tonemap.frag's specialization constants, in id order.
 struct TonemapSpecialization {

@@ -35,6 +35,13 @@ layout(constant_id = SPEC_HEMISPHERE_PAIRED) const uint HEMISPHERE_PAIRED = 0u;
 // Coloured shadows: shadowing lights are filtered by the transparent objects on their way.
 layout(constant_id = SPEC_FILTERED_SHADOWS) const bool FILTERED_SHADOWS = false;
 layout(constant_id = SPEC_BAND_LAYERS) const int BAND_LAYERS = 1;
+layout(constant_id = SPEC_DEPTH_CHANNELS) const int DEPTH_CHANNELS = 0;
+layout(constant_id = SPEC_SLAB_CHANNELS) const int SLAB_CHANNELS = 0;
+const int DEPTH_LAYERS = (DEPTH_CHANNELS + 2 * SLAB_CHANNELS + 3) / 4;
+const int DEPTH_ARRAY = DEPTH_LAYERS > 0 ? 4 * DEPTH_LAYERS : 4;
+layout(constant_id = SPEC_VIEW_CHANNELS) const int VIEW_CHANNELS = 0;
+const int VIEW_LAYERS = (VIEW_CHANNELS + 3) / 4;
+const int VIEW_ARRAY = VIEW_LAYERS > 0 ? 4 * VIEW_LAYERS : 4;  // no array of 0 elements where there are none
 layout(constant_id = SPEC_EMITTER_TRIANGLES) const int EMITTER_TRIANGLES = 0;
 layout(constant_id = SPEC_EMITTERS) const int EMITTERS = 0;
 layout(constant_id = SPEC_HAS_EMITTERS) const bool HAS_EMITTERS = true;
@@ -55,6 +62,8 @@ layout(set = 0, binding = BINDING_LOBE_WEIGHTS) uniform sampler2D lobeWeights;
 layout(set = 0, binding = BINDING_LOBE_TABLES) uniform usamplerBuffer lobeData;
 layout(set = 0, binding = BINDING_SHADOW_TRANSMITTANCE) uniform sampler2DArray shadowTransmittance;
 layout(set = 0, binding = BINDING_SHADOW_EXCITATION) uniform samplerBuffer shadowExcitation;
+layout(set = 0, binding = BINDING_DEPTH_SPECTRA) uniform samplerBuffer depthSpectra;
+layout(set = 0, binding = BINDING_VIEW_CHANNELS) uniform sampler2DArray viewChannels;
 
 layout(set = 1, binding = TEXTURE_BINDING_DIFFUSE) uniform sampler2DArray diffuseTexture;
 layout(set = 1, binding = TEXTURE_BINDING_SPECULAR) uniform sampler2DArray specularTexture;
@@ -153,44 +162,65 @@ float coupling(int l) { return M.coupling[l / 4][l % 4]; }
 // unfiltered (outside the map, or not a shadowing light).
 vec4 lightFilter[OUTPUT_COUNT];
 bool filtered;
-// The transmittance maps hold optical depths, log2 τ, interpolated bilinearly between texel
-// centres (by hand, in float, as the textures are): a texel holds the depth along the ray through
-// its centre, and where a medium's path changes across the map (a slab's side, a sphere) the
-// nearest texel would be off by the path's change over half a texel; the depth is linear in the
-// path, so along a slab's side the interpolation is exact.
-ivec2 transmittanceTexel[4];
-float transmittanceWeight[4];
-void transmittanceBilinear() {
+// The maps hold optical-depth channels (interface.h), interpolated bilinearly between texel
+// centres (by hand, in float, as the textures are): a texel holds the channels along the ray
+// through its centre. log2 τ is linear in the sheets' and media's channels, so interpolating them
+// is interpolating log2 τ band by band — exact along a slab-shaped medium's side, where the path
+// grows linearly across the map and τ does not.
+float depthChannel[DEPTH_ARRAY];
+void fetchDepthChannels() {
     const vec2 p0 = floor(shadowTexel), f = shadowTexel - p0;
     const ivec2 i0 = ivec2(p0), last = ivec2(TRANSMITTANCE_MAP_SIZE - 1);
-    transmittanceTexel[0] = clamp(i0, ivec2(0), last);
-    transmittanceTexel[1] = clamp(i0 + ivec2(1, 0), ivec2(0), last);
-    transmittanceTexel[2] = clamp(i0 + ivec2(0, 1), ivec2(0), last);
-    transmittanceTexel[3] = clamp(i0 + ivec2(1, 1), ivec2(0), last);
-    transmittanceWeight[0] = (1.0 - f.x) * (1.0 - f.y);
-    transmittanceWeight[1] = f.x * (1.0 - f.y);
-    transmittanceWeight[2] = (1.0 - f.x) * f.y;
-    transmittanceWeight[3] = f.x * f.y;
+    const ivec2 t00 = clamp(i0, ivec2(0), last), t11 = clamp(i0 + ivec2(1), ivec2(0), last);
+    const float w00 = (1.0 - f.x) * (1.0 - f.y), w10 = f.x * (1.0 - f.y), w01 = (1.0 - f.x) * f.y, w11 = f.x * f.y;
+    [[unroll]] for (int j = 0; j < DEPTH_LAYERS; ++j) {
+        const int layer = shadowLayer * DEPTH_LAYERS + j;
+        const vec4 c = w00 * texelFetch(shadowTransmittance, ivec3(t00, layer), 0) +
+                       w10 * texelFetch(shadowTransmittance, ivec3(t11.x, t00.y, layer), 0) +
+                       w01 * texelFetch(shadowTransmittance, ivec3(t00.x, t11.y, layer), 0) +
+                       w11 * texelFetch(shadowTransmittance, ivec3(t11, layer), 0);
+        [[unroll]] for (int i = 0; i < 4; ++i) depthChannel[4 * j + i] = c[i];
+    }
 }
+// A slab's log2 T at cos θ for 4 bands of index n and attenuation a·d·log2(10) (transmit.frag's slab,
+// the same formula).
+vec4 slabLog2Transmittance(float cosI, vec4 n, vec4 attenuation) {
+    const vec4 cosT = sqrt(max(vec4(1.0) - (1.0 - cosI * cosI) / (n * n), vec4(0.0)));
+    const vec4 tau = exp2(-attenuation / max(cosT, vec4(1e-6)));
+    vec4 rs = (cosI - n * cosT) / (cosI + n * cosT), rp = (cosT - n * cosI) / (cosT + n * cosI);
+    rs *= rs;
+    rp *= rp;
+    const vec4 ds = 1.0 / (1.0 - rs * rs * tau * tau), dp = 1.0 / (1.0 - rp * rp * tau * tau);
+    return max(log2(0.5 * ((1.0 - rs) * (1.0 - rs) * tau * ds + (1.0 - rp) * (1.0 - rp) * tau * dp)), vec4(-149.0));
+}
+// τ of band layer `layer` of the grid (4 bands) from the fetched channels: 2^(Σ channel × its row).
 vec4 transmittanceAt(int layer) {
     vec4 depth = vec4(0.0);
-    [[unroll]] for (int c = 0; c < 4; ++c)
-        depth += transmittanceWeight[c] * texelFetch(shadowTransmittance, ivec3(transmittanceTexel[c], layer), 0);
+    [[unroll]] for (int c = 0; c < DEPTH_CHANNELS; ++c)
+        depth += depthChannel[c] * texelFetch(depthSpectra, c * BAND_LAYERS + layer);
+    [[unroll]] for (int i = 0; i < SLAB_CHANNELS; ++i) {
+        const int c = DEPTH_CHANNELS + 2 * i;
+        const float crossings = depthChannel[c];
+        if (crossings > 0.0)
+            depth += crossings * slabLog2Transmittance(min(depthChannel[c + 1] / crossings, 1.0),
+                                                       texelFetch(depthSpectra, c * BAND_LAYERS + layer),
+                                                       texelFetch(depthSpectra, (c + 1) * BAND_LAYERS + layer));
+    }
     return exp2(depth);
 }
 void filterLight() {
     filtered = FILTERED_SHADOWS && shadowLayer >= 0;
     if (!filtered) return;
-    transmittanceBilinear();
-    const int first = shadowLayer * BAND_LAYERS + int(M.params.y);
+    fetchDepthChannels();
+    const int first = int(M.params.y);
     [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) lightFilter[k] = transmittanceAt(first + k);
 }
 // The rank-one coupling of light l under its filter: Σ over every band (all passes) of the
 // excitation integrand × τ, in place of the unfiltered M.coupling.
 float filteredCoupling(int l) {
-    const int record = int(M.params.z) + l * BAND_LAYERS, first = shadowLayer * BAND_LAYERS;
+    const int record = int(M.params.z) + l * BAND_LAYERS;
     float sum = 0.0;
-    for (int j = 0; j < BAND_LAYERS; ++j) sum += dot(texelFetch(shadowExcitation, record + j), transmittanceAt(first + j));
+    for (int j = 0; j < BAND_LAYERS; ++j) sum += dot(texelFetch(shadowExcitation, record + j), transmittanceAt(j));
     return sum;
 }
 
@@ -262,10 +292,10 @@ void addLight(int l, float diffuseWeight, float specularWeight) {
 // band of τ × that band's row of (1/π)·D·E·Δλ, this pass's output bands (a matrix–vector
 // product per fragment: 4·BAND_LAYERS rows of OUTPUT_COUNT fetches).
 void addFilteredEmission(int l, float g) {
-    const int base = int(M.params.z) + l * 4 * BAND_LAYERS * BAND_LAYERS, first = shadowLayer * BAND_LAYERS;
+    const int base = int(M.params.z) + l * 4 * BAND_LAYERS * BAND_LAYERS;
     const int outFirst = int(M.params.y);
     for (int j = 0; j < BAND_LAYERS; ++j) {
-        const vec4 tau = transmittanceAt(first + j);
+        const vec4 tau = transmittanceAt(j);
         for (int c = 0; c < 4; ++c) {
             const float w = g * tau[c];
             const int row = base + (4 * j + c) * BAND_LAYERS + outFirst;
@@ -430,6 +460,21 @@ void main() {
         }
     }
 #endif
+    // What the camera sees through: the sheets and media in front of this surface, as their
+    // optical-depth channels at this pixel (the channel pass), τ = 2^(Σ c·k) band by band.
+    if (VIEW_CHANNELS > 0 && RADIANCE) {
+        float c[VIEW_ARRAY];
+        [[unroll]] for (int j = 0; j < VIEW_LAYERS; ++j) {
+            const vec4 v = texelFetch(viewChannels, ivec3(ivec2(gl_FragCoord.xy), j), 0);
+            [[unroll]] for (int i = 0; i < 4; ++i) c[4 * j + i] = v[i];
+        }
+        const int first = int(M.params.y);
+        [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) {
+            vec4 depth = vec4(0.0);
+            [[unroll]] for (int j = 0; j < VIEW_CHANNELS; ++j) depth += c[j] * texelFetch(depthSpectra, j * BAND_LAYERS + first + k);
+            acc[k] *= exp2(depth);
+        }
+    }
     writeOutputs();
 }
 

@@ -26,10 +26,13 @@
 #define OUTPUT_COUNT MAX_OUTPUTS
 #endif
 
-// The coloured shadows' passes (drawn from a light, render/spectral_resources.cpp) write the
-// optical depth log2 of each factor instead, blended by addition, so that the band passes can
-// interpolate it between the map's texels — linear along a slab's side, where τ is not.
-layout(constant_id = TRANSMIT_SPEC_LOG_OUTPUT) const bool LOG_OUTPUT = false;
+// The coloured shadows' passes (drawn from a light, render/shadow_transmittance.cpp) write the
+// optical-depth channels instead (interface.h), blended by addition: a sheet's crossing adds 1 to
+// its material's channel, a medium's face ±its distance (the path ℓ, summed), a slab's 1 and cos θ
+// to its pair — the same for every band, so a map holds ⌈channels / 4⌉ layers, not the bands.
+// This pass's outputs are channels FIRST_CHANNEL … FIRST_CHANNEL + 4·OUTPUT_COUNT − 1.
+layout(constant_id = TRANSMIT_SPEC_CHANNEL_OUTPUT) const bool CHANNEL_OUTPUT = false;
+layout(constant_id = TRANSMIT_SPEC_FIRST_CHANNEL) const int FIRST_CHANNEL = 0;
 // The slabs' second draw: their reflection R·L(mirror direction), added (blend destination + source)
 // after their transmittance has multiplied what is behind — draws go back to front.
 layout(constant_id = TRANSMIT_SPEC_REFLECTION) const bool REFLECTION = false;
@@ -77,6 +80,18 @@ const float ENTRY_LIMIT = 64.0;
 const float INV_PI = 0.31830988618379067;
 
 vec4 factor[OUTPUT_COUNT];
+void writeOutputs();  // factor to the attachments (after main)
+
+// CHANNEL_OUTPUT: `value` into this material's first channel (params.w) and, for a slab's pair,
+// `second` into the next; 0 in the other channels of this pass.
+void writeChannels(float value, float second, bool pair) {
+    const int first = int(runtimeValue(M.params.w)) - FIRST_CHANNEL;
+    for (int k = 0; k < OUTPUT_COUNT; ++k)
+        for (int j = 0; j < 4; ++j) {
+            const int c = 4 * k + j;
+            factor[k][j] = c == first ? value : pair && c == first + 1 ? second : 0.0;
+        }
+}
 
 void main() {
     // Distances along the ray, in units: from the eye (perspective) or the camera's plane
@@ -94,6 +109,11 @@ void main() {
         const vec3 v = perspective ? normalize(c - p) : -pc.cameraForward.xyz;
         if (dot(nrm, v) < 0.0) nrm = -nrm;
         const float cosI = min(dot(nrm, v), 1.0);
+        if (CHANNEL_OUTPUT) {
+            writeChannels(1.0, cosI, true);
+            writeOutputs();
+            return;
+        }
         const vec3 mirror = reflect(-v, nrm);
         for (int k = 0; k < OUTPUT_COUNT; ++k) {
             const vec4 n = M.ior[k];
@@ -105,7 +125,7 @@ void main() {
             const vec4 ds = 1.0 / (1.0 - rs * rs * tau * tau), dp = 1.0 / (1.0 - rp * rp * tau * tau);
             const vec4 T = 0.5 * ((1.0 - rs) * (1.0 - rs) * tau * ds + (1.0 - rp) * (1.0 - rp) * tau * dp);
             if (!REFLECTION) {
-                factor[k] = LOG_OUTPUT ? max(log2(T), vec4(-149.0)) : T;
+                factor[k] = T;
                 continue;
             }
             const vec4 R = 0.5 * (rs + (1.0 - rs) * (1.0 - rs) * rs * tau * tau * ds + rp +
@@ -122,9 +142,12 @@ void main() {
     } else if ((runtimeValue(M.switches.x) & MATERIAL_MEDIUM) == 0u) {
         // A sheet on or behind the opaque surface is hidden by it.
         if (t >= tO) discard;
-        // log2 of a black band is −∞, and −∞ × a zero interpolation weight NaN: 2⁻¹⁴⁹ is 0 in float.
-        for (int k = 0; k < OUTPUT_COUNT; ++k)
-            factor[k] = LOG_OUTPUT ? max(log2(M.transmittance[k]), vec4(-149.0)) : M.transmittance[k];
+        if (CHANNEL_OUTPUT) {
+            writeChannels(1.0, 0.0, false);
+            writeOutputs();
+            return;
+        }
+        for (int k = 0; k < OUTPUT_COUNT; ++k) factor[k] = M.transmittance[k];
     } else {
         // s = t − t_ref, the distance along the ray past the mesh's nearest point q (pc.draw.xyz), from
         // differences of nearby points rather than of two distances from the camera, which would
@@ -134,9 +157,17 @@ void main() {
         float s = perspective ? dot(p - q, (p - c) + (q - c)) / (t + length(q - c)) : dot(p - q, pc.cameraForward.xyz);
         if (t > tO) s -= t - tO;  // behind the opaque surface: the path ends there
         if (!gl_FrontFacing) s = -s;
-        for (int k = 0; k < OUTPUT_COUNT; ++k)
-            factor[k] = LOG_OUTPUT ? M.attenuation[k] * s : exp2(min(M.attenuation[k] * s, vec4(ENTRY_LIMIT)));
+        if (CHANNEL_OUTPUT) {
+            writeChannels(-s, 0.0, false);  // the path: + where the ray leaves, − where it enters
+            writeOutputs();
+            return;
+        }
+        for (int k = 0; k < OUTPUT_COUNT; ++k) factor[k] = exp2(min(M.attenuation[k] * s, vec4(ENTRY_LIMIT)));
     }
+    writeOutputs();
+}
+
+void writeOutputs() {
     out0 = factor[0];
 #if OUTPUT_COUNT > 1
     out1 = factor[1];

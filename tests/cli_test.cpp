@@ -659,26 +659,29 @@ TEST(CliReference, DocsAreCurrent) {
         << "docs/cli.md is stale: python3 tools/update_cli_reference.py build/metamer";
 }
 
-// Issue 51, class 8: coloured shadows cost the transparent area each light sees × the band layers
-// (render/transmittance_map_cost.h). 600 nested spheres around a point light on 801 bands would
-// take about 11 minutes of transmittance maps with lavapipe: refused before anything is drawn,
-// naming the count and the time. The CPU reference traces shadow rays instead and renders it.
+// Issue 51, class 8, and issue 50: coloured shadows cost the transparent area each light sees × the
+// optical-depth channels' layers (render/transmittance_map_cost.h: per transparent material, not
+// per band). 50 000 sheets each covering the light's whole view, cycling through 64 filters (16
+// layers), would take about 12 minutes of transmittance maps with lavapipe: refused before anything
+// is drawn, naming the count and the time. The CPU reference traces shadow rays instead.
 TEST(Cli, ColouredShadowsThatWouldTakeTooLongAreRefusedBeforeDrawing) {
     const fs::path dir = freshDir("transmittance-cost");
     fs::create_directories(dir);
-    std::string objects = R"({"shape": "quad", "center": [0, -20, 0], "normal": [0, 1, 0], "size": [100, 100], "material": "back"})";
-    for (int i = 0; i < 600; ++i)
-        objects += fmt::format(R"(, {{"shape": "sphere", "center": [0, 0, 0], "radius": {}, "material": "filter"}})",
-                               1 + 0.01 * i);
-    std::ofstream(dir / "nested.json") << R"({"grid": {"start_nm": 380, "end_nm": 780, "step_nm": 0.5},
+    std::string objects = R"({"shape": "quad", "center": [0, 0, 0], "normal": [0, 0, 1], "size": [2, 2], "material": "back"})";
+    std::string materials = R"("back": {"diffuse": 0.5})";
+    for (int m = 0; m < 64; ++m) materials += fmt::format(R"(, "f{}": {{"transmittance": {}}})", m, 0.9 - 0.001 * m);
+    for (int i = 0; i < 50000; ++i)
+        objects += fmt::format(R"(, {{"shape": "quad", "center": [0, 0, {}], "normal": [0, 0, 1], "size": [2, 2], "material": "f{}"}})",
+                               0.1 + 1e-5 * i, i % 64);
+    std::ofstream(dir / "nested.json") << R"({"grid": {"start_nm": 380, "end_nm": 780, "step_nm": 5},
   "camera": {"position": [0, 0, 30], "target": [0, 0, 0], "width": 8, "height": 8},
-  "lights": [{"type": "point", "position": [0, 0, 0], "spectrum": "illuminants/D65", "scale": 0.01}],
-  "materials": {"back": {"diffuse": 0.5}, "filter": {"transmittance": 0.9}},
+  "lights": [{"type": "directional", "direction": [0, 0, -1], "spectrum": "illuminants/D65", "scale": 0.01}],
+  "materials": {)" << materials << R"(},
   "objects": [)" << objects << "]}";
     const CliRun gpu = run("render " + (dir / "nested.json").string() + " --out " + (dir / "gpu").string());
     EXPECT_EQ(gpu.code, 2) << gpu.output;
-    EXPECT_NE(gpu.output.find("nested.json: lights: coloured shadows: 600 transparent objects drawn into 6 light map "
-                              "layer(s) of 201 band layers"),
+    EXPECT_NE(gpu.output.find("nested.json: lights: coloured shadows: 50000 transparent objects drawn into 1 light map "
+                              "layer(s) of 16 optical-depth layer(s)"),
               std::string::npos)
         << gpu.output;
     EXPECT_NE(gpu.output.find("more than the 600 s a scene's transmittance maps may take"), std::string::npos)

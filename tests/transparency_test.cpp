@@ -496,3 +496,38 @@ TEST(Transparency, GpuMatchesReferenceOnFiltersAndMedia) {
     EXPECT_GE(cs.pixels, 300);
     EXPECT_LE(cs.maxRelative, 1e-2);
 }
+
+// Issue 50: ten thousand sheets, stacked 10 µm apart, multiply as Tⁿ — seen through from the camera
+// (the channel pass: one draw each, n summed at the pixel) and in their coloured shadow (the
+// transmittance map's channel: n interpolated, then 2^(n·log2 T) per band). Each sheet passes
+// gel(λ)^(1/2500), so the stack passes gel⁴ (down to 6·10⁻⁶ at the gel's foot). A directional
+// light at 45° (travelling +x, −z) throws the stack's shadow 0.3 m to its right.
+TEST(Transparency, TenThousandSheetsMultiplyAsTToTheN) {
+    Scene s = litWall();
+    s.lights.push_back(directionalLight({1, 0, -1}, gaussianSpectrum(600, 100, 1.5, 300, 800, 1), 1.0));
+    s.lights.back().shadows = true;
+    std::vector<double> nm, v;
+    for (double l = 300; l <= 800; l += 5) {
+        nm.push_back(l);
+        v.push_back(std::pow(0.05 + 0.9 / (1.0 + std::exp(-(l - 560) / 15)), 1.0 / 2500.0));
+    }
+    const uint32_t m = addMaterial(s, filterSheet(sampledSpectrum(nm, v, "a 2500th of a gel"), "thin gel"));
+    constexpr int kSheets = 10000;
+    for (int i = 0; i < kSheets; ++i) s.meshes.push_back(quad({-0.3, 0, 0.3 + 1e-5 * i}, {0, 0, 1}, 0.3, 0.3, m));
+    auto stack = [&](const SceneOnGrid& g, int b) { return std::pow(g.materials[m].transmittance[size_t(b)], kSheets); };
+    // The pixel under the stack (x = −0.3 m): the wall is lit whole there and seen through every sheet.
+    const int under = int((0.5 - 0.3) * kPx);
+    expectPixel(
+        s, under, kPx / 2,
+        [&](const SceneOnGrid& g, int b) {
+            return stack(g, b) * (g.lights[0][size_t(b)] + g.lights[1][size_t(b)] * std::sqrt(0.5)) / kPi;
+        },
+        1e-5, "seen through the stack");
+    // The middle pixel: in the stack's coloured shadow, not behind it.
+    expectPixel(
+        s, kPx / 2, kPx / 2,
+        [&](const SceneOnGrid& g, int b) {
+            return (g.lights[0][size_t(b)] + g.lights[1][size_t(b)] * std::sqrt(0.5) * stack(g, b)) / kPi;
+        },
+        1e-5, "in the stack's coloured shadow");
+}

@@ -1,8 +1,8 @@
 // Coloured shadows (packed.filteredShadows): the transmittance maps drawn once per scene, from each
-// shadow-map layer's light — the opaque surfaces' distance, then the transparent surfaces' optical
-// depth in front of them, band group by band group — as a Frame of declared passes
-// (render/frame_pass.h), read by the band passes through BINDING_SHADOW_TRANSMITTANCE
-// (docs/physics.md, "Transparent objects").
+// shadow-map layer's light — the opaque surfaces' distance, then the transparent surfaces in front
+// of them adding their optical-depth channels (interface.h: per transparent material, not per band)
+// — as a Frame of declared passes (render/frame_pass.h), read by the band passes through
+// BINDING_SHADOW_TRANSMITTANCE with BINDING_DEPTH_SPECTRA (docs/physics.md, "Coloured shadows").
 // Tests: tests/transparency_test.cpp (coloured shadows against the CPU reference).
 #include "render/spectral_resources.h"
 
@@ -12,22 +12,22 @@
 #include "vk/pipeline.h"
 #include "vk/render_pass.h"
 
+#include <algorithm>
 #include <limits>
-#include <map>
 #include <memory>
 
 namespace metamer {
 
-// The coloured shadows' images: the transmittance maps (per shadow-map layer, every band layer) and
-// the light's distance pre-pass targets, TRANSMITTANCE_MAP_SIZE².
+// The coloured shadows' images: the transmittance maps (per shadow-map layer, the channels' layers)
+// and the light's distance pre-pass targets, TRANSMITTANCE_MAP_SIZE².
 void SpectralResources::createShadowTransmittanceImages() {
     const uint32_t size = TRANSMITTANCE_MAP_SIZE;
-    const uint32_t layers = uint32_t(packed.shadowMaps.layers.size()) * uint32_t(packed.bandLayers);
+    const uint32_t layers = uint32_t(packed.shadowMaps.layers.size()) * uint32_t(packed.depthLayers);
     if (layers > ctx.properties().limits.maxImageArrayLayers)
         failInput(Where{scene.file.string(), "lights", 0},
-                  "coloured shadows need a transmittance layer per shadow-map layer ({}) and per 4 bands ({}): {} layers, "
-                  "beyond this device's {}; cast shadows from fewer lights (\"shadows\": false), or render fewer bands",
-                  packed.shadowMaps.layers.size(), packed.bandLayers, layers, ctx.properties().limits.maxImageArrayLayers);
+                  "coloured shadows need a transmittance layer per shadow-map layer ({}) and per 4 optical-depth "
+                  "channels ({}): {} layers, beyond this device's {}; cast shadows from fewer lights (\"shadows\": false)",
+                  packed.shadowMaps.layers.size(), packed.depthLayers, layers, ctx.properties().limits.maxImageArrayLayers);
     vk::ImageDesc t;
     t.width = t.height = size;
     t.layers = layers;
@@ -49,9 +49,10 @@ void SpectralResources::createShadowTransmittanceImages() {
 }
 
 // Coloured shadows, drawn once per scene (they depend on the lights and objects, not the camera):
-// from each shadow-map layer's light, the opaque surfaces' distance (opaque_distance.frag) and then,
-// band group by band group, the transparent surfaces' product in front of them (transmit.frag) —
-// the camera's transmission, seen from the light — into that layer's transmittance layers.
+// from each shadow-map layer's light, the opaque surfaces' distance (opaque_distance.frag) and then
+// the transparent surfaces in front of them, each adding its crossing to its material's channels
+// (transmit.frag, CHANNEL_OUTPUT), in groups of at most MAX_OUTPUTS layers (one group below 33
+// channels) — so each transparent object is drawn once per light and group, whatever the bands.
 void SpectralResources::drawShadowTransmittance() {
     auto t0 = Clock::now();
     const uint32_t size = TRANSMITTANCE_MAP_SIZE;
@@ -68,29 +69,38 @@ void SpectralResources::drawShadowTransmittance() {
         dd, opaqueDistanceFragment().code, opaqueDistanceFragment().bytes);
     const vk::OwnedFramebuffer distanceFramebuffer =
         vk::createFramebuffer(ctx.device(), distancePass, {lightDistance.layerView(0), lightDepth.layerView(0)}, size, size);
-    // One render pass and pipeline per attachment count: clear to 0, add the optical depths.
-    std::map<uint32_t, std::pair<VkRenderPass, VkPipeline>> byCount;
-    for (const PassObjects& band : passes) {
-        if (byCount.count(band.attachments)) continue;
+    // The groups of channel layers, each a render pass of up to MAX_OUTPUTS attachments: cleared to
+    // 0 (nothing crossed), the channels added.
+    struct Group {
+        uint32_t firstLayer, attachments;
+        VkRenderPass renderPass;
+        VkPipeline pipeline;
+    };
+    std::vector<Group> groups;
+    for (uint32_t first = 0; first < uint32_t(packed.depthLayers); first += MAX_OUTPUTS) {
+        const uint32_t attachments = std::min<uint32_t>(MAX_OUTPUTS, uint32_t(packed.depthLayers) - first);
         vk::RenderPassDesc desc;
-        for (uint32_t i = 0; i < band.attachments; ++i)
+        for (uint32_t i = 0; i < attachments; ++i)
             desc.colors.push_back(
                 vk::attachmentFor(VK_FORMAT_R32G32B32A32_SFLOAT, vk::Access::ColorAttachment, VK_ATTACHMENT_LOAD_OP_CLEAR));
         renderPasses.push_back(vk::sharedRenderPass(
-            ctx.objects(), fmt::format("spectral.shadow transmittance attachments={}", band.attachments), desc));
+            ctx.objects(), fmt::format("spectral.shadow transmittance attachments={}", attachments), desc));
         const VkRenderPass rp = renderPasses.back().get();
-        const SpirvCode code = transmitFragment(band.attachments);
-        vk::GraphicsPipelineDesc pd = transparentPipelineDesc(rp, band.attachments, size);
+        const SpirvCode code = transmitFragment(attachments);
+        vk::GraphicsPipelineDesc pd = transparentPipelineDesc(rp, attachments, size);
         pd.multiplyBlend = false;
-        pd.addBlend = true;  // optical depths add (transmit.frag, LOG_OUTPUT)
-        const uint32_t logOutput = VK_TRUE;
-        const VkSpecializationMapEntry entry{0, 0, sizeof logOutput};
-        const VkSpecializationInfo si{1, &entry, sizeof logOutput, &logOutput};
+        pd.addBlend = true;  // the channels add (transmit.frag, CHANNEL_OUTPUT)
+        gpu::TransmitSpecialization spec{};
+        spec.channelOutput = VK_TRUE;
+        spec.firstChannel = int32_t(4 * first);
+        VkSpecializationMapEntry entries[TRANSMIT_SPEC_FIRST_CHANNEL + 1];
+        for (uint32_t id = 0; id <= TRANSMIT_SPEC_FIRST_CHANNEL; ++id) entries[id] = {id, id * 4, 4};
+        const VkSpecializationInfo si{TRANSMIT_SPEC_FIRST_CHANNEL + 1, entries, sizeof spec, &spec};
         const VkPipeline pl = makeOwnPipeline(
-            fmt::format("spectral.shadow transmittance attachments={} {}x{} pass={} layout={} log", band.attachments, size,
-                        size, static_cast<void*>(rp), static_cast<void*>(pipelineLayout.get())),
+            fmt::format("spectral.shadow transmittance attachments={} {}x{} pass={} layout={} channels from {}", attachments,
+                        size, size, static_cast<void*>(rp), static_cast<void*>(pipelineLayout.get()), spec.firstChannel),
             pd, code.code, code.bytes, &si);
-        byCount[band.attachments] = {rp, pl};
+        groups.push_back({first, attachments, rp, pl});
     }
     std::vector<vk::OwnedFramebuffer> framebuffers;
     // The frame: the light's distance and depth are its own, rewritten per light; the maps are
@@ -109,7 +119,7 @@ void SpectralResources::drawShadowTransmittance() {
     const VkClearValue farDepth{.depthStencil = {1.0f, 0}};
     VkClearValue noSurface{};
     noSurface.color.float32[0] = std::numeric_limits<float>::max();
-    const VkClearValue clear{};  // optical depth 0: nothing in the way
+    const VkClearValue clear{};  // every channel 0: nothing in the way
     for (size_t layer = 0; layer < packed.shadowMaps.layers.size(); ++layer) {
         // The light as the passes' "camera": a point light's position (distances from it), or a
         // directional light's travel (distances along it, from the frame's origin).
@@ -135,21 +145,22 @@ void SpectralResources::drawShadowTransmittance() {
                                    for (const PackedDraw& d : packed.draws)
                                        if (!d.transparent) vkCmdDrawIndexed(cmd, d.indexCount, 1, d.firstIndex, d.vertexOffset, 0);
                                }});
-        for (size_t p = 0; p < passes.size(); ++p) {
-            const auto [rp, pl] = byCount.at(passes[p].attachments);
+        for (size_t gi = 0; gi < groups.size(); ++gi) {
+            const Group& group = groups[gi];
             std::vector<VkImageView> views;
-            const uint32_t first = uint32_t(layer) * uint32_t(packed.bandLayers) + passes[p].firstLayer;
-            for (uint32_t i = 0; i < passes[p].attachments; ++i) views.push_back(shadowTransmittance.layerView(first + i));
-            framebuffers.push_back(vk::createFramebuffer(ctx.device(), rp, views, size, size));
-            const VkPipeline pipeline = pl;
+            const uint32_t first = uint32_t(layer) * uint32_t(packed.depthLayers) + group.firstLayer;
+            for (uint32_t i = 0; i < group.attachments; ++i) views.push_back(shadowTransmittance.layerView(first + i));
+            framebuffers.push_back(vk::createFramebuffer(ctx.device(), group.renderPass, views, size, size));
+            const VkPipeline pipeline = group.pipeline;
             std::vector<ResourceUse> uses = transmission;
-            uses.push_back({maps, vk::Access::ColorAttachment, first, passes[p].attachments, false});
-            lightPasses.add(FramePass{fmt::format("shadow transmittance {} band pass {}", layer, p),
-                                   "transmit.frag, LOG_OUTPUT (optical depths add)", std::move(uses), rp,
+            uses.push_back({maps, vk::Access::ColorAttachment, first, group.attachments, false});
+            // The material blocks of band pass 0: a material's channel (params.w) is the same in every pass.
+            lightPasses.add(FramePass{fmt::format("shadow transmittance {} channel group {}", layer, gi),
+                                   "transmit.frag, CHANNEL_OUTPUT (the channels add)", std::move(uses), group.renderPass,
                                    framebuffers.back().get(), {size, size},
-                                   std::vector<VkClearValue>(passes[p].attachments, clear),
-                                   [this, f, p, pipeline](VkCommandBuffer cmd) {
-                                       drawTransparent(cmd, *f, p, pipeline, lightDescriptorSet);
+                                   std::vector<VkClearValue>(group.attachments, clear),
+                                   [this, f, pipeline](VkCommandBuffer cmd) {
+                                       drawTransparent(cmd, *f, 0, pipeline, lightDescriptorSet);
                                    }});
         }
         eyes.push_back(std::move(cm));

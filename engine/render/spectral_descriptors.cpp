@@ -1,6 +1,6 @@
 // The spectral frame's descriptor set layouts, pipeline layout and sets (SpectralResources::
 // createLayouts): set 0 — the uniform blocks, shadow maps, lobe tables and weights, the opaque
-// distance and the coloured shadows — three times (the band passes', the lobe pass's, the coloured
+// distance and the coloured shadows (maps and channel spectra) — three times (the band passes', the lobe pass's, the coloured
 // shadows' passes'), and set 1 per material (its textures). Binding numbers from shaders/interface.h.
 // Tests: through render/spectral_pass.h's (every GPU test, validation layers on).
 #include "render/spectral_resources.h"
@@ -12,7 +12,7 @@ namespace metamer {
 
 void SpectralResources::createLayouts() {
     VkDevice d = ctx.device();
-    constexpr int kBindings = 12;
+    constexpr int kBindings = 14;
     constexpr int kDynamic = 4;  // bindings 1..4
     VkDescriptorSetLayoutBinding bindings[kBindings] = {
         {BINDING_LIGHTS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
@@ -27,6 +27,8 @@ void SpectralResources::createLayouts() {
         {BINDING_OPAQUE_DISTANCE, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
         {BINDING_SHADOW_TRANSMITTANCE, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
         {BINDING_SHADOW_EXCITATION, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
+        {BINDING_DEPTH_SPECTRA, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
+        {BINDING_VIEW_CHANNELS, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
     };
     VkDescriptorSetLayoutCreateInfo sl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
     sl.bindingCount = kBindings;
@@ -54,8 +56,8 @@ void SpectralResources::createLayouts() {
     // Three sets 0 (the band passes', the lobe pass's, the coloured shadows' passes'), one set 1 per material.
     VkDescriptorPoolSize sizes[4] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 3 * 2},
                                      {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC, 3 * kDynamic},
-                                     {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, TEXTURE_BINDINGS * materialCount + 3 * 4},
-                                     {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 3 * 2}};
+                                     {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, TEXTURE_BINDINGS * materialCount + 3 * 5},
+                                     {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 3 * 3}};
     VkDescriptorPoolCreateInfo pci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     pci.maxSets = 3 + materialCount;
     pci.poolSizeCount = 4;
@@ -79,6 +81,8 @@ void SpectralResources::createLayouts() {
         {fluorescenceBuffer.handle(), 0, sizeof(gpu::GpuFluorescenceBlock)},
         {responseBuffer.handle(), 0, sizeof(gpu::GpuResponseBlock)},
         {shadowBuffer.handle(), 0, sizeof(gpu::GpuShadowBlock)},
+        {},
+        {},
         {},
         {},
         {},
@@ -119,7 +123,10 @@ void SpectralResources::createLayouts() {
         packed.filteredShadows
             ? VkDescriptorImageInfo{sampler, lightDistance.layerView(0), sampled}
             : placeholderInfo;
-    const VkBufferView excitationView = shadowExcitationView.get();
+    // The camera's optical-depth channels, where the band passes read them; else the placeholder.
+    const VkDescriptorImageInfo viewChannelsInfo =
+        viewChannelLayers > 0 ? VkDescriptorImageInfo{sampler, viewChannels.layerView(~0u), sampled} : placeholderArrayInfo;
+    const VkBufferView excitationView = shadowExcitationView.get(), depthView = depthSpectraView.get();
     for (VkDescriptorSet set : {descriptorSet, lobeDescriptorSet, lightDescriptorSet}) {
         if (set == VK_NULL_HANDLE) continue;
         VkWriteDescriptorSet writes[kBindings];
@@ -139,6 +146,10 @@ void SpectralResources::createLayouts() {
                 writes[i].pImageInfo = set == lightDescriptorSet ? &placeholderArrayInfo : &shadowTransmittanceInfo;
             else if (bindings[i].binding == BINDING_SHADOW_EXCITATION)
                 writes[i].pTexelBufferView = &excitationView;
+            else if (bindings[i].binding == BINDING_VIEW_CHANNELS)
+                writes[i].pImageInfo = set == descriptorSet ? &viewChannelsInfo : &placeholderArrayInfo;
+            else if (bindings[i].binding == BINDING_DEPTH_SPECTRA)
+                writes[i].pTexelBufferView = &depthView;
             else if (bindings[i].binding == BINDING_LOBE_TABLES)
                 writes[i].pTexelBufferView = &view;
             else

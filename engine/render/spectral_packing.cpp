@@ -116,6 +116,62 @@ std::vector<size_t> lightOrder(const Scene& scene, PackedScene& p) {
     return order;
 }
 
+// The optical-depth channels (interface.h) of the coloured shadows and the camera's channel pass:
+// one per sheet and medium, then two per slab, in p.depthSpectra per channel and band layer;
+// returns every material's first channel (−1: none). View-independent, once per scene, in double
+// rounded once to float.
+std::vector<float> packDepthChannels(PackedScene& p, const Scene& scene, const SceneOnGrid& g, const LocalFrame& frame) {
+    std::vector<float> first(g.materials.size(), -1.0f);
+    p.depthSpectra.clear();
+    if (scene.hasTransparency()) {
+        std::vector<size_t> linear, slabs;
+        for (size_t m = 0; m < g.materials.size(); ++m) {
+            if (g.materials[m].isFilter() || g.materials[m].isMedium()) linear.push_back(m);
+            else if (g.materials[m].isSlab()) slabs.push_back(m);
+        }
+        const size_t channels = linear.size() + 2 * slabs.size();
+        if (p.filteredShadows && channels > MAX_DEPTH_CHANNELS)
+            failInput(Where{scene.file.string(), "materials", 0},
+                      "{} transparent materials cast coloured shadows ({} sheets and media, one optical-depth channel "
+                      "each, and {} slabs, two each: {} channels); at most {}: share materials among the transparent "
+                      "objects, or cast shadows from no light (\"shadows\": false)",
+                      linear.size() + slabs.size(), linear.size(), slabs.size(), channels, MAX_DEPTH_CHANNELS);
+        p.depthChannels = int(linear.size());
+        p.slabChannels = int(slabs.size());
+        p.depthLayers = int(channels + 3) / 4;
+        const size_t bands = g.wavelengths_nm.size();
+        // One channel's rows: value(b) for the grid's bands, `padding` past them.
+        auto rows = [&](auto value, float padding) {
+            for (int j = 0; j < p.bandLayers; ++j) {
+                glm::vec4 v(padding);
+                for (int c = 0; c < 4; ++c)
+                    if (size_t(4 * j + c) < bands) v[c] = float(value(size_t(4 * j + c)));
+                p.depthSpectra.push_back(v);
+            }
+        };
+        const double log2of10 = std::log2(10.0);
+        for (size_t i = 0; i < linear.size(); ++i) {
+            const MaterialOnGrid& m = g.materials[linear[i]];
+            first[linear[i]] = float(i);
+            // A sheet's log2 T (a black band: 2⁻¹⁴⁹, 0 in float, and finite times a zero weight); a
+            // medium's −a·log2(10)·unit per unit of path.
+            if (m.isFilter())
+                rows([&](size_t b) { return std::max(std::log2(m.transmittance[b]), -149.0); }, 0.0f);
+            else
+                rows([&](size_t b) { return -m.absorbance[b] * log2of10 * frame.unit_m(); }, 0.0f);
+        }
+        for (size_t i = 0; i < slabs.size(); ++i) {
+            const MaterialOnGrid& m = g.materials[slabs[i]];
+            first[slabs[i]] = float(linear.size() + 2 * i);
+            // n(λ), air past the grid (T = 1 there); the attenuation across the thickness.
+            rows([&](size_t b) { return m.ior[b]; }, 1.0f);
+            rows([&](size_t b) { return m.slabAbsorbance.empty() ? 0.0 : m.slabAbsorbance[b] * log2of10 * m.slabThickness; }, 0.0f);
+        }
+    }
+    if (p.depthSpectra.empty()) p.depthSpectra.push_back(glm::vec4(0.0f));
+    return first;
+}
+
 }  // namespace
 
 uint32_t materialSwitches(const MaterialOnGrid& m, bool specular) {
@@ -259,6 +315,7 @@ PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes, const Loc
     };
     p.filteredShadows = scene.hasTransparency() && p.shadowMaps.any();
     p.bandLayers = (g.grid.bands() + 3) / 4;
+    const std::vector<float> depthChannel = packDepthChannels(p, scene, g, frame);
 
     std::vector<double> emissionOverLambda, attenuation;
     for (size_t mi = 0; mi < g.materials.size(); ++mi) {
@@ -317,7 +374,7 @@ PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes, const Loc
             scatterBands(m.diffuse, pass, b.diffuse);
             scatterBands(m.specular, pass, b.specular);
             scatterBands(emissionOverLambda, pass, b.emissionOverLambda);
-            b.params = glm::vec4(float(m.gloss), float(pass * MAX_OUTPUTS), excitationBase, 0.0f);
+            b.params = glm::vec4(float(m.gloss), float(pass * MAX_OUTPUTS), excitationBase, depthChannel[mi]);
             b.lobe = glm::vec4(lobeTableBase, glm::vec2(lobeWarp(m.gloss)), 0.0f);
             b.switches = glm::uvec4(materialSwitches(m, specular), 0u, 0u, 0u);
             for (int l = 0; l < MAX_LIGHTS; ++l) b.coupling[l / 4][l % 4] = coupling[l];

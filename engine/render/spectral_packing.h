@@ -61,6 +61,12 @@ struct PackedScene {
     bool filteredShadows = false;
     int bandLayers = 0;
     std::vector<glm::vec4> shadowExcitation;
+    // The optical-depth channels (interface.h; coloured shadows, the camera's channel pass):
+    // depthChannels sheets' and media's, then slabChannels slabs' pairs; depthLayers =
+    // ⌈(depthChannels + 2·slabChannels) / 4⌉ map layers per shadow-map layer; depthSpectra: per channel, bandLayers vec4 (BINDING_DEPTH_SPECTRA; one
+    // zero entry when none). A transparent material's first channel is its params.w.
+    int depthChannels = 0, slabChannels = 0, depthLayers = 0;
+    std::vector<glm::vec4> depthSpectra;
     // With hemisphere lights: the lobe table of every distinct gloss value of the specular
     // materials (reference/lobe_table.h), one after another; a material's params.w is its first entry.
     std::vector<glm::uvec4> lobeTables;

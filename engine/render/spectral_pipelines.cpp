@@ -57,9 +57,12 @@ VkPipeline SpectralResources::makePipeline(const vk::SharedHandle<VkRenderPass>&
                                            int32_t(packed.lights.emitters.x),
                                            int32_t(packed.lights.emitters.y),
                                            scene.hasEmitters(),
-                                           int32_t(plan.quantity)};
+                                           int32_t(plan.quantity),
+                                           packed.filteredShadows ? packed.depthChannels : 0,
+                                           packed.filteredShadows ? packed.slabChannels : 0,
+                                           int32_t(viewChannelLayers > 0 ? packed.depthChannels : 0)};
     // interface.h orders the struct's 4-byte fields by id.
-    constexpr uint32_t kIds = SPEC_QUANTITY + 1;
+    constexpr uint32_t kIds = SPEC_VIEW_CHANNELS + 1;
     VkSpecializationMapEntry entries[kIds];
     for (uint32_t id = 0; id < kIds; ++id) entries[id] = {id, id * 4, 4};
     VkSpecializationInfo si{kIds, entries, sizeof(spec), &spec};
@@ -184,8 +187,43 @@ void SpectralResources::createPasses() {
         passes.push_back(std::move(po));
     }
     if (hasLobePass) createLobePass();
-    if (hasTransmission) createTransmissionPasses();
+    if (viewChannelLayers > 0)
+        createViewChannelPass();
+    else if (hasTransmission)
+        createTransmissionPasses();
     declareFrame();
+}
+
+// The camera's channel pass (scenes whose transparent objects are sheets and media): after the
+// depth pre-pass, every transparent object once, adding its optical-depth channels (transmit.frag,
+// CHANNEL_OUTPUT) in front of the opaque surface, for the band passes to turn into τ per band.
+void SpectralResources::createViewChannelPass() {
+    vk::RenderPassDesc desc;
+    for (uint32_t i = 0; i < viewChannelLayers; ++i)
+        desc.colors.push_back(
+            vk::attachmentFor(VK_FORMAT_R32G32B32A32_SFLOAT, vk::Access::ColorAttachment, VK_ATTACHMENT_LOAD_OP_CLEAR));
+    renderPasses.push_back(vk::sharedRenderPass(
+        ctx.objects(), fmt::format("spectral.view channels attachments={}", viewChannelLayers), desc));
+    viewChannelPass.renderPass = renderPasses.back().get();
+    viewChannelPass.attachments = viewChannelLayers;
+    const SpirvCode code = transmitFragment(viewChannelLayers);
+    vk::GraphicsPipelineDesc pd = transparentPipelineDesc(viewChannelPass.renderPass, viewChannelLayers);
+    pd.multiplyBlend = false;
+    pd.addBlend = true;  // the channels add
+    gpu::TransmitSpecialization spec{};
+    spec.channelOutput = VK_TRUE;
+    VkSpecializationMapEntry entries[TRANSMIT_SPEC_FIRST_CHANNEL + 1];
+    for (uint32_t id = 0; id <= TRANSMIT_SPEC_FIRST_CHANNEL; ++id) entries[id] = {id, id * 4, 4};
+    const VkSpecializationInfo si{TRANSMIT_SPEC_FIRST_CHANNEL + 1, entries, sizeof spec, &spec};
+    viewChannelPass.pipelines = {makeOwnPipeline(
+        fmt::format("spectral.view channels attachments={} {}x{} pass={} layout={}", viewChannelLayers, plan.targetWidth,
+                    plan.targetHeight, static_cast<void*>(viewChannelPass.renderPass),
+                    static_cast<void*>(pipelineLayout.get())),
+        pd, code.code, code.bytes, &si)};
+    std::vector<VkImageView> views;
+    for (uint32_t i = 0; i < viewChannelLayers; ++i) views.push_back(viewChannels.layerView(i));
+    viewChannelPass.framebuffer =
+        vk::createFramebuffer(ctx.device(), viewChannelPass.renderPass, views, plan.targetWidth, plan.targetHeight);
 }
 
 // The depth pre-pass of a scene with transparent objects: it also writes the nearest opaque

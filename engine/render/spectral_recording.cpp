@@ -101,15 +101,23 @@ void SpectralResources::drawTransparent(VkCommandBuffer cmd, const SpectralFrame
     }
     std::stable_sort(order.begin(), order.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
     VkPipeline bound = VK_NULL_HANDLE;
+    // A scene of 10⁵ sheets is 10⁵ draws: each binds its material only where it changes, and pushes
+    // the point its path is measured from only for a medium (the one kind that reads it).
+    uint32_t boundMaterial = ~0u;
     for (const auto& [distance, draw] : order) {
         const PackedDraw& d = *draw;
-        gpu::SpectralPushConstants pc = f.pc;
-        pc.draw = glm::vec4(f.nearestPoint(d), 0.0f);
-        vkCmdPushConstants(cmd, pipelineLayout.get(), VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
-                           sizeof pc, &pc);
-        const uint32_t offsets[4] = {uint32_t(p * lightSpectraStride), uint32_t((p * materials + d.material) * materialStride),
-                                     0u, 0u};
-        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelineLayout.get(), 0, 1, &set0, 4, offsets);
+        if ((packed.materials[d.material].switches.x & MATERIAL_MEDIUM) != 0u) {
+            gpu::SpectralPushConstants pc = f.pc;
+            pc.draw = glm::vec4(f.nearestPoint(d), 0.0f);
+            vkCmdPushConstants(cmd, pipelineLayout.get(), VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
+                               sizeof pc, &pc);
+        }
+        if (d.material != boundMaterial) {
+            boundMaterial = d.material;
+            const uint32_t offsets[4] = {uint32_t(p * lightSpectraStride),
+                                         uint32_t((p * materials + d.material) * materialStride), 0u, 0u};
+            vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelineLayout.get(), 0, 1, &set0, 4, offsets);
+        }
         if (bound != pipeline) vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, bound = pipeline);
         vkCmdDrawIndexed(cmd, d.indexCount, 1, d.firstIndex, d.vertexOffset, 0);
         if (reflection != VK_NULL_HANDLE && (packed.materials[d.material].switches.x & MATERIAL_SLAB) != 0u) {
@@ -133,7 +141,8 @@ SpectralResources::SceneReads SpectralResources::declareSceneReads(Frame& f, boo
     } uniforms[] = {{"lights", lightBuffer},         {"light spectra", lightSpectraBuffer},
                     {"materials", materialBuffer},   {"fluorescence", fluorescenceBuffer},
                     {"responses", responseBuffer},   {"shadow matrices", shadowBuffer},
-                    {"lobe tables", lobeTableBuffer}, {"shadow excitation", shadowExcitationBuffer}};
+                    {"lobe tables", lobeTableBuffer}, {"shadow excitation", shadowExcitationBuffer},
+                    {"optical-depth spectra", depthSpectraBuffer}};
     for (const auto& u : uniforms) buffer(reads.shading, u.name, u.buffer, vk::Access::UniformRead);
     auto image = [&](std::string name, const vk::Image& im, bool depthAspect) {
         const vk::Use sampled{vk::Access::Sampled, true, depthAspect};
@@ -159,6 +168,8 @@ void SpectralResources::declareFrame() {
     const size_t depthImage = frame.add(FrameResource::perFrame("depth", depth.handle(), 1, VK_IMAGE_ASPECT_DEPTH_BIT));
     const size_t distance = hasTransmission ? frame.add(FrameResource::perFrame("opaque distance", opaqueDistance.handle())) : 0;
     const size_t lobe = hasLobePass ? frame.add(FrameResource::perFrame("lobe weights", lobeWeights.handle())) : 0;
+    const size_t channels =
+        viewChannelLayers > 0 ? frame.add(FrameResource::perFrame("view channels", viewChannels.handle(), viewChannelLayers)) : 0;
     const bool copies = !plan.mappedReadback && !plan.responses;
     const size_t readback = copies ? frame.add(FrameResource::perFrame("readback buffer", readbackBuffer.handle())) : 0;
     const SceneReads scene = declareSceneReads(frame, true);
@@ -202,6 +213,15 @@ void SpectralResources::declareFrame() {
                             [this, draws](VkCommandBuffer cmd) {
                                 if (draws) drawScene(cmd, *frameState, lobePass.pipelines, 0, lobeDescriptorSet, true);
                             }});
+    if (viewChannelLayers > 0)
+        // What the camera sees through, per transparent material, once per frame for every band pass.
+        frame.add(FramePass{"channel pass", "transmit.frag, CHANNEL_OUTPUT (the channels add)",
+                            with({{channels, Access::ColorAttachment, 0, kAllLayers, false}, {distance, Access::Sampled}},
+                                 shading),
+                            viewChannelPass.renderPass, viewChannelPass.framebuffer.get(), extent,
+                            std::vector<VkClearValue>(viewChannelLayers), [this](VkCommandBuffer cmd) {
+                                drawTransparent(cmd, *frameState, 0, viewChannelPass.pipelines[0], descriptorSet);
+                            }});
     for (size_t p = 0; p < passes.size(); ++p) {
         const PassObjects& po = passes[p];
         std::vector<VkClearValue> clears(po.attachments + 1);
@@ -212,6 +232,7 @@ void SpectralResources::declareFrame() {
                                               {depthImage, Access::DepthAttachment, 0, kAllLayers, hasDepthPrePass}},
                                              shading);
         if (hasLobePass) uses.push_back({lobe, Access::Sampled});
+        if (viewChannelLayers > 0) uses.push_back({channels, Access::Sampled});
         frame.add(FramePass{plan.responses ? "response pass" : fmt::format("band pass {}", p),
                             fmt::format("OUTPUT_COUNT {}{}; a pipeline per material kind (specular, fluorescent, textured, "
                                         "normal-mapped, culled)",
@@ -220,7 +241,7 @@ void SpectralResources::declareFrame() {
                             [this, p, draws](VkCommandBuffer cmd) {
                                 if (draws) drawScene(cmd, *frameState, passes[p].pipelines, p, descriptorSet, false);
                             }});
-        if (!hasTransmission) continue;
+        if (!hasTransmission || viewChannelLayers > 0) continue;
         const PassObjects& to = transmissionPasses[p];
         frame.add(FramePass{fmt::format("transmission pass {}", p),
                             fmt::format("transmit.frag, OUTPUT_COUNT {}; farthest first, blend destination × source "

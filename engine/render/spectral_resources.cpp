@@ -36,15 +36,18 @@ SpectralResources::SpectralResources(vk::Context& c, const Scene& s, const Scene
     if (hasTransmission && packed.responses)
         failRuntime("the response pass cannot show transparent objects (radiance through a filter is not linear in "
                     "each material's spectra): render bands (render/display_frame.cpp does)");
-    // The coloured shadows' cost grows with the transparent area the lights see × band layers:
-    // said when it is long, refused when it would take hours, before anything is drawn.
+    const uint32_t channelLayers = uint32_t(packed.depthChannels + 3) / 4;
+    if (hasTransmission && packed.slabChannels == 0 && channelLayers >= 1 && channelLayers <= MAX_OUTPUTS)
+        viewChannelLayers = channelLayers;
+    // The coloured shadows' cost grows with the transparent area the lights see × the channels'
+    // layers: said when it is long, refused when it would take hours, before anything is drawn.
     if (packed.filteredShadows) {
-        transmittanceCost = transmittanceMapCost(packed, TRANSMITTANCE_MAP_SIZE, int(plan.passes));
+        transmittanceCost = transmittanceMapCost(packed, TRANSMITTANCE_MAP_SIZE);
         const Where where{scene.file.string(), "lights"};
         if (transmittanceCost.seconds > kMaxTransmittanceMapSeconds)
             failInput(where, "coloured shadows: {}, more than the {:g} s a scene's transmittance maps may take; cast "
                       "shadows from fewer lights (\"shadows\": false), make the transparent objects fewer or smaller "
-                      "in the lights' view, or render fewer bands (docs/numerics.md, \"Scale of transparent scenes\")",
+                      "in the lights' view (docs/numerics.md, \"Scale of transparent scenes\")",
                       describe(transmittanceCost), kMaxTransmittanceMapSeconds);
         if (transmittanceCost.seconds > kSlowTransmittanceMapSeconds)
             warn(where, "coloured shadows: " + describe(transmittanceCost) + " (drawn once per scene)");
@@ -161,6 +164,12 @@ void SpectralResources::createBuffers() {
     shadowExcitationBuffer = vk::Buffer(ctx, excitationBytes, VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT, "shadow excitation");
     shadowExcitationBuffer.upload(packed.shadowExcitation.data(), excitationBytes);
     shadowExcitationView = texelBufferView(ctx.device(), shadowExcitationBuffer, VK_FORMAT_R32G32B32A32_SFLOAT);
+    // The optical-depth channels' spectra (one zero entry when there are none): at most
+    // MAX_DEPTH_CHANNELS × BAND_LAYERS texels, within every device's limit.
+    const VkDeviceSize depthBytes = packed.depthSpectra.size() * sizeof(glm::vec4);
+    depthSpectraBuffer = vk::Buffer(ctx, depthBytes, VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT, "optical-depth spectra");
+    depthSpectraBuffer.upload(packed.depthSpectra.data(), depthBytes);
+    depthSpectraView = texelBufferView(ctx.device(), depthSpectraBuffer, VK_FORMAT_R32G32B32A32_SFLOAT);
 }
 
 // Each texture as an RGBA32F 2D-array image, 4 channels per layer (zero-padded), copied from a
@@ -267,6 +276,15 @@ void SpectralResources::createTargets(Readback mode, bool sampled, SpectralPassP
         od.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
         od.name = "opaque distance";
         opaqueDistance = vk::Image(ctx, od);
+    }
+    if (viewChannelLayers > 0) {
+        vk::ImageDesc vc;
+        vc.width = w;
+        vc.height = h;
+        vc.layers = viewChannelLayers;
+        vc.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
+        vc.name = "view channels";
+        viewChannels = vk::Image(ctx, vc);
     }
 }
 

@@ -137,15 +137,25 @@ struct SpectralResources {
     // opaque_distance.frag, BINDING_OPAQUE_DISTANCE). A pipeline each, no material variants.
     bool hasTransmission = false;
     vk::Image opaqueDistance;
-    // Coloured shadows (packed.filteredShadows): per shadow-map layer, BAND_LAYERS layers of the
-    // light's transmittance to the nearest opaque surface (TRANSMITTANCE_MAP_SIZE², RGBA32F), drawn
-    // once per scene like the shadow maps — from each light, the same distance pre-pass and
-    // transmission passes as from the camera, into lightDistance (R32F) and shadowTransmittance —
-    // and read by the band passes (BINDING_SHADOW_TRANSMITTANCE); the rank-one fluorescent
-    // materials' excitation integrands as a texel buffer (BINDING_SHADOW_EXCITATION).
+    // Where the transparent objects are sheets and media only (no slab, whose reflection must be
+    // added in depth order), the camera's transmission is a channel pass instead: one draw of each
+    // transparent object into viewChannelLayers layers of optical-depth channels (viewChannels,
+    // RGBA32F, BINDING_VIEW_CHANNELS), which the band passes turn into τ per band and multiply
+    // their radiance by (SPEC_VIEW_CHANNELS) — no transmission pass. 0: the transmission passes.
+    uint32_t viewChannelLayers = 0;
+    vk::Image viewChannels;
+    PassObjects viewChannelPass;
+    // Coloured shadows (packed.filteredShadows): per shadow-map layer, packed.depthLayers layers of
+    // the optical-depth channels along the light's rays to the nearest opaque surface
+    // (TRANSMITTANCE_MAP_SIZE², RGBA32F; interface.h), drawn once per scene like the shadow maps —
+    // from each light, the same distance pre-pass as from the camera, then the transparent objects
+    // adding their channels (transmit.frag, CHANNEL_OUTPUT), into lightDistance (R32F) and
+    // shadowTransmittance — and read by the band passes (BINDING_SHADOW_TRANSMITTANCE) with the
+    // channels' spectra (BINDING_DEPTH_SPECTRA); the rank-one fluorescent materials' excitation
+    // integrands as a texel buffer (BINDING_SHADOW_EXCITATION).
     vk::Image shadowTransmittance, lightDistance, lightDepth;
-    vk::Buffer shadowExcitationBuffer;
-    vk::OwnedBufferView shadowExcitationView;
+    vk::Buffer shadowExcitationBuffer, depthSpectraBuffer;
+    vk::OwnedBufferView shadowExcitationView, depthSpectraView;
     VkDescriptorSet lightDescriptorSet = VK_NULL_HANDLE;  // set 0 with the light's distance
     std::vector<PassObjects> transmissionPasses;
 
@@ -178,6 +188,7 @@ private:
     void classifyDraws();
     void createLobePass();
     void createTransmissionPasses();
+    void createViewChannelPass();
     void createDistancePrePass();
     void createShadowTransmittanceImages();
     void drawShadowTransmittance();

@@ -42,12 +42,12 @@ double visibleArea(const glm::dvec4 (&clip)[3]) {
 
 }  // namespace
 
-TransmittanceMapCost transmittanceMapCost(const PackedScene& p, int mapSize, int bandPasses) {
+TransmittanceMapCost transmittanceMapCost(const PackedScene& p, int mapSize) {
     TransmittanceMapCost c;
     if (!p.filteredShadows) return c;
     c.layers = p.shadowMaps.layers.size();
-    c.bandPasses = bandPasses;
-    c.bandLayers = p.bandLayers;
+    c.channelLayers = p.depthLayers;
+    c.groups = (p.depthLayers + MAX_OUTPUTS - 1) / MAX_OUTPUTS;
     const double texelsPerUnit = double(mapSize) * double(mapSize) / 4.0;  // NDC area 4 is the whole map
     for (const PackedDraw& d : p.draws) {
         if (!d.transparent) continue;
@@ -64,15 +64,15 @@ TransmittanceMapCost transmittanceMapCost(const PackedScene& p, int mapSize, int
             }
         }
     }
-    c.seconds = c.texels * double(c.bandLayers) / kTransmittanceWritesPerSecond +
-                double(c.transparentDraws) * double(c.layers) * double(bandPasses) * kTransmittanceSecondsPerDraw;
+    c.seconds = c.texels * (kTransmittanceSecondsPerTexel + double(c.channelLayers) * kTransmittanceSecondsPerTexelLayer) +
+                double(c.transparentDraws) * double(c.layers) * double(c.groups) * kTransmittanceSecondsPerDraw;
     return c;
 }
 
 std::string describe(const TransmittanceMapCost& c) {
-    return fmt::format("{} transparent objects drawn into {} light map layer(s) of {} band layers in {} band pass(es): "
-                       "{:.3g} texels of transparent area × {} band layers, about {:.3g} s with lavapipe",
-                       c.transparentDraws, c.layers, c.bandLayers, c.bandPasses, c.texels, c.bandLayers, c.seconds);
+    return fmt::format("{} transparent objects drawn into {} light map layer(s) of {} optical-depth layer(s) in {} "
+                       "pass(es): {:.3g} texels of transparent area × {} layer(s), about {:.3g} s with lavapipe",
+                       c.transparentDraws, c.layers, c.channelLayers, c.groups, c.texels, c.channelLayers, c.seconds);
 }
 
 }  // namespace metamer

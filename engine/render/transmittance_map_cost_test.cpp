@@ -29,11 +29,14 @@ void addSheet(PackedScene& p, double x, double y, double z, double side, bool tr
     p.draws.push_back(d);
 }
 
-// A scene with one shadow-map layer whose matrix is `viewProjection`, 21 band layers.
+// A scene with one shadow-map layer whose matrix is `viewProjection`, 21 band layers and 9
+// optical-depth channels (3 layers: the maps' cost does not depend on the bands).
 PackedScene oneLight(const glm::mat4& viewProjection) {
     PackedScene p;
     p.filteredShadows = true;
     p.bandLayers = 21;
+    p.depthChannels = 9;
+    p.depthLayers = 3;
     p.shadowMaps.layers.resize(1);
     p.shadowBlock.layers[0] = viewProjection;
     return p;
@@ -49,11 +52,14 @@ TEST(TransmittanceMapCost, ASheetCoversItsShareOfTheMapClippedToItsSquare) {
     addSheet(p, 1, 0, 0.5, 1.0);      // half outside: an eighth
     addSheet(p, 5, 5, 0.5, 1.0);      // outside: nothing but its draw
     addSheet(p, 0, 0, 0.5, 1.0, false);  // opaque: not in the maps
-    const TransmittanceMapCost c = transmittanceMapCost(p, 256, 3);
+    const TransmittanceMapCost c = transmittanceMapCost(p, 256);
     EXPECT_EQ(c.transparentDraws, 4u);
     EXPECT_EQ(c.layers, 1u);
     EXPECT_NEAR(c.texels, 256.0 * 256.0 * (0.25 + 1.0 + 0.125), 1e-6);
-    EXPECT_DOUBLE_EQ(c.seconds, c.texels * 21 / kTransmittanceWritesPerSecond + 4 * 3 * kTransmittanceSecondsPerDraw);
+    EXPECT_EQ(c.channelLayers, 3);
+    EXPECT_EQ(c.groups, 1);
+    EXPECT_DOUBLE_EQ(c.seconds, c.texels * (kTransmittanceSecondsPerTexel + 3 * kTransmittanceSecondsPerTexelLayer) +
+                                    4 * 1 * kTransmittanceSecondsPerDraw);
 }
 
 TEST(TransmittanceMapCost, WhatIsBehindAPointLightCostsNothingAndWhatCrossesItIsClipped) {
@@ -62,7 +68,7 @@ TEST(TransmittanceMapCost, WhatIsBehindAPointLightCostsNothingAndWhatCrossesItIs
     PackedScene p = oneLight(face);
     addSheet(p, 0, 0, -1, 2.0);   // fills the face exactly (tan 45° × 1 on each side)
     addSheet(p, 0, 0, +1, 2.0);   // behind the light: nothing
-    EXPECT_NEAR(transmittanceMapCost(p, 256, 1).texels, 256.0 * 256.0, 1e-3);
+    EXPECT_NEAR(transmittanceMapCost(p, 256).texels, 256.0 * 256.0, 1e-3);
     // A triangle through the light's plane (one corner behind it): only the part in front is
     // projected — a naive projection would divide by w ≈ 0 on the way.
     PackedScene q = oneLight(face);
@@ -76,7 +82,7 @@ TEST(TransmittanceMapCost, WhatIsBehindAPointLightCostsNothingAndWhatCrossesItIs
     d.transparent = true;
     q.indices = {0, 1, 2};
     q.draws.push_back(d);
-    const double texels = transmittanceMapCost(q, 256, 1).texels;
+    const double texels = transmittanceMapCost(q, 256).texels;
     EXPECT_GT(texels, 256.0 * 256.0 * 0.125);  // more than the front edge's own triangle...
     EXPECT_LT(texels, 256.0 * 256.0);          // ...and not the whole face
 }
@@ -85,5 +91,5 @@ TEST(TransmittanceMapCost, ASceneWithoutColouredShadowsCostsNothing) {
     PackedScene p = oneLight(glm::mat4(1.0f));
     addSheet(p, 0, 0, 0.5, 1.0);
     p.filteredShadows = false;
-    EXPECT_EQ(transmittanceMapCost(p, 256, 3).seconds, 0.0);
+    EXPECT_EQ(transmittanceMapCost(p, 256).seconds, 0.0);
 }
