@@ -160,6 +160,12 @@ using mat4 = glm::mat4;
 // 2^(Σ c·k) from the first SPEC_VIEW_CHANNELS channels at the pixel (BINDING_VIEW_CHANNELS; 0: none,
 // or the transmission passes multiply the target instead — a scene with slabs).
 #define SPEC_VIEW_CHANNELS 23
+// Coloured shadows through flat slabs: bit i set where slab i is flat (every normal of its objects
+// parallel), so that under a directional light its T is one spectrum per shadow-map layer, computed
+// in double once per scene (BINDING_DEPTH_SPECTRA from entry SPEC_SLAB_LAYER_ROWS:
+// [layer][slab][band layer]), where elsewhere the shader evaluates Fresnel's equations per band.
+#define SPEC_FLAT_SLABS 24
+#define SPEC_SLAB_LAYER_ROWS 25
 #define QUANTITY_RADIANCE 0
 #define QUANTITY_ILLUMINATION 1
 #define QUANTITY_REFLECTANCE 2
@@ -373,8 +379,10 @@ struct SpectralSpecialization {
     int32_t quantity;                            // SPEC_QUANTITY: QUANTITY_*
     int32_t depthChannels, slabChannels;         // SPEC_DEPTH_CHANNELS, SPEC_SLAB_CHANNELS
     int32_t viewChannels;                        // SPEC_VIEW_CHANNELS
+    uint32_t flatSlabs;                          // SPEC_FLAT_SLABS
+    int32_t slabLayerRows;                       // SPEC_SLAB_LAYER_ROWS
 };
-static_assert(sizeof(SpectralSpecialization) == 4 * (SPEC_VIEW_CHANNELS + 1), "one 4-byte field per id");
+static_assert(sizeof(SpectralSpecialization) == 4 * (SPEC_SLAB_LAYER_ROWS + 1), "one 4-byte field per id");
 static_assert(SPEC_AMBIENT_COUNT == 0 && SPEC_DIRECTIONAL_COUNT == 1 && SPEC_POINT_COUNT == 2 && SPEC_HAS_SPECULAR == 3 &&
                   SPEC_HAS_FLUORESCENCE == 4 && SPEC_HAS_TEXTURES == 5 && SPEC_HAS_NORMAL_MAPS == 6 &&
                   SPEC_FLUORESCENCE_SPECTRA == 7 && SPEC_RESPONSES == 8 && SPEC_HEMISPHERE_COUNT == 9 &&
@@ -382,7 +390,8 @@ static_assert(SPEC_AMBIENT_COUNT == 0 && SPEC_DIRECTIONAL_COUNT == 1 && SPEC_POI
                   SPEC_SHADOWED_POINT == 13 && SPEC_HEMISPHERE_PAIRED == 14 && SPEC_FILTERED_SHADOWS == 15 &&
                   SPEC_BAND_LAYERS == 16 && SPEC_EMITTER_TRIANGLES == 17 && SPEC_EMITTERS == 18 &&
                   SPEC_HAS_EMITTERS == 19 && SPEC_QUANTITY == 20 && SPEC_DEPTH_CHANNELS == 21 &&
-                  SPEC_SLAB_CHANNELS == 22 && SPEC_VIEW_CHANNELS == 23,
+                  SPEC_SLAB_CHANNELS == 22 && SPEC_VIEW_CHANNELS == 23 && SPEC_FLAT_SLABS == 24 &&
+                  SPEC_SLAB_LAYER_ROWS == 25,
               "SpectralSpecialization's fields are in id order");
 
 // transmit.frag's specialization constants, in id order.

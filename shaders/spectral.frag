@@ -40,6 +40,8 @@ layout(constant_id = SPEC_SLAB_CHANNELS) const int SLAB_CHANNELS = 0;
 const int DEPTH_LAYERS = (DEPTH_CHANNELS + 2 * SLAB_CHANNELS + 3) / 4;
 const int DEPTH_ARRAY = DEPTH_LAYERS > 0 ? 4 * DEPTH_LAYERS : 4;
 layout(constant_id = SPEC_VIEW_CHANNELS) const int VIEW_CHANNELS = 0;
+layout(constant_id = SPEC_FLAT_SLABS) const uint FLAT_SLABS = 0u;
+layout(constant_id = SPEC_SLAB_LAYER_ROWS) const int SLAB_LAYER_ROWS = 0;
 const int VIEW_LAYERS = (VIEW_CHANNELS + 3) / 4;
 const int VIEW_ARRAY = VIEW_LAYERS > 0 ? 4 * VIEW_LAYERS : 4;  // no array of 0 elements where there are none
 layout(constant_id = SPEC_EMITTER_TRIANGLES) const int EMITTER_TRIANGLES = 0;
@@ -162,6 +164,7 @@ float coupling(int l) { return M.coupling[l / 4][l % 4]; }
 // unfiltered (outside the map, or not a shadowing light).
 vec4 lightFilter[OUTPUT_COUNT];
 bool filtered;
+bool filterDirectional;  // the filtered light is directional (a flat slab's T is then one spectrum)
 // The maps hold optical-depth channels (interface.h), interpolated bilinearly between texel
 // centres (by hand, in float, as the textures are): a texel holds the channels along the ray
 // through its centre. log2 τ is linear in the sheets' and media's channels, so interpolating them
@@ -201,14 +204,18 @@ vec4 transmittanceAt(int layer) {
     [[unroll]] for (int i = 0; i < SLAB_CHANNELS; ++i) {
         const int c = DEPTH_CHANNELS + 2 * i;
         const float crossings = depthChannel[c];
-        if (crossings > 0.0)
+        // A flat slab under a directional light: one angle, its log2 T computed once per scene.
+        if (filterDirectional && ((FLAT_SLABS >> uint(min(i, 31))) & 1u) != 0u && i < 32)
+            depth += crossings * texelFetch(depthSpectra, SLAB_LAYER_ROWS + (shadowLayer * SLAB_CHANNELS + i) * BAND_LAYERS + layer);
+        else if (crossings > 0.0)
             depth += crossings * slabLog2Transmittance(min(depthChannel[c + 1] / crossings, 1.0),
                                                        texelFetch(depthSpectra, c * BAND_LAYERS + layer),
                                                        texelFetch(depthSpectra, (c + 1) * BAND_LAYERS + layer));
     }
     return exp2(depth);
 }
-void filterLight() {
+void filterLight(bool directional) {
+    filterDirectional = directional;
     filtered = FILTERED_SHADOWS && shadowLayer >= 0;
     if (!filtered) return;
     fetchDepthChannels();
@@ -342,7 +349,7 @@ void directionalLight(int i, vec3 n, vec3 v, vec3 ng) {
     float g = max(dot(n, w), 0.0);
     shadowLayer = -1;
     if (i < SHADOWED_DIRECTIONAL && g > 0.0) g *= visibility(l, worldPosition, ng, w, false);
-    if (FILTERED_SHADOWS) filterLight();
+    if (FILTERED_SHADOWS) filterLight(true);
     addLight(l, g * INV_PI, specularWeight(n, w, v, g));
     addFluorescence(l, g);
 }
@@ -360,7 +367,7 @@ void pointLight(int i, vec3 n, vec3 v, vec3 ng) {
     float g = apart ? min(max(dot(n, w), 0.0) / d2 * L.lights[l].vector.w, FLT_MAX_FINITE) : 0.0;
     shadowLayer = -1;
     if (i < SHADOWED_POINT && g > 0.0) g *= visibility(l, worldPosition, ng, w, true);
-    if (FILTERED_SHADOWS) filterLight();
+    if (FILTERED_SHADOWS) filterLight(false);
     addLight(l, g * INV_PI, specularWeight(n, w, v, g));
     addFluorescence(l, g);
 }

@@ -2,6 +2,7 @@
 
 #include "reference/hemisphere_lobe.h"
 #include "reference/lobe_table.h"
+#include "spectral/dielectric.h"
 
 #include "lobe_lookup.h"
 
@@ -167,6 +168,35 @@ std::vector<float> packDepthChannels(PackedScene& p, const Scene& scene, const S
             rows([&](size_t b) { return m.ior[b]; }, 1.0f);
             rows([&](size_t b) { return m.slabAbsorbance.empty() ? 0.0 : m.slabAbsorbance[b] * log2of10 * m.slabThickness; }, 0.0f);
         }
+        // A flat slab under a directional light is crossed at one angle: its log2 T there, per layer.
+        std::vector<glm::dvec3> slabNormal(slabs.size());
+        for (size_t i = 0; i < slabs.size() && i < 32; ++i) {
+            bool flat = true, any = false;
+            for (const PackedDraw& d : p.draws) {
+                if (d.material != slabs[i]) continue;
+                for (uint32_t k = 0; k < d.indexCount && flat; ++k) {
+                    const float* nv = p.vertices[size_t(int64_t(p.indices[d.firstIndex + k]) + d.vertexOffset)].normal;
+                    const glm::dvec3 n(nv[0], nv[1], nv[2]);
+                    if (!(glm::length(n) > 0.0)) { flat = false; break; }
+                    if (!any) slabNormal[i] = glm::normalize(n), any = true;
+                    flat = std::abs(glm::dot(glm::normalize(n), slabNormal[i])) > 1.0 - 1e-12;
+                }
+            }
+            if (flat && any) p.flatSlabs |= 1u << i;
+        }
+        p.slabLayerRows = int(p.depthSpectra.size());
+        for (size_t layer = 0; layer < p.shadowEyes.size(); ++layer)
+            for (size_t i = 0; i < slabs.size(); ++i) {
+                const MaterialOnGrid& m = g.materials[slabs[i]];
+                const glm::vec4 eye = p.shadowEyes[layer];
+                const bool directional = eye.w < 0.5f && ((p.flatSlabs >> std::min<size_t>(i, 31)) & 1u) != 0u && i < 32;
+                const double cosI = directional ? std::min(1.0, std::abs(glm::dot(glm::normalize(glm::dvec3(eye)), slabNormal[i]))) : 1.0;
+                rows([&](size_t b) {
+                    if (!directional) return 0.0;
+                    const double tau = m.slabAbsorbance.empty() ? 1.0 : slabInternalTransmittance(m.ior[b], cosI, m.slabAbsorbance[b], m.slabThickness);
+                    return std::max(std::log2(slab(m.ior[b], cosI, tau).transmittance), -149.0);
+                }, 0.0f);
+            }
     }
     if (p.depthSpectra.empty()) p.depthSpectra.push_back(glm::vec4(0.0f));
     return first;

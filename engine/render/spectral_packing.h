@@ -67,6 +67,11 @@ struct PackedScene {
     // zero entry when none). A transparent material's first channel is its params.w.
     int depthChannels = 0, slabChannels = 0, depthLayers = 0;
     std::vector<glm::vec4> depthSpectra;
+    // Flat slabs (bit i: slab i's objects all have parallel normals, i < 32) under directional
+    // lights: log2 T at that light's one angle, [shadow-map layer][slab][band layer] from entry
+    // slabLayerRows of depthSpectra (rows of point lights' layers unused, 0).
+    uint32_t flatSlabs = 0;
+    int slabLayerRows = 0;
     // With hemisphere lights: the lobe table of every distinct gloss value of the specular
     // materials (reference/lobe_table.h), one after another; a material's params.w is its first entry.
     std::vector<glm::uvec4> lobeTables;

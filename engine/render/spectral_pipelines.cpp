@@ -60,9 +60,11 @@ VkPipeline SpectralResources::makePipeline(const vk::SharedHandle<VkRenderPass>&
                                            int32_t(plan.quantity),
                                            packed.filteredShadows ? packed.depthChannels : 0,
                                            packed.filteredShadows ? packed.slabChannels : 0,
-                                           int32_t(viewChannelLayers > 0 ? packed.depthChannels : 0)};
+                                           int32_t(viewChannelLayers > 0 ? packed.depthChannels : 0),
+                                           packed.filteredShadows ? packed.flatSlabs : 0u,
+                                           packed.slabLayerRows};
     // interface.h orders the struct's 4-byte fields by id.
-    constexpr uint32_t kIds = SPEC_VIEW_CHANNELS + 1;
+    constexpr uint32_t kIds = SPEC_SLAB_LAYER_ROWS + 1;
     VkSpecializationMapEntry entries[kIds];
     for (uint32_t id = 0; id < kIds; ++id) entries[id] = {id, id * 4, 4};
     VkSpecializationInfo si{kIds, entries, sizeof(spec), &spec};
