@@ -692,3 +692,35 @@ TEST(Cli, ColouredShadowsThatWouldTakeTooLongAreRefusedBeforeDrawing) {
     EXPECT_EQ(cpu.code, 0) << cpu.output;
     fs::remove_all(dir);
 }
+
+// Issue 50: the coloured shadows' maps carry one optical-depth channel per sheet or medium material
+// and two per slab, at most MAX_DEPTH_CHANNELS (64): 65 filter materials under a shadow-casting
+// light are refused before anything is drawn, with the counts and what to change; without the
+// light's shadows the same scene renders (the camera's own transmission has no such limit).
+TEST(Cli, MoreOpticalDepthChannelsThanTheMapsCarryAreRefused) {
+    const fs::path dir = freshDir("depth-channels");
+    fs::create_directories(dir);
+    std::string objects = R"({"shape": "quad", "center": [0, 0, 0], "normal": [0, 0, 1], "size": [2, 2], "material": "back"})";
+    std::string materials = R"("back": {"diffuse": 0.5})";
+    for (int m = 0; m < 65; ++m) {
+        materials += fmt::format(R"(, "f{}": {{"transmittance": {}}})", m, 0.95 - 0.001 * m);
+        objects += fmt::format(R"(, {{"shape": "quad", "center": [0, 0, {}], "normal": [0, 0, 1], "size": [0.5, 0.5], "material": "f{}"}})",
+                               0.1 + 0.001 * m, m);
+    }
+    std::ofstream(dir / "many.json") << R"({"grid": {"start_nm": 400, "end_nm": 700, "step_nm": 10},
+  "camera": {"position": [0, 0, 5], "target": [0, 0, 0], "width": 8, "height": 8},
+  "lights": [{"type": "directional", "direction": [0.2, 0, -1], "spectrum": "illuminants/D65", "scale": 0.01}],
+  "materials": {)" << materials << R"(},
+  "objects": [)" << objects << "]}";
+    const CliRun refused = run("render " + (dir / "many.json").string() + " --out " + (dir / "gpu").string());
+    EXPECT_EQ(refused.code, 2) << refused.output;
+    EXPECT_NE(refused.output.find("many.json: materials: 65 transparent materials cast coloured shadows (65 sheets and "
+                                  "media, one optical-depth channel each, and 0 slabs, two each: 65 channels); at most 64"),
+              std::string::npos)
+        << refused.output;
+    EXPECT_TRUE(!fs::exists(dir / "gpu") || fs::is_empty(dir / "gpu"));
+    const CliRun unshadowed = run("render " + (dir / "many.json").string() + " --out " + (dir / "plain").string() +
+                                  " --set lights.0.shadows=false --write cube");
+    EXPECT_EQ(unshadowed.code, 0) << unshadowed.output;
+    fs::remove_all(dir);
+}
