@@ -56,6 +56,8 @@ using mat4 = glm::mat4;
 #define BINDING_DEPTH_SPECTRA 12        // samplerBuffer (RGBA32F texel buffer): per optical-depth channel, BAND_LAYERS
                                         // vec4 of what turns it into log2 τ per band (below; read when
                                         // SPEC_FILTERED_SHADOWS)
+#define BINDING_SLAB_DISTANCE 14        // sampler2D (R32F, texelFetch): the nearest slab's distance per pixel (the slab
+                                        // distance pass), by which the channel pass splits what lies in front of it
 #define BINDING_VIEW_CHANNELS 13        // sampler2DArray (RGBA32F, texelFetch at the fragment): the camera's optical-depth
                                         // channels of the sheets and media in front of the opaque surface, written by
                                         // the channel pass (transmit.frag, CHANNEL_OUTPUT; read when SPEC_VIEW_CHANNELS)
@@ -301,6 +303,14 @@ struct SpectralPushConstants {
 #define TRANSMIT_SPEC_HEMISPHERE_FIRST 3  // and the hemisphere lights (their first index, their count)
 #define TRANSMIT_SPEC_HEMISPHERE_COUNT 4
 #define TRANSMIT_SPEC_FIRST_CHANNEL 5     // CHANNEL_OUTPUT: the channel of this pass's first output's x
+// A scene with slabs and sheets or media: the channel pass writes two sets, the crossings behind the
+// nearest slab (its first half of outputs) and in front of it (SPLIT); after the slabs' own draws,
+// the nearest slab is drawn once more to multiply by the front set's τ (FRONT), which needs the
+// channels' count and BAND_LAYERS (BINDING_DEPTH_SPECTRA's rows).
+#define TRANSMIT_SPEC_SPLIT 6
+#define TRANSMIT_SPEC_FRONT 7
+#define TRANSMIT_SPEC_VIEW_CHANNELS 8
+#define TRANSMIT_SPEC_BAND_LAYERS 9
 
 // ---------------------------------------------------------------------------------------------
 // The tonemap pass (tonemap.frag): one fragment per output pixel reads the spectral target and
@@ -399,8 +409,10 @@ struct TransmitSpecialization {
     uint32_t channelOutput, reflection;                    // VkBool32
     int32_t ambientCount, hemisphereFirst, hemisphereCount;
     int32_t firstChannel;
+    uint32_t split, front;  // VkBool32
+    int32_t viewChannels, bandLayers;
 };
-static_assert(sizeof(TransmitSpecialization) == 4 * (TRANSMIT_SPEC_FIRST_CHANNEL + 1), "one 4-byte field per id");
+static_assert(sizeof(TransmitSpecialization) == 4 * (TRANSMIT_SPEC_BAND_LAYERS + 1), "one 4-byte field per id");
 
 // tonemap.frag's specialization constants, in id order.
 struct TonemapSpecialization {

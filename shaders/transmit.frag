@@ -19,6 +19,7 @@
 //   the leaving face's factor brings it back: exact while the medium's absorbance across its
 //   bounds stays below ENTRY_LIMIT·log10(2) ≈ 19 (docs/physics.md); deeper rays come out darker.
 #extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_control_flow_attributes : require
 #include "interface.h"
 #include "runtime_value.glsl"
 
@@ -33,6 +34,15 @@
 // This pass's outputs are channels FIRST_CHANNEL … FIRST_CHANNEL + 4·OUTPUT_COUNT − 1.
 layout(constant_id = TRANSMIT_SPEC_CHANNEL_OUTPUT) const bool CHANNEL_OUTPUT = false;
 layout(constant_id = TRANSMIT_SPEC_FIRST_CHANNEL) const int FIRST_CHANNEL = 0;
+// With slabs (interface.h): SPLIT — a crossing in front of the nearest slab goes to the second half
+// of the outputs; FRONT — the nearest slab's second draw multiplies by τ of the crossings in front of
+// it, from the channel pass's second set (VIEW_CHANNELS channels, rows in depthSpectra).
+layout(constant_id = TRANSMIT_SPEC_SPLIT) const bool SPLIT = false;
+layout(constant_id = TRANSMIT_SPEC_FRONT) const bool FRONT = false;
+layout(constant_id = TRANSMIT_SPEC_VIEW_CHANNELS) const int VIEW_CHANNELS = 0;
+layout(constant_id = TRANSMIT_SPEC_BAND_LAYERS) const int BAND_LAYERS = 1;
+const int VIEW_LAYERS = (VIEW_CHANNELS + 3) / 4;
+const int VIEW_ARRAY = VIEW_LAYERS > 0 ? 4 * VIEW_LAYERS : 4;
 // The slabs' second draw: their reflection R·L(mirror direction), added (blend destination + source)
 // after their transmittance has multiplied what is behind — draws go back to front.
 layout(constant_id = TRANSMIT_SPEC_REFLECTION) const bool REFLECTION = false;
@@ -44,6 +54,9 @@ layout(set = 0, binding = BINDING_LIGHTS, std140) uniform Lights { GpuLightBlock
 layout(set = 0, binding = BINDING_LIGHT_SPECTRA, std140) uniform LightSpectra { GpuLightSpectraBlock E; };
 layout(set = 0, binding = BINDING_MATERIAL, std140) uniform Material { GpuMaterialBlock M; };
 layout(set = 0, binding = BINDING_OPAQUE_DISTANCE) uniform sampler2D opaqueDistance;
+layout(set = 0, binding = BINDING_SLAB_DISTANCE) uniform sampler2D slabDistance;
+layout(set = 0, binding = BINDING_VIEW_CHANNELS) uniform sampler2DArray viewChannels;
+layout(set = 0, binding = BINDING_DEPTH_SPECTRA) uniform samplerBuffer depthSpectra;
 layout(push_constant) uniform Push { SpectralPushConstants pc; };
 
 layout(location = 0) in vec3 worldPosition;
@@ -81,16 +94,33 @@ const float INV_PI = 0.31830988618379067;
 
 vec4 factor[OUTPUT_COUNT];
 void writeOutputs();  // factor to the attachments (after main)
+bool inFront = false;  // SPLIT: this crossing lies in front of the nearest slab
 
 // CHANNEL_OUTPUT: `value` into this material's first channel (params.w) and, for a slab's pair,
-// `second` into the next; 0 in the other channels of this pass.
-void writeChannels(float value, float second, bool pair) {
+// `second` into the next; 0 in the other channels of this pass. SPLIT: into the set in front of
+// the nearest slab or behind it (inFront), or — a medium's face, whose path may straddle the slab —
+// `value` behind it and `frontValue` in front.
+void writeChannels(float value, float second, bool pair, float frontValue) {
     const int first = int(runtimeValue(M.params.w)) - FIRST_CHANNEL;
+    const int frontFirst = 4 * (OUTPUT_COUNT / 2);
     for (int k = 0; k < OUTPUT_COUNT; ++k)
         for (int j = 0; j < 4; ++j) {
-            const int c = 4 * k + j;
-            factor[k][j] = c == first ? value : pair && c == first + 1 ? second : 0.0;
+            int c = 4 * k + j;
+            float v = 0.0;
+            if (SPLIT && c >= frontFirst) {  // the front set
+                c -= frontFirst;
+                v = c == first ? frontValue : 0.0;
+            } else {
+                v = c == first ? value : pair && c == first + 1 ? second : 0.0;
+            }
+            factor[k][j] = v;
         }
+}
+void writeChannels(float value, float second, bool pair) {
+    if (SPLIT && inFront)
+        writeChannels(0.0, 0.0, false, value);  // a sheet's crossing in front of the nearest slab
+    else
+        writeChannels(value, second, pair, 0.0);
 }
 
 void main() {
@@ -100,11 +130,33 @@ void main() {
     const vec3 p = worldPosition, c = pc.cameraPosition.xyz;
     const float t = perspective ? length(p - c) : dot(p - c, pc.cameraForward.xyz);
     const float tO = texelFetch(opaqueDistance, ivec2(gl_FragCoord.xy), 0).r;
+    // The nearest slab's distance (none: the largest float); SPLIT: what lies in front of it, where
+    // it lies in front of the opaque surface (elsewhere nothing is: the band passes apply it all).
+    const float tS = SPLIT || FRONT ? texelFetch(slabDistance, ivec2(gl_FragCoord.xy), 0).r : 0.0;
+    const bool slabSeen = tS < tO;
+    if (SPLIT) inFront = slabSeen && t < tS;
     if ((runtimeValue(M.switches.x) & MATERIAL_SLAB) != 0u) {
         // A slab (docs/physics.md, "Transparent objects"): Fresnel at both faces for n(λ) at this angle, the glass's
         // absorption along the refracted path, the reflections inside summed incoherently, s and p
         // averaged — spectral/dielectric.cpp's slab(), in float. Hidden behind the opaque surface.
         if (t >= tO) discard;
+        if (FRONT) {
+            // Only the nearest slab multiplies, once: by τ of the sheets and media in front of it.
+            if (t > tS) discard;
+            float c[VIEW_ARRAY];
+            [[unroll]] for (int j = 0; j < VIEW_LAYERS; ++j) {
+                const vec4 v = texelFetch(viewChannels, ivec3(ivec2(gl_FragCoord.xy), VIEW_LAYERS + j), 0);
+                [[unroll]] for (int i = 0; i < 4; ++i) c[4 * j + i] = v[i];
+            }
+            const int first = int(runtimeValue(M.params.y));
+            for (int k = 0; k < OUTPUT_COUNT; ++k) {
+                vec4 depth = vec4(0.0);
+                [[unroll]] for (int j = 0; j < VIEW_CHANNELS; ++j) depth += c[j] * texelFetch(depthSpectra, j * BAND_LAYERS + first + k);
+                factor[k] = exp2(depth);
+            }
+            writeOutputs();
+            return;
+        }
         vec3 nrm = dot(worldNormal, worldNormal) > 1e-24 ? normalize(worldNormal) : vec3(0.0, 0.0, 1.0);
         const vec3 v = perspective ? normalize(c - p) : -pc.cameraForward.xyz;
         if (dot(nrm, v) < 0.0) nrm = -nrm;
@@ -156,12 +208,19 @@ void main() {
         const vec3 q = pc.draw.xyz;
         float s = perspective ? dot(p - q, (p - c) + (q - c)) / (t + length(q - c)) : dot(p - q, pc.cameraForward.xyz);
         if (t > tO) s -= t - tO;  // behind the opaque surface: the path ends there
-        if (!gl_FrontFacing) s = -s;
         if (CHANNEL_OUTPUT) {
-            writeChannels(-s, 0.0, false);  // the path: + where the ray leaves, − where it enters
+            // The path: + where the ray leaves, − where it enters. SPLIT: the part up to the nearest
+            // slab in front, the rest behind (ℓ_front = Σ ±(min(t, tS) − t_ref)).
+            const float sign = gl_FrontFacing ? -1.0 : 1.0;
+            const float sFront = SPLIT && slabSeen ? s - max(min(t, tO) - tS, 0.0) : 0.0;
+            if (SPLIT)
+                writeChannels(sign * (s - sFront), 0.0, false, sign * sFront);
+            else
+                writeChannels(sign * s, 0.0, false);
             writeOutputs();
             return;
         }
+        if (!gl_FrontFacing) s = -s;
         for (int k = 0; k < OUTPUT_COUNT; ++k) factor[k] = exp2(min(M.attenuation[k] * s, vec4(ENTRY_LIMIT)));
     }
     writeOutputs();

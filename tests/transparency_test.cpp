@@ -441,6 +441,35 @@ TEST(Transparency, ReflectingSlabsCompositeFarthestFirst) {
             return one.r * sky + one.t * (0.0 + g.materials[back].transmittance[size_t(b)] * wall);
         },
         2e-6, "glass, gel, wall");
+    // A gel in front of the glass filters the glass's reflection too: L = T·(E₁ + T₁·L_wall) — the
+    // channel pass puts the gel in front of the nearest slab, the slab's second draw multiplies by it.
+    Scene gelInFront = gel;
+    gelInFront.meshes[1].material = back;   // the gel, nearer
+    gelInFront.meshes[2].material = front;  // the glass, farther
+    expectPixel(
+        gelInFront, kPx / 2, kPx / 2,
+        [&](const SceneOnGrid& g, int b) {
+            const double sky = g.lights[0][size_t(b)], wall = g.materials[0].diffuse[size_t(b)] * sky;
+            const SlabAnswer one = slabClosedForm(nbk7Sellmeier(g.wavelengths_nm[size_t(b)]), 1.0, 0.0);
+            return g.materials[back].transmittance[size_t(b)] * (one.r * sky + one.t * wall);
+        },
+        2e-6, "gel, glass, wall");
+    // A glass inside a dye box (z 0.2 … 0.8, the glass at 0.5): the medium's path splits at it, 0.3 m
+    // in front multiplying the glass's reflection and all 0.6 m the wall: L = τ₀.₃·(E₁ + T₁·τ₀.₃·L_wall).
+    Scene straddle = s;
+    straddle.meshes.resize(1);
+    const uint32_t dye = addMaterial(straddle, absorbingMedium(dyeAbsorbance(2.0), "dye"));
+    addBox(straddle, {0, 0, 0.5}, {0.8, 0.8, 0.6}, dye);
+    straddle.meshes.push_back(quad({0, 0, 0.5}, {0, 0, 1}, 0.6, 0.6, front));
+    expectPixel(
+        straddle, kPx / 2, kPx / 2,
+        [&](const SceneOnGrid& g, int b) {
+            const double sky = g.lights[0][size_t(b)], wall = g.materials[0].diffuse[size_t(b)] * sky;
+            const SlabAnswer one = slabClosedForm(nbk7Sellmeier(g.wavelengths_nm[size_t(b)]), 1.0, 0.0);
+            const double half = std::pow(10.0, -g.materials[dye].absorbance[size_t(b)] * 0.3);
+            return half * (one.r * sky + one.t * half * wall);
+        },
+        2e-5, "dye, glass inside it, dye, wall");
     // Beside the slabs the sky lights the wall alone.
     expectPixel(s, 1, kPx / 2, [&](const SceneOnGrid& g, int b) { return g.materials[0].diffuse[size_t(b)] * g.lights[0][size_t(b)]; },
                 2e-6, "the wall beside the slabs");

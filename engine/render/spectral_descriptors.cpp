@@ -12,7 +12,7 @@ namespace metamer {
 
 void SpectralResources::createLayouts() {
     VkDevice d = ctx.device();
-    constexpr int kBindings = 14;
+    constexpr int kBindings = 15;
     constexpr int kDynamic = 4;  // bindings 1..4
     VkDescriptorSetLayoutBinding bindings[kBindings] = {
         {BINDING_LIGHTS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
@@ -29,6 +29,7 @@ void SpectralResources::createLayouts() {
         {BINDING_SHADOW_EXCITATION, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
         {BINDING_DEPTH_SPECTRA, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
         {BINDING_VIEW_CHANNELS, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
+        {BINDING_SLAB_DISTANCE, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
     };
     VkDescriptorSetLayoutCreateInfo sl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
     sl.bindingCount = kBindings;
@@ -53,13 +54,14 @@ void SpectralResources::createLayouts() {
     pipelineLayout = objects.pipelineLayout("spectral.layout", pl, {setLayout, textureSetLayout});
 
     const uint32_t materialCount = uint32_t(std::max<size_t>(1, scene.materials.size()));
-    // Three sets 0 (the band passes', the lobe pass's, the coloured shadows' passes'), one set 1 per material.
-    VkDescriptorPoolSize sizes[4] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 3 * 2},
-                                     {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC, 3 * kDynamic},
-                                     {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, TEXTURE_BINDINGS * materialCount + 3 * 5},
-                                     {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 3 * 3}};
+    // Four sets 0 (the band passes', the lobe pass's, the coloured shadows' passes', the channel
+    // pass's — which writes the view channels the others read), one set 1 per material.
+    VkDescriptorPoolSize sizes[4] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 4 * 2},
+                                     {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC, 4 * kDynamic},
+                                     {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, TEXTURE_BINDINGS * materialCount + 4 * 6},
+                                     {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 4 * 3}};
     VkDescriptorPoolCreateInfo pci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-    pci.maxSets = 3 + materialCount;
+    pci.maxSets = 4 + materialCount;
     pci.poolSizeCount = 4;
     pci.pPoolSizes = sizes;
     VkDescriptorPool pool = VK_NULL_HANDLE;
@@ -73,6 +75,7 @@ void SpectralResources::createLayouts() {
     VK_CHECK(vkAllocateDescriptorSets(d, &ai, &descriptorSet));
     if (hasLobePass) VK_CHECK(vkAllocateDescriptorSets(d, &ai, &lobeDescriptorSet));
     if (packed.filteredShadows) VK_CHECK(vkAllocateDescriptorSets(d, &ai, &lightDescriptorSet));
+    if (viewChannelLayers > 0) VK_CHECK(vkAllocateDescriptorSets(d, &ai, &channelDescriptorSet));
     // Per binding, in the order of `bindings` (the two images' entries unused).
     VkDescriptorBufferInfo infos[kBindings] = {
         {lightBuffer.handle(), 0, sizeof(gpu::GpuLightBlock)},
@@ -81,6 +84,7 @@ void SpectralResources::createLayouts() {
         {fluorescenceBuffer.handle(), 0, sizeof(gpu::GpuFluorescenceBlock)},
         {responseBuffer.handle(), 0, sizeof(gpu::GpuResponseBlock)},
         {shadowBuffer.handle(), 0, sizeof(gpu::GpuShadowBlock)},
+        {},
         {},
         {},
         {},
@@ -126,8 +130,10 @@ void SpectralResources::createLayouts() {
     // The camera's optical-depth channels, where the band passes read them; else the placeholder.
     const VkDescriptorImageInfo viewChannelsInfo =
         viewChannelLayers > 0 ? VkDescriptorImageInfo{sampler, viewChannels.layerView(~0u), sampled} : placeholderArrayInfo;
+    const VkDescriptorImageInfo slabDistanceInfo =
+        viewSplit ? VkDescriptorImageInfo{sampler, slabDistance.layerView(0), sampled} : placeholderInfo;
     const VkBufferView excitationView = shadowExcitationView.get(), depthView = depthSpectraView.get();
-    for (VkDescriptorSet set : {descriptorSet, lobeDescriptorSet, lightDescriptorSet}) {
+    for (VkDescriptorSet set : {descriptorSet, lobeDescriptorSet, lightDescriptorSet, channelDescriptorSet}) {
         if (set == VK_NULL_HANDLE) continue;
         VkWriteDescriptorSet writes[kBindings];
         for (int i = 0; i < kBindings; ++i) {
@@ -146,6 +152,8 @@ void SpectralResources::createLayouts() {
                 writes[i].pImageInfo = set == lightDescriptorSet ? &placeholderArrayInfo : &shadowTransmittanceInfo;
             else if (bindings[i].binding == BINDING_SHADOW_EXCITATION)
                 writes[i].pTexelBufferView = &excitationView;
+            else if (bindings[i].binding == BINDING_SLAB_DISTANCE)
+                writes[i].pImageInfo = set == descriptorSet || set == channelDescriptorSet ? &slabDistanceInfo : &placeholderInfo;
             else if (bindings[i].binding == BINDING_VIEW_CHANNELS)
                 writes[i].pImageInfo = set == descriptorSet ? &viewChannelsInfo : &placeholderArrayInfo;
             else if (bindings[i].binding == BINDING_DEPTH_SPECTRA)

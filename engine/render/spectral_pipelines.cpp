@@ -189,10 +189,8 @@ void SpectralResources::createPasses() {
         passes.push_back(std::move(po));
     }
     if (hasLobePass) createLobePass();
-    if (viewChannelLayers > 0)
-        createViewChannelPass();
-    else if (hasTransmission)
-        createTransmissionPasses();
+    if (viewChannelLayers > 0) createViewChannelPass();
+    if (hasTransmission && (viewChannelLayers == 0 || viewSplit)) createTransmissionPasses();
     declareFrame();
 }
 
@@ -214,18 +212,38 @@ void SpectralResources::createViewChannelPass() {
     pd.addBlend = true;  // the channels add
     gpu::TransmitSpecialization spec{};
     spec.channelOutput = VK_TRUE;
-    VkSpecializationMapEntry entries[TRANSMIT_SPEC_FIRST_CHANNEL + 1];
-    for (uint32_t id = 0; id <= TRANSMIT_SPEC_FIRST_CHANNEL; ++id) entries[id] = {id, id * 4, 4};
-    const VkSpecializationInfo si{TRANSMIT_SPEC_FIRST_CHANNEL + 1, entries, sizeof spec, &spec};
+    spec.split = viewSplit ? VK_TRUE : VK_FALSE;
+    VkSpecializationMapEntry entries[TRANSMIT_SPEC_BAND_LAYERS + 1];
+    for (uint32_t id = 0; id <= TRANSMIT_SPEC_BAND_LAYERS; ++id) entries[id] = {id, id * 4, 4};
+    const VkSpecializationInfo si{TRANSMIT_SPEC_BAND_LAYERS + 1, entries, sizeof spec, &spec};
     viewChannelPass.pipelines = {makeOwnPipeline(
-        fmt::format("spectral.view channels attachments={} {}x{} pass={} layout={}", viewChannelLayers, plan.targetWidth,
-                    plan.targetHeight, static_cast<void*>(viewChannelPass.renderPass),
-                    static_cast<void*>(pipelineLayout.get())),
+        fmt::format("spectral.view channels attachments={} {}x{} pass={} layout={} split={}", viewChannelLayers,
+                    plan.targetWidth, plan.targetHeight, static_cast<void*>(viewChannelPass.renderPass),
+                    static_cast<void*>(pipelineLayout.get()), viewSplit),
         pd, code.code, code.bytes, &si)};
     std::vector<VkImageView> views;
     for (uint32_t i = 0; i < viewChannelLayers; ++i) views.push_back(viewChannels.layerView(i));
     viewChannelPass.framebuffer =
         vk::createFramebuffer(ctx.device(), viewChannelPass.renderPass, views, plan.targetWidth, plan.targetHeight);
+    if (!viewSplit) return;
+    // The slab distance pass: the nearest slab's distance, by its own depth (LESS), both sides drawn.
+    const vk::RenderPassDesc desc2 = distancePrePassDesc();
+    renderPasses.push_back(vk::sharedRenderPass(
+        ctx.objects(), fmt::format("spectral.distance pre-pass {}x{}", plan.targetWidth, plan.targetHeight), desc2));
+    slabDistancePass.renderPass = renderPasses.back().get();
+    slabDistancePass.attachments = 1;
+    vk::GraphicsPipelineDesc d = transparentPipelineDesc(slabDistancePass.renderPass, 1);
+    d.depthTest = d.depthWrite = true;
+    d.depthCompare = VK_COMPARE_OP_LESS;
+    d.multiplyBlend = false;
+    d.cullMode = VK_CULL_MODE_NONE;
+    slabDistancePass.pipelines = {makeOwnPipeline(
+        fmt::format("spectral.distance pre-pass cull=false {}x{} pass={} layout={}", d.width, d.height,
+                    static_cast<void*>(slabDistancePass.renderPass), static_cast<void*>(pipelineLayout.get())),
+        d, opaqueDistanceFragment().code, opaqueDistanceFragment().bytes)};
+    slabDistancePass.framebuffer = vk::createFramebuffer(ctx.device(), slabDistancePass.renderPass,
+                                                         {slabDistance.layerView(0), slabDepth.layerView(0)},
+                                                         plan.targetWidth, plan.targetHeight);
 }
 
 // The depth pre-pass of a scene with transparent objects: it also writes the nearest opaque
@@ -297,6 +315,16 @@ VkPipeline SpectralResources::makeOwnPipeline(const std::string& key, vk::Graphi
 void SpectralResources::createTransmissionPasses() {
     VkRenderPass rpFull = VK_NULL_HANDLE, rpLast = VK_NULL_HANDLE;
     VkPipeline plFull = VK_NULL_HANDLE, plLast = VK_NULL_HANDLE, reflectFull = VK_NULL_HANDLE, reflectLast = VK_NULL_HANDLE;
+    VkPipeline frontFull = VK_NULL_HANDLE, frontLast = VK_NULL_HANDLE;
+    // With the channel pass split by the nearest slab: that slab's second draw multiplies by τ of
+    // what lies in front of it (blend destination × source).
+    gpu::TransmitSpecialization frontSpec{};
+    frontSpec.front = VK_TRUE;
+    frontSpec.viewChannels = packed.depthChannels;
+    frontSpec.bandLayers = packed.bandLayers;
+    VkSpecializationMapEntry frontEntries[TRANSMIT_SPEC_BAND_LAYERS + 1];
+    for (uint32_t id = 0; id <= TRANSMIT_SPEC_BAND_LAYERS; ++id) frontEntries[id] = {id, id * 4, 4};
+    const VkSpecializationInfo frontInfo{TRANSMIT_SPEC_BAND_LAYERS + 1, frontEntries, sizeof frontSpec, &frontSpec};
     const bool slabs = std::any_of(scene.materials.begin(), scene.materials.end(), [](const Material& m) { return m.isSlab(); });
     // The slabs' reflection draws add R·(ambient and hemisphere lights in the mirror direction).
     const gpu::TransmitSpecialization reflection{VK_FALSE, VK_TRUE, packed.ambient,
@@ -312,6 +340,7 @@ void SpectralResources::createTransmissionPasses() {
         VkRenderPass& rp = full ? rpFull : rpLast;
         VkPipeline& pl = full ? plFull : plLast;
         VkPipeline& reflect = full ? reflectFull : reflectLast;
+        VkPipeline& front = full ? frontFull : frontLast;
         if (rp == VK_NULL_HANDLE) {
             vk::RenderPassDesc desc;
             for (uint32_t i = 0; i < po.attachments; ++i)
@@ -335,9 +364,15 @@ void SpectralResources::createTransmissionPasses() {
                                 static_cast<void*>(pipelineLayout.get()), vk::keyBytes(&reflection, sizeof reflection)),
                     rd, code.code, code.bytes, &reflectionInfo);
             }
+            if (viewSplit)
+                front = makeOwnPipeline(
+                    fmt::format("spectral.slab front attachments={} {}x{} pass={} layout={} spec={}", po.attachments,
+                                plan.targetWidth, plan.targetHeight, static_cast<void*>(rp),
+                                static_cast<void*>(pipelineLayout.get()), vk::keyBytes(&frontSpec, sizeof frontSpec)),
+                    transparentPipelineDesc(rp, po.attachments), code.code, code.bytes, &frontInfo);
         }
         po.renderPass = rp;
-        po.pipelines = {pl, reflect};
+        po.pipelines = {pl, reflect, front};
         std::vector<VkImageView> views;
         for (uint32_t i = 0; i < po.attachments; ++i) views.push_back(color.layerView(po.firstLayer + i));
         po.framebuffer = vk::createFramebuffer(ctx.device(), rp, views, plan.targetWidth, plan.targetHeight);

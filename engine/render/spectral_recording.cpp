@@ -88,12 +88,15 @@ void SpectralResources::drawScene(VkCommandBuffer cmd, const SpectralFrameState&
 }
 
 void SpectralResources::drawTransparent(VkCommandBuffer cmd, const SpectralFrameState& f, size_t p, VkPipeline pipeline,
-                                        VkDescriptorSet set0, VkPipeline reflection) const {
+                                        VkDescriptorSet set0, VkPipeline reflection, TransparentDraws which,
+                                        VkPipeline front) const {
     bindGeometry(cmd, f);
     const size_t materials = packed.materials.size() / passes.size();
     std::vector<std::pair<float, const PackedDraw*>> order;
     for (const PackedDraw& d : packed.draws) {
         if (!d.transparent) continue;
+        const bool slab = (packed.materials[d.material].switches.x & MATERIAL_SLAB) != 0u;
+        if ((which == TransparentDraws::Slabs && !slab) || (which == TransparentDraws::SheetsAndMedia && slab)) continue;
         const glm::vec3 centre = 0.5f * (d.lower + d.upper);
         const float distance = f.camera.perspective ? glm::length(centre - f.camera.position)
                                                     : glm::dot(centre - f.camera.position, f.camera.forward);
@@ -124,6 +127,21 @@ void SpectralResources::drawTransparent(VkCommandBuffer cmd, const SpectralFrame
             vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, bound = reflection);
             vkCmdDrawIndexed(cmd, d.indexCount, 1, d.firstIndex, d.vertexOffset, 0);
         }
+    }
+    if (front == VK_NULL_HANDLE) return;
+    // After every slab has multiplied and added: the nearest one, again, multiplies by what lies in
+    // front of it (its fragments elsewhere are discarded).
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, front);
+    for (const auto& [distance, draw] : order) {
+        const PackedDraw& d = *draw;
+        if ((packed.materials[d.material].switches.x & MATERIAL_SLAB) == 0u) continue;
+        if (d.material != boundMaterial) {
+            boundMaterial = d.material;
+            const uint32_t offsets[4] = {uint32_t(p * lightSpectraStride),
+                                         uint32_t((p * materials + d.material) * materialStride), 0u, 0u};
+            vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelineLayout.get(), 0, 1, &set0, 4, offsets);
+        }
+        vkCmdDrawIndexed(cmd, d.indexCount, 1, d.firstIndex, d.vertexOffset, 0);
     }
 }
 
@@ -170,6 +188,9 @@ void SpectralResources::declareFrame() {
     const size_t lobe = hasLobePass ? frame.add(FrameResource::perFrame("lobe weights", lobeWeights.handle())) : 0;
     const size_t channels =
         viewChannelLayers > 0 ? frame.add(FrameResource::perFrame("view channels", viewChannels.handle(), viewChannelLayers)) : 0;
+    const size_t slabs = viewSplit ? frame.add(FrameResource::perFrame("slab distance", slabDistance.handle())) : 0;
+    const size_t slabsDepth =
+        viewSplit ? frame.add(FrameResource::perFrame("slab depth", slabDepth.handle(), 1, VK_IMAGE_ASPECT_DEPTH_BIT)) : 0;
     const bool copies = !plan.mappedReadback && !plan.responses;
     const size_t readback = copies ? frame.add(FrameResource::perFrame("readback buffer", readbackBuffer.handle())) : 0;
     const SceneReads scene = declareSceneReads(frame, true);
@@ -213,15 +234,37 @@ void SpectralResources::declareFrame() {
                             [this, draws](VkCommandBuffer cmd) {
                                 if (draws) drawScene(cmd, *frameState, lobePass.pipelines, 0, lobeDescriptorSet, true);
                             }});
-    if (viewChannelLayers > 0)
-        // What the camera sees through, per transparent material, once per frame for every band pass.
-        frame.add(FramePass{"channel pass", "transmit.frag, CHANNEL_OUTPUT (the channels add)",
-                            with({{channels, Access::ColorAttachment, 0, kAllLayers, false}, {distance, Access::Sampled}},
-                                 shading),
-                            viewChannelPass.renderPass, viewChannelPass.framebuffer.get(), extent,
-                            std::vector<VkClearValue>(viewChannelLayers), [this](VkCommandBuffer cmd) {
-                                drawTransparent(cmd, *frameState, 0, viewChannelPass.pipelines[0], descriptorSet);
+    if (viewSplit) {
+        // The nearest slab's distance (by its own depth), to split the crossings in front of it.
+        VkClearValue noSlab{};
+        noSlab.color.float32[0] = std::numeric_limits<float>::max();
+        frame.add(FramePass{"slab distance pass", "opaque_distance.frag, the slabs only",
+                            with({{slabs, Access::ColorAttachment, 0, kAllLayers, false},
+                                  {slabsDepth, Access::DepthAttachment, 0, kAllLayers, false}},
+                                 scene.geometry),
+                            slabDistancePass.renderPass, slabDistancePass.framebuffer.get(), extent, {noSlab, farDepth},
+                            [this](VkCommandBuffer cmd) {
+                                vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, slabDistancePass.pipelines[0]);
+                                bindGeometry(cmd, *frameState);
+                                for (const PackedDraw& d : packed.draws)
+                                    if (d.transparent && (packed.materials[d.material].switches.x & MATERIAL_SLAB) != 0u)
+                                        vkCmdDrawIndexed(cmd, d.indexCount, 1, d.firstIndex, d.vertexOffset, 0);
                             }});
+    }
+    if (viewChannelLayers > 0) {
+        // What the camera sees through, per transparent material, once per frame for every band pass.
+        std::vector<ResourceUse> uses =
+            with({{channels, Access::ColorAttachment, 0, kAllLayers, false}, {distance, Access::Sampled}}, shading);
+        if (viewSplit) uses.push_back({slabs, Access::Sampled});
+        frame.add(FramePass{"channel pass",
+                            viewSplit ? "transmit.frag, CHANNEL_OUTPUT, SPLIT (behind and in front of the nearest slab)"
+                                      : "transmit.frag, CHANNEL_OUTPUT (the channels add)",
+                            std::move(uses), viewChannelPass.renderPass, viewChannelPass.framebuffer.get(), extent,
+                            std::vector<VkClearValue>(viewChannelLayers), [this](VkCommandBuffer cmd) {
+                                drawTransparent(cmd, *frameState, 0, viewChannelPass.pipelines[0], channelDescriptorSet,
+                                                VK_NULL_HANDLE, TransparentDraws::SheetsAndMedia);
+                            }});
+    }
     for (size_t p = 0; p < passes.size(); ++p) {
         const PassObjects& po = passes[p];
         std::vector<VkClearValue> clears(po.attachments + 1);
@@ -241,18 +284,31 @@ void SpectralResources::declareFrame() {
                             [this, p, draws](VkCommandBuffer cmd) {
                                 if (draws) drawScene(cmd, *frameState, passes[p].pipelines, p, descriptorSet, false);
                             }});
-        if (!hasTransmission || viewChannelLayers > 0) continue;
+        if (!hasTransmission || (viewChannelLayers > 0 && !viewSplit)) continue;
         const PassObjects& to = transmissionPasses[p];
+        std::vector<ResourceUse> transmissionUses =
+            with({{targetResource, Access::ColorAttachment, to.firstLayer, to.attachments}, {distance, Access::Sampled}},
+                 shading);
+        if (viewSplit) {
+            transmissionUses.push_back({slabs, Access::Sampled});
+            transmissionUses.push_back({channels, Access::Sampled});
+        }
         frame.add(FramePass{fmt::format("transmission pass {}", p),
-                            fmt::format("transmit.frag, OUTPUT_COUNT {}; farthest first, blend destination × source "
-                                        "(slabs: then + their reflection)", to.attachments),
-                            with({{targetResource, Access::ColorAttachment, to.firstLayer, to.attachments},
-                                  {distance, Access::Sampled}},
-                                 shading),
-                            to.renderPass, to.framebuffer.get(), extent, std::vector<VkClearValue>(to.attachments + 1),
-                            [this, p](VkCommandBuffer cmd) {
-                                drawTransparent(cmd, *frameState, p, transmissionPasses[p].pipelines[0], descriptorSet,
-                                                transmissionPasses[p].pipelines[1]);
+                            viewSplit ? fmt::format("transmit.frag, OUTPUT_COUNT {}; the slabs farthest first, blend "
+                                                    "destination × source, + their reflection; then the nearest "
+                                                    "slab × what lies in front of it (FRONT)",
+                                                    to.attachments)
+                                      : fmt::format("transmit.frag, OUTPUT_COUNT {}; farthest first, blend destination × "
+                                                    "source (slabs: then + their reflection)",
+                                                    to.attachments),
+                            std::move(transmissionUses), to.renderPass, to.framebuffer.get(), extent,
+                            std::vector<VkClearValue>(to.attachments + 1), [this, p](VkCommandBuffer cmd) {
+                                const PassObjects& t = transmissionPasses[p];
+                                if (viewSplit)
+                                    drawTransparent(cmd, *frameState, p, t.pipelines[0], descriptorSet, t.pipelines[1],
+                                                    TransparentDraws::Slabs, t.pipelines[2]);
+                                else
+                                    drawTransparent(cmd, *frameState, p, t.pipelines[0], descriptorSet, t.pipelines[1]);
                             }});
     }
     // The host reads the cube: from the linear image itself, or from a copy into a host buffer. The

@@ -36,9 +36,13 @@ SpectralResources::SpectralResources(vk::Context& c, const Scene& s, const Scene
     if (hasTransmission && packed.responses)
         failRuntime("the response pass cannot show transparent objects (radiance through a filter is not linear in "
                     "each material's spectra): render bands (render/display_frame.cpp does)");
+    // The camera's channel pass: for the sheets and media (a set of channels), and with slabs in the
+    // scene too, two sets (behind and in front of the nearest slab), within one pass's attachments.
     const uint32_t channelLayers = uint32_t(packed.depthChannels + 3) / 4;
-    if (hasTransmission && packed.slabChannels == 0 && channelLayers >= 1 && channelLayers <= MAX_OUTPUTS)
-        viewChannelLayers = channelLayers;
+    viewSplit = packed.slabChannels > 0;
+    if (hasTransmission && channelLayers >= 1 && channelLayers * (viewSplit ? 2 : 1) <= MAX_OUTPUTS)
+        viewChannelLayers = channelLayers * (viewSplit ? 2 : 1);
+    viewSplit = viewSplit && viewChannelLayers > 0;
     // The coloured shadows' cost grows with the transparent area the lights see × the channels'
     // layers: said when it is long, refused when it would take hours, before anything is drawn.
     if (packed.filteredShadows) {
@@ -285,6 +289,22 @@ void SpectralResources::createTargets(Readback mode, bool sampled, SpectralPassP
         vc.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
         vc.name = "view channels";
         viewChannels = vk::Image(ctx, vc);
+    }
+    if (viewSplit) {
+        vk::ImageDesc sd;
+        sd.format = VK_FORMAT_R32_SFLOAT;
+        sd.width = w;
+        sd.height = h;
+        sd.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
+        sd.name = "slab distance";
+        slabDistance = vk::Image(ctx, sd);
+        vk::ImageDesc dd;
+        dd.format = VK_FORMAT_D32_SFLOAT;
+        dd.width = w;
+        dd.height = h;
+        dd.usage = VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT;
+        dd.name = "slab depth";
+        slabDepth = vk::Image(ctx, dd);
     }
 }
 

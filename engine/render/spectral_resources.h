@@ -145,6 +145,15 @@ struct SpectralResources {
     uint32_t viewChannelLayers = 0;
     vk::Image viewChannels;
     PassObjects viewChannelPass;
+    // With slabs as well (viewSplit): a slab distance pass first (the nearest slab's distance,
+    // slabDistance R32F, by its own depth), the channel pass writes two sets — behind the nearest
+    // slab (layers 0 … L−1, which the band passes apply) and in front of it (L … 2L−1) — and after
+    // each band pass the transmission pass draws only the slabs (T, then their reflection), then the
+    // nearest slab once more multiplying by the front set's τ (transmit.frag, FRONT).
+    bool viewSplit = false;
+    VkDescriptorSet channelDescriptorSet = VK_NULL_HANDLE;  // set 0 with a placeholder for the view channels
+    vk::Image slabDistance, slabDepth;
+    PassObjects slabDistancePass;
     // Coloured shadows (packed.filteredShadows): per shadow-map layer, packed.depthLayers layers of
     // the optical-depth channels along the light's rays to the nearest opaque surface
     // (TRANSMITTANCE_MAP_SIZE², RGBA32F; interface.h), drawn once per scene like the shadow maps —
@@ -224,9 +233,13 @@ private:
     // point its medium's path is measured from (SpectralPushConstants::draw).
     // Back to front (by their bounds' centres), so that a slab's reflection, added after its
     // transmittance multiplied what is behind it, is itself multiplied by what is in front;
-    // `reflection`: the slabs' second, additive draw (VK_NULL_HANDLE: none, as from a light).
+    // `reflection`: the slabs' second, additive draw (VK_NULL_HANDLE: none, as from a light);
+    // `which`: the kinds drawn; `front`: after them all, every slab drawn again with it (the
+    // nearest one multiplying by what lies in front of it, viewSplit).
+    enum class TransparentDraws { All, Slabs, SheetsAndMedia };
     void drawTransparent(VkCommandBuffer cmd, const SpectralFrameState& f, size_t p, VkPipeline pipeline,
-                         VkDescriptorSet set0, VkPipeline reflection = VK_NULL_HANDLE) const;
+                         VkDescriptorSet set0, VkPipeline reflection = VK_NULL_HANDLE,
+                         TransparentDraws which = TransparentDraws::All, VkPipeline front = VK_NULL_HANDLE) const;
 };
 
 // A frame's commands: the declared passes in order (SpectralResources::frame: the clear, the depth
