@@ -79,28 +79,8 @@ void SpectralResources::drawShadowTransmittance() {
     std::vector<Group> groups;
     for (uint32_t first = 0; first < uint32_t(packed.depthLayers); first += MAX_OUTPUTS) {
         const uint32_t attachments = std::min<uint32_t>(MAX_OUTPUTS, uint32_t(packed.depthLayers) - first);
-        vk::RenderPassDesc desc;
-        for (uint32_t i = 0; i < attachments; ++i)
-            desc.colors.push_back(
-                vk::attachmentFor(VK_FORMAT_R32G32B32A32_SFLOAT, vk::Access::ColorAttachment, VK_ATTACHMENT_LOAD_OP_CLEAR));
-        renderPasses.push_back(vk::sharedRenderPass(
-            ctx.objects(), fmt::format("spectral.shadow transmittance attachments={}", attachments), desc));
-        const VkRenderPass rp = renderPasses.back().get();
-        const SpirvCode code = transmitFragment(attachments);
-        vk::GraphicsPipelineDesc pd = transparentPipelineDesc(rp, attachments, size);
-        pd.multiplyBlend = false;
-        pd.addBlend = true;  // the channels add (transmit.frag, CHANNEL_OUTPUT)
-        gpu::TransmitSpecialization spec{};
-        spec.channelOutput = VK_TRUE;
-        spec.firstChannel = int32_t(4 * first);
-        VkSpecializationMapEntry entries[TRANSMIT_SPEC_FIRST_CHANNEL + 1];
-        for (uint32_t id = 0; id <= TRANSMIT_SPEC_FIRST_CHANNEL; ++id) entries[id] = {id, id * 4, 4};
-        const VkSpecializationInfo si{TRANSMIT_SPEC_FIRST_CHANNEL + 1, entries, sizeof spec, &spec};
-        const VkPipeline pl = makeOwnPipeline(
-            fmt::format("spectral.shadow transmittance attachments={} {}x{} pass={} layout={} channels from {}", attachments,
-                        size, size, static_cast<void*>(rp), static_cast<void*>(pipelineLayout.get()), spec.firstChannel),
-            pd, code.code, code.bytes, &si);
-        groups.push_back({first, attachments, rp, pl});
+        const VkRenderPass rp = channelRenderPass(attachments);
+        groups.push_back({first, attachments, rp, makeChannelPipeline(rp, attachments, size, int32_t(4 * first), false)});
     }
     std::vector<vk::OwnedFramebuffer> framebuffers;
     // The frame: the light's distance and depth are its own, rewritten per light; the maps are

@@ -194,53 +194,56 @@ void SpectralResources::createPasses() {
     declareFrame();
 }
 
-// The camera's channel pass (scenes whose transparent objects are sheets and media): after the
-// depth pre-pass, every transparent object once, adding its optical-depth channels (transmit.frag,
-// CHANNEL_OUTPUT) in front of the opaque surface, for the band passes to turn into τ per band.
-void SpectralResources::createViewChannelPass() {
+// A render pass of `attachments` RGBA32F layers of optical-depth channels, cleared to 0 (nothing crossed).
+VkRenderPass SpectralResources::channelRenderPass(uint32_t attachments) {
     vk::RenderPassDesc desc;
-    for (uint32_t i = 0; i < viewChannelLayers; ++i)
+    for (uint32_t i = 0; i < attachments; ++i)
         desc.colors.push_back(
             vk::attachmentFor(VK_FORMAT_R32G32B32A32_SFLOAT, vk::Access::ColorAttachment, VK_ATTACHMENT_LOAD_OP_CLEAR));
-    renderPasses.push_back(vk::sharedRenderPass(
-        ctx.objects(), fmt::format("spectral.view channels attachments={}", viewChannelLayers), desc));
-    viewChannelPass.renderPass = renderPasses.back().get();
-    viewChannelPass.attachments = viewChannelLayers;
-    const SpirvCode code = transmitFragment(viewChannelLayers);
-    vk::GraphicsPipelineDesc pd = transparentPipelineDesc(viewChannelPass.renderPass, viewChannelLayers);
+    renderPasses.push_back(
+        vk::sharedRenderPass(ctx.objects(), fmt::format("spectral.channels attachments={}", attachments), desc));
+    return renderPasses.back().get();
+}
+
+// transmit.frag writing optical-depth channels FIRST_CHANNEL … into `attachments` layers, added (the
+// coloured shadows' maps at `size`², the camera's channel pass at the target's size, `split` by the
+// nearest slab).
+VkPipeline SpectralResources::makeChannelPipeline(VkRenderPass renderPass, uint32_t attachments, uint32_t size,
+                                                  int32_t firstChannel, bool split) {
+    const SpirvCode code = transmitFragment(attachments);
+    vk::GraphicsPipelineDesc pd = transparentPipelineDesc(renderPass, attachments, size);
     pd.multiplyBlend = false;
     pd.addBlend = true;  // the channels add
     gpu::TransmitSpecialization spec{};
     spec.channelOutput = VK_TRUE;
-    spec.split = viewSplit ? VK_TRUE : VK_FALSE;
+    spec.firstChannel = firstChannel;
+    spec.split = split ? VK_TRUE : VK_FALSE;
     VkSpecializationMapEntry entries[TRANSMIT_SPEC_BAND_LAYERS + 1];
     for (uint32_t id = 0; id <= TRANSMIT_SPEC_BAND_LAYERS; ++id) entries[id] = {id, id * 4, 4};
     const VkSpecializationInfo si{TRANSMIT_SPEC_BAND_LAYERS + 1, entries, sizeof spec, &spec};
-    viewChannelPass.pipelines = {makeOwnPipeline(
-        fmt::format("spectral.view channels attachments={} {}x{} pass={} layout={} split={}", viewChannelLayers,
-                    plan.targetWidth, plan.targetHeight, static_cast<void*>(viewChannelPass.renderPass),
-                    static_cast<void*>(pipelineLayout.get()), viewSplit),
-        pd, code.code, code.bytes, &si)};
+    return makeOwnPipeline(fmt::format("spectral.channels attachments={} {}x{} pass={} layout={} spec={}", attachments,
+                                       pd.width, pd.height, static_cast<void*>(renderPass),
+                                       static_cast<void*>(pipelineLayout.get()), vk::keyBytes(&spec, sizeof spec)),
+                           pd, code.code, code.bytes, &si);
+}
+
+// The camera's channel pass (scenes whose transparent objects are sheets and media): after the
+// depth pre-pass, every transparent object once, adding its optical-depth channels (transmit.frag,
+// CHANNEL_OUTPUT) in front of the opaque surface, for the band passes to turn into τ per band.
+void SpectralResources::createViewChannelPass() {
+    viewChannelPass.renderPass = channelRenderPass(viewChannelLayers);
+    viewChannelPass.attachments = viewChannelLayers;
+    viewChannelPass.pipelines = {makeChannelPipeline(viewChannelPass.renderPass, viewChannelLayers, 0, 0, viewSplit)};
     std::vector<VkImageView> views;
     for (uint32_t i = 0; i < viewChannelLayers; ++i) views.push_back(viewChannels.layerView(i));
     viewChannelPass.framebuffer =
         vk::createFramebuffer(ctx.device(), viewChannelPass.renderPass, views, plan.targetWidth, plan.targetHeight);
     if (!viewSplit) return;
-    // The slab distance pass: the nearest slab's distance, by its own depth (LESS), both sides drawn.
-    const vk::RenderPassDesc desc2 = distancePrePassDesc();
-    renderPasses.push_back(vk::sharedRenderPass(
-        ctx.objects(), fmt::format("spectral.distance pre-pass {}x{}", plan.targetWidth, plan.targetHeight), desc2));
-    slabDistancePass.renderPass = renderPasses.back().get();
+    // The slab distance pass: the nearest slab's distance, by its own depth — the depth pre-pass's
+    // render pass and its pipeline that keeps back faces (LESS), into images of its own.
+    slabDistancePass.renderPass = depthPrePass.renderPass;
     slabDistancePass.attachments = 1;
-    vk::GraphicsPipelineDesc d = transparentPipelineDesc(slabDistancePass.renderPass, 1);
-    d.depthTest = d.depthWrite = true;
-    d.depthCompare = VK_COMPARE_OP_LESS;
-    d.multiplyBlend = false;
-    d.cullMode = VK_CULL_MODE_NONE;
-    slabDistancePass.pipelines = {makeOwnPipeline(
-        fmt::format("spectral.distance pre-pass cull=false {}x{} pass={} layout={}", d.width, d.height,
-                    static_cast<void*>(slabDistancePass.renderPass), static_cast<void*>(pipelineLayout.get())),
-        d, opaqueDistanceFragment().code, opaqueDistanceFragment().bytes)};
+    slabDistancePass.pipelines = {depthPrePass.pipelines[0]};
     slabDistancePass.framebuffer = vk::createFramebuffer(ctx.device(), slabDistancePass.renderPass,
                                                          {slabDistance.layerView(0), slabDepth.layerView(0)},
                                                          plan.targetWidth, plan.targetHeight);

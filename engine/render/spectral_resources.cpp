@@ -265,46 +265,26 @@ void SpectralResources::createTargets(Readback mode, bool sampled, SpectralPassP
         if (!plan.responses)
             readbackBuffer = vk::Buffer(ctx, plan.targetBytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, "readback");
     }
-    vk::ImageDesc dd;
-    dd.format = VK_FORMAT_D32_SFLOAT;
-    dd.width = w;
-    dd.height = h;
-    dd.usage = VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT;
-    dd.name = "depth";
-    depth = vk::Image(ctx, dd);
-    if (hasTransmission) {
-        vk::ImageDesc od;
-        od.format = VK_FORMAT_R32_SFLOAT;
-        od.width = w;
-        od.height = h;
-        od.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
-        od.name = "opaque distance";
-        opaqueDistance = vk::Image(ctx, od);
-    }
-    if (viewChannelLayers > 0) {
-        vk::ImageDesc vc;
-        vc.width = w;
-        vc.height = h;
-        vc.layers = viewChannelLayers;
-        vc.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
-        vc.name = "view channels";
-        viewChannels = vk::Image(ctx, vc);
-    }
+    // The frame's other images, the target's size: depth, and with transparent objects the opaque
+    // surfaces' distance, the view channels, the nearest slab's distance and its depth.
+    auto image = [&](VkFormat format, uint32_t imageLayers, VkImageUsageFlags usage, const char* name) {
+        vk::ImageDesc d;
+        d.format = format;
+        d.width = w;
+        d.height = h;
+        d.layers = imageLayers;
+        d.usage = usage;
+        d.name = name;
+        return vk::Image(ctx, d);
+    };
+    constexpr VkImageUsageFlags sampledAttachment = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
+    depth = image(VK_FORMAT_D32_SFLOAT, 1, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, "depth");
+    if (hasTransmission) opaqueDistance = image(VK_FORMAT_R32_SFLOAT, 1, sampledAttachment, "opaque distance");
+    if (viewChannelLayers > 0)
+        viewChannels = image(VK_FORMAT_R32G32B32A32_SFLOAT, viewChannelLayers, sampledAttachment, "view channels");
     if (viewSplit) {
-        vk::ImageDesc sd;
-        sd.format = VK_FORMAT_R32_SFLOAT;
-        sd.width = w;
-        sd.height = h;
-        sd.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
-        sd.name = "slab distance";
-        slabDistance = vk::Image(ctx, sd);
-        vk::ImageDesc dd;
-        dd.format = VK_FORMAT_D32_SFLOAT;
-        dd.width = w;
-        dd.height = h;
-        dd.usage = VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT;
-        dd.name = "slab depth";
-        slabDepth = vk::Image(ctx, dd);
+        slabDistance = image(VK_FORMAT_R32_SFLOAT, 1, sampledAttachment, "slab distance");
+        slabDepth = image(VK_FORMAT_D32_SFLOAT, 1, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, "slab depth");
     }
 }
 

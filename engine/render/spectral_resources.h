@@ -198,6 +198,9 @@ private:
     void createLobePass();
     void createTransmissionPasses();
     void createViewChannelPass();
+    VkRenderPass channelRenderPass(uint32_t attachments);
+    VkPipeline makeChannelPipeline(VkRenderPass renderPass, uint32_t attachments, uint32_t size, int32_t firstChannel,
+                                   bool split);
     void createDistancePrePass();
     void createShadowTransmittanceImages();
     void drawShadowTransmittance();
