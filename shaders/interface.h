@@ -43,7 +43,7 @@ using mat4 = glm::mat4;
 #define BINDING_LOBE_TABLES 8     // usamplerBuffer (RGBA32UI texel buffer, texelFetch): the hemisphere lights'
                                   // lobe tables, one per gloss
                                   // value of the scene's specular materials (shaders/lobe_lookup.h;
-                                  // GpuMaterialBlock.params.w is a material's table's first entry)
+                                  // GpuMaterialBlock.lobe.x is a material's table's first entry)
 #define BINDING_SHADOW_TRANSMITTANCE 10 // sampler2DArray (RGBA32F, texelFetch): coloured shadows — per shadow-map
                                         // layer, DEPTH_LAYERS layers of the optical-depth channels along the
                                         // light's ray to the nearest opaque surface, TRANSMITTANCE_MAP_SIZE²

@@ -73,7 +73,7 @@ struct PackedScene {
     uint32_t flatSlabs = 0;
     int slabLayerRows = 0;
     // With hemisphere lights: the lobe table of every distinct gloss value of the specular
-    // materials (reference/lobe_table.h), one after another; a material's params.w is its first entry.
+    // materials (reference/lobe_table.h), one after another; a material's lobe.x is its first entry.
     std::vector<glm::uvec4> lobeTables;
     // Fluorescence as per-light spectra (scenes with a Donaldson matrix; interface.h,
     // GpuFluorescenceBlock): records of lightSlots × MAX_OUTPUTS vec4; per pass, record 0 is zeros
