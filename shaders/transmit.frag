@@ -1,5 +1,8 @@
 #version 450
-// The transmission pass: after a band pass has written the radiance of the opaque surfaces, every
+// Transparent surfaces, in three uses. The channel passes (CHANNEL_OUTPUT, below): each crossing
+// adds to its material's optical-depth channels — the camera's, once per frame, and the coloured
+// shadows' maps from each light. The transmission pass (with slabs in the scene, or more channels
+// than one pass holds): after a band pass has written the radiance of the opaque surfaces, every
 // transparent surface in front of them multiplies it, band by band, by its factor (blend:
 // destination × source); the depth pre-pass left the opaque surfaces' distance (opaque_distance.frag).
 // Sheets and media only multiply, which commutes; slabs also add their reflection, so the draws
