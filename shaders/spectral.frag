@@ -205,7 +205,7 @@ vec4 transmittanceAt(int layer) {
         const int c = DEPTH_CHANNELS + 2 * i;
         const float crossings = depthChannel[c];
         // A flat slab under a directional light: one angle, its log2 T computed once per scene.
-        if (filterDirectional && ((FLAT_SLABS >> uint(min(i, 31))) & 1u) != 0u && i < 32)
+        if (filterDirectional && i < 32 && ((FLAT_SLABS >> uint(i)) & 1u) != 0u)
             depth += crossings * texelFetch(depthSpectra, SLAB_LAYER_ROWS + (shadowLayer * SLAB_CHANNELS + i) * BAND_LAYERS + layer);
         else if (crossings > 0.0)
             depth += crossings * slabLog2Transmittance(min(depthChannel[c + 1] / crossings, 1.0),

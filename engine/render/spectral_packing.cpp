@@ -189,7 +189,7 @@ std::vector<float> packDepthChannels(PackedScene& p, const Scene& scene, const S
             for (size_t i = 0; i < slabs.size(); ++i) {
                 const MaterialOnGrid& m = g.materials[slabs[i]];
                 const glm::vec4 eye = p.shadowEyes[layer];
-                const bool directional = eye.w < 0.5f && ((p.flatSlabs >> std::min<size_t>(i, 31)) & 1u) != 0u && i < 32;
+                const bool directional = eye.w < 0.5f && i < 32 && ((p.flatSlabs >> i) & 1u) != 0u;
                 const double cosI = directional ? std::min(1.0, std::abs(glm::dot(glm::normalize(glm::dvec3(eye)), slabNormal[i]))) : 1.0;
                 rows([&](size_t b) {
                     if (!directional) return 0.0;

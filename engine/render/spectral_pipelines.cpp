@@ -12,8 +12,21 @@
 #include "vk/render_pass.h"
 
 #include <algorithm>
+#include <array>
 
 namespace metamer {
+
+namespace {
+// transmit.frag's specialization: one 4-byte entry per id of gpu::TransmitSpecialization, in order.
+const std::array<VkSpecializationMapEntry, TRANSMIT_SPEC_BAND_LAYERS + 1> kTransmitEntries = [] {
+    std::array<VkSpecializationMapEntry, TRANSMIT_SPEC_BAND_LAYERS + 1> e{};
+    for (uint32_t id = 0; id < e.size(); ++id) e[id] = {id, id * 4, 4};
+    return e;
+}();
+VkSpecializationInfo transmitSpecialization(const gpu::TransmitSpecialization& spec) {
+    return {uint32_t(kTransmitEntries.size()), kTransmitEntries.data(), sizeof spec, &spec};
+}
+}  // namespace
 
 // attachments == 0: the depth pre-pass (clears and writes depth). Otherwise a colour pass that
 // loads the pre-pass's depth and shades only the visible surface (depth test EQUAL), so every
@@ -218,9 +231,7 @@ VkPipeline SpectralResources::makeChannelPipeline(VkRenderPass renderPass, uint3
     spec.channelOutput = VK_TRUE;
     spec.firstChannel = firstChannel;
     spec.split = split ? VK_TRUE : VK_FALSE;
-    VkSpecializationMapEntry entries[TRANSMIT_SPEC_BAND_LAYERS + 1];
-    for (uint32_t id = 0; id <= TRANSMIT_SPEC_BAND_LAYERS; ++id) entries[id] = {id, id * 4, 4};
-    const VkSpecializationInfo si{TRANSMIT_SPEC_BAND_LAYERS + 1, entries, sizeof spec, &spec};
+    const VkSpecializationInfo si = transmitSpecialization(spec);
     return makeOwnPipeline(fmt::format("spectral.channels attachments={} {}x{} pass={} layout={} spec={}", attachments,
                                        pd.width, pd.height, static_cast<void*>(renderPass),
                                        static_cast<void*>(pipelineLayout.get()), vk::keyBytes(&spec, sizeof spec)),
@@ -325,16 +336,16 @@ void SpectralResources::createTransmissionPasses() {
     frontSpec.front = VK_TRUE;
     frontSpec.viewChannels = packed.depthChannels;
     frontSpec.bandLayers = packed.bandLayers;
-    VkSpecializationMapEntry frontEntries[TRANSMIT_SPEC_BAND_LAYERS + 1];
-    for (uint32_t id = 0; id <= TRANSMIT_SPEC_BAND_LAYERS; ++id) frontEntries[id] = {id, id * 4, 4};
-    const VkSpecializationInfo frontInfo{TRANSMIT_SPEC_BAND_LAYERS + 1, frontEntries, sizeof frontSpec, &frontSpec};
+    const VkSpecializationInfo frontInfo = transmitSpecialization(frontSpec);
     const bool slabs = std::any_of(scene.materials.begin(), scene.materials.end(), [](const Material& m) { return m.isSlab(); });
     // The slabs' reflection draws add R·(ambient and hemisphere lights in the mirror direction).
-    const gpu::TransmitSpecialization reflection{VK_FALSE, VK_TRUE, packed.ambient,
-                                                 packed.ambient + packed.directional + packed.point, packed.hemisphere};
-    VkSpecializationMapEntry entries[TRANSMIT_SPEC_HEMISPHERE_COUNT + 1];
-    for (uint32_t id = 0; id <= TRANSMIT_SPEC_HEMISPHERE_COUNT; ++id) entries[id] = {id, id * 4, 4};
-    const VkSpecializationInfo reflectionInfo{TRANSMIT_SPEC_HEMISPHERE_COUNT + 1, entries, sizeof reflection, &reflection};
+    gpu::TransmitSpecialization reflection{};
+    reflection.reflection = VK_TRUE;
+    reflection.ambientCount = packed.ambient;
+    reflection.hemisphereFirst = packed.ambient + packed.directional + packed.point;
+    reflection.hemisphereCount = packed.hemisphere;
+    reflection.bandLayers = 1;  // the shader's default: read by FRONT only
+    const VkSpecializationInfo reflectionInfo = transmitSpecialization(reflection);
     for (const PassObjects& band : passes) {
         PassObjects po;
         po.firstLayer = band.firstLayer;

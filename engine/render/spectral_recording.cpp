@@ -107,6 +107,13 @@ void SpectralResources::drawTransparent(VkCommandBuffer cmd, const SpectralFrame
     // A scene of 10⁵ sheets is 10⁵ draws: each binds its material only where it changes, and pushes
     // the point its path is measured from only for a medium (the one kind that reads it).
     uint32_t boundMaterial = ~0u;
+    auto bindMaterial = [&](uint32_t material) {
+        if (material == boundMaterial) return;
+        boundMaterial = material;
+        const uint32_t offsets[4] = {uint32_t(p * lightSpectraStride), uint32_t((p * materials + material) * materialStride),
+                                     0u, 0u};
+        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelineLayout.get(), 0, 1, &set0, 4, offsets);
+    };
     for (const auto& [distance, draw] : order) {
         const PackedDraw& d = *draw;
         if ((packed.materials[d.material].switches.x & MATERIAL_MEDIUM) != 0u) {
@@ -115,12 +122,7 @@ void SpectralResources::drawTransparent(VkCommandBuffer cmd, const SpectralFrame
             vkCmdPushConstants(cmd, pipelineLayout.get(), VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
                                sizeof pc, &pc);
         }
-        if (d.material != boundMaterial) {
-            boundMaterial = d.material;
-            const uint32_t offsets[4] = {uint32_t(p * lightSpectraStride),
-                                         uint32_t((p * materials + d.material) * materialStride), 0u, 0u};
-            vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelineLayout.get(), 0, 1, &set0, 4, offsets);
-        }
+        bindMaterial(d.material);
         if (bound != pipeline) vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, bound = pipeline);
         vkCmdDrawIndexed(cmd, d.indexCount, 1, d.firstIndex, d.vertexOffset, 0);
         if (reflection != VK_NULL_HANDLE && (packed.materials[d.material].switches.x & MATERIAL_SLAB) != 0u) {
@@ -135,12 +137,7 @@ void SpectralResources::drawTransparent(VkCommandBuffer cmd, const SpectralFrame
     for (const auto& [distance, draw] : order) {
         const PackedDraw& d = *draw;
         if ((packed.materials[d.material].switches.x & MATERIAL_SLAB) == 0u) continue;
-        if (d.material != boundMaterial) {
-            boundMaterial = d.material;
-            const uint32_t offsets[4] = {uint32_t(p * lightSpectraStride),
-                                         uint32_t((p * materials + d.material) * materialStride), 0u, 0u};
-            vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelineLayout.get(), 0, 1, &set0, 4, offsets);
-        }
+        bindMaterial(d.material);
         vkCmdDrawIndexed(cmd, d.indexCount, 1, d.firstIndex, d.vertexOffset, 0);
     }
 }

@@ -39,10 +39,11 @@ SpectralResources::SpectralResources(vk::Context& c, const Scene& s, const Scene
     // The camera's channel pass: for the sheets and media (a set of channels), and with slabs in the
     // scene too, two sets (behind and in front of the nearest slab), within one pass's attachments.
     const uint32_t channelLayers = uint32_t(packed.depthChannels + 3) / 4;
-    viewSplit = packed.slabChannels > 0;
-    if (hasTransmission && channelLayers >= 1 && channelLayers * (viewSplit ? 2 : 1) <= MAX_OUTPUTS)
-        viewChannelLayers = channelLayers * (viewSplit ? 2 : 1);
-    viewSplit = viewSplit && viewChannelLayers > 0;
+    const bool slabs = packed.slabChannels > 0;
+    if (hasTransmission && channelLayers >= 1 && channelLayers * (slabs ? 2 : 1) <= MAX_OUTPUTS) {
+        viewChannelLayers = channelLayers * (slabs ? 2 : 1);
+        viewSplit = slabs;
+    }
     // The coloured shadows' cost grows with the transparent area the lights see × the channels'
     // layers: said when it is long, refused when it would take hours, before anything is drawn.
     if (packed.filteredShadows) {
