@@ -42,8 +42,6 @@ const int DEPTH_ARRAY = DEPTH_LAYERS > 0 ? 4 * DEPTH_LAYERS : 4;
 layout(constant_id = SPEC_VIEW_CHANNELS) const int VIEW_CHANNELS = 0;
 layout(constant_id = SPEC_FLAT_SLABS) const uint FLAT_SLABS = 0u;
 layout(constant_id = SPEC_SLAB_LAYER_ROWS) const int SLAB_LAYER_ROWS = 0;
-const int VIEW_LAYERS = (VIEW_CHANNELS + 3) / 4;
-const int VIEW_ARRAY = VIEW_LAYERS > 0 ? 4 * VIEW_LAYERS : 4;  // no array of 0 elements where there are none
 layout(constant_id = SPEC_EMITTER_TRIANGLES) const int EMITTER_TRIANGLES = 0;
 layout(constant_id = SPEC_EMITTERS) const int EMITTERS = 0;
 layout(constant_id = SPEC_HAS_EMITTERS) const bool HAS_EMITTERS = true;
@@ -66,6 +64,7 @@ layout(set = 0, binding = BINDING_SHADOW_TRANSMITTANCE) uniform sampler2DArray s
 layout(set = 0, binding = BINDING_SHADOW_EXCITATION) uniform samplerBuffer shadowExcitation;
 layout(set = 0, binding = BINDING_DEPTH_SPECTRA) uniform samplerBuffer depthSpectra;
 layout(set = 0, binding = BINDING_VIEW_CHANNELS) uniform sampler2DArray viewChannels;
+#include "view_channels.glsl"
 
 layout(set = 1, binding = TEXTURE_BINDING_DIFFUSE) uniform sampler2DArray diffuseTexture;
 layout(set = 1, binding = TEXTURE_BINDING_SPECULAR) uniform sampler2DArray specularTexture;
@@ -470,17 +469,9 @@ void main() {
     // What the camera sees through: the sheets and media in front of this surface, as their
     // optical-depth channels at this pixel (the channel pass), τ = 2^(Σ c·k) band by band.
     if (VIEW_CHANNELS > 0 && RADIANCE) {
-        float c[VIEW_ARRAY];
-        [[unroll]] for (int j = 0; j < VIEW_LAYERS; ++j) {
-            const vec4 v = texelFetch(viewChannels, ivec3(ivec2(gl_FragCoord.xy), j), 0);
-            [[unroll]] for (int i = 0; i < 4; ++i) c[4 * j + i] = v[i];
-        }
+        fetchViewChannels(0);
         const int first = int(M.params.y);
-        [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) {
-            vec4 depth = vec4(0.0);
-            [[unroll]] for (int j = 0; j < VIEW_CHANNELS; ++j) depth += c[j] * texelFetch(depthSpectra, j * BAND_LAYERS + first + k);
-            acc[k] *= exp2(depth);
-        }
+        [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) acc[k] *= viewTransmittance(first + k);
     }
     writeOutputs();
 }

@@ -44,8 +44,6 @@ layout(constant_id = TRANSMIT_SPEC_SPLIT) const bool SPLIT = false;
 layout(constant_id = TRANSMIT_SPEC_FRONT) const bool FRONT = false;
 layout(constant_id = TRANSMIT_SPEC_VIEW_CHANNELS) const int VIEW_CHANNELS = 0;
 layout(constant_id = TRANSMIT_SPEC_BAND_LAYERS) const int BAND_LAYERS = 1;
-const int VIEW_LAYERS = (VIEW_CHANNELS + 3) / 4;
-const int VIEW_ARRAY = VIEW_LAYERS > 0 ? 4 * VIEW_LAYERS : 4;
 // The slabs' second draw: their reflection R·L(mirror direction), added (blend destination + source)
 // after their transmittance has multiplied what is behind — draws go back to front.
 layout(constant_id = TRANSMIT_SPEC_REFLECTION) const bool REFLECTION = false;
@@ -60,6 +58,7 @@ layout(set = 0, binding = BINDING_OPAQUE_DISTANCE) uniform sampler2D opaqueDista
 layout(set = 0, binding = BINDING_SLAB_DISTANCE) uniform sampler2D slabDistance;
 layout(set = 0, binding = BINDING_VIEW_CHANNELS) uniform sampler2DArray viewChannels;
 layout(set = 0, binding = BINDING_DEPTH_SPECTRA) uniform samplerBuffer depthSpectra;
+#include "view_channels.glsl"
 layout(push_constant) uniform Push { SpectralPushConstants pc; };
 
 layout(location = 0) in vec3 worldPosition;
@@ -146,17 +145,9 @@ void main() {
         if (FRONT) {
             // Only the nearest slab multiplies, once: by τ of the sheets and media in front of it.
             if (t > tS) discard;
-            float c[VIEW_ARRAY];
-            [[unroll]] for (int j = 0; j < VIEW_LAYERS; ++j) {
-                const vec4 v = texelFetch(viewChannels, ivec3(ivec2(gl_FragCoord.xy), VIEW_LAYERS + j), 0);
-                [[unroll]] for (int i = 0; i < 4; ++i) c[4 * j + i] = v[i];
-            }
+            fetchViewChannels(1);
             const int first = int(runtimeValue(M.params.y));
-            for (int k = 0; k < OUTPUT_COUNT; ++k) {
-                vec4 depth = vec4(0.0);
-                [[unroll]] for (int j = 0; j < VIEW_CHANNELS; ++j) depth += c[j] * texelFetch(depthSpectra, j * BAND_LAYERS + first + k);
-                factor[k] = exp2(depth);
-            }
+            for (int k = 0; k < OUTPUT_COUNT; ++k) factor[k] = viewTransmittance(first + k);
             writeOutputs();
             return;
         }
