@@ -16,6 +16,7 @@ namespace metamer::gpu {
 using uint = uint32_t;
 using vec4 = glm::vec4;
 using uvec4 = glm::uvec4;
+using ivec4 = glm::ivec4;
 using mat4 = glm::mat4;
 #endif
 
@@ -55,7 +56,9 @@ using mat4 = glm::mat4;
                                         // (read when SPEC_FILTERED_SHADOWS)
 #define BINDING_DEPTH_SPECTRA 12        // samplerBuffer (RGBA32F texel buffer): per optical-depth channel, BAND_LAYERS
                                         // vec4 of what turns it into log2 τ per band (below; read when
-                                        // SPEC_FILTERED_SHADOWS)
+                                        // SPEC_FILTERED_SHADOWS or SPEC_VIEW_CHANNELS); after them, in the
+                                        // response pass through transparent objects, the materials' response
+                                        // spectra (GpuResponseBlock::spectra)
 #define BINDING_SLAB_DISTANCE 14        // sampler2D (R32F, texelFetch): the nearest slab's distance per pixel (the slab
                                         // distance pass), by which the channel pass splits what lies in front of it
 #define BINDING_VIEW_CHANNELS 13        // sampler2DArray (RGBA32F, texelFetch at the fragment): the camera's optical-depth
@@ -272,6 +275,13 @@ struct GpuResponseBlock {
     vec4 diffuse[MAX_LIGHTS * RESPONSE_VEC4];       // D_l: [l * RESPONSE_VEC4 + k]
     vec4 specular[MAX_LIGHTS * RESPONSE_VEC4];      // S_l
     vec4 fluorescence[MAX_LIGHTS * RESPONSE_VEC4];  // F_l
+    // Seen through sheets and media (SPEC_VIEW_CHANNELS in the response pass): the radiance is
+    // τ(λ)·L(λ), and its response Σ_b τ_b·(g/π·d_lcb + lobe·s_lcb) with the sums' terms kept per band,
+    // d_lcb = w_cb·ρd_b·E_lb and s_lcb = w_cb·ρs_b·E_lb, in double rounded once to float. x: the first
+    // row in BINDING_DEPTH_SPECTRA of this material's, C = 4·⌈channels/4⌉ channels × BAND_LAYERS vec4
+    // (4 bands) per light and term: row x + ((2·l + term)·C + c)·BAND_LAYERS + j, term 0 diffuse,
+    // 1 specular; −1 where there are none (a scene without transparent objects, a transparent material).
+    ivec4 spectra;
 };
 
 // Fluorescence as per-light spectra, for scenes with a Donaldson-matrix material (a matrix does

@@ -218,6 +218,7 @@ void filterLight(bool directional) {
     filtered = FILTERED_SHADOWS && shadowLayer >= 0;
     if (!filtered) return;
     fetchDepthChannels();
+    if (RESPONSES) return;  // the response pass takes τ band by band in its sums (respondThroughFilters)
     const int first = int(M.params.y);
     [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) lightFilter[k] = transmittanceAt(first + k);
 }
@@ -268,9 +269,32 @@ void sampleTextures() {
     }
 }
 
+// The response pass seen through sheets and media (VIEW_CHANNELS): light l's response with τ of the
+// camera's channels — and of the light's own, under a coloured shadow — taken band by band inside
+// the sum, Σ_j τ_j·(g/π·d_lcj + lobe·s_lcj) over the grid's band layers j (interface.h,
+// GpuResponseBlock::spectra). The same products as the band passes', summed in another order.
+vec4 viewTau[BAND_LAYERS];  // the camera's τ per band layer, once per fragment for every light
+void respondThroughFilters(int l, float diffuseWeight, float specularWeight) {
+    const int C = 4 * OUTPUT_COUNT;
+    const int diffuseRows = R.spectra.x + 2 * l * C * BAND_LAYERS, specularRows = diffuseRows + C * BAND_LAYERS;
+    for (int j = 0; j < BAND_LAYERS; ++j) {
+        vec4 tau = viewTau[j];
+        if (FILTERED_SHADOWS && filtered) tau *= transmittanceAt(j);
+        [[unroll]] for (int c = 0; c < C; ++c) {
+            vec4 terms = diffuseWeight * texelFetch(depthSpectra, diffuseRows + c * BAND_LAYERS + j);
+            if (HAS_SPECULAR) terms += specularWeight * texelFetch(depthSpectra, specularRows + c * BAND_LAYERS + j);
+            acc[c / 4][c % 4] += dot(terms, tau);
+        }
+    }
+}
+
 // Adds light l's reflected radiance with geometric weights: diffuse g/π, specular lobe weight
 // (in the response pass, the detector's response to it).
 void addLight(int l, float diffuseWeight, float specularWeight) {
+    if (RESPONSES && VIEW_CHANNELS > 0) {
+        respondThroughFilters(l, diffuseWeight, specularWeight);
+        return;
+    }
     if (RESPONSES) {
         [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) {
             const int r = l * RESPONSE_VEC4 + k;
@@ -412,6 +436,10 @@ void main() {
     }
 
     filtered = false;
+    if (RESPONSES && VIEW_CHANNELS > 0) {  // τ inside the response sums
+        fetchViewChannels(0);
+        for (int j = 0; j < BAND_LAYERS; ++j) viewTau[j] = viewTransmittance(j);
+    }
     [[unroll]] for (int i = 0; i < min(AMBIENT_COUNT, UNROLLED_LIGHTS); ++i) ambientLight(i);
     [[dont_unroll]] for (int i = UNROLLED_LIGHTS; i < AMBIENT_COUNT; ++i) ambientLight(i);
     vec3 ng = dot(faceNormal, faceNormal) > 0.0 ? normalize(faceNormal) : n;
@@ -468,7 +496,7 @@ void main() {
 #endif
     // What the camera sees through: the sheets and media in front of this surface, as their
     // optical-depth channels at this pixel (the channel pass), τ = 2^(Σ c·k) band by band.
-    if (VIEW_CHANNELS > 0 && RADIANCE) {
+    if (VIEW_CHANNELS > 0 && RADIANCE && !RESPONSES) {
         fetchViewChannels(0);
         const int first = int(M.params.y);
         [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) acc[k] *= viewTransmittance(first + k);

@@ -76,10 +76,10 @@ void printTimings(const RenderJobResult& r) {
     if (t.shadow_ms > 0) std::printf("shadow maps: %.1f ms of the upload (drawn once per scene)\n", t.shadow_ms);
     double bandPixels = double(r.width) * r.height * r.grid.bands();
     if (r.displayOnly) {
-        // The display path: a frame is the response pass (or, with transparent objects, the band
-        // passes) and the tonemap pass.
+        // The display path: a frame is the response pass (or, with slabs, interreflection or
+        // emitters, the band passes: Scene::displayNeedsBands) and the tonemap pass.
         const char* what = r.responsePass ? "response pass: the detector's channels, no bands"
-                                          : "band passes: transparent objects need the bands";
+                                          : "band passes: this scene needs the bands (docs/color.md, The response pass)";
         if (t.frames > 1)
             std::printf("frames: %d (%s); first frame shading %.1f ms "
                         "(includes shader compilation); median of the other %d: shading %.1f ms, tonemap %.1f ms, "

@@ -485,6 +485,30 @@ PackedScene packResponses(const Scene& scene, const SceneOnGrid& g, const std::v
     };
     std::vector<double> product(n);
     p.responseBlocks.assign(g.materials.size(), gpu::GpuResponseBlock{});
+    for (gpu::GpuResponseBlock& block : p.responseBlocks) block.spectra = glm::ivec4(-1);
+    // Seen through sheets and media, the sums' terms stay per band (GpuResponseBlock::spectra): after
+    // the optical-depth channels' rows, per opaque material, light, term and channel, BAND_LAYERS vec4.
+    if (scene.hasTransparency()) {
+        const size_t padded = 4 * ((channels + 3) / 4), layers = size_t(p.bandLayers);
+        for (size_t mi = 0; mi < g.materials.size(); ++mi) {
+            const MaterialOnGrid& m = g.materials[mi];
+            if (m.isTransparent()) continue;
+            p.responseBlocks[mi].spectra.x = int(p.depthSpectra.size());
+            for (size_t i = 0; i < lights; ++i) {
+                const std::vector<double>& E = g.lights[order[i]];
+                for (const std::vector<double>* rho : {&m.diffuse, &m.specular})
+                    for (size_t c = 0; c < padded; ++c)
+                        for (size_t j = 0; j < layers; ++j) {
+                            glm::vec4 v(0.0f);
+                            for (size_t k = 0; k < 4; ++k) {
+                                const size_t b = 4 * j + k;
+                                if (c < channels && b < n) v[int(k)] = float(weights[c][b] * (*rho)[b] * E[b]);
+                            }
+                            p.depthSpectra.push_back(v);
+                        }
+            }
+        }
+    }
     p.responseTextureSlots.assign(g.materials.size(), {-1, -1, -1});
     for (size_t mi = 0; mi < g.materials.size(); ++mi) {
         const MaterialOnGrid& m = g.materials[mi];

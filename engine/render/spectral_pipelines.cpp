@@ -165,8 +165,9 @@ void SpectralResources::createPasses() {
     // pass, and the pre-pass pays there only where shading is costly enough for overdraw to
     // matter: textured materials (texel fetches per fragment). Measured at 1024²: textured.json
     // 30.9 → 27.9 ms; spheres.json (the environment lookup, back faces culled) 33.4 → 34.3 and
-    // imaging-systems.json 25.2 → 24.1, noise either way (docs/performance.md).
-    hasDepthPrePass = !plan.responses || scene.hasTextures();
+    // imaging-systems.json 25.2 → 24.1, noise either way (docs/performance.md). Transparent objects
+    // need it for the opaque distance their channel pass measures from.
+    hasDepthPrePass = !plan.responses || scene.hasTextures() || hasTransmission;
     if (hasTransmission) {
         createDistancePrePass();
     } else if (hasDepthPrePass) {

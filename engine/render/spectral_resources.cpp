@@ -33,9 +33,6 @@ SpectralResources::SpectralResources(vk::Context& c, const Scene& s, const Scene
     // The ground-truth maps are of the opaque surface seen: nothing transparent is drawn for them.
     hasTransmission = plan.quantity == SurfaceQuantity::Radiance &&
                       std::any_of(packed.draws.begin(), packed.draws.end(), [](const PackedDraw& d) { return d.transparent; });
-    if (hasTransmission && packed.responses)
-        failRuntime("the response pass cannot show transparent objects (radiance through a filter is not linear in "
-                    "each material's spectra): render bands (render/display_frame.cpp does)");
     // The camera's channel pass: for the sheets and media (a set of channels), and with slabs in the
     // scene too, two sets (behind and in front of the nearest slab), within one pass's attachments.
     const uint32_t channelLayers = uint32_t(packed.depthChannels + 3) / 4;
@@ -44,6 +41,11 @@ SpectralResources::SpectralResources(vk::Context& c, const Scene& s, const Scene
         viewChannelLayers = channelLayers * (slabs ? 2 : 1);
         viewSplit = slabs;
     }
+    // The response pass carries sheets and media (their τ inside its sums), not slabs, whose
+    // reflections add in depth order (Scene::transparencyInResponses).
+    if (hasTransmission && packed.responses && (viewChannelLayers == 0 || viewSplit))
+        failRuntime("the response pass shows sheets and media, at most {} materials, not slabs: render bands "
+                    "(render/display_frame.cpp does)", 4 * MAX_OUTPUTS);
     // The coloured shadows' cost grows with the transparent area the lights see × the channels'
     // layers: said when it is long, refused when it would take hours, before anything is drawn.
     if (packed.filteredShadows) {
@@ -170,7 +172,12 @@ void SpectralResources::createBuffers() {
     shadowExcitationBuffer.upload(packed.shadowExcitation.data(), excitationBytes);
     shadowExcitationView = texelBufferView(ctx.device(), shadowExcitationBuffer, VK_FORMAT_R32G32B32A32_SFLOAT);
     // The optical-depth channels' spectra (one zero entry when there are none): at most
-    // MAX_DEPTH_CHANNELS × BAND_LAYERS texels, within every device's limit.
+    // MAX_DEPTH_CHANNELS × BAND_LAYERS texels, within every device's limit; in the response pass
+    // through transparent objects, the materials' response spectra after them (DisplayFrame draws
+    // bands where they would not fit).
+    if (packed.depthSpectra.size() > ctx.properties().limits.maxTexelBufferElements)
+        failRuntime("the optical-depth and response spectra need {} texels; this device reads at most {}",
+                    packed.depthSpectra.size(), ctx.properties().limits.maxTexelBufferElements);
     const VkDeviceSize depthBytes = packed.depthSpectra.size() * sizeof(glm::vec4);
     depthSpectraBuffer = vk::Buffer(ctx, depthBytes, VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT, "optical-depth spectra");
     depthSpectraBuffer.upload(packed.depthSpectra.data(), depthBytes);

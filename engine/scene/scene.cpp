@@ -20,6 +20,15 @@ bool Scene::hasTransparency() const {
     return false;
 }
 
+bool Scene::transparencyInResponses() const {
+    size_t channels = 0;
+    for (const auto& m : materials) {
+        if (m.isSlab()) return false;
+        if (m.isTransparent()) ++channels;
+    }
+    return channels <= 32 && !hasTextures() && !hasFluorescence();
+}
+
 bool Scene::hasEmitters() const {
     for (const auto& m : materials)
         if (m.emitter) return true;

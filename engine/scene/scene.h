@@ -256,10 +256,18 @@ struct Scene {
     bool hasNormalMaps() const;
     bool hasTransparency() const;  // any filter or absorbing medium
     bool hasEmitters() const;      // any material with emitted radiance
-    // Whether the display image must come from bands, not the response pass: radiance through a
-    // filter is not linear in each material's spectra, and interreflection's indirect light is
-    // and emitted radiance are drawn by the band programs only (render/display_frame.cpp).
-    bool displayNeedsBands() const { return hasTransparency() || interreflection.has_value() || hasEmitters(); }
+    // Whether the response pass carries this scene's transparent objects to the display image: sheets
+    // and media (their optical depth per pixel, τ applied band by band inside the response sum), at
+    // most 32 materials of them (one channel pass), over surfaces without textures or fluorescence
+    // (whose responses are summed per texel or need the excitation per band). Slabs (a reflection
+    // added in depth order) are not (docs/color.md, "The response pass").
+    bool transparencyInResponses() const;
+    // Whether the display image must come from bands, not the response pass: transparent objects it
+    // does not carry (above), interreflection's indirect light and emitted radiance, which only the
+    // band programs draw (render/display_frame.cpp).
+    bool displayNeedsBands() const {
+        return (hasTransparency() && !transparencyInResponses()) || interreflection.has_value() || hasEmitters();
+    }
     size_t triangleCount() const;
 };
 
