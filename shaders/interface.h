@@ -171,6 +171,11 @@ using mat4 = glm::mat4;
 // [layer][slab][band layer]), where elsewhere the shader evaluates Fresnel's equations per band.
 #define SPEC_FLAT_SLABS 24
 #define SPEC_SLAB_LAYER_ROWS 25
+// The response pass through a slab (Scene::transparencyInResponses: one planar slab object): its
+// first optical-depth channel (its n(λ) and attenuation rows in BINDING_DEPTH_SPECTRA), −1 none.
+// Where the slab lies in front of the opaque surface (BINDING_SLAB_DISTANCE < BINDING_OPAQUE_DISTANCE)
+// the response sums take its T(θ, λ) at the angle of the ray with GpuResponseBlock::slabNormal.
+#define SPEC_VIEW_SLAB_CHANNEL 26
 #define QUANTITY_RADIANCE 0
 #define QUANTITY_ILLUMINATION 1
 #define QUANTITY_REFLECTANCE 2
@@ -281,7 +286,10 @@ struct GpuResponseBlock {
     // row in BINDING_DEPTH_SPECTRA of this material's, C = 4·⌈channels/4⌉ channels × BAND_LAYERS vec4
     // (4 bands) per light and term: row x + ((2·l + term)·C + c)·BAND_LAYERS + j, term 0 diffuse,
     // 1 specular; −1 where there are none (a scene without transparent objects, a transparent material).
+    // y (every block the same): with a slab, the first row of the detector-weighted light spectra
+    // w_cb·E_lb, row y + (l·C + c)·BAND_LAYERS + j, that its reflection of the environment sums.
     ivec4 spectra;
+    vec4 slabNormal;  // xyz: the scene's one slab's unit normal, in the frame (with SPEC_VIEW_SLAB_CHANNEL)
 };
 
 // Fluorescence as per-light spectra, for scenes with a Donaldson-matrix material (a matrix does
@@ -321,6 +329,10 @@ struct SpectralPushConstants {
 #define TRANSMIT_SPEC_FRONT 7
 #define TRANSMIT_SPEC_VIEW_CHANNELS 8
 #define TRANSMIT_SPEC_BAND_LAYERS 9
+// The response pass's slab reflection (with REFLECTION): the outputs are a detector's channels,
+// Σ_j R_j(θ)·τ_front,j·(environment) against the detector-weighted light spectra
+// (GpuResponseBlock::spectra.y), added to the response pass's.
+#define TRANSMIT_SPEC_RESPONSES 10
 
 // ---------------------------------------------------------------------------------------------
 // The tonemap pass (tonemap.frag): one fragment per output pixel reads the spectral target and
@@ -401,8 +413,9 @@ struct SpectralSpecialization {
     int32_t viewChannels;                        // SPEC_VIEW_CHANNELS
     uint32_t flatSlabs;                          // SPEC_FLAT_SLABS
     int32_t slabLayerRows;                       // SPEC_SLAB_LAYER_ROWS
+    int32_t viewSlabChannel;                     // SPEC_VIEW_SLAB_CHANNEL
 };
-static_assert(sizeof(SpectralSpecialization) == 4 * (SPEC_SLAB_LAYER_ROWS + 1), "one 4-byte field per id");
+static_assert(sizeof(SpectralSpecialization) == 4 * (SPEC_VIEW_SLAB_CHANNEL + 1), "one 4-byte field per id");
 static_assert(SPEC_AMBIENT_COUNT == 0 && SPEC_DIRECTIONAL_COUNT == 1 && SPEC_POINT_COUNT == 2 && SPEC_HAS_SPECULAR == 3 &&
                   SPEC_HAS_FLUORESCENCE == 4 && SPEC_HAS_TEXTURES == 5 && SPEC_HAS_NORMAL_MAPS == 6 &&
                   SPEC_FLUORESCENCE_SPECTRA == 7 && SPEC_RESPONSES == 8 && SPEC_HEMISPHERE_COUNT == 9 &&
@@ -411,7 +424,7 @@ static_assert(SPEC_AMBIENT_COUNT == 0 && SPEC_DIRECTIONAL_COUNT == 1 && SPEC_POI
                   SPEC_BAND_LAYERS == 16 && SPEC_EMITTER_TRIANGLES == 17 && SPEC_EMITTERS == 18 &&
                   SPEC_HAS_EMITTERS == 19 && SPEC_QUANTITY == 20 && SPEC_DEPTH_CHANNELS == 21 &&
                   SPEC_SLAB_CHANNELS == 22 && SPEC_VIEW_CHANNELS == 23 && SPEC_FLAT_SLABS == 24 &&
-                  SPEC_SLAB_LAYER_ROWS == 25,
+                  SPEC_SLAB_LAYER_ROWS == 25 && SPEC_VIEW_SLAB_CHANNEL == 26,
               "SpectralSpecialization's fields are in id order");
 
 // transmit.frag's specialization constants, in id order.
@@ -421,8 +434,9 @@ struct TransmitSpecialization {
     int32_t firstChannel;
     uint32_t split, front;  // VkBool32
     int32_t viewChannels, bandLayers;
+    uint32_t responses;  // VkBool32
 };
-static_assert(sizeof(TransmitSpecialization) == 4 * (TRANSMIT_SPEC_BAND_LAYERS + 1), "one 4-byte field per id");
+static_assert(sizeof(TransmitSpecialization) == 4 * (TRANSMIT_SPEC_RESPONSES + 1), "one 4-byte field per id");
 
 // tonemap.frag's specialization constants, in id order.
 struct TonemapSpecialization {

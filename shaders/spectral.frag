@@ -42,6 +42,11 @@ const int DEPTH_ARRAY = DEPTH_LAYERS > 0 ? 4 * DEPTH_LAYERS : 4;
 layout(constant_id = SPEC_VIEW_CHANNELS) const int VIEW_CHANNELS = 0;
 layout(constant_id = SPEC_FLAT_SLABS) const uint FLAT_SLABS = 0u;
 layout(constant_id = SPEC_SLAB_LAYER_ROWS) const int SLAB_LAYER_ROWS = 0;
+layout(constant_id = SPEC_VIEW_SLAB_CHANNEL) const int VIEW_SLAB_CHANNEL = -1;
+// The response pass seen through transparent objects: τ per band inside the response sums. (A
+// macro: glslang 11 emits a composite boolean specialization constant used in a branch before its
+// definition, which spirv-val and lavapipe refuse.)
+#define THROUGH_FILTERS (RESPONSES && (VIEW_CHANNELS > 0 || VIEW_SLAB_CHANNEL >= 0))
 layout(constant_id = SPEC_EMITTER_TRIANGLES) const int EMITTER_TRIANGLES = 0;
 layout(constant_id = SPEC_EMITTERS) const int EMITTERS = 0;
 layout(constant_id = SPEC_HAS_EMITTERS) const bool HAS_EMITTERS = true;
@@ -64,6 +69,8 @@ layout(set = 0, binding = BINDING_SHADOW_TRANSMITTANCE) uniform sampler2DArray s
 layout(set = 0, binding = BINDING_SHADOW_EXCITATION) uniform samplerBuffer shadowExcitation;
 layout(set = 0, binding = BINDING_DEPTH_SPECTRA) uniform samplerBuffer depthSpectra;
 layout(set = 0, binding = BINDING_VIEW_CHANNELS) uniform sampler2DArray viewChannels;
+layout(set = 0, binding = BINDING_OPAQUE_DISTANCE) uniform sampler2D opaqueDistance;
+layout(set = 0, binding = BINDING_SLAB_DISTANCE) uniform sampler2D slabDistance;
 #include "view_channels.glsl"
 
 layout(set = 1, binding = TEXTURE_BINDING_DIFFUSE) uniform sampler2DArray diffuseTexture;
@@ -291,7 +298,7 @@ void respondThroughFilters(int l, float diffuseWeight, float specularWeight) {
 // Adds light l's reflected radiance with geometric weights: diffuse g/π, specular lobe weight
 // (in the response pass, the detector's response to it).
 void addLight(int l, float diffuseWeight, float specularWeight) {
-    if (RESPONSES && VIEW_CHANNELS > 0) {
+    if (THROUGH_FILTERS) {
         respondThroughFilters(l, diffuseWeight, specularWeight);
         return;
     }
@@ -436,9 +443,27 @@ void main() {
     }
 
     filtered = false;
-    if (RESPONSES && VIEW_CHANNELS > 0) {  // τ inside the response sums
+    if (THROUGH_FILTERS) {  // τ inside the response sums
         fetchViewChannels(0);
-        for (int j = 0; j < BAND_LAYERS; ++j) viewTau[j] = viewTransmittance(j);
+        bool slabSeen = false;
+        float slabCos = 1.0;
+        if (VIEW_SLAB_CHANNEL >= 0) {
+            // The crossings behind the slab and in front of it, together; the slab's own T where it
+            // lies in front of this surface, at the angle of this pixel's ray with its plane.
+            const ivec2 pixel = ivec2(gl_FragCoord.xy);
+            [[unroll]] for (int j = 0; j < VIEW_LAYERS; ++j) {
+                const vec4 front = texelFetch(viewChannels, ivec3(pixel, VIEW_LAYERS + j), 0);
+                [[unroll]] for (int i = 0; i < 4; ++i) viewChannel[4 * j + i] += front[i];
+            }
+            slabSeen = texelFetch(slabDistance, pixel, 0).r < texelFetch(opaqueDistance, pixel, 0).r;
+            slabCos = min(abs(dot(R.slabNormal.xyz, v)), 1.0);
+        }
+        for (int j = 0; j < BAND_LAYERS; ++j) {
+            viewTau[j] = viewTransmittance(j);
+            if (VIEW_SLAB_CHANNEL >= 0 && slabSeen)
+                viewTau[j] *= exp2(slabLog2Transmittance(slabCos, texelFetch(depthSpectra, VIEW_SLAB_CHANNEL * BAND_LAYERS + j),
+                                                         texelFetch(depthSpectra, (VIEW_SLAB_CHANNEL + 1) * BAND_LAYERS + j)));
+        }
     }
     [[unroll]] for (int i = 0; i < min(AMBIENT_COUNT, UNROLLED_LIGHTS); ++i) ambientLight(i);
     [[dont_unroll]] for (int i = UNROLLED_LIGHTS; i < AMBIENT_COUNT; ++i) ambientLight(i);

@@ -50,10 +50,15 @@ layout(constant_id = TRANSMIT_SPEC_REFLECTION) const bool REFLECTION = false;
 layout(constant_id = TRANSMIT_SPEC_AMBIENT_COUNT) const int AMBIENT_COUNT = 0;
 layout(constant_id = TRANSMIT_SPEC_HEMISPHERE_FIRST) const int HEMISPHERE_FIRST = 0;
 layout(constant_id = TRANSMIT_SPEC_HEMISPHERE_COUNT) const int HEMISPHERE_COUNT = 0;
+// The response pass's slab reflection: REFLECTION's radiance summed against the detector over
+// every band (GpuResponseBlock::spectra.y), × τ of what lies in front of the slab, into the
+// response pass's channels (added).
+layout(constant_id = TRANSMIT_SPEC_RESPONSES) const bool RESPONSES = false;
 
 layout(set = 0, binding = BINDING_LIGHTS, std140) uniform Lights { GpuLightBlock L; };
 layout(set = 0, binding = BINDING_LIGHT_SPECTRA, std140) uniform LightSpectra { GpuLightSpectraBlock E; };
 layout(set = 0, binding = BINDING_MATERIAL, std140) uniform Material { GpuMaterialBlock M; };
+layout(set = 0, binding = BINDING_RESPONSES, std140) uniform Responses { GpuResponseBlock R; };
 layout(set = 0, binding = BINDING_OPAQUE_DISTANCE) uniform sampler2D opaqueDistance;
 layout(set = 0, binding = BINDING_SLAB_DISTANCE) uniform sampler2D slabDistance;
 layout(set = 0, binding = BINDING_VIEW_CHANNELS) uniform sampler2DArray viewChannels;
@@ -95,6 +100,21 @@ const float ENTRY_LIMIT = 64.0;
 const float INV_PI = 0.31830988618379067;
 
 vec4 factor[OUTPUT_COUNT];
+
+// A slab's transmittance T and reflectance R for 4 bands at cos θ = cosI, index n and attenuation
+// a·d·log2(10) across it: Fresnel at both faces, the glass's absorption along the refracted path,
+// the reflections inside summed incoherently, s and p averaged — spectral/dielectric.cpp's slab(),
+// in float.
+void slabFresnel(float cosI, vec4 n, vec4 attenuation, out vec4 T, out vec4 R) {
+    const vec4 cosT = sqrt(max(vec4(1.0) - (1.0 - cosI * cosI) / (n * n), vec4(0.0)));
+    const vec4 tau = exp2(-attenuation / max(cosT, vec4(1e-6)));
+    vec4 rs = (cosI - n * cosT) / (cosI + n * cosT), rp = (cosT - n * cosI) / (cosT + n * cosI);
+    rs *= rs;
+    rp *= rp;
+    const vec4 ds = 1.0 / (1.0 - rs * rs * tau * tau), dp = 1.0 / (1.0 - rp * rp * tau * tau);
+    T = 0.5 * ((1.0 - rs) * (1.0 - rs) * tau * ds + (1.0 - rp) * (1.0 - rp) * tau * dp);
+    R = 0.5 * (rs + (1.0 - rs) * (1.0 - rs) * rs * tau * tau * ds + rp + (1.0 - rp) * (1.0 - rp) * rp * tau * tau * dp);
+}
 void writeOutputs();  // factor to the attachments (after main)
 bool inFront = false;  // SPLIT: this crossing lies in front of the nearest slab
 
@@ -138,9 +158,8 @@ void main() {
     const bool slabSeen = tS < tO;
     if (SPLIT) inFront = slabSeen && t < tS;
     if ((runtimeValue(M.switches.x) & MATERIAL_SLAB) != 0u) {
-        // A slab (docs/physics.md, "Transparent objects"): Fresnel at both faces for n(λ) at this angle, the glass's
-        // absorption along the refracted path, the reflections inside summed incoherently, s and p
-        // averaged — spectral/dielectric.cpp's slab(), in float. Hidden behind the opaque surface.
+        // A slab (docs/physics.md, "Transparent objects"): slabFresnel for n(λ) at this angle.
+        // Hidden behind the opaque surface.
         if (t >= tO) discard;
         if (FRONT) {
             // Only the nearest slab multiplies, once: by τ of the sheets and media in front of it.
@@ -161,21 +180,40 @@ void main() {
             return;
         }
         const vec3 mirror = reflect(-v, nrm);
+        if (RESPONSES) {
+            // Σ over every band layer j of R_j·τ_front,j against the environment's detector-weighted
+            // spectra: ambient lights' E/π, hemisphere lights' L where the mirror direction is in
+            // their hemisphere (C = 4·OUTPUT_COUNT channels, interface.h GpuResponseBlock::spectra.y).
+            fetchViewChannels(1);
+            const int C = 4 * OUTPUT_COUNT, channel = int(runtimeValue(M.params.w));
+            for (int k = 0; k < OUTPUT_COUNT; ++k) factor[k] = vec4(0.0);
+            for (int j = 0; j < BAND_LAYERS; ++j) {
+                vec4 T, Rj;
+                slabFresnel(cosI, texelFetch(depthSpectra, channel * BAND_LAYERS + j),
+                            texelFetch(depthSpectra, (channel + 1) * BAND_LAYERS + j), T, Rj);
+                Rj *= viewTransmittance(j);
+                [[unroll]] for (int c = 0; c < C; ++c) {
+                    vec4 environment = vec4(0.0);
+                    for (int i = 0; i < AMBIENT_COUNT; ++i)
+                        environment += texelFetch(depthSpectra, R.spectra.y + (i * C + c) * BAND_LAYERS + j) * INV_PI;
+                    for (int i = 0; i < HEMISPHERE_COUNT; ++i) {
+                        const int l = HEMISPHERE_FIRST + i;
+                        if (dot(mirror, L.lights[l].vector.xyz) > 0.0)
+                            environment += texelFetch(depthSpectra, R.spectra.y + (l * C + c) * BAND_LAYERS + j);
+                    }
+                    factor[c / 4][c % 4] += dot(Rj, environment);
+                }
+            }
+            writeOutputs();
+            return;
+        }
         for (int k = 0; k < OUTPUT_COUNT; ++k) {
-            const vec4 n = M.ior[k];
-            const vec4 cosT = sqrt(max(vec4(1.0) - (1.0 - cosI * cosI) / (n * n), vec4(0.0)));
-            const vec4 tau = exp2(-M.attenuation[k] / max(cosT, vec4(1e-6)));
-            vec4 rs = (cosI - n * cosT) / (cosI + n * cosT), rp = (cosT - n * cosI) / (cosT + n * cosI);
-            rs *= rs;
-            rp *= rp;
-            const vec4 ds = 1.0 / (1.0 - rs * rs * tau * tau), dp = 1.0 / (1.0 - rp * rp * tau * tau);
-            const vec4 T = 0.5 * ((1.0 - rs) * (1.0 - rs) * tau * ds + (1.0 - rp) * (1.0 - rp) * tau * dp);
+            vec4 T, Rk;
+            slabFresnel(cosI, M.ior[k], M.attenuation[k], T, Rk);
             if (!REFLECTION) {
                 factor[k] = T;
                 continue;
             }
-            const vec4 R = 0.5 * (rs + (1.0 - rs) * (1.0 - rs) * rs * tau * tau * ds + rp +
-                                  (1.0 - rp) * (1.0 - rp) * rp * tau * tau * dp);
             // The environment the mirror direction sees: ambient E/π, a hemisphere light's L.
             vec4 environment = vec4(0.0);
             for (int i = 0; i < AMBIENT_COUNT; ++i) environment += E.lightBands[i * MAX_OUTPUTS + k] * INV_PI;
@@ -183,7 +221,7 @@ void main() {
                 const int l = HEMISPHERE_FIRST + i;
                 if (dot(mirror, L.lights[l].vector.xyz) > 0.0) environment += E.lightBands[l * MAX_OUTPUTS + k];
             }
-            factor[k] = R * environment;
+            factor[k] = Rk * environment;
         }
     } else if ((runtimeValue(M.switches.x) & MATERIAL_MEDIUM) == 0u) {
         // A sheet on or behind the opaque surface is hidden by it.

@@ -13,7 +13,7 @@ namespace {
 bool responseSpectraFit(vk::Context& ctx, const Scene& scene, const SceneOnGrid& rendered, size_t channels) {
     if (!scene.hasTransparency()) return true;
     const uint64_t layers = uint64_t(rendered.grid.bands() + 3) / 4;
-    const uint64_t rows = (uint64_t(scene.materials.size()) * std::max<size_t>(1, scene.lights.size()) * 2 *
+    const uint64_t rows = (uint64_t(scene.materials.size() + 1) * std::max<size_t>(1, scene.lights.size()) * 2 *
                                (4 * ((channels + 3) / 4)) +
                            4 * MAX_OUTPUTS) * layers;
     return rows <= ctx.properties().limits.maxTexelBufferElements;

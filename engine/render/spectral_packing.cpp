@@ -508,6 +508,31 @@ PackedScene packResponses(const Scene& scene, const SceneOnGrid& g, const std::v
                         }
             }
         }
+        // A slab reflects the environment: the detector-weighted light spectra w_cb·E_lb, and its
+        // normal (Scene::transparencyInResponses: one planar slab, every normal parallel).
+        for (const PackedDraw& d : p.draws) {
+            if (!g.materials[d.material].isSlab()) continue;
+            const float* nv = p.vertices[size_t(int64_t(p.indices[d.firstIndex]) + d.vertexOffset)].normal;
+            const glm::vec3 normal = glm::normalize(glm::vec3(nv[0], nv[1], nv[2]));
+            const int rows = int(p.depthSpectra.size());
+            for (size_t i = 0; i < lights; ++i) {
+                const std::vector<double>& E = g.lights[order[i]];
+                for (size_t c = 0; c < padded; ++c)
+                    for (size_t j = 0; j < layers; ++j) {
+                        glm::vec4 v(0.0f);
+                        for (size_t k = 0; k < 4; ++k) {
+                            const size_t b = 4 * j + k;
+                            if (c < channels && b < n) v[int(k)] = float(weights[c][b] * E[b]);
+                        }
+                        p.depthSpectra.push_back(v);
+                    }
+            }
+            for (gpu::GpuResponseBlock& block : p.responseBlocks) {
+                block.spectra.y = rows;
+                block.slabNormal = glm::vec4(normal, 0.0f);
+            }
+            break;
+        }
     }
     p.responseTextureSlots.assign(g.materials.size(), {-1, -1, -1});
     for (size_t mi = 0; mi < g.materials.size(); ++mi) {

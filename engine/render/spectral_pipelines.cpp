@@ -18,8 +18,8 @@ namespace metamer {
 
 namespace {
 // transmit.frag's specialization: one 4-byte entry per id of gpu::TransmitSpecialization, in order.
-const std::array<VkSpecializationMapEntry, TRANSMIT_SPEC_BAND_LAYERS + 1> kTransmitEntries = [] {
-    std::array<VkSpecializationMapEntry, TRANSMIT_SPEC_BAND_LAYERS + 1> e{};
+const std::array<VkSpecializationMapEntry, TRANSMIT_SPEC_RESPONSES + 1> kTransmitEntries = [] {
+    std::array<VkSpecializationMapEntry, TRANSMIT_SPEC_RESPONSES + 1> e{};
     for (uint32_t id = 0; id < e.size(); ++id) e[id] = {id, id * 4, 4};
     return e;
 }();
@@ -75,9 +75,10 @@ VkPipeline SpectralResources::makePipeline(const vk::SharedHandle<VkRenderPass>&
                                            packed.filteredShadows ? packed.slabChannels : 0,
                                            int32_t(viewChannelLayers > 0 ? packed.depthChannels : 0),
                                            packed.filteredShadows ? packed.flatSlabs : 0u,
-                                           packed.slabLayerRows};
+                                           packed.slabLayerRows,
+                                           plan.responses && viewSplit ? packed.depthChannels : -1};
     // interface.h orders the struct's 4-byte fields by id.
-    constexpr uint32_t kIds = SPEC_SLAB_LAYER_ROWS + 1;
+    constexpr uint32_t kIds = SPEC_VIEW_SLAB_CHANNEL + 1;
     VkSpecializationMapEntry entries[kIds];
     for (uint32_t id = 0; id < kIds; ++id) entries[id] = {id, id * 4, 4};
     VkSpecializationInfo si{kIds, entries, sizeof(spec), &spec};
@@ -346,6 +347,12 @@ void SpectralResources::createTransmissionPasses() {
     reflection.hemisphereFirst = packed.ambient + packed.directional + packed.point;
     reflection.hemisphereCount = packed.hemisphere;
     reflection.bandLayers = 1;  // the shader's default: read by FRONT only
+    if (plan.responses) {
+        // The response pass's slab reflection: every band layer, τ of what lies in front of it.
+        reflection.responses = VK_TRUE;
+        reflection.viewChannels = packed.depthChannels;
+        reflection.bandLayers = packed.bandLayers;
+    }
     const VkSpecializationInfo reflectionInfo = transmitSpecialization(reflection);
     for (const PassObjects& band : passes) {
         PassObjects po;
@@ -379,7 +386,7 @@ void SpectralResources::createTransmissionPasses() {
                                 static_cast<void*>(pipelineLayout.get()), vk::keyBytes(&reflection, sizeof reflection)),
                     rd, code.code, code.bytes, &reflectionInfo);
             }
-            if (viewSplit)
+            if (viewSplit && !plan.responses)
                 front = makeOwnPipeline(
                     fmt::format("spectral.slab front attachments={} {}x{} pass={} layout={} spec={}", po.attachments,
                                 plan.targetWidth, plan.targetHeight, static_cast<void*>(rp),

@@ -290,8 +290,11 @@ void SpectralResources::declareFrame() {
             transmissionUses.push_back({slabs, Access::Sampled});
             transmissionUses.push_back({channels, Access::Sampled});
         }
-        frame.add(FramePass{fmt::format("transmission pass {}", p),
-                            viewSplit ? fmt::format("transmit.frag, OUTPUT_COUNT {}; the slabs farthest first, blend "
+        frame.add(FramePass{plan.responses ? std::string("slab reflection pass") : fmt::format("transmission pass {}", p),
+                            plan.responses ? fmt::format("transmit.frag, OUTPUT_COUNT {}, REFLECTION, RESPONSES; the slab's "
+                                                         "reflection × τ in front of it, added to the responses",
+                                                         to.attachments)
+                            : viewSplit ? fmt::format("transmit.frag, OUTPUT_COUNT {}; the slabs farthest first, blend "
                                                     "destination × source, + their reflection; then the nearest "
                                                     "slab × what lies in front of it (FRONT)",
                                                     to.attachments)
@@ -301,7 +304,10 @@ void SpectralResources::declareFrame() {
                             std::move(transmissionUses), to.renderPass, to.framebuffer.get(), extent,
                             std::vector<VkClearValue>(to.attachments + 1), [this, p](VkCommandBuffer cmd) {
                                 const PassObjects& t = transmissionPasses[p];
-                                if (viewSplit)
+                                if (plan.responses)
+                                    drawTransparent(cmd, *frameState, p, t.pipelines[1], descriptorSet, VK_NULL_HANDLE,
+                                                    TransparentDraws::Slabs);
+                                else if (viewSplit)
                                     drawTransparent(cmd, *frameState, p, t.pipelines[0], descriptorSet, t.pipelines[1],
                                                     TransparentDraws::Slabs, t.pipelines[2]);
                                 else

@@ -41,11 +41,16 @@ SpectralResources::SpectralResources(vk::Context& c, const Scene& s, const Scene
         viewChannelLayers = channelLayers * (slabs ? 2 : 1);
         viewSplit = slabs;
     }
-    // The response pass carries sheets and media (their τ inside its sums), not slabs, whose
-    // reflections add in depth order (Scene::transparencyInResponses).
-    if (hasTransmission && packed.responses && (viewChannelLayers == 0 || viewSplit))
-        failRuntime("the response pass shows sheets and media, at most {} materials, not slabs: render bands "
-                    "(render/display_frame.cpp does)", 4 * MAX_OUTPUTS);
+    // The response pass carries sheets and media (their τ inside its sums) and one planar slab
+    // (Scene::transparencyInResponses): a slab alone still has the split channel pass (empty sets),
+    // for the slab distance pass beside it.
+    if (hasTransmission && packed.responses && slabs && channelLayers == 0) {
+        viewChannelLayers = 2;
+        viewSplit = true;
+    }
+    if (hasTransmission && packed.responses && (viewChannelLayers == 0 || (viewSplit && !scene.transparencyInResponses())))
+        failRuntime("the response pass shows sheets and media, at most {} materials, and one planar slab: render "
+                    "bands (render/display_frame.cpp does)", 4 * MAX_OUTPUTS);
     // The coloured shadows' cost grows with the transparent area the lights see × the channels'
     // layers: said when it is long, refused when it would take hours, before anything is drawn.
     if (packed.filteredShadows) {

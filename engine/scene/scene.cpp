@@ -1,5 +1,8 @@
 #include "scene/scene.h"
 
+#include <algorithm>
+#include <cmath>
+
 namespace metamer {
 
 bool Scene::hasFluorescence() const {
@@ -20,13 +23,37 @@ bool Scene::hasTransparency() const {
     return false;
 }
 
+namespace {
+// Whether every vertex of the mesh lies on its first triangle's plane and every normal is along
+// it: a straight ray crosses it once, at one angle, whose normal the GPU reads from any vertex.
+bool planarWithOneNormal(const Mesh& mesh) {
+    if (mesh.indices.size() < 3) return false;
+    const glm::dvec3 a = mesh.positions[mesh.indices[0]];
+    const glm::dvec3 n = glm::cross(mesh.positions[mesh.indices[1]] - a, mesh.positions[mesh.indices[2]] - a);
+    if (!(glm::length(n) > 0.0)) return false;
+    const glm::dvec3 u = glm::normalize(n);
+    double extent = 0.0;
+    for (const glm::dvec3& p : mesh.positions) extent = std::max(extent, glm::length(p - a));
+    for (const glm::dvec3& p : mesh.positions)
+        if (std::abs(glm::dot(p - a, u)) > 1e-9 * extent) return false;
+    for (const glm::dvec3& v : mesh.normals)
+        if (!(glm::length(v) > 0.0) || std::abs(glm::dot(glm::normalize(v), u)) < 1.0 - 1e-9) return false;
+    return true;
+}
+}  // namespace
+
 bool Scene::transparencyInResponses() const {
     size_t channels = 0;
-    for (const auto& m : materials) {
-        if (m.isSlab()) return false;
-        if (m.isTransparent()) ++channels;
+    const Mesh* slab = nullptr;
+    for (const auto& m : materials) channels += m.isTransparent() && !m.isSlab();
+    for (const Mesh& mesh : meshes) {
+        if (!materials[mesh.material].isSlab()) continue;
+        if (slab) return false;  // two slabs' reflections add in depth order
+        slab = &mesh;
     }
-    return channels <= 32 && !hasTextures() && !hasFluorescence();
+    if (slab && !planarWithOneNormal(*slab)) return false;
+    // One channel pass: 32 channels, or 16 in each of the two sets beside a slab.
+    return channels <= (slab ? 16u : 32u) && !hasTextures() && !hasFluorescence();
 }
 
 bool Scene::hasEmitters() const {
