@@ -47,6 +47,7 @@ layout(constant_id = SPEC_VIEW_SLAB_CHANNEL) const int VIEW_SLAB_CHANNEL = -1;
 // macro: glslang 11 emits a composite boolean specialization constant used in a branch before its
 // definition, which spirv-val and lavapipe refuse.)
 #define THROUGH_FILTERS (RESPONSES && (VIEW_CHANNELS > 0 || VIEW_SLAB_CHANNEL >= 0))
+#define THROUGH_WITH_FILTERED_SHADOWS (RESPONSES && FILTERED_SHADOWS && (VIEW_CHANNELS > 0 || VIEW_SLAB_CHANNEL >= 0))
 layout(constant_id = SPEC_EMITTER_TRIANGLES) const int EMITTER_TRIANGLES = 0;
 layout(constant_id = SPEC_EMITTERS) const int EMITTERS = 0;
 layout(constant_id = SPEC_HAS_EMITTERS) const bool HAS_EMITTERS = true;
@@ -191,19 +192,23 @@ void fetchDepthChannels() {
         [[unroll]] for (int i = 0; i < 4; ++i) depthChannel[4 * j + i] = c[i];
     }
 }
-// A slab's log2 T at cos θ for 4 bands of index n and attenuation a·d·log2(10) (transmit.frag's slab,
-// the same formula).
-vec4 slabLog2Transmittance(float cosI, vec4 n, vec4 attenuation) {
+// A slab's T at cos θ for 4 bands of index n and attenuation a·d·log2(10) (transmit.frag's slab,
+// the same formula), and its log2.
+vec4 slabTransmittance(float cosI, vec4 n, vec4 attenuation) {
     const vec4 cosT = sqrt(max(vec4(1.0) - (1.0 - cosI * cosI) / (n * n), vec4(0.0)));
     const vec4 tau = exp2(-attenuation / max(cosT, vec4(1e-6)));
     vec4 rs = (cosI - n * cosT) / (cosI + n * cosT), rp = (cosT - n * cosI) / (cosT + n * cosI);
     rs *= rs;
     rp *= rp;
     const vec4 ds = 1.0 / (1.0 - rs * rs * tau * tau), dp = 1.0 / (1.0 - rp * rp * tau * tau);
-    return max(log2(0.5 * ((1.0 - rs) * (1.0 - rs) * tau * ds + (1.0 - rp) * (1.0 - rp) * tau * dp)), vec4(-149.0));
+    return 0.5 * ((1.0 - rs) * (1.0 - rs) * tau * ds + (1.0 - rp) * (1.0 - rp) * tau * dp);
 }
-// τ of band layer `layer` of the grid (4 bands) from the fetched channels: 2^(Σ channel × its row).
-vec4 transmittanceAt(int layer) {
+vec4 slabLog2Transmittance(float cosI, vec4 n, vec4 attenuation) {
+    return max(log2(slabTransmittance(cosI, n, attenuation)), vec4(-149.0));
+}
+// log2 τ of band layer `layer` of the grid (4 bands) from the fetched channels: Σ channel × its row;
+// `directional`: of a directional light (a flat slab's row then holds its log2 T).
+vec4 log2TransmittanceAt(int layer, bool directional) {
     vec4 depth = vec4(0.0);
     [[unroll]] for (int c = 0; c < DEPTH_CHANNELS; ++c)
         depth += depthChannel[c] * texelFetch(depthSpectra, c * BAND_LAYERS + layer);
@@ -211,21 +216,32 @@ vec4 transmittanceAt(int layer) {
         const int c = DEPTH_CHANNELS + 2 * i;
         const float crossings = depthChannel[c];
         // A flat slab under a directional light: one angle, its log2 T computed once per scene.
-        if (filterDirectional && i < 32 && ((FLAT_SLABS >> uint(i)) & 1u) != 0u)
+        if (directional && i < 32 && ((FLAT_SLABS >> uint(i)) & 1u) != 0u)
             depth += crossings * texelFetch(depthSpectra, SLAB_LAYER_ROWS + (shadowLayer * SLAB_CHANNELS + i) * BAND_LAYERS + layer);
         else if (crossings > 0.0)
             depth += crossings * slabLog2Transmittance(min(depthChannel[c + 1] / crossings, 1.0),
                                                        texelFetch(depthSpectra, c * BAND_LAYERS + layer),
                                                        texelFetch(depthSpectra, (c + 1) * BAND_LAYERS + layer));
     }
-    return exp2(depth);
+    return depth;
 }
+vec4 transmittanceAt(int layer) { return exp2(log2TransmittanceAt(layer, filterDirectional)); }
 void filterLight(bool directional) {
     filterDirectional = directional;
     filtered = FILTERED_SHADOWS && shadowLayer >= 0;
+    if (THROUGH_FILTERS) {
+        // The response pass takes τ band by band in its sums (respondThroughViewAndLight): no
+        // channels where the light arrives unfiltered (τ = 1), and a layer that exists.
+        if (filtered) {
+            fetchDepthChannels();
+        } else {
+            [[unroll]] for (int i = 0; i < DEPTH_ARRAY; ++i) depthChannel[i] = 0.0;
+            shadowLayer = 0;
+        }
+        return;
+    }
     if (!filtered) return;
     fetchDepthChannels();
-    if (RESPONSES) return;  // the response pass takes τ band by band in its sums (respondThroughFilters)
     const int first = int(M.params.y);
     [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) lightFilter[k] = transmittanceAt(first + k);
 }
@@ -280,13 +296,27 @@ void sampleTextures() {
 // camera's channels — and of the light's own, under a coloured shadow — taken band by band inside
 // the sum, Σ_j τ_j·(g/π·d_lcj + lobe·s_lcj) over the grid's band layers j (interface.h,
 // GpuResponseBlock::spectra). The same products as the band passes', summed in another order.
-vec4 viewTau[BAND_LAYERS];  // the camera's τ per band layer, once per fragment for every light
-void respondThroughFilters(int l, float diffuseWeight, float specularWeight) {
+vec4 viewTau[BAND_LAYERS];
+// Unfiltered (ambient and hemisphere lights): τ of the camera's channels only.
+void respondThroughView(int l, float diffuseWeight, float specularWeight) {
     const int C = 4 * OUTPUT_COUNT;
     const int diffuseRows = R.spectra.x + 2 * l * C * BAND_LAYERS, specularRows = diffuseRows + C * BAND_LAYERS;
     for (int j = 0; j < BAND_LAYERS; ++j) {
-        vec4 tau = viewTau[j];
-        if (FILTERED_SHADOWS && filtered) tau *= transmittanceAt(j);
+        [[unroll]] for (int c = 0; c < C; ++c) {
+            vec4 terms = diffuseWeight * texelFetch(depthSpectra, diffuseRows + c * BAND_LAYERS + j);
+            if (HAS_SPECULAR) terms += specularWeight * texelFetch(depthSpectra, specularRows + c * BAND_LAYERS + j);
+            acc[c / 4][c % 4] += dot(terms, viewTau[j]);
+        }
+    }
+}
+// A directional or point light: × τ of its own channels at its transmittance-map texel (zero where
+// it arrives unfiltered: τ = 1). One program for both cases, since lavapipe would run both sides of
+// a branch between them.
+void respondThroughViewAndLight(int l, float diffuseWeight, float specularWeight, bool directional) {
+    const int C = 4 * OUTPUT_COUNT;
+    const int diffuseRows = R.spectra.x + 2 * l * C * BAND_LAYERS, specularRows = diffuseRows + C * BAND_LAYERS;
+    for (int j = 0; j < BAND_LAYERS; ++j) {
+        const vec4 tau = viewTau[j] * exp2(log2TransmittanceAt(j, directional));
         [[unroll]] for (int c = 0; c < C; ++c) {
             vec4 terms = diffuseWeight * texelFetch(depthSpectra, diffuseRows + c * BAND_LAYERS + j);
             if (HAS_SPECULAR) terms += specularWeight * texelFetch(depthSpectra, specularRows + c * BAND_LAYERS + j);
@@ -297,9 +327,10 @@ void respondThroughFilters(int l, float diffuseWeight, float specularWeight) {
 
 // Adds light l's reflected radiance with geometric weights: diffuse g/π, specular lobe weight
 // (in the response pass, the detector's response to it).
-void addLight(int l, float diffuseWeight, float specularWeight) {
+// `directional`: light l is a directional light (its coloured shadow through a flat slab is one spectrum).
+void addLight(int l, float diffuseWeight, float specularWeight, bool directional) {
     if (THROUGH_FILTERS) {
-        respondThroughFilters(l, diffuseWeight, specularWeight);
+        respondThroughView(l, diffuseWeight, specularWeight);
         return;
     }
     if (RESPONSES) {
@@ -369,7 +400,7 @@ const int UNROLLED_LIGHTS = 4;
 // Ambient: irradiance on every surface, no cosine, no specular.
 void ambientLight(int i) {
     int l = i;
-    addLight(l, INV_PI, 0.0);
+    addLight(l, INV_PI, 0.0, false);
     addFluorescence(l, 1.0);
 }
 
@@ -380,7 +411,10 @@ void directionalLight(int i, vec3 n, vec3 v, vec3 ng) {
     shadowLayer = -1;
     if (i < SHADOWED_DIRECTIONAL && g > 0.0) g *= visibility(l, worldPosition, ng, w, false);
     if (FILTERED_SHADOWS) filterLight(true);
-    addLight(l, g * INV_PI, specularWeight(n, w, v, g));
+    if (THROUGH_WITH_FILTERED_SHADOWS)
+        respondThroughViewAndLight(l, g * INV_PI, specularWeight(n, w, v, g), true);
+    else
+        addLight(l, g * INV_PI, specularWeight(n, w, v, g), true);
     addFluorescence(l, g);
 }
 
@@ -398,7 +432,10 @@ void pointLight(int i, vec3 n, vec3 v, vec3 ng) {
     shadowLayer = -1;
     if (i < SHADOWED_POINT && g > 0.0) g *= visibility(l, worldPosition, ng, w, true);
     if (FILTERED_SHADOWS) filterLight(false);
-    addLight(l, g * INV_PI, specularWeight(n, w, v, g));
+    if (THROUGH_WITH_FILTERED_SHADOWS)
+        respondThroughViewAndLight(l, g * INV_PI, specularWeight(n, w, v, g), false);
+    else
+        addLight(l, g * INV_PI, specularWeight(n, w, v, g), false);
     addFluorescence(l, g);
 }
 
@@ -461,8 +498,8 @@ void main() {
         for (int j = 0; j < BAND_LAYERS; ++j) {
             viewTau[j] = viewTransmittance(j);
             if (VIEW_SLAB_CHANNEL >= 0 && slabSeen)
-                viewTau[j] *= exp2(slabLog2Transmittance(slabCos, texelFetch(depthSpectra, VIEW_SLAB_CHANNEL * BAND_LAYERS + j),
-                                                         texelFetch(depthSpectra, (VIEW_SLAB_CHANNEL + 1) * BAND_LAYERS + j)));
+                viewTau[j] *= slabTransmittance(slabCos, texelFetch(depthSpectra, VIEW_SLAB_CHANNEL * BAND_LAYERS + j),
+                                                texelFetch(depthSpectra, (VIEW_SLAB_CHANNEL + 1) * BAND_LAYERS + j));
         }
     }
     [[unroll]] for (int i = 0; i < min(AMBIENT_COUNT, UNROLLED_LIGHTS); ++i) ambientLight(i);
@@ -483,7 +520,7 @@ void main() {
         float g = 0.5 * (1.0 + dot(n, up));
         float gloss = M.params.x;
         float lobe = (gloss + 8.0) * (INV_PI / 8.0) * hemisphereIntegral(i, n, v, previousLobe);
-        addLight(l, g, lobe);
+        addLight(l, g, lobe, false);
         addFluorescence(l, 3.14159265358979 * g);
     }
     // ê/λ and the couplings come scaled by reciprocal powers of two (pack() in spectral_pass.cpp)

@@ -273,6 +273,10 @@ void SpectralResources::declareFrame() {
                                              shading);
         if (hasLobePass) uses.push_back({lobe, Access::Sampled});
         if (viewChannelLayers > 0) uses.push_back({channels, Access::Sampled});
+        // spectral.frag declares the opaque and slab distances (the response pass through a slab
+        // reads them): sampled here, whichever program is bound.
+        if (hasTransmission) uses.push_back({distance, Access::Sampled});
+        if (viewSplit) uses.push_back({slabs, Access::Sampled});
         frame.add(FramePass{plan.responses ? "response pass" : fmt::format("band pass {}", p),
                             fmt::format("OUTPUT_COUNT {}{}; a pipeline per material kind (specular, fluorescent, textured, "
                                         "normal-mapped, culled)",
