@@ -288,6 +288,8 @@ struct GpuResponseBlock {
     // 1 specular; −1 where there are none (a scene without transparent objects, a transparent material).
     // y (every block the same): with a slab, the first row of the detector-weighted light spectra
     // w_cb·E_lb, row y + (l·C + c)·BAND_LAYERS + j, that its reflection of the environment sums.
+    // z: a rank-one fluorescent material's w_cb·ê_b/λ_b (scaled as GpuMaterialBlock's
+    // emissionOverLambda), row z + c·BAND_LAYERS + j, times the fragment's summed coupling; −1 none.
     ivec4 spectra;
     vec4 slabNormal;  // xyz: the scene's one slab's unit normal, in the frame (with SPEC_VIEW_SLAB_CHANNEL)
 };

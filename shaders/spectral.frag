@@ -376,8 +376,15 @@ void addFilteredEmission(int l, float g) {
 // at the end); with a Donaldson matrix in the scene, every fluorescent material adds g·F_l(λ).
 void addFluorescence(int l, float g) {
     if (!HAS_FLUORESCENCE || !RADIANCE) return;
+    // (Through filters, the response pass sums the rank-one coupling as the band passes do, and
+    // takes ê/λ's response band by band at the end. Nested ifs, not `RESPONSES && !THROUGH_FILTERS`:
+    // glslang 11 emits that composite specialization constant's negation before its definition.)
     if (RESPONSES) {
-        [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) acc[k] += g * R.fluorescence[l * RESPONSE_VEC4 + k];
+        if (THROUGH_FILTERS)
+            fluorescence += g * (FILTERED_SHADOWS && filtered && g > 0.0 && runtimeValue(M.params.z) >= 0.0 ? filteredCoupling(l)
+                                                                                                           : coupling(l));
+        else
+            [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) acc[k] += g * R.fluorescence[l * RESPONSE_VEC4 + k];
         return;
     }
     if (FLUORESCENCE_SPECTRA && FILTERED_SHADOWS && filtered && g > 0.0 && runtimeValue(M.params.z) >= 0.0)
@@ -527,6 +534,15 @@ void main() {
     // so that neither overflows before their product does.
     if (HAS_FLUORESCENCE && !FLUORESCENCE_SPECTRA && !RESPONSES && RADIANCE)
         [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) acc[k] += fluorescence * M.emissionOverLambda[k];
+    // Through filters: Σ_j τ_j·(w_c·ê/λ)_j, the detector-weighted emission (GpuResponseBlock::spectra.z).
+    if (THROUGH_FILTERS) {
+        if (HAS_FLUORESCENCE && R.spectra.z >= 0) {
+            const int C = 4 * OUTPUT_COUNT;
+            for (int j = 0; j < BAND_LAYERS; ++j)
+                [[unroll]] for (int c = 0; c < C; ++c)
+                    acc[c / 4][c % 4] += fluorescence * dot(texelFetch(depthSpectra, R.spectra.z + c * BAND_LAYERS + j), viewTau[j]);
+        }
+    }
     // A self-luminous surface's own radiance, on its front (the side its winding faces).
     if (HAS_EMITTERS && !RESPONSES && RADIANCE && gl_FrontFacing && (runtimeValue(M.switches.x) & MATERIAL_EMITTER) != 0u)
         [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) acc[k] += M.emitted[k];

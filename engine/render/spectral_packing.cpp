@@ -508,6 +508,30 @@ PackedScene packResponses(const Scene& scene, const SceneOnGrid& g, const std::v
                         }
             }
         }
+        // A rank-one fluorescent material's emission ê(λ)/λ, weighted by the detector, with the
+        // power of two pack() moved into its coupling (the band passes' product, bit for bit).
+        for (size_t mi = 0; mi < g.materials.size(); ++mi) {
+            const MaterialOnGrid& m = g.materials[mi];
+            if (!m.fluorescent || m.isTransparent()) continue;
+            std::vector<double> emissionOverLambda(n, 0.0);
+            double largest = 0.0;
+            for (size_t b = 0; b < n && b < m.emission.size(); ++b) {
+                emissionOverLambda[b] = m.emission[b] / g.wavelengths_nm[b];
+                largest = std::max(largest, emissionOverLambda[b]);
+            }
+            const int shift = largest > 0.0 ? std::ilogb(largest) : 0;
+            p.responseBlocks[mi].spectra.z = int(p.depthSpectra.size());
+            for (size_t c = 0; c < padded; ++c)
+                for (size_t j = 0; j < layers; ++j) {
+                    glm::vec4 v(0.0f);
+                    for (size_t k = 0; k < 4; ++k) {
+                        const size_t b = 4 * j + k;
+                        if (c < channels && b < n)
+                            v[int(k)] = float(weights[c][b] * double(float(std::ldexp(emissionOverLambda[b], -shift))));
+                    }
+                    p.depthSpectra.push_back(v);
+                }
+        }
         // A slab reflects the environment: the detector-weighted light spectra w_cb·E_lb, and its
         // normal (Scene::transparencyInResponses: one planar slab, every normal parallel).
         for (const PackedDraw& d : p.draws) {

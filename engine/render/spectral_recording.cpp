@@ -222,11 +222,17 @@ void SpectralResources::declareFrame() {
                                 if (draws) drawDepth(cmd, *frameState);
                             }});
     }
+    // spectral.frag declares the opaque and slab distances (the response pass through a slab reads
+    // them): every pass that binds it samples them, whichever program is bound.
+    // (The lobe pass runs before the slab distance pass writes: only the opaque distance there.)
+    std::vector<ResourceUse> distances;
+    if (hasTransmission) distances.push_back({distance, Access::Sampled});
     if (hasLobePass)
         // The hemisphere lights' lobe integrals, once per pixel, for every band pass to read.
         frame.add(FramePass{"lobe pass", "LOBE_WRITE; specular materials' pipeline variants only",
-                            with({{depthImage, Access::DepthAttachment}, {lobe, Access::ColorAttachment, 0, kAllLayers, false}},
-                                 shading),
+                            with(with({{depthImage, Access::DepthAttachment}, {lobe, Access::ColorAttachment, 0, kAllLayers, false}},
+                                      shading),
+                                 distances),
                             lobePass.renderPass, lobePass.framebuffer.get(), extent, {VkClearValue{}, VkClearValue{}},
                             [this, draws](VkCommandBuffer cmd) {
                                 if (draws) drawScene(cmd, *frameState, lobePass.pipelines, 0, lobeDescriptorSet, true);
@@ -273,9 +279,7 @@ void SpectralResources::declareFrame() {
                                              shading);
         if (hasLobePass) uses.push_back({lobe, Access::Sampled});
         if (viewChannelLayers > 0) uses.push_back({channels, Access::Sampled});
-        // spectral.frag declares the opaque and slab distances (the response pass through a slab
-        // reads them): sampled here, whichever program is bound.
-        if (hasTransmission) uses.push_back({distance, Access::Sampled});
+        uses.insert(uses.end(), distances.begin(), distances.end());
         if (viewSplit) uses.push_back({slabs, Access::Sampled});
         frame.add(FramePass{plan.responses ? "response pass" : fmt::format("band pass {}", p),
                             fmt::format("OUTPUT_COUNT {}{}; a pipeline per material kind (specular, fluorescent, textured, "

@@ -123,3 +123,31 @@ const BadCase kBadCases[] = {
 };
 
 INSTANTIATE_TEST_SUITE_P(All, SceneJsonBad, ::testing::ValuesIn(kBadCases), badCaseName);
+
+// Which transparent scenes the response pass carries (Scene::transparencyInResponses; docs/color.md,
+// "The response pass"): sheets and media over rank-one fluorescence, with one planar slab; not two
+// slabs, a slab that is not planar, or more sheet and medium materials than one channel pass holds.
+TEST(SceneJson, WhichTransparentScenesTheResponsePassCarries) {
+    Json d = baseScene();
+    d["materials"]["gel"] = parse(R"({"transmittance": 0.5})");
+    d["materials"]["window"] = parse(R"({"slab": {"ior": "N-BK7", "thickness": 0.006}})");
+    d["objects"][4]["material"] = "gel";
+    EXPECT_TRUE(load(d).transparencyInResponses());
+    EXPECT_FALSE(load(d).displayNeedsBands());
+    const Json window = parse(R"({"shape": "quad", "center": [0, 0, -4], "normal": [0, 1, 1], "size": [1, 1], "material": "window"})");
+    d["objects"].push_back(window);
+    EXPECT_TRUE(load(d).transparencyInResponses());  // one planar slab
+    Json two = d;
+    two["objects"].push_back(window);
+    two["objects"].back()["center"] = parse("[0, 0, -5]");
+    EXPECT_FALSE(load(two).transparencyInResponses());  // their reflections add in depth order
+    EXPECT_TRUE(load(two).displayNeedsBands());
+    Json box = d;
+    box["objects"].back() = parse(R"({"shape": "box", "center": [0, 0, -4], "size": [1, 1, 0.1], "material": "window"})");
+    EXPECT_FALSE(load(box).transparencyInResponses());  // crossed twice, at two angles
+    Json many = d;
+    for (int i = 1; i < 16; ++i) many["materials"]["gel" + std::to_string(i)] = parse(R"({"transmittance": 0.5})");
+    EXPECT_TRUE(load(many).transparencyInResponses());  // 16 beside a slab: one split channel pass
+    many["materials"]["gel16"] = parse(R"({"transmittance": 0.5})");
+    EXPECT_FALSE(load(many).transparencyInResponses());
+}

@@ -53,7 +53,10 @@ bool Scene::transparencyInResponses() const {
     }
     if (slab && !planarWithOneNormal(*slab)) return false;
     // One channel pass: 32 channels, or 16 in each of the two sets beside a slab.
-    return channels <= (slab ? 16u : 32u) && !hasTextures() && !hasFluorescence();
+    // A Donaldson matrix's emission needs its excitation band by band under every light.
+    for (const auto& m : materials)
+        if (m.fluorescence && m.fluorescence->matrix) return false;
+    return channels <= (slab ? 16u : 32u) && !hasTextures();
 }
 
 bool Scene::hasEmitters() const {

@@ -258,8 +258,8 @@ struct Scene {
     bool hasEmitters() const;      // any material with emitted radiance
     // Whether the response pass carries this scene's transparent objects to the display image: sheets
     // and media (their optical depth per pixel, τ applied band by band inside the response sum), at
-    // most 32 materials of them (one channel pass), over surfaces without textures or fluorescence
-    // (whose responses are summed per texel or need the excitation per band), and one slab object
+    // most 32 materials of them (one channel pass), over surfaces without textures or Donaldson
+    // matrices (whose responses are summed per texel, or need the excitation per band), and one slab object
     // if it is planar (crossed once, at one angle: its reflection needs nothing else's in depth
     // order); at most 16 sheet and medium materials beside it (docs/color.md, "The response pass").
     bool transparencyInResponses() const;
