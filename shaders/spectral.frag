@@ -292,11 +292,11 @@ void sampleTextures() {
     }
 }
 
-// The response pass seen through sheets and media (VIEW_CHANNELS): light l's response with τ of the
-// camera's channels — and of the light's own, under a coloured shadow — taken band by band inside
-// the sum, Σ_j τ_j·(g/π·d_lcj + lobe·s_lcj) over the grid's band layers j (interface.h,
-// GpuResponseBlock::spectra). The same products as the band passes', summed in another order.
-vec4 viewTau[BAND_LAYERS];
+// The response pass seen through sheets, media and a slab (THROUGH_FILTERS): light l's response with
+// τ of what the camera sees through — and of what the light crosses, under a coloured shadow —
+// taken band by band inside the sum, Σ_j τ_j·(g/π·d_lcj + lobe·s_lcj) over the grid's band layers j
+// (interface.h, GpuResponseBlock::spectra). The band passes' own products, summed in another order.
+vec4 viewTau[BAND_LAYERS];  // the camera's τ per band layer (main), for every light
 // Unfiltered (ambient and hemisphere lights): τ of the camera's channels only.
 void respondThroughView(int l, float diffuseWeight, float specularWeight) {
     const int C = 4 * OUTPUT_COUNT;
@@ -327,8 +327,7 @@ void respondThroughViewAndLight(int l, float diffuseWeight, float specularWeight
 
 // Adds light l's reflected radiance with geometric weights: diffuse g/π, specular lobe weight
 // (in the response pass, the detector's response to it).
-// `directional`: light l is a directional light (its coloured shadow through a flat slab is one spectrum).
-void addLight(int l, float diffuseWeight, float specularWeight, bool directional) {
+void addLight(int l, float diffuseWeight, float specularWeight) {
     if (THROUGH_FILTERS) {
         respondThroughView(l, diffuseWeight, specularWeight);
         return;
@@ -407,7 +406,7 @@ const int UNROLLED_LIGHTS = 4;
 // Ambient: irradiance on every surface, no cosine, no specular.
 void ambientLight(int i) {
     int l = i;
-    addLight(l, INV_PI, 0.0, false);
+    addLight(l, INV_PI, 0.0);
     addFluorescence(l, 1.0);
 }
 
@@ -421,7 +420,7 @@ void directionalLight(int i, vec3 n, vec3 v, vec3 ng) {
     if (THROUGH_WITH_FILTERED_SHADOWS)
         respondThroughViewAndLight(l, g * INV_PI, specularWeight(n, w, v, g), true);
     else
-        addLight(l, g * INV_PI, specularWeight(n, w, v, g), true);
+        addLight(l, g * INV_PI, specularWeight(n, w, v, g));
     addFluorescence(l, g);
 }
 
@@ -442,7 +441,7 @@ void pointLight(int i, vec3 n, vec3 v, vec3 ng) {
     if (THROUGH_WITH_FILTERED_SHADOWS)
         respondThroughViewAndLight(l, g * INV_PI, specularWeight(n, w, v, g), false);
     else
-        addLight(l, g * INV_PI, specularWeight(n, w, v, g), false);
+        addLight(l, g * INV_PI, specularWeight(n, w, v, g));
     addFluorescence(l, g);
 }
 
@@ -527,7 +526,7 @@ void main() {
         float g = 0.5 * (1.0 + dot(n, up));
         float gloss = M.params.x;
         float lobe = (gloss + 8.0) * (INV_PI / 8.0) * hemisphereIntegral(i, n, v, previousLobe);
-        addLight(l, g, lobe, false);
+        addLight(l, g, lobe);
         addFluorescence(l, 3.14159265358979 * g);
     }
     // ê/λ and the couplings come scaled by reciprocal powers of two (pack() in spectral_pass.cpp)

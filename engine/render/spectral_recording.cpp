@@ -92,17 +92,24 @@ void SpectralResources::drawTransparent(VkCommandBuffer cmd, const SpectralFrame
                                         VkPipeline front) const {
     bindGeometry(cmd, f);
     const size_t materials = packed.materials.size() / passes.size();
-    std::vector<std::pair<float, const PackedDraw*>> order;
-    for (const PackedDraw& d : packed.draws) {
-        if (!d.transparent) continue;
-        const bool slab = (packed.materials[d.material].switches.x & MATERIAL_SLAB) != 0u;
-        if ((which == TransparentDraws::Slabs && !slab) || (which == TransparentDraws::SheetsAndMedia && slab)) continue;
-        const glm::vec3 centre = 0.5f * (d.lower + d.upper);
-        const float distance = f.camera.perspective ? glm::length(centre - f.camera.position)
-                                                    : glm::dot(centre - f.camera.position, f.camera.forward);
-        order.push_back({distance, &d});
+    if (!f.transparentOrdered) {
+        f.transparentOrder.clear();
+        for (const PackedDraw& d : packed.draws) {
+            if (!d.transparent) continue;
+            const glm::vec3 centre = 0.5f * (d.lower + d.upper);
+            const float distance = f.camera.perspective ? glm::length(centre - f.camera.position)
+                                                        : glm::dot(centre - f.camera.position, f.camera.forward);
+            f.transparentOrder.push_back({distance, &d});
+        }
+        std::stable_sort(f.transparentOrder.begin(), f.transparentOrder.end(),
+                         [](const auto& a, const auto& b) { return a.first > b.first; });
+        f.transparentOrdered = true;
     }
-    std::stable_sort(order.begin(), order.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+    auto wanted = [&](const PackedDraw& d) {
+        const bool slab = (packed.materials[d.material].switches.x & MATERIAL_SLAB) != 0u;
+        return !((which == TransparentDraws::Slabs && !slab) || (which == TransparentDraws::SheetsAndMedia && slab));
+    };
+    const auto& order = f.transparentOrder;
     VkPipeline bound = VK_NULL_HANDLE;
     // A scene of 10⁵ sheets is 10⁵ draws: each binds its material only where it changes, and pushes
     // the point its path is measured from only for a medium (the one kind that reads it).
@@ -116,6 +123,7 @@ void SpectralResources::drawTransparent(VkCommandBuffer cmd, const SpectralFrame
     };
     for (const auto& [distance, draw] : order) {
         const PackedDraw& d = *draw;
+        if (!wanted(d)) continue;
         if ((packed.materials[d.material].switches.x & MATERIAL_MEDIUM) != 0u) {
             gpu::SpectralPushConstants pc = f.pc;
             pc.draw = glm::vec4(f.nearestPoint(d), 0.0f);

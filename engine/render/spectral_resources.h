@@ -46,6 +46,10 @@ struct SpectralFrameState {
     // The point of the draw's bounds nearest the camera (the camera's own position inside them), or,
     // orthographic, the corner nearest the camera's plane: where a medium's path is measured from.
     glm::vec3 nearestPoint(const PackedDraw& d) const;
+    // The transparent draws farthest first (by their bounds' centres), sorted once per frame on
+    // first use: a frame with slabs draws them in three passes, a scene may hold 10⁵ of them.
+    mutable std::vector<std::pair<float, const PackedDraw*>> transparentOrder;
+    mutable bool transparentOrdered = false;
 };
 
 struct SpectralResources {
