@@ -507,9 +507,9 @@ RenderJobResult runRenderJob(const RenderJob& job) {
     // detector's quick look the CIE 1931 observer's.
     const bool quickLook = files.png && planPtr && planPtr->mode == TonemapMode::ResponsesOnly;
     const bool needsBands = files.cube || files.edges || !display || job.backend == Backend::Cpu;
-    // A scene with transparent objects or interreflection draws its bands for the display image too
-    // (display_frame.cpp): its memory is counted as the cube path's (the cube itself is not held,
-    // so this errs high).
+    // A scene whose display image needs the bands (two slabs, interreflection, emitters:
+    // Scene::displayNeedsBands) draws them for the display image too (display_frame.cpp): its
+    // memory is counted as the cube path's (the cube itself is not held, so this errs high).
     const bool drawsBands = needsBands || scene.displayNeedsBands();
     RenderMemory memory =
         estimateRenderMemory(W, H, loaded->grid.bands(), job.ssaa, job.backend, display, drawsBands);
