@@ -345,8 +345,9 @@ TEST(ResponsePass, ASceneWithTwoSlabsDrawsBandsForItsDisplayImage) {
 // specular records), a rank-one fluorescent paint seen through a gel and lying in the gel's
 // coloured shadow (its coupling from the filtered light, its emission × τ of the camera), a dye box
 // and drop, a tilted tinted window reflecting a sky (a hemisphere light: the lobe tables and the
-// slab reflection pass), a shadowing directional light and a shadowing point light (Fresnel per
-// band in the point light's coloured shadow through the window), perspective.
+// slab reflection pass; an unused slab material before it, so that its channels are not the
+// first slab's), a shadowing directional light and a shadowing point light (Fresnel per band in
+// the point light's coloured shadow through the window), perspective.
 TEST(ResponsePass, ThroughFiltersEveryTermEqualsTheCubePath) {
     const uint32_t before = gpu().validationErrors();
     Scene s = emptyScene(Grid{380, 730, 5}, perspectiveCamera({0.3, 0.2, 3}, {0, 0, 0}, {0, 1, 0}, 35.0, 96, 72));
@@ -376,6 +377,7 @@ TEST(ResponsePass, ThroughFiltersEveryTermEqualsTheCubePath) {
     Mesh drop = makeSphere({0.1, -0.5, 0.6}, 0.15, 48);
     drop.material = dye;
     s.meshes.push_back(std::move(drop));
+    add(slabMaterial(constantIndex(1.8), 0.01, std::nullopt, "unused glass"));  // unused: the window's channels come after it
     const uint32_t window = add(slabMaterial(nbk7(), 0.006, gaussianSpectrum(520, 40, 30.0, 300, 800, 1), "window"));
     s.meshes.push_back(quad({0.6, 0.3, 0.8}, {-0.5, 0.2, 1}, 0.6, 0.5, window));
     const std::unique_ptr<LoadedScene> loaded = loadedFrom(std::move(s));

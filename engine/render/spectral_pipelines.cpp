@@ -76,7 +76,7 @@ VkPipeline SpectralResources::makePipeline(const vk::SharedHandle<VkRenderPass>&
                                            int32_t(viewChannelLayers > 0 ? packed.depthChannels : 0),
                                            packed.filteredShadows ? packed.flatSlabs : 0u,
                                            packed.slabLayerRows,
-                                           plan.responses && viewSplit ? packed.depthChannels : -1};
+                                           viewSlabChannel};
     // interface.h orders the struct's 4-byte fields by id.
     constexpr uint32_t kIds = SPEC_VIEW_SLAB_CHANNEL + 1;
     VkSpecializationMapEntry entries[kIds];

@@ -51,6 +51,12 @@ SpectralResources::SpectralResources(vk::Context& c, const Scene& s, const Scene
     if (hasTransmission && packed.responses && (viewChannelLayers == 0 || (viewSplit && !scene.transparencyInResponses())))
         failRuntime("the response pass shows sheets and media, at most {} materials, and one planar slab: render "
                     "bands (render/display_frame.cpp does)", 4 * MAX_OUTPUTS);
+    if (hasTransmission && packed.responses && viewSplit)
+        for (const PackedDraw& d : packed.draws)
+            if ((packed.materials[d.material].switches.x & MATERIAL_SLAB) != 0u) {
+                viewSlabChannel = int32_t(packed.materials[d.material].params.w);
+                break;
+            }
     // The coloured shadows' cost grows with the transparent area the lights see × the channels'
     // layers: said when it is long, refused when it would take hours, before anything is drawn.
     if (packed.filteredShadows) {

@@ -155,6 +155,9 @@ struct SpectralResources {
     // each band pass the transmission pass draws only the slabs (T, then their reflection), then the
     // nearest slab once more multiplying by the front set's τ (transmit.frag, FRONT).
     bool viewSplit = false;
+    // The response pass through the scene's one slab: its material's first optical-depth channel
+    // (SPEC_VIEW_SLAB_CHANNEL; −1: none).
+    int32_t viewSlabChannel = -1;
     VkDescriptorSet channelDescriptorSet = VK_NULL_HANDLE;  // set 0 with a placeholder for the view channels
     vk::Image slabDistance, slabDepth;
     PassObjects slabDistancePass;
