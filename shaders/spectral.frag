@@ -73,6 +73,7 @@ layout(set = 0, binding = BINDING_VIEW_CHANNELS) uniform sampler2DArray viewChan
 layout(set = 0, binding = BINDING_OPAQUE_DISTANCE) uniform sampler2D opaqueDistance;
 layout(set = 0, binding = BINDING_SLAB_DISTANCE) uniform sampler2D slabDistance;
 #include "view_channels.glsl"
+#include "slab_fresnel.glsl"
 
 layout(set = 1, binding = TEXTURE_BINDING_DIFFUSE) uniform sampler2DArray diffuseTexture;
 layout(set = 1, binding = TEXTURE_BINDING_SPECULAR) uniform sampler2DArray specularTexture;
@@ -192,16 +193,12 @@ void fetchDepthChannels() {
         [[unroll]] for (int i = 0; i < 4; ++i) depthChannel[4 * j + i] = c[i];
     }
 }
-// A slab's T at cos θ for 4 bands of index n and attenuation a·d·log2(10) (transmit.frag's slab,
-// the same formula), and its log2.
+// A slab's T at cos θ for 4 bands of index n and attenuation a·d·log2(10) (slab_fresnel.glsl, as
+// transmit.frag draws it), and its log2.
 vec4 slabTransmittance(float cosI, vec4 n, vec4 attenuation) {
-    const vec4 cosT = sqrt(max(vec4(1.0) - (1.0 - cosI * cosI) / (n * n), vec4(0.0)));
-    const vec4 tau = exp2(-attenuation / max(cosT, vec4(1e-6)));
-    vec4 rs = (cosI - n * cosT) / (cosI + n * cosT), rp = (cosT - n * cosI) / (cosT + n * cosI);
-    rs *= rs;
-    rp *= rp;
-    const vec4 ds = 1.0 / (1.0 - rs * rs * tau * tau), dp = 1.0 / (1.0 - rp * rp * tau * tau);
-    return 0.5 * ((1.0 - rs) * (1.0 - rs) * tau * ds + (1.0 - rp) * (1.0 - rp) * tau * dp);
+    vec4 T, reflectance;
+    slabFresnel(cosI, n, attenuation, T, reflectance);
+    return T;
 }
 vec4 slabLog2Transmittance(float cosI, vec4 n, vec4 attenuation) {
     return max(log2(slabTransmittance(cosI, n, attenuation)), vec4(-149.0));
@@ -297,32 +294,26 @@ void sampleTextures() {
 // taken band by band inside the sum, Σ_j τ_j·(g/π·d_lcj + lobe·s_lcj) over the grid's band layers j
 // (interface.h, GpuResponseBlock::spectra). The band passes' own products, summed in another order.
 vec4 viewTau[BAND_LAYERS];  // the camera's τ per band layer (main), for every light
-// Unfiltered (ambient and hemisphere lights): τ of the camera's channels only.
-void respondThroughView(int l, float diffuseWeight, float specularWeight) {
+// Light l's records of band layer j, weighted and summed against τ into every channel.
+void respondLayer(int l, int j, float diffuseWeight, float specularWeight, vec4 tau) {
     const int C = 4 * OUTPUT_COUNT;
     const int diffuseRows = R.spectra.x + 2 * l * C * BAND_LAYERS, specularRows = diffuseRows + C * BAND_LAYERS;
-    for (int j = 0; j < BAND_LAYERS; ++j) {
-        [[unroll]] for (int c = 0; c < C; ++c) {
-            vec4 terms = diffuseWeight * texelFetch(depthSpectra, diffuseRows + c * BAND_LAYERS + j);
-            if (HAS_SPECULAR) terms += specularWeight * texelFetch(depthSpectra, specularRows + c * BAND_LAYERS + j);
-            acc[c / 4][c % 4] += dot(terms, viewTau[j]);
-        }
+    [[unroll]] for (int c = 0; c < C; ++c) {
+        vec4 terms = diffuseWeight * texelFetch(depthSpectra, diffuseRows + c * BAND_LAYERS + j);
+        if (HAS_SPECULAR) terms += specularWeight * texelFetch(depthSpectra, specularRows + c * BAND_LAYERS + j);
+        acc[c / 4][c % 4] += dot(terms, tau);
     }
+}
+// Unfiltered (ambient and hemisphere lights): τ of the camera's channels only.
+void respondThroughView(int l, float diffuseWeight, float specularWeight) {
+    for (int j = 0; j < BAND_LAYERS; ++j) respondLayer(l, j, diffuseWeight, specularWeight, viewTau[j]);
 }
 // A directional or point light: × τ of its own channels at its transmittance-map texel (zero where
 // it arrives unfiltered: τ = 1). One program for both cases, since lavapipe would run both sides of
 // a branch between them.
 void respondThroughViewAndLight(int l, float diffuseWeight, float specularWeight, bool directional) {
-    const int C = 4 * OUTPUT_COUNT;
-    const int diffuseRows = R.spectra.x + 2 * l * C * BAND_LAYERS, specularRows = diffuseRows + C * BAND_LAYERS;
-    for (int j = 0; j < BAND_LAYERS; ++j) {
-        const vec4 tau = viewTau[j] * exp2(log2TransmittanceAt(j, directional));
-        [[unroll]] for (int c = 0; c < C; ++c) {
-            vec4 terms = diffuseWeight * texelFetch(depthSpectra, diffuseRows + c * BAND_LAYERS + j);
-            if (HAS_SPECULAR) terms += specularWeight * texelFetch(depthSpectra, specularRows + c * BAND_LAYERS + j);
-            acc[c / 4][c % 4] += dot(terms, tau);
-        }
-    }
+    for (int j = 0; j < BAND_LAYERS; ++j)
+        respondLayer(l, j, diffuseWeight, specularWeight, viewTau[j] * exp2(log2TransmittanceAt(j, directional)));
 }
 
 // Adds light l's reflected radiance with geometric weights: diffuse g/π, specular lobe weight

@@ -121,6 +121,28 @@ std::vector<size_t> lightOrder(const Scene& scene, PackedScene& p) {
 // one per sheet and medium, then two per slab, in p.depthSpectra per channel and band layer;
 // returns every material's first channel (−1: none). View-independent, once per scene, in double
 // rounded once to float.
+// A rank-one fluorescent material's ê(λ)/λ (nm⁻², on the grid) with a power of two 2^shift moved
+// out of it, for its coupling to take: the coupling is the radiance over ê/λ (~1e-5 nm⁻² for a
+// dye), so in float32 it would overflow ~1e5 times sooner than the radiance does (at a light scale
+// of ~1e35); moving 2^shift keeps both near the radiance's magnitude and leaves their product the
+// same bit for bit. pack() and packResponses() share it, so that their products are the same too.
+struct ScaledEmission {
+    std::vector<double> overLambda;
+    int shift = 0;
+};
+ScaledEmission scaledEmissionOverLambda(const MaterialOnGrid& m, const SceneOnGrid& g) {
+    ScaledEmission e;
+    e.overLambda.assign(m.diffuse.size(), 0.0);
+    double largest = 0.0;
+    for (size_t i = 0; i < m.emission.size() && i < e.overLambda.size(); ++i) {
+        e.overLambda[i] = m.emission[i] / g.wavelengths_nm[i];
+        largest = std::max(largest, e.overLambda[i]);
+    }
+    e.shift = largest > 0.0 ? std::ilogb(largest) : 0;
+    for (double& v : e.overLambda) v = std::ldexp(v, -e.shift);
+    return e;
+}
+
 std::vector<float> packDepthChannels(PackedScene& p, const Scene& scene, const SceneOnGrid& g, const LocalFrame& frame) {
     std::vector<float> first(g.materials.size(), -1.0f);
     p.depthSpectra.clear();
@@ -363,17 +385,10 @@ PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes, const Loc
         float excitationBase = -1.0f;
         emissionOverLambda.assign(m.diffuse.size(), 0.0);
         if (m.fluorescent && !p.fluorescenceSpectra) {
-            double largest = 0.0;
-            for (size_t i = 0; i < m.emission.size(); ++i) {
-                emissionOverLambda[i] = m.emission[i] / g.wavelengths_nm[i];
-                largest = std::max(largest, emissionOverLambda[i]);
-            }
-            // The coupling is the radiance over ê/λ (~1e-5 nm⁻² for a dye), so in float32 it would
-            // overflow ~1e5 times sooner than the radiance does (at a light scale of ~1e35).
-            // Moving a power of two from ê/λ into it keeps both near the radiance's magnitude and
-            // leaves their product the same bit for bit.
-            const int shift = largest > 0.0 ? std::ilogb(largest) : 0;
-            for (double& v : emissionOverLambda) v = std::ldexp(v, -shift);
+            // ê/λ scaled by 2^−shift, the coupling by 2^shift (scaledEmissionOverLambda).
+            ScaledEmission scaled = scaledEmissionOverLambda(m, g);
+            emissionOverLambda = std::move(scaled.overLambda);
+            const int shift = scaled.shift;
             for (size_t i = 0; i < order.size(); ++i) {
                 const auto& E = g.lights[order[i]];
                 double sum = 0.0;
@@ -489,48 +504,41 @@ PackedScene packResponses(const Scene& scene, const SceneOnGrid& g, const std::v
     // Seen through sheets and media, the sums' terms stay per band (GpuResponseBlock::spectra): after
     // the optical-depth channels' rows, per opaque material, light, term and channel, BAND_LAYERS vec4.
     if (scene.hasTransparency()) {
+        // The detector-weighted spectrum w_cb·s_b, 4·⌈channels/4⌉ channels × BAND_LAYERS vec4 (zero
+        // past the channels and the bands), appended to the texel buffer's rows.
         const size_t padded = 4 * ((channels + 3) / 4), layers = size_t(p.bandLayers);
+        auto appendWeighted = [&](const std::vector<double>& s) {
+            for (size_t c = 0; c < padded; ++c)
+                for (size_t j = 0; j < layers; ++j) {
+                    glm::vec4 v(0.0f);
+                    for (size_t k = 0; k < 4; ++k) {
+                        const size_t b = 4 * j + k;
+                        if (c < channels && b < n) v[int(k)] = float(weights[c][b] * s[b]);
+                    }
+                    p.depthSpectra.push_back(v);
+                }
+        };
         for (size_t mi = 0; mi < g.materials.size(); ++mi) {
             const MaterialOnGrid& m = g.materials[mi];
             if (m.isTransparent()) continue;
             p.responseBlocks[mi].spectra.x = int(p.depthSpectra.size());
             for (size_t i = 0; i < lights; ++i) {
                 const std::vector<double>& E = g.lights[order[i]];
-                for (const std::vector<double>* rho : {&m.diffuse, &m.specular})
-                    for (size_t c = 0; c < padded; ++c)
-                        for (size_t j = 0; j < layers; ++j) {
-                            glm::vec4 v(0.0f);
-                            for (size_t k = 0; k < 4; ++k) {
-                                const size_t b = 4 * j + k;
-                                if (c < channels && b < n) v[int(k)] = float(weights[c][b] * (*rho)[b] * E[b]);
-                            }
-                            p.depthSpectra.push_back(v);
-                        }
+                for (const std::vector<double>* rho : {&m.diffuse, &m.specular}) {
+                    for (size_t b = 0; b < n; ++b) product[b] = (*rho)[b] * E[b];
+                    appendWeighted(product);
+                }
             }
         }
-        // A rank-one fluorescent material's emission ê(λ)/λ, weighted by the detector, with the
-        // power of two pack() moved into its coupling (the band passes' product, bit for bit).
+        // A rank-one fluorescent material's emission ê(λ)/λ as pack() scales it, rounded to float as
+        // the band passes read it (their product, bit for bit).
         for (size_t mi = 0; mi < g.materials.size(); ++mi) {
             const MaterialOnGrid& m = g.materials[mi];
             if (!m.fluorescent || m.isTransparent()) continue;
-            std::vector<double> emissionOverLambda(n, 0.0);
-            double largest = 0.0;
-            for (size_t b = 0; b < n && b < m.emission.size(); ++b) {
-                emissionOverLambda[b] = m.emission[b] / g.wavelengths_nm[b];
-                largest = std::max(largest, emissionOverLambda[b]);
-            }
-            const int shift = largest > 0.0 ? std::ilogb(largest) : 0;
+            std::vector<double> emission = scaledEmissionOverLambda(m, g).overLambda;
+            for (double& v : emission) v = double(float(v));
             p.responseBlocks[mi].spectra.z = int(p.depthSpectra.size());
-            for (size_t c = 0; c < padded; ++c)
-                for (size_t j = 0; j < layers; ++j) {
-                    glm::vec4 v(0.0f);
-                    for (size_t k = 0; k < 4; ++k) {
-                        const size_t b = 4 * j + k;
-                        if (c < channels && b < n)
-                            v[int(k)] = float(weights[c][b] * double(float(std::ldexp(emissionOverLambda[b], -shift))));
-                    }
-                    p.depthSpectra.push_back(v);
-                }
+            appendWeighted(emission);
         }
         // A slab reflects the environment: the detector-weighted light spectra w_cb·E_lb, and its
         // normal (Scene::transparencyInResponses: one planar slab, every normal parallel).
@@ -539,18 +547,7 @@ PackedScene packResponses(const Scene& scene, const SceneOnGrid& g, const std::v
             const float* nv = p.vertices[size_t(int64_t(p.indices[d.firstIndex]) + d.vertexOffset)].normal;
             const glm::vec3 normal = glm::normalize(glm::vec3(nv[0], nv[1], nv[2]));
             const int rows = int(p.depthSpectra.size());
-            for (size_t i = 0; i < lights; ++i) {
-                const std::vector<double>& E = g.lights[order[i]];
-                for (size_t c = 0; c < padded; ++c)
-                    for (size_t j = 0; j < layers; ++j) {
-                        glm::vec4 v(0.0f);
-                        for (size_t k = 0; k < 4; ++k) {
-                            const size_t b = 4 * j + k;
-                            if (c < channels && b < n) v[int(k)] = float(weights[c][b] * E[b]);
-                        }
-                        p.depthSpectra.push_back(v);
-                    }
-            }
+            for (size_t i = 0; i < lights; ++i) appendWeighted(g.lights[order[i]]);
             for (gpu::GpuResponseBlock& block : p.responseBlocks) {
                 block.spectra.y = rows;
                 block.slabNormal = glm::vec4(normal, 0.0f);

@@ -44,19 +44,21 @@ SpectralResources::SpectralResources(vk::Context& c, const Scene& s, const Scene
     // The response pass carries sheets and media (their τ inside its sums) and one planar slab
     // (Scene::transparencyInResponses): a slab alone still has the split channel pass (empty sets),
     // for the slab distance pass beside it.
-    if (hasTransmission && packed.responses && slabs && channelLayers == 0) {
-        viewChannelLayers = 2;
-        viewSplit = true;
+    if (hasTransmission && packed.responses) {
+        if (slabs && channelLayers == 0) {
+            viewChannelLayers = 2;
+            viewSplit = true;
+        }
+        if (viewChannelLayers == 0 || (viewSplit && !scene.transparencyInResponses()))
+            failRuntime("the response pass shows sheets and media, at most {} materials, and one planar slab: "
+                        "render bands (render/display_frame.cpp does)", 4 * MAX_OUTPUTS);
+        if (viewSplit)
+            for (const PackedDraw& d : packed.draws)
+                if ((packed.materials[d.material].switches.x & MATERIAL_SLAB) != 0u) {
+                    viewSlabChannel = int32_t(packed.materials[d.material].params.w);
+                    break;
+                }
     }
-    if (hasTransmission && packed.responses && (viewChannelLayers == 0 || (viewSplit && !scene.transparencyInResponses())))
-        failRuntime("the response pass shows sheets and media, at most {} materials, and one planar slab: render "
-                    "bands (render/display_frame.cpp does)", 4 * MAX_OUTPUTS);
-    if (hasTransmission && packed.responses && viewSplit)
-        for (const PackedDraw& d : packed.draws)
-            if ((packed.materials[d.material].switches.x & MATERIAL_SLAB) != 0u) {
-                viewSlabChannel = int32_t(packed.materials[d.material].params.w);
-                break;
-            }
     // The coloured shadows' cost grows with the transparent area the lights see × the channels'
     // layers: said when it is long, refused when it would take hours, before anything is drawn.
     if (packed.filteredShadows) {
