@@ -172,6 +172,11 @@ float coupling(int l) { return M.coupling[l / 4][l % 4]; }
 // unfiltered (outside the map, or not a shadowing light).
 vec4 lightFilter[OUTPUT_COUNT];
 bool filtered;
+// Through filters: this pixel sees nothing transparent in front (viewClear), the light being
+// shaded arrives unfiltered here (lightClear). Their per-band loops then run no iterations —
+// a loop bound, not a branch: lavapipe leaves a loop once no pixel of the block is in it, while
+// it runs both sides of a branch.
+bool viewClear, lightClear;
 bool filterDirectional;  // the filtered light is directional (a flat slab's T is then one spectrum)
 // The maps hold optical-depth channels (interface.h), interpolated bilinearly between texel
 // centres (by hand, in float, as the textures are): a texel holds the channels along the ray
@@ -229,8 +234,10 @@ void filterLight(bool directional) {
     if (THROUGH_FILTERS) {
         // The response pass takes τ band by band in its sums (respondThroughViewAndLight): no
         // channels where the light arrives unfiltered (τ = 1), and a layer that exists.
+        lightClear = true;
         if (filtered) {
             fetchDepthChannels();
+            [[unroll]] for (int i = 0; i < DEPTH_ARRAY; ++i) lightClear = lightClear && depthChannel[i] == 0.0;
         } else {
             [[unroll]] for (int i = 0; i < DEPTH_ARRAY; ++i) depthChannel[i] = 0.0;
             shadowLayer = 0;
@@ -304,16 +311,30 @@ void respondLayer(int l, int j, float diffuseWeight, float specularWeight, vec4 
         acc[c / 4][c % 4] += dot(terms, tau);
     }
 }
+// Where nothing filters light l's path here, its per-scene response (as in an opaque scene).
+void respondUnfiltered(int l, float diffuseWeight, float specularWeight) {
+    [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) {
+        const int r = l * RESPONSE_VEC4 + k;
+        acc[k] += R.diffuse[r] * diffuseWeight;
+        if (HAS_SPECULAR) acc[k] += R.specular[r] * specularWeight;
+    }
+}
 // Unfiltered (ambient and hemisphere lights): τ of the camera's channels only.
 void respondThroughView(int l, float diffuseWeight, float specularWeight) {
-    for (int j = 0; j < BAND_LAYERS; ++j) respondLayer(l, j, diffuseWeight, specularWeight, viewTau[j]);
+    const int layers = viewClear ? 0 : BAND_LAYERS;
+    for (int j = 0; j < layers; ++j) respondLayer(l, j, diffuseWeight, specularWeight, viewTau[j]);
+    if (viewClear) respondUnfiltered(l, diffuseWeight, specularWeight);
 }
 // A directional or point light: × τ of its own channels at its transmittance-map texel (zero where
 // it arrives unfiltered: τ = 1). One program for both cases, since lavapipe would run both sides of
 // a branch between them.
 void respondThroughViewAndLight(int l, float diffuseWeight, float specularWeight, bool directional) {
-    for (int j = 0; j < BAND_LAYERS; ++j)
-        respondLayer(l, j, diffuseWeight, specularWeight, viewTau[j] * exp2(log2TransmittanceAt(j, directional)));
+    const bool clear = viewClear && lightClear;
+    const int layers = clear ? 0 : BAND_LAYERS;
+    for (int j = 0; j < layers; ++j)
+        respondLayer(l, j, diffuseWeight, specularWeight,
+                     (viewClear ? vec4(1.0) : viewTau[j]) * exp2(log2TransmittanceAt(j, directional)));
+    if (clear) respondUnfiltered(l, diffuseWeight, specularWeight);
 }
 
 // Adds light l's reflected radiance with geometric weights: diffuse g/π, specular lobe weight
@@ -492,12 +513,14 @@ void main() {
             slabSeen = texelFetch(slabDistance, pixel, 0).r < texelFetch(opaqueDistance, pixel, 0).r;
             slabCos = min(abs(dot(R.slabNormal.xyz, v)), 1.0);
         }
-        for (int j = 0; j < BAND_LAYERS; ++j) {
-            viewTau[j] = viewTransmittance(j);
-            if (VIEW_SLAB_CHANNEL >= 0 && slabSeen)
+        viewClear = !slabSeen;
+        [[unroll]] for (int i = 0; i < VIEW_ARRAY; ++i) viewClear = viewClear && viewChannel[i] == 0.0;
+        const int viewLayers = viewClear ? 0 : BAND_LAYERS, slabLayers = slabSeen ? BAND_LAYERS : 0;
+        for (int j = 0; j < viewLayers; ++j) viewTau[j] = viewTransmittance(j);
+        if (VIEW_SLAB_CHANNEL >= 0)
+            for (int j = 0; j < slabLayers; ++j)
                 viewTau[j] *= slabTransmittance(slabCos, texelFetch(depthSpectra, VIEW_SLAB_CHANNEL * BAND_LAYERS + j),
                                                 texelFetch(depthSpectra, (VIEW_SLAB_CHANNEL + 1) * BAND_LAYERS + j));
-        }
     }
     [[unroll]] for (int i = 0; i < min(AMBIENT_COUNT, UNROLLED_LIGHTS); ++i) ambientLight(i);
     [[dont_unroll]] for (int i = UNROLLED_LIGHTS; i < AMBIENT_COUNT; ++i) ambientLight(i);
@@ -530,7 +553,8 @@ void main() {
             const int C = 4 * OUTPUT_COUNT;
             for (int j = 0; j < BAND_LAYERS; ++j)
                 [[unroll]] for (int c = 0; c < C; ++c)
-                    acc[c / 4][c % 4] += fluorescence * dot(texelFetch(depthSpectra, R.spectra.z + c * BAND_LAYERS + j), viewTau[j]);
+                    acc[c / 4][c % 4] += fluorescence * dot(texelFetch(depthSpectra, R.spectra.z + c * BAND_LAYERS + j),
+                                                       viewClear ? vec4(1.0) : viewTau[j]);
         }
     }
     // A self-luminous surface's own radiance, on its front (the side its winding faces).
