@@ -176,6 +176,12 @@ using mat4 = glm::mat4;
 // Where the slab lies in front of the opaque surface (BINDING_SLAB_DISTANCE < BINDING_OPAQUE_DISTANCE)
 // the response sums take its T(θ, λ) at the angle of the ray with GpuResponseBlock::slabNormal.
 #define SPEC_VIEW_SLAB_CHANNEL 26
+// The response pass through filters: the detector's channels (its records are padded to 4 per vec4;
+// the padding's terms are zero and not summed), and the band layers [FIRST, END) where any of its
+// weights is nonzero — every record outside them is exactly zero, so its terms are not summed.
+#define SPEC_RESPONSE_CHANNELS 27
+#define SPEC_RESPONSE_FIRST_LAYER 28
+#define SPEC_RESPONSE_END_LAYER 29
 #define QUANTITY_RADIANCE 0
 #define QUANTITY_ILLUMINATION 1
 #define QUANTITY_REFLECTANCE 2
@@ -416,8 +422,10 @@ struct SpectralSpecialization {
     uint32_t flatSlabs;                          // SPEC_FLAT_SLABS
     int32_t slabLayerRows;                       // SPEC_SLAB_LAYER_ROWS
     int32_t viewSlabChannel;                     // SPEC_VIEW_SLAB_CHANNEL
+    int32_t responseChannels;                    // SPEC_RESPONSE_CHANNELS
+    int32_t responseFirstLayer, responseEndLayer;  // SPEC_RESPONSE_FIRST_LAYER, SPEC_RESPONSE_END_LAYER
 };
-static_assert(sizeof(SpectralSpecialization) == 4 * (SPEC_VIEW_SLAB_CHANNEL + 1), "one 4-byte field per id");
+static_assert(sizeof(SpectralSpecialization) == 4 * (SPEC_RESPONSE_END_LAYER + 1), "one 4-byte field per id");
 static_assert(SPEC_AMBIENT_COUNT == 0 && SPEC_DIRECTIONAL_COUNT == 1 && SPEC_POINT_COUNT == 2 && SPEC_HAS_SPECULAR == 3 &&
                   SPEC_HAS_FLUORESCENCE == 4 && SPEC_HAS_TEXTURES == 5 && SPEC_HAS_NORMAL_MAPS == 6 &&
                   SPEC_FLUORESCENCE_SPECTRA == 7 && SPEC_RESPONSES == 8 && SPEC_HEMISPHERE_COUNT == 9 &&
@@ -426,7 +434,8 @@ static_assert(SPEC_AMBIENT_COUNT == 0 && SPEC_DIRECTIONAL_COUNT == 1 && SPEC_POI
                   SPEC_BAND_LAYERS == 16 && SPEC_EMITTER_TRIANGLES == 17 && SPEC_EMITTERS == 18 &&
                   SPEC_HAS_EMITTERS == 19 && SPEC_QUANTITY == 20 && SPEC_DEPTH_CHANNELS == 21 &&
                   SPEC_SLAB_CHANNELS == 22 && SPEC_VIEW_CHANNELS == 23 && SPEC_FLAT_SLABS == 24 &&
-                  SPEC_SLAB_LAYER_ROWS == 25 && SPEC_VIEW_SLAB_CHANNEL == 26,
+                  SPEC_SLAB_LAYER_ROWS == 25 && SPEC_VIEW_SLAB_CHANNEL == 26 &&
+                  SPEC_RESPONSE_CHANNELS == 27 && SPEC_RESPONSE_FIRST_LAYER == 28 && SPEC_RESPONSE_END_LAYER == 29,
               "SpectralSpecialization's fields are in id order");
 
 // transmit.frag's specialization constants, in id order.

@@ -46,6 +46,9 @@ layout(constant_id = SPEC_VIEW_SLAB_CHANNEL) const int VIEW_SLAB_CHANNEL = -1;
 // The response pass seen through transparent objects: τ per band inside the response sums. (A
 // macro: glslang 11 emits a composite boolean specialization constant used in a branch before its
 // definition, which spirv-val and lavapipe refuse.)
+layout(constant_id = SPEC_RESPONSE_CHANNELS) const int RESPONSE_CHANNELS = 4 * MAX_OUTPUTS;
+layout(constant_id = SPEC_RESPONSE_FIRST_LAYER) const int RESPONSE_FIRST_LAYER = 0;
+layout(constant_id = SPEC_RESPONSE_END_LAYER) const int RESPONSE_END_LAYER = 1;
 #define THROUGH_FILTERS (RESPONSES && (VIEW_CHANNELS > 0 || VIEW_SLAB_CHANNEL >= 0))
 #define THROUGH_WITH_FILTERED_SHADOWS (RESPONSES && FILTERED_SHADOWS && (VIEW_CHANNELS > 0 || VIEW_SLAB_CHANNEL >= 0))
 layout(constant_id = SPEC_EMITTER_TRIANGLES) const int EMITTER_TRIANGLES = 0;
@@ -305,7 +308,7 @@ vec4 viewTau[BAND_LAYERS];  // the camera's τ per band layer (main), for every 
 void respondLayer(int l, int j, float diffuseWeight, float specularWeight, vec4 tau) {
     const int C = 4 * OUTPUT_COUNT;
     const int diffuseRows = R.spectra.x + 2 * l * C * BAND_LAYERS, specularRows = diffuseRows + C * BAND_LAYERS;
-    [[unroll]] for (int c = 0; c < C; ++c) {
+    [[unroll]] for (int c = 0; c < C && c < RESPONSE_CHANNELS; ++c) {
         vec4 terms = diffuseWeight * texelFetch(depthSpectra, diffuseRows + c * BAND_LAYERS + j);
         if (HAS_SPECULAR) terms += specularWeight * texelFetch(depthSpectra, specularRows + c * BAND_LAYERS + j);
         acc[c / 4][c % 4] += dot(terms, tau);
@@ -321,8 +324,8 @@ void respondUnfiltered(int l, float diffuseWeight, float specularWeight) {
 }
 // Unfiltered (ambient and hemisphere lights): τ of the camera's channels only.
 void respondThroughView(int l, float diffuseWeight, float specularWeight) {
-    const int layers = viewClear ? 0 : BAND_LAYERS;
-    for (int j = 0; j < layers; ++j) respondLayer(l, j, diffuseWeight, specularWeight, viewTau[j]);
+    const int layers = viewClear ? RESPONSE_FIRST_LAYER : RESPONSE_END_LAYER;
+    for (int j = RESPONSE_FIRST_LAYER; j < layers; ++j) respondLayer(l, j, diffuseWeight, specularWeight, viewTau[j]);
     if (viewClear) respondUnfiltered(l, diffuseWeight, specularWeight);
 }
 // A directional or point light: × τ of its own channels at its transmittance-map texel (zero where
@@ -330,8 +333,8 @@ void respondThroughView(int l, float diffuseWeight, float specularWeight) {
 // a branch between them.
 void respondThroughViewAndLight(int l, float diffuseWeight, float specularWeight, bool directional) {
     const bool clear = viewClear && lightClear;
-    const int layers = clear ? 0 : BAND_LAYERS;
-    for (int j = 0; j < layers; ++j)
+    const int layers = clear ? RESPONSE_FIRST_LAYER : RESPONSE_END_LAYER;
+    for (int j = RESPONSE_FIRST_LAYER; j < layers; ++j)
         respondLayer(l, j, diffuseWeight, specularWeight,
                      (viewClear ? vec4(1.0) : viewTau[j]) * exp2(log2TransmittanceAt(j, directional)));
     if (clear) respondUnfiltered(l, diffuseWeight, specularWeight);
@@ -515,10 +518,11 @@ void main() {
         }
         viewClear = !slabSeen;
         [[unroll]] for (int i = 0; i < VIEW_ARRAY; ++i) viewClear = viewClear && viewChannel[i] == 0.0;
-        const int viewLayers = viewClear ? 0 : BAND_LAYERS, slabLayers = slabSeen ? BAND_LAYERS : 0;
-        for (int j = 0; j < viewLayers; ++j) viewTau[j] = viewTransmittance(j);
+        const int viewLayers = viewClear ? RESPONSE_FIRST_LAYER : RESPONSE_END_LAYER;
+        const int slabLayers = slabSeen ? RESPONSE_END_LAYER : RESPONSE_FIRST_LAYER;
+        for (int j = RESPONSE_FIRST_LAYER; j < viewLayers; ++j) viewTau[j] = viewTransmittance(j);
         if (VIEW_SLAB_CHANNEL >= 0)
-            for (int j = 0; j < slabLayers; ++j)
+            for (int j = RESPONSE_FIRST_LAYER; j < slabLayers; ++j)
                 viewTau[j] *= slabTransmittance(slabCos, texelFetch(depthSpectra, VIEW_SLAB_CHANNEL * BAND_LAYERS + j),
                                                 texelFetch(depthSpectra, (VIEW_SLAB_CHANNEL + 1) * BAND_LAYERS + j));
     }
@@ -551,8 +555,8 @@ void main() {
     if (THROUGH_FILTERS) {
         if (HAS_FLUORESCENCE && R.spectra.z >= 0) {
             const int C = 4 * OUTPUT_COUNT;
-            for (int j = 0; j < BAND_LAYERS; ++j)
-                [[unroll]] for (int c = 0; c < C; ++c)
+            for (int j = RESPONSE_FIRST_LAYER; j < RESPONSE_END_LAYER; ++j)
+                [[unroll]] for (int c = 0; c < C && c < RESPONSE_CHANNELS; ++c)
                     acc[c / 4][c % 4] += fluorescence * dot(texelFetch(depthSpectra, R.spectra.z + c * BAND_LAYERS + j),
                                                        viewClear ? vec4(1.0) : viewTau[j]);
         }

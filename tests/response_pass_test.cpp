@@ -347,10 +347,11 @@ TEST(ResponsePass, ASceneWithTwoSlabsDrawsBandsForItsDisplayImage) {
 // and drop, a tilted tinted window reflecting a sky (a hemisphere light: the lobe tables and the
 // slab reflection pass; an unused slab material before it, so that its channels are not the
 // first slab's), a shadowing directional light and a shadowing point light (Fresnel per band in
-// the point light's coloured shadow through the window), perspective.
+// the point light's coloured shadow through the window), perspective; on 300–730 nm, where CIE
+// 1931 sees nothing below 360 nm (the sums skip those band layers: SPEC_RESPONSE_FIRST_LAYER).
 TEST(ResponsePass, ThroughFiltersEveryTermEqualsTheCubePath) {
     const uint32_t before = gpu().validationErrors();
-    Scene s = emptyScene(Grid{380, 730, 5}, perspectiveCamera({0.3, 0.2, 3}, {0, 0, 0}, {0, 1, 0}, 35.0, 96, 72));
+    Scene s = emptyScene(Grid{300, 730, 5}, perspectiveCamera({0.3, 0.2, 3}, {0, 0, 0}, {0, 1, 0}, 35.0, 96, 72));
     s.materials.push_back(lambertian(0.8, "wall"));
     s.meshes.push_back(quad({0, 0, 0}, {0, 0, 1}, 4, 4, 0));
     s.lights.push_back(ambientLight(gaussianSpectrum(550, 90, 2.0, 300, 800, 1), 1.0));

@@ -485,6 +485,16 @@ PackedScene packResponses(const Scene& scene, const SceneOnGrid& g, const std::v
     p.responses = true;
     p.fluorescenceSpectra = false;
     p.responseChannels = int(channels);
+    // Outside the detector's support every per-band record is exactly zero (w_cb = 0): the shader's
+    // band loops run over [first, end) only.
+    p.responseFirstLayer = std::numeric_limits<int>::max();
+    for (const auto& w : weights)
+        for (size_t b = 0; b < n; ++b)
+            if (w[b] != 0.0) {
+                p.responseFirstLayer = std::min(p.responseFirstLayer, int(b / 4));
+                p.responseEndLayer = std::max(p.responseEndLayer, int(b / 4) + 1);
+            }
+    if (p.responseEndLayer == 0) p.responseFirstLayer = 0;
     PackedScene counted;
     const std::vector<size_t> order = lightOrder(scene, counted);
     const size_t lights = order.size();

@@ -91,6 +91,8 @@ struct PackedScene {
     // stays as it is. responseTextureSlots[m]: diffuse, specular, normal texture in responseTextures.
     bool responses = false;
     int responseChannels = 0;
+    // The band layers [first, end) where any detector weight is nonzero (SPEC_RESPONSE_FIRST_LAYER).
+    int responseFirstLayer = 0, responseEndLayer = 0;
     std::vector<gpu::GpuResponseBlock> responseBlocks;
     std::vector<TextureOnGrid> responseTextures;
     std::vector<std::array<int, 3>> responseTextureSlots;

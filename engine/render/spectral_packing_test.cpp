@@ -107,3 +107,25 @@ TEST(SpectralPacking, RefusesALightBeyondFloat32) {
         EXPECT_NE(std::string(e.what()).find("beyond the largest float32"), std::string::npos) << e.what();
     }
 }
+
+// The response pass sums its per-band terms only over the band layers where the detector has a
+// nonzero weight (SPEC_RESPONSE_FIRST_LAYER, SPEC_RESPONSE_END_LAYER): on 300–740 nm, a detector
+// that sees 360–700 nm only spans layers 3 (360–375 nm) to 20 (700–715 nm).
+TEST(SpectralPacking, ResponseLayersSpanTheDetectorsNonzeroWeights) {
+    const Scene s = threeLights(Grid{300, 740, 5});
+    const SceneOnGrid g = onGrid(s);
+    const size_t n = g.wavelengths_nm.size();
+    std::vector<std::vector<double>> weights(3, std::vector<double>(n, 0.0));
+    for (size_t b = 0; b < n; ++b) {
+        const double nm = g.wavelengths_nm[b];
+        if (nm >= 360 && nm <= 700) weights[b % 3][b] = 1.0;  // each band seen by one channel
+    }
+    const PackedScene p = packResponses(s, g, weights, LocalFrame{});
+    EXPECT_EQ(p.responseChannels, 3);
+    EXPECT_EQ(p.responseFirstLayer, 3);   // band 12 (360 nm) / 4
+    EXPECT_EQ(p.responseEndLayer, 21);    // band 80 (700 nm) / 4 + 1
+    std::vector<std::vector<double>> none(1, std::vector<double>(n, 0.0));
+    const PackedScene blind = packResponses(s, g, none, LocalFrame{});
+    EXPECT_EQ(blind.responseFirstLayer, 0);
+    EXPECT_EQ(blind.responseEndLayer, 0);
+}

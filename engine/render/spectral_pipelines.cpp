@@ -76,9 +76,12 @@ VkPipeline SpectralResources::makePipeline(const vk::SharedHandle<VkRenderPass>&
                                            int32_t(viewChannelLayers > 0 ? packed.depthChannels : 0),
                                            packed.filteredShadows ? packed.flatSlabs : 0u,
                                            packed.slabLayerRows,
-                                           viewSlabChannel};
+                                           viewSlabChannel,
+                                           packed.responseChannels,
+                                           packed.responseFirstLayer,
+                                           packed.responseEndLayer};
     // interface.h orders the struct's 4-byte fields by id.
-    constexpr uint32_t kIds = SPEC_VIEW_SLAB_CHANNEL + 1;
+    constexpr uint32_t kIds = SPEC_RESPONSE_END_LAYER + 1;
     VkSpecializationMapEntry entries[kIds];
     for (uint32_t id = 0; id < kIds; ++id) entries[id] = {id, id * 4, 4};
     VkSpecializationInfo si{kIds, entries, sizeof(spec), &spec};
