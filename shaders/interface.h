@@ -341,6 +341,10 @@ struct SpectralPushConstants {
 // Σ_j R_j(θ)·τ_front,j·(environment) against the detector-weighted light spectra
 // (GpuResponseBlock::spectra.y), added to the response pass's.
 #define TRANSMIT_SPEC_RESPONSES 10
+// Its detector channels and band layers as spectral.frag's (SPEC_RESPONSE_CHANNELS …).
+#define TRANSMIT_SPEC_RESPONSE_CHANNELS 11
+#define TRANSMIT_SPEC_RESPONSE_FIRST_LAYER 12
+#define TRANSMIT_SPEC_RESPONSE_END_LAYER 13
 
 // ---------------------------------------------------------------------------------------------
 // The tonemap pass (tonemap.frag): one fragment per output pixel reads the spectral target and
@@ -446,8 +450,9 @@ struct TransmitSpecialization {
     uint32_t split, front;  // VkBool32
     int32_t viewChannels, bandLayers;
     uint32_t responses;  // VkBool32
+    int32_t responseChannels, responseFirstLayer, responseEndLayer;
 };
-static_assert(sizeof(TransmitSpecialization) == 4 * (TRANSMIT_SPEC_RESPONSES + 1), "one 4-byte field per id");
+static_assert(sizeof(TransmitSpecialization) == 4 * (TRANSMIT_SPEC_RESPONSE_END_LAYER + 1), "one 4-byte field per id");
 
 // tonemap.frag's specialization constants, in id order.
 struct TonemapSpecialization {

@@ -54,6 +54,9 @@ layout(constant_id = TRANSMIT_SPEC_HEMISPHERE_COUNT) const int HEMISPHERE_COUNT 
 // every band (GpuResponseBlock::spectra.y), × τ of what lies in front of the slab, into the
 // response pass's channels (added).
 layout(constant_id = TRANSMIT_SPEC_RESPONSES) const bool RESPONSES = false;
+layout(constant_id = TRANSMIT_SPEC_RESPONSE_CHANNELS) const int RESPONSE_CHANNELS = 4 * MAX_OUTPUTS;
+layout(constant_id = TRANSMIT_SPEC_RESPONSE_FIRST_LAYER) const int RESPONSE_FIRST_LAYER = 0;
+layout(constant_id = TRANSMIT_SPEC_RESPONSE_END_LAYER) const int RESPONSE_END_LAYER = 1;
 
 layout(set = 0, binding = BINDING_LIGHTS, std140) uniform Lights { GpuLightBlock L; };
 layout(set = 0, binding = BINDING_LIGHT_SPECTRA, std140) uniform LightSpectra { GpuLightSpectraBlock E; };
@@ -171,15 +174,22 @@ void main() {
             // Σ over every band layer j of R_j·τ_front,j against the environment's detector-weighted
             // spectra: ambient lights' E/π, hemisphere lights' L where the mirror direction is in
             // their hemisphere (C = 4·OUTPUT_COUNT channels, interface.h GpuResponseBlock::spectra.y).
+            // Only the detector's channels and the band layers it sees (the rest are zero); τ_front
+            // only where something lies in front (a loop bound: lavapipe runs both sides of a branch).
             fetchViewChannels(1);
+            bool frontClear = true;
+            [[unroll]] for (int i = 0; i < VIEW_ARRAY; ++i) frontClear = frontClear && viewChannel[i] == 0.0;
+            const int frontPasses = frontClear ? 0 : 1;
             const int C = 4 * OUTPUT_COUNT, channel = int(runtimeValue(M.params.w));
             for (int k = 0; k < OUTPUT_COUNT; ++k) factor[k] = vec4(0.0);
-            for (int j = 0; j < BAND_LAYERS; ++j) {
+            for (int j = RESPONSE_FIRST_LAYER; j < RESPONSE_END_LAYER; ++j) {
                 vec4 T, Rj;
                 slabFresnel(cosI, texelFetch(depthSpectra, channel * BAND_LAYERS + j),
                             texelFetch(depthSpectra, (channel + 1) * BAND_LAYERS + j), T, Rj);
-                Rj *= viewTransmittance(j);
-                [[unroll]] for (int c = 0; c < C; ++c) {
+                vec4 front = vec4(1.0);
+                for (int pass = 0; pass < frontPasses; ++pass) front = viewTransmittance(j);
+                Rj *= front;
+                [[unroll]] for (int c = 0; c < C && c < RESPONSE_CHANNELS; ++c) {
                     vec4 environment = vec4(0.0);
                     for (int i = 0; i < AMBIENT_COUNT; ++i)
                         environment += texelFetch(depthSpectra, R.spectra.y + (i * C + c) * BAND_LAYERS + j) * INV_PI;

@@ -345,7 +345,8 @@ TEST(ResponsePass, ASceneWithTwoSlabsDrawsBandsForItsDisplayImage) {
 // specular records), a rank-one fluorescent paint seen through a gel and lying in the gel's
 // coloured shadow (its coupling from the filtered light, its emission × τ of the camera), a dye box
 // and drop, a tilted tinted window reflecting a sky (a hemisphere light: the lobe tables and the
-// slab reflection pass; an unused slab material before it, so that its channels are not the
+// slab reflection pass, and a second piece of the gel in front of part of it: its reflection × τ
+// of what lies in front; an unused slab material before it, so that its channels are not the
 // first slab's), a shadowing directional light and a shadowing point light (Fresnel per band in
 // the point light's coloured shadow through the window), perspective; on 300–730 nm, where CIE
 // 1931 sees nothing below 360 nm (the sums skip those band layers: SPEC_RESPONSE_FIRST_LAYER).
@@ -381,6 +382,7 @@ TEST(ResponsePass, ThroughFiltersEveryTermEqualsTheCubePath) {
     add(slabMaterial(constantIndex(1.8), 0.01, std::nullopt, "unused glass"));  // unused: the window's channels come after it
     const uint32_t window = add(slabMaterial(nbk7(), 0.006, gaussianSpectrum(520, 40, 30.0, 300, 800, 1), "window"));
     s.meshes.push_back(quad({0.6, 0.3, 0.8}, {-0.5, 0.2, 1}, 0.6, 0.5, window));
+    s.meshes.push_back(quad({0.75, 0.4, 1.2}, {0, 0, 1}, 0.3, 0.3, gel));  // in front of part of the window
     const std::unique_ptr<LoadedScene> loaded = loadedFrom(std::move(s));
     ASSERT_TRUE(loaded->scene.transparencyInResponses());
     Figures worst;

@@ -18,8 +18,8 @@ namespace metamer {
 
 namespace {
 // transmit.frag's specialization: one 4-byte entry per id of gpu::TransmitSpecialization, in order.
-const std::array<VkSpecializationMapEntry, TRANSMIT_SPEC_RESPONSES + 1> kTransmitEntries = [] {
-    std::array<VkSpecializationMapEntry, TRANSMIT_SPEC_RESPONSES + 1> e{};
+const std::array<VkSpecializationMapEntry, TRANSMIT_SPEC_RESPONSE_END_LAYER + 1> kTransmitEntries = [] {
+    std::array<VkSpecializationMapEntry, TRANSMIT_SPEC_RESPONSE_END_LAYER + 1> e{};
     for (uint32_t id = 0; id < e.size(); ++id) e[id] = {id, id * 4, 4};
     return e;
 }();
@@ -355,6 +355,9 @@ void SpectralResources::createTransmissionPasses() {
         reflection.responses = VK_TRUE;
         reflection.viewChannels = packed.depthChannels;
         reflection.bandLayers = packed.bandLayers;
+        reflection.responseChannels = packed.responseChannels;
+        reflection.responseFirstLayer = packed.responseFirstLayer;
+        reflection.responseEndLayer = packed.responseEndLayer;
     }
     const VkSpecializationInfo reflectionInfo = transmitSpecialization(reflection);
     for (const PassObjects& band : passes) {
