@@ -182,6 +182,12 @@ using mat4 = glm::mat4;
 #define SPEC_RESPONSE_CHANNELS 27
 #define SPEC_RESPONSE_FIRST_LAYER 28
 #define SPEC_RESPONSE_END_LAYER 29
+// Single-crossing tables (render/crossing_tables.h; GpuResponseBlock::tables): the first row in
+// BINDING_DEPTH_SPECTRA of their header — per sheet and medium channel e, vec4(1/h, nodes − 1, its
+// first node, the largest depth tabulated or −1 for none) — or −1 for no tables; and the nodes of
+// every channel together.
+#define SPEC_CROSSING_HEADER 30
+#define SPEC_CROSSING_NODES 31
 #define QUANTITY_RADIANCE 0
 #define QUANTITY_ILLUMINATION 1
 #define QUANTITY_REFLECTANCE 2
@@ -298,6 +304,13 @@ struct GpuResponseBlock {
     // emissionOverLambda), row z + c·BAND_LAYERS + j, times the fragment's summed coupling; −1 none.
     ivec4 spectra;
     vec4 slabNormal;  // xyz: the scene's one slab's unit normal, in the frame (with SPEC_VIEW_SLAB_CHANNEL)
+    // Single-crossing tables (render/crossing_tables.h; SPEC_CROSSING_HEADER): x, this opaque
+    // material's first row in BINDING_DEPTH_SPECTRA, per light l, term t (0 diffuse, 1 specular) and
+    // node n of every channel's axis, F then h·F' as OC = ⌈channels/4⌉ vec4 each: row
+    // x + ((2·l + t)·SPEC_CROSSING_NODES + n)·2·OC + {0, OC} + k; y: a rank-one fluorescent
+    // material's emission table (w_cb·ê_b/λ_b), row y + n·2·OC + {0, OC} + k; z: that emission's
+    // sum over the bands, OC vec4 (seen through nothing). −1: none.
+    ivec4 tables;
 };
 
 // Fluorescence as per-light spectra, for scenes with a Donaldson-matrix material (a matrix does
@@ -428,8 +441,9 @@ struct SpectralSpecialization {
     int32_t viewSlabChannel;                     // SPEC_VIEW_SLAB_CHANNEL
     int32_t responseChannels;                    // SPEC_RESPONSE_CHANNELS
     int32_t responseFirstLayer, responseEndLayer;  // SPEC_RESPONSE_FIRST_LAYER, SPEC_RESPONSE_END_LAYER
+    int32_t crossingHeader, crossingNodes;         // SPEC_CROSSING_HEADER, SPEC_CROSSING_NODES
 };
-static_assert(sizeof(SpectralSpecialization) == 4 * (SPEC_RESPONSE_END_LAYER + 1), "one 4-byte field per id");
+static_assert(sizeof(SpectralSpecialization) == 4 * (SPEC_CROSSING_NODES + 1), "one 4-byte field per id");
 static_assert(SPEC_AMBIENT_COUNT == 0 && SPEC_DIRECTIONAL_COUNT == 1 && SPEC_POINT_COUNT == 2 && SPEC_HAS_SPECULAR == 3 &&
                   SPEC_HAS_FLUORESCENCE == 4 && SPEC_HAS_TEXTURES == 5 && SPEC_HAS_NORMAL_MAPS == 6 &&
                   SPEC_FLUORESCENCE_SPECTRA == 7 && SPEC_RESPONSES == 8 && SPEC_HEMISPHERE_COUNT == 9 &&
@@ -439,7 +453,8 @@ static_assert(SPEC_AMBIENT_COUNT == 0 && SPEC_DIRECTIONAL_COUNT == 1 && SPEC_POI
                   SPEC_HAS_EMITTERS == 19 && SPEC_QUANTITY == 20 && SPEC_DEPTH_CHANNELS == 21 &&
                   SPEC_SLAB_CHANNELS == 22 && SPEC_VIEW_CHANNELS == 23 && SPEC_FLAT_SLABS == 24 &&
                   SPEC_SLAB_LAYER_ROWS == 25 && SPEC_VIEW_SLAB_CHANNEL == 26 &&
-                  SPEC_RESPONSE_CHANNELS == 27 && SPEC_RESPONSE_FIRST_LAYER == 28 && SPEC_RESPONSE_END_LAYER == 29,
+                  SPEC_RESPONSE_CHANNELS == 27 && SPEC_RESPONSE_FIRST_LAYER == 28 && SPEC_RESPONSE_END_LAYER == 29 &&
+                  SPEC_CROSSING_HEADER == 30 && SPEC_CROSSING_NODES == 31,
               "SpectralSpecialization's fields are in id order");
 
 // transmit.frag's specialization constants, in id order.

@@ -49,6 +49,8 @@ layout(constant_id = SPEC_VIEW_SLAB_CHANNEL) const int VIEW_SLAB_CHANNEL = -1;
 layout(constant_id = SPEC_RESPONSE_CHANNELS) const int RESPONSE_CHANNELS = 4 * MAX_OUTPUTS;
 layout(constant_id = SPEC_RESPONSE_FIRST_LAYER) const int RESPONSE_FIRST_LAYER = 0;
 layout(constant_id = SPEC_RESPONSE_END_LAYER) const int RESPONSE_END_LAYER = 1;
+layout(constant_id = SPEC_CROSSING_HEADER) const int CROSSING_HEADER = -1;
+layout(constant_id = SPEC_CROSSING_NODES) const int CROSSING_NODES = 0;
 #define THROUGH_FILTERS (RESPONSES && (VIEW_CHANNELS > 0 || VIEW_SLAB_CHANNEL >= 0))
 #define THROUGH_WITH_FILTERED_SHADOWS (RESPONSES && FILTERED_SHADOWS && (VIEW_CHANNELS > 0 || VIEW_SLAB_CHANNEL >= 0))
 layout(constant_id = SPEC_EMITTER_TRIANGLES) const int EMITTER_TRIANGLES = 0;
@@ -176,10 +178,14 @@ float coupling(int l) { return M.coupling[l / 4][l % 4]; }
 vec4 lightFilter[OUTPUT_COUNT];
 bool filtered;
 // Through filters: this pixel sees nothing transparent in front (viewClear), the light being
-// shaded arrives unfiltered here (lightClear). Their per-band loops then run no iterations —
-// a loop bound, not a branch: lavapipe leaves a loop once no pixel of the block is in it, while
-// it runs both sides of a branch.
-bool viewClear, lightClear;
+// shaded arrives unfiltered here (lightClear); or one sheet or medium channel only (viewSingle,
+// lightSingle: channel viewC at depth viewX, lightC at lightX, 0 where clear), whose response is read
+// from its single-crossing table (render/crossing_tables.h). The per-band loops then run no
+// iterations — a loop bound, not a branch: lavapipe leaves a loop once no pixel of the block is in
+// it, while it runs both sides of a branch. needViewTau: the camera's τ is summed per band (viewTau).
+bool viewClear, lightClear, viewSingle, lightSingle, needViewTau;
+int viewC, lightC;
+float viewX, lightX;
 bool filterDirectional;  // the filtered light is directional (a flat slab's T is then one spectrum)
 // The maps hold optical-depth channels (interface.h), interpolated bilinearly between texel
 // centres (by hand, in float, as the textures are): a texel holds the channels along the ray
@@ -238,9 +244,24 @@ void filterLight(bool directional) {
         // The response pass takes τ band by band in its sums (respondThroughViewAndLight): no
         // channels where the light arrives unfiltered (τ = 1), and a layer that exists.
         lightClear = true;
+        lightSingle = false;
+        lightC = 0;
+        lightX = 0.0;
         if (filtered) {
             fetchDepthChannels();
-            [[unroll]] for (int i = 0; i < DEPTH_ARRAY; ++i) lightClear = lightClear && depthChannel[i] == 0.0;
+            int crossed = 0;
+            [[unroll]] for (int i = 0; i < DEPTH_ARRAY; ++i) {
+                lightClear = lightClear && depthChannel[i] == 0.0;
+                if (i < DEPTH_CHANNELS && depthChannel[i] != 0.0) {
+                    ++crossed;
+                    lightC = i;
+                    lightX = depthChannel[i];
+                }
+            }
+            bool slabFree = true;
+            [[unroll]] for (int i = DEPTH_CHANNELS; i < DEPTH_ARRAY; ++i) slabFree = slabFree && depthChannel[i] == 0.0;
+            lightSingle = crossed == 1 && slabFree;
+            if (!lightSingle) lightX = 0.0;
         } else {
             [[unroll]] for (int i = 0; i < DEPTH_ARRAY; ++i) depthChannel[i] = 0.0;
             shadowLayer = 0;
@@ -314,6 +335,36 @@ void respondLayer(int l, int j, float diffuseWeight, float specularWeight, vec4 
         acc[c / 4][c % 4] += dot(terms, tau);
     }
 }
+// Channel e's table axis (SPEC_CROSSING_HEADER): vec4(1/h, nodes − 1, first node, largest depth or −1).
+vec4 crossingAxis(int e) { return CROSSING_HEADER >= 0 ? texelFetch(depthSpectra, CROSSING_HEADER + e) : vec4(0.0, 0.0, 0.0, -1.0); }
+// Cubic Hermite on channel e's axis at depth x (render/crossing_tables.h): the first of the two
+// nodes' rows (each F then h·F', OC vec4 apiece) and the four basis weights.
+int crossingNode(vec4 axis, float x, out vec4 basis) {
+    const float u = x * axis.x;
+    const int i = min(int(u), int(axis.y) - 1);
+    const float t = u - float(i), s = 1.0 - t;
+    basis = vec4((1.0 + 2.0 * t) * s * s, t * s * s, t * t * (3.0 - 2.0 * t), t * t * (t - 1.0));
+    return int(axis.z) + i;
+}
+vec4 crossingTableAt(int row, int k, vec4 basis) {
+    const int OC = OUTPUT_COUNT;
+    return basis.x * texelFetch(depthSpectra, row + k) + basis.y * texelFetch(depthSpectra, row + OC + k) +
+           basis.z * texelFetch(depthSpectra, row + 2 * OC + k) + basis.w * texelFetch(depthSpectra, row + 3 * OC + k);
+}
+// Light l's response through channel e at depth x, from the material's table.
+void respondFromTable(int l, int e, float x, float diffuseWeight, float specularWeight) {
+    vec4 basis;
+    const int node = crossingNode(crossingAxis(e), x, basis);
+    const int diffuseRow = R.tables.x + ((2 * l) * CROSSING_NODES + node) * 2 * OUTPUT_COUNT;
+    const int specularRow = R.tables.x + ((2 * l + 1) * CROSSING_NODES + node) * 2 * OUTPUT_COUNT;
+    [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) {
+        acc[k] += diffuseWeight * crossingTableAt(diffuseRow, k, basis);
+        if (HAS_SPECULAR) acc[k] += specularWeight * crossingTableAt(specularRow, k, basis);
+    }
+}
+// Whether channel e's table holds depth x.
+bool tabulated(int e, float x) { return x <= crossingAxis(e).w; }
+
 // Where nothing filters light l's path here, its per-scene response (as in an opaque scene).
 void respondUnfiltered(int l, float diffuseWeight, float specularWeight) {
     [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) {
@@ -324,20 +375,30 @@ void respondUnfiltered(int l, float diffuseWeight, float specularWeight) {
 }
 // Unfiltered (ambient and hemisphere lights): τ of the camera's channels only.
 void respondThroughView(int l, float diffuseWeight, float specularWeight) {
-    const int layers = viewClear ? RESPONSE_FIRST_LAYER : RESPONSE_END_LAYER;
+    const int layers = needViewTau ? RESPONSE_END_LAYER : RESPONSE_FIRST_LAYER;
     for (int j = RESPONSE_FIRST_LAYER; j < layers; ++j) respondLayer(l, j, diffuseWeight, specularWeight, viewTau[j]);
     if (viewClear) respondUnfiltered(l, diffuseWeight, specularWeight);
+    if (viewSingle) respondFromTable(l, viewC, viewX, diffuseWeight, specularWeight);
+}
+// The camera's τ of band layer j, where it was not summed per band: one channel's (or 1).
+vec4 viewTauAt(int j) {
+    return needViewTau ? viewTau[j] : exp2(viewX * texelFetch(depthSpectra, viewC * BAND_LAYERS + j));
 }
 // A directional or point light: × τ of its own channels at its transmittance-map texel (zero where
 // it arrives unfiltered: τ = 1). One program for both cases, since lavapipe would run both sides of
 // a branch between them.
 void respondThroughViewAndLight(int l, float diffuseWeight, float specularWeight, bool directional) {
     const bool clear = viewClear && lightClear;
-    const int layers = clear ? RESPONSE_FIRST_LAYER : RESPONSE_END_LAYER;
+    // One channel crossed by both paths together (the same one, where both cross one): its table.
+    const int e = lightSingle ? lightC : viewC;
+    const float x = viewX + lightX;
+    const bool single = !clear && (viewClear || viewSingle) && (lightClear || lightSingle) &&
+                        (!viewSingle || !lightSingle || viewC == lightC) && tabulated(e, x);
+    const int layers = clear || single ? RESPONSE_FIRST_LAYER : RESPONSE_END_LAYER;
     for (int j = RESPONSE_FIRST_LAYER; j < layers; ++j)
-        respondLayer(l, j, diffuseWeight, specularWeight,
-                     (viewClear ? vec4(1.0) : viewTau[j]) * exp2(log2TransmittanceAt(j, directional)));
+        respondLayer(l, j, diffuseWeight, specularWeight, viewTauAt(j) * exp2(log2TransmittanceAt(j, directional)));
     if (clear) respondUnfiltered(l, diffuseWeight, specularWeight);
+    if (single) respondFromTable(l, e, x, diffuseWeight, specularWeight);
 }
 
 // Adds light l's reflected radiance with geometric weights: diffuse g/π, specular lobe weight
@@ -516,9 +577,20 @@ void main() {
             slabSeen = texelFetch(slabDistance, pixel, 0).r < texelFetch(opaqueDistance, pixel, 0).r;
             slabCos = min(abs(dot(R.slabNormal.xyz, v)), 1.0);
         }
-        viewClear = !slabSeen;
-        [[unroll]] for (int i = 0; i < VIEW_ARRAY; ++i) viewClear = viewClear && viewChannel[i] == 0.0;
-        const int viewLayers = viewClear ? RESPONSE_FIRST_LAYER : RESPONSE_END_LAYER;
+        int crossed = 0;
+        viewC = 0;
+        viewX = 0.0;
+        [[unroll]] for (int i = 0; i < VIEW_CHANNELS; ++i)
+            if (viewChannel[i] != 0.0) {
+                ++crossed;
+                viewC = i;
+                viewX = viewChannel[i];
+            }
+        viewClear = !slabSeen && crossed == 0;
+        viewSingle = !slabSeen && crossed == 1 && tabulated(viewC, viewX);
+        needViewTau = !viewClear && !viewSingle;
+        if (!viewSingle) viewX = 0.0;  // (viewTauAt: τ = 1 where the camera's τ is not one channel's)
+        const int viewLayers = needViewTau ? RESPONSE_END_LAYER : RESPONSE_FIRST_LAYER;
         const int slabLayers = slabSeen ? RESPONSE_END_LAYER : RESPONSE_FIRST_LAYER;
         for (int j = RESPONSE_FIRST_LAYER; j < viewLayers; ++j) viewTau[j] = viewTransmittance(j);
         if (VIEW_SLAB_CHANNEL >= 0)
@@ -551,14 +623,23 @@ void main() {
     // so that neither overflows before their product does.
     if (HAS_FLUORESCENCE && !FLUORESCENCE_SPECTRA && !RESPONSES && RADIANCE)
         [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) acc[k] += fluorescence * M.emissionOverLambda[k];
-    // Through filters: Σ_j τ_j·(w_c·ê/λ)_j, the detector-weighted emission (GpuResponseBlock::spectra.z).
+    // Through filters: Σ_j τ_j·(w_c·ê/λ)_j, the detector-weighted emission (GpuResponseBlock::spectra.z):
+    // its sum over the bands where nothing is in front, its table through one channel
+    // (GpuResponseBlock::tables), per band elsewhere.
     if (THROUGH_FILTERS) {
         if (HAS_FLUORESCENCE && R.spectra.z >= 0) {
             const int C = 4 * OUTPUT_COUNT;
-            for (int j = RESPONSE_FIRST_LAYER; j < RESPONSE_END_LAYER; ++j)
+            const int layers = needViewTau ? RESPONSE_END_LAYER : RESPONSE_FIRST_LAYER;
+            for (int j = RESPONSE_FIRST_LAYER; j < layers; ++j)
                 [[unroll]] for (int c = 0; c < C && c < RESPONSE_CHANNELS; ++c)
-                    acc[c / 4][c % 4] += fluorescence * dot(texelFetch(depthSpectra, R.spectra.z + c * BAND_LAYERS + j),
-                                                       viewClear ? vec4(1.0) : viewTau[j]);
+                    acc[c / 4][c % 4] += fluorescence * dot(texelFetch(depthSpectra, R.spectra.z + c * BAND_LAYERS + j), viewTau[j]);
+            if (viewClear)
+                [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) acc[k] += fluorescence * texelFetch(depthSpectra, R.tables.z + k);
+            if (viewSingle) {
+                vec4 basis;
+                const int row = R.tables.y + crossingNode(crossingAxis(viewC), viewX, basis) * 2 * OUTPUT_COUNT;
+                [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) acc[k] += fluorescence * crossingTableAt(row, k, basis);
+            }
         }
     }
     // A self-luminous surface's own radiance, on its front (the side its winding faces).

@@ -1,5 +1,7 @@
 #include "render/spectral_packing.h"
 
+#include "render/crossing_tables.h"
+
 #include "reference/hemisphere_lobe.h"
 #include "reference/lobe_table.h"
 #include "spectral/dielectric.h"
@@ -473,7 +475,7 @@ PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes, const Loc
 }
 
 PackedScene packResponses(const Scene& scene, const SceneOnGrid& g, const std::vector<std::vector<double>>& weights,
-                          const LocalFrame& frame) {
+                          const LocalFrame& frame, uint64_t texelLimit) {
     const size_t channels = weights.size(), n = g.wavelengths_nm.size();
     if (channels == 0 || channels > 4 * RESPONSE_VEC4)
         failRuntime("the response pass carries 1 to {} detector channels, not {}", 4 * RESPONSE_VEC4, channels);
@@ -510,7 +512,7 @@ PackedScene packResponses(const Scene& scene, const SceneOnGrid& g, const std::v
     };
     std::vector<double> product(n);
     p.responseBlocks.assign(g.materials.size(), gpu::GpuResponseBlock{});
-    for (gpu::GpuResponseBlock& block : p.responseBlocks) block.spectra = glm::ivec4(-1);
+    for (gpu::GpuResponseBlock& block : p.responseBlocks) block.spectra = block.tables = glm::ivec4(-1);
     // Seen through sheets and media, the sums' terms stay per band (GpuResponseBlock::spectra): after
     // the optical-depth channels' rows, per opaque material, light, term and channel, BAND_LAYERS vec4.
     if (scene.hasTransparency()) {
@@ -563,6 +565,64 @@ PackedScene packResponses(const Scene& scene, const SceneOnGrid& g, const std::v
                 block.slabNormal = glm::vec4(normal, 0.0f);
             }
             break;
+        }
+        // A rank-one fluorescent material's emission summed over the bands (seen through nothing).
+        for (size_t mi = 0; mi < g.materials.size(); ++mi) {
+            if (p.responseBlocks[mi].spectra.z < 0) continue;
+            p.responseBlocks[mi].tables.z = int(p.depthSpectra.size());
+            for (size_t c = 0; c < padded; c += 4) {
+                glm::vec4 total(0.0f);
+                for (size_t k = 0; k < 4; ++k)
+                    if (c + k < channels) {
+                        double sum = 0.0;
+                        const glm::vec4* rows = &p.depthSpectra[size_t(p.responseBlocks[mi].spectra.z) + (c + k) * layers];
+                        for (size_t j = 0; j < layers; ++j) sum += double(rows[j].x) + rows[j].y + rows[j].z + rows[j].w;
+                        total[int(k)] = float(sum);
+                    }
+                p.depthSpectra.push_back(total);
+            }
+        }
+        // Single-crossing tables (render/crossing_tables.h): per opaque material, light and term, and
+        // per fluorescent material's emission, F and h·F' on every sheet's and medium's axis.
+        const CrossingAxes axes = crossingAxes(p, g, p.responseFirstLayer, p.responseEndLayer);
+        uint64_t tables = 0;
+        for (size_t mi = 0; mi < g.materials.size(); ++mi)
+            tables += (p.responseBlocks[mi].spectra.x >= 0 ? 2 * lights : 0) + (p.responseBlocks[mi].spectra.z >= 0 ? 1 : 0);
+        const uint64_t tableRows = tables * uint64_t(axes.totalNodes) * 2 * (padded / 4) + axes.channels.size();
+        if (axes.totalNodes > 0 && p.depthSpectra.size() + tableRows <= texelLimit) {
+            p.crossingHeader = int(p.depthSpectra.size());
+            p.crossingNodes = axes.totalNodes;
+            for (const CrossingAxis& a : axes.channels)
+                p.depthSpectra.push_back(a.nodes > 0 ? glm::vec4(float(1.0 / a.h), float(a.nodes - 1), float(a.first),
+                                                                 float(double(a.nodes - 1) * a.h))
+                                                     : glm::vec4(0.0f, 0.0f, 0.0f, -1.0f));
+            // w_cb·s_b as the records hold it (rounded to float), padded channels zero.
+            std::vector<std::vector<double>> weighted(padded, std::vector<double>(n, 0.0));
+            auto weigh = [&](const std::vector<double>& s) {
+                for (size_t c = 0; c < channels; ++c)
+                    for (size_t b = 0; b < n; ++b) weighted[c][b] = double(float(weights[c][b] * s[b]));
+                return weighted;
+            };
+            for (size_t mi = 0; mi < g.materials.size(); ++mi) {
+                const MaterialOnGrid& m = g.materials[mi];
+                if (p.responseBlocks[mi].spectra.x < 0) continue;
+                p.responseBlocks[mi].tables.x = int(p.depthSpectra.size());
+                for (size_t i = 0; i < lights; ++i) {
+                    const std::vector<double>& E = g.lights[order[i]];
+                    for (const std::vector<double>* rho : {&m.diffuse, &m.specular}) {
+                        for (size_t b = 0; b < n; ++b) product[b] = (*rho)[b] * E[b];
+                        appendCrossingTable(p.depthSpectra, axes, weigh(product));
+                    }
+                }
+            }
+            for (size_t mi = 0; mi < g.materials.size(); ++mi) {
+                const MaterialOnGrid& m = g.materials[mi];
+                if (p.responseBlocks[mi].spectra.z < 0) continue;
+                std::vector<double> emission = scaledEmissionOverLambda(m, g).overLambda;
+                for (double& v : emission) v = double(float(v));
+                p.responseBlocks[mi].tables.y = int(p.depthSpectra.size());
+                appendCrossingTable(p.depthSpectra, axes, weigh(emission));
+            }
         }
     }
     p.responseTextureSlots.assign(g.materials.size(), {-1, -1, -1});

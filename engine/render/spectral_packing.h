@@ -93,6 +93,9 @@ struct PackedScene {
     int responseChannels = 0;
     // The band layers [first, end) where any detector weight is nonzero (SPEC_RESPONSE_FIRST_LAYER).
     int responseFirstLayer = 0, responseEndLayer = 0;
+    // Single-crossing tables (render/crossing_tables.h): their header's first row in depthSpectra
+    // (−1: none) and every channel's nodes together (SPEC_CROSSING_HEADER, SPEC_CROSSING_NODES).
+    int crossingHeader = -1, crossingNodes = 0;
     std::vector<gpu::GpuResponseBlock> responseBlocks;
     std::vector<TextureOnGrid> responseTextures;
     std::vector<std::array<int, 3>> responseTextureSlots;
@@ -137,7 +140,9 @@ void packEmitters(PackedScene& p, const Scene& scene, const SceneOnGrid& g, cons
 // The scene packed for the response pass: one pass whose outputs are the channels of a detector
 // with `weights` [channel][band of g.grid] (at most 4·RESPONSE_VEC4 channels): every material's
 // responses under every light, in double, rounded once to float.
+// Through sheets and media it adds single-crossing tables (render/crossing_tables.h) where every
+// row fits in `texelLimit` (the device's maxTexelBufferElements); without them the pass sums per band.
 PackedScene packResponses(const Scene& scene, const SceneOnGrid& g, const std::vector<std::vector<double>>& weights,
-                          const LocalFrame& frame);
+                          const LocalFrame& frame, uint64_t texelLimit = UINT64_MAX);
 
 }  // namespace metamer

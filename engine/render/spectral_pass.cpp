@@ -107,7 +107,8 @@ SpectralPass::SpectralPass(vk::Context& ctx, const Scene& scene, const SceneOnGr
         timings_.interreflection_ms = msSince(ti);
         p.interreflection = m.interreflection->describe();
     }
-    m.packed = p.responses ? packResponses(scene, spectra, options.responseWeights, m.frame)
+    m.packed = p.responses ? packResponses(scene, spectra, options.responseWeights, m.frame,
+                                           ctx.properties().limits.maxTexelBufferElements)
                            : pack(scene, spectra, p.passes, m.frame, m.interreflection ? &*m.interreflection : nullptr);
     p.fluorescenceSpectra = m.packed.fluorescenceSpectra;
     p.shadowLayers = int(m.packed.shadowMaps.layers.size());

@@ -79,9 +79,11 @@ VkPipeline SpectralResources::makePipeline(const vk::SharedHandle<VkRenderPass>&
                                            viewSlabChannel,
                                            packed.responseChannels,
                                            packed.responseFirstLayer,
-                                           packed.responseEndLayer};
+                                           packed.responseEndLayer,
+                                           packed.crossingHeader,
+                                           packed.crossingNodes};
     // interface.h orders the struct's 4-byte fields by id.
-    constexpr uint32_t kIds = SPEC_RESPONSE_END_LAYER + 1;
+    constexpr uint32_t kIds = SPEC_CROSSING_NODES + 1;
     VkSpecializationMapEntry entries[kIds];
     for (uint32_t id = 0; id < kIds; ++id) entries[id] = {id, id * 4, 4};
     VkSpecializationInfo si{kIds, entries, sizeof(spec), &spec};
