@@ -13,36 +13,18 @@ constexpr double kStep = 0.15;
 
 double crossingTableBound() { return std::pow(kStep, 4) / 384.0 * std::exp(kStep); }
 
-CrossingAxes crossingAxes(const PackedScene& p, const SceneOnGrid& g, int firstLayer, int endLayer, int maxNodes) {
+CrossingAxes crossingAxes(const std::vector<double>& mostDepth, const std::vector<glm::vec4>& depthSpectra, int bandLayers,
+                          size_t bands, int firstLayer, int endLayer, int maxNodes) {
     CrossingAxes axes;
-    const int channels = p.depthChannels;
-    const size_t bands = g.wavelengths_nm.size();
-    axes.channels.resize(size_t(std::max(0, channels)));
-    // The most one path crosses: a sheet material's triangles, a medium's bounding-box diagonal.
-    std::vector<double> sheets(axes.channels.size(), 0.0);
-    std::vector<glm::dvec3> lower(axes.channels.size(), glm::dvec3(std::numeric_limits<double>::infinity()));
-    std::vector<glm::dvec3> upper(axes.channels.size(), glm::dvec3(-std::numeric_limits<double>::infinity()));
-    std::vector<bool> medium(axes.channels.size(), false), drawn(axes.channels.size(), false);
-    for (const PackedDraw& d : p.draws) {
-        const MaterialOnGrid& m = g.materials[d.material];
-        if (!m.isFilter() && !m.isMedium()) continue;
-        const int e = int(p.materials[d.material].params.w);
-        if (e < 0 || e >= channels) continue;
-        drawn[size_t(e)] = true;
-        medium[size_t(e)] = m.isMedium();
-        sheets[size_t(e)] += double(d.indexCount / 3);
-        lower[size_t(e)] = glm::min(lower[size_t(e)], glm::dvec3(d.lower));
-        upper[size_t(e)] = glm::max(upper[size_t(e)], glm::dvec3(d.upper));
-    }
+    axes.channels.resize(mostDepth.size());
     for (size_t e = 0; e < axes.channels.size(); ++e) {
         CrossingAxis& a = axes.channels[e];
-        if (!drawn[e]) continue;
-        const double most = 2.0 * (medium[e] ? glm::length(upper[e] - lower[e]) : sheets[e]);
+        const double most = mostDepth[e];
         // The channel's rows as float, as the shader reads them; K over the detector's bands.
         a.log2Tau.assign(bands, 0.0);
         double K = 0.0;
         for (size_t b = 0; b < bands; ++b) {
-            a.log2Tau[b] = double(p.depthSpectra[e * size_t(p.bandLayers) + b / 4][int(b % 4)]);
+            a.log2Tau[b] = double(depthSpectra[e * size_t(bandLayers) + b / 4][int(b % 4)]);
             const int layer = int(b / 4);
             if (layer >= firstLayer && layer < endLayer) K = std::max(K, std::fabs(a.log2Tau[b]));
         }

@@ -13,9 +13,9 @@
 // x runs up to twice the most one path can cross (the camera's and a light's path added): a sheet
 // material's triangles, a medium's bounding-box diagonal (a straight line inside a box is at most
 // its diagonal long).
-#include "render/spectral_packing.h"
-
 #include <glm/glm.hpp>
+
+#include <cstddef>
 
 #include <vector>
 
@@ -35,9 +35,11 @@ struct CrossingAxes {
     int totalNodes = 0;
 };
 
-// The sheets' and media's channels (p.depthChannels) of a packed scene: their axes, for the band
-// layers [firstLayer, endLayer) a detector sees. At most maxNodes per channel.
-CrossingAxes crossingAxes(const PackedScene& p, const SceneOnGrid& g, int firstLayer, int endLayer, int maxNodes = 2048);
+// The sheets' and media's channels: their axes, from each channel's deepest crossing `mostDepth[e]`
+// (0: not drawn) and its rows in `depthSpectra` (bandLayers vec4 per channel, `bands` bands), for the
+// band layers [firstLayer, endLayer) a detector sees. At most maxNodes per channel.
+CrossingAxes crossingAxes(const std::vector<double>& mostDepth, const std::vector<glm::vec4>& depthSpectra, int bandLayers,
+                          size_t bands, int firstLayer, int endLayer, int maxNodes = 2048);
 
 // The error bound's factor (h·ln2·K)⁴/384·2^(h·K) of an axis built by crossingAxes.
 double crossingTableBound();

@@ -474,6 +474,29 @@ PackedScene pack(const Scene& scene, const SceneOnGrid& g, int passes, const Loc
     return p;
 }
 
+std::vector<double> crossingDepthBounds(const PackedScene& p, const SceneOnGrid& g) {
+    const size_t channels = size_t(std::max(0, p.depthChannels));
+    std::vector<double> sheets(channels, 0.0);
+    std::vector<glm::dvec3> lower(channels, glm::dvec3(std::numeric_limits<double>::infinity()));
+    std::vector<glm::dvec3> upper(channels, glm::dvec3(-std::numeric_limits<double>::infinity()));
+    std::vector<bool> medium(channels, false), drawn(channels, false);
+    for (const PackedDraw& d : p.draws) {
+        const MaterialOnGrid& m = g.materials[d.material];
+        if (!m.isFilter() && !m.isMedium()) continue;
+        const int e = int(p.materials[d.material].params.w);
+        if (e < 0 || size_t(e) >= channels) continue;
+        drawn[size_t(e)] = true;
+        medium[size_t(e)] = m.isMedium();
+        sheets[size_t(e)] += double(d.indexCount / 3);
+        lower[size_t(e)] = glm::min(lower[size_t(e)], glm::dvec3(d.lower));
+        upper[size_t(e)] = glm::max(upper[size_t(e)], glm::dvec3(d.upper));
+    }
+    std::vector<double> most(channels, 0.0);
+    for (size_t e = 0; e < channels; ++e)
+        if (drawn[e]) most[e] = 2.0 * (medium[e] ? glm::length(upper[e] - lower[e]) : sheets[e]);
+    return most;
+}
+
 PackedScene packResponses(const Scene& scene, const SceneOnGrid& g, const std::vector<std::vector<double>>& weights,
                           const LocalFrame& frame, uint64_t texelLimit) {
     const size_t channels = weights.size(), n = g.wavelengths_nm.size();
@@ -584,7 +607,8 @@ PackedScene packResponses(const Scene& scene, const SceneOnGrid& g, const std::v
         }
         // Single-crossing tables (render/crossing_tables.h): per opaque material, light and term, and
         // per fluorescent material's emission, F and h·F' on every sheet's and medium's axis.
-        const CrossingAxes axes = crossingAxes(p, g, p.responseFirstLayer, p.responseEndLayer);
+        const CrossingAxes axes = crossingAxes(crossingDepthBounds(p, g), p.depthSpectra, p.bandLayers, n,
+                                               p.responseFirstLayer, p.responseEndLayer);
         uint64_t tables = 0;
         for (size_t mi = 0; mi < g.materials.size(); ++mi)
             tables += (p.responseBlocks[mi].spectra.x >= 0 ? 2 * lights : 0) + (p.responseBlocks[mi].spectra.z >= 0 ? 1 : 0);
