@@ -51,8 +51,14 @@ layout(constant_id = SPEC_RESPONSE_FIRST_LAYER) const int RESPONSE_FIRST_LAYER =
 layout(constant_id = SPEC_RESPONSE_END_LAYER) const int RESPONSE_END_LAYER = 1;
 layout(constant_id = SPEC_CROSSING_HEADER) const int CROSSING_HEADER = -1;
 layout(constant_id = SPEC_CROSSING_NODES) const int CROSSING_NODES = 0;
+// The response pass through sheets, media and a slab: only in the FILTERED_RESPONSES builds
+// (through_filters.glsl; render/spectral_pipelines.cpp picks them for those programs).
+#ifdef FILTERED_RESPONSES
 #define THROUGH_FILTERS (RESPONSES && (VIEW_CHANNELS > 0 || VIEW_SLAB_CHANNEL >= 0))
 #define THROUGH_WITH_FILTERED_SHADOWS (RESPONSES && FILTERED_SHADOWS && (VIEW_CHANNELS > 0 || VIEW_SLAB_CHANNEL >= 0))
+#else
+#define THROUGH_FILTERS false
+#endif
 layout(constant_id = SPEC_EMITTER_TRIANGLES) const int EMITTER_TRIANGLES = 0;
 layout(constant_id = SPEC_EMITTERS) const int EMITTERS = 0;
 layout(constant_id = SPEC_HAS_EMITTERS) const bool HAS_EMITTERS = true;
@@ -177,15 +183,6 @@ float coupling(int l) { return M.coupling[l / 4][l % 4]; }
 // unfiltered (outside the map, or not a shadowing light).
 vec4 lightFilter[OUTPUT_COUNT];
 bool filtered;
-// Through filters: this pixel sees nothing transparent in front (viewClear), the light being
-// shaded arrives unfiltered here (lightClear); or one sheet or medium channel only (viewSingle,
-// lightSingle: channel viewC at depth viewX, lightC at lightX, 0 where clear), whose response is read
-// from its single-crossing table (render/crossing_tables.h). The per-band loops then run no
-// iterations — a loop bound, not a branch: lavapipe leaves a loop once no pixel of the block is in
-// it, while it runs both sides of a branch. needViewTau: the camera's τ is summed per band (viewTau).
-bool viewClear, lightClear, viewSingle, lightSingle, needViewTau;
-int viewC, lightC;
-float viewX, lightX;
 bool filterDirectional;  // the filtered light is directional (a flat slab's T is then one spectrum)
 // The maps hold optical-depth channels (interface.h), interpolated bilinearly between texel
 // centres (by hand, in float, as the textures are): a texel holds the channels along the ray
@@ -237,37 +234,18 @@ vec4 log2TransmittanceAt(int layer, bool directional) {
     return depth;
 }
 vec4 transmittanceAt(int layer) { return exp2(log2TransmittanceAt(layer, filterDirectional)); }
+#ifdef FILTERED_RESPONSES
+#include "through_filters.glsl"
+#endif
 void filterLight(bool directional) {
     filterDirectional = directional;
     filtered = FILTERED_SHADOWS && shadowLayer >= 0;
+#ifdef FILTERED_RESPONSES
     if (THROUGH_FILTERS) {
-        // The response pass takes τ band by band in its sums (respondThroughViewAndLight): no
-        // channels where the light arrives unfiltered (τ = 1), and a layer that exists.
-        lightClear = true;
-        lightSingle = false;
-        lightC = 0;
-        lightX = 0.0;
-        if (filtered) {
-            fetchDepthChannels();
-            int crossed = 0;
-            [[unroll]] for (int i = 0; i < DEPTH_ARRAY; ++i) {
-                lightClear = lightClear && depthChannel[i] == 0.0;
-                if (i < DEPTH_CHANNELS && depthChannel[i] != 0.0) {
-                    ++crossed;
-                    lightC = i;
-                    lightX = depthChannel[i];
-                }
-            }
-            bool slabFree = true;
-            [[unroll]] for (int i = DEPTH_CHANNELS; i < DEPTH_ARRAY; ++i) slabFree = slabFree && depthChannel[i] == 0.0;
-            lightSingle = crossed == 1 && slabFree;
-            if (!lightSingle) lightX = 0.0;
-        } else {
-            [[unroll]] for (int i = 0; i < DEPTH_ARRAY; ++i) depthChannel[i] = 0.0;
-            shadowLayer = 0;
-        }
+        classifyFilteredLight();
         return;
     }
+#endif
     if (!filtered) return;
     fetchDepthChannels();
     const int first = int(M.params.y);
@@ -320,94 +298,15 @@ void sampleTextures() {
     }
 }
 
-// The response pass seen through sheets, media and a slab (THROUGH_FILTERS): light l's response with
-// τ of what the camera sees through — and of what the light crosses, under a coloured shadow —
-// taken band by band inside the sum, Σ_j τ_j·(g/π·d_lcj + lobe·s_lcj) over the grid's band layers j
-// (interface.h, GpuResponseBlock::spectra). The band passes' own products, summed in another order.
-vec4 viewTau[BAND_LAYERS];  // the camera's τ per band layer (main), for every light
-// Light l's records of band layer j, weighted and summed against τ into every channel.
-void respondLayer(int l, int j, float diffuseWeight, float specularWeight, vec4 tau) {
-    const int C = 4 * OUTPUT_COUNT;
-    const int diffuseRows = R.spectra.x + 2 * l * C * BAND_LAYERS, specularRows = diffuseRows + C * BAND_LAYERS;
-    [[unroll]] for (int c = 0; c < C && c < RESPONSE_CHANNELS; ++c) {
-        vec4 terms = diffuseWeight * texelFetch(depthSpectra, diffuseRows + c * BAND_LAYERS + j);
-        if (HAS_SPECULAR) terms += specularWeight * texelFetch(depthSpectra, specularRows + c * BAND_LAYERS + j);
-        acc[c / 4][c % 4] += dot(terms, tau);
-    }
-}
-// Channel e's table axis (SPEC_CROSSING_HEADER): vec4(1/h, nodes − 1, first node, largest depth or −1).
-vec4 crossingAxis(int e) { return CROSSING_HEADER >= 0 ? texelFetch(depthSpectra, CROSSING_HEADER + e) : vec4(0.0, 0.0, 0.0, -1.0); }
-// Cubic Hermite on channel e's axis at depth x (render/crossing_tables.h): the first of the two
-// nodes' rows (each F then h·F', OC vec4 apiece) and the four basis weights.
-int crossingNode(vec4 axis, float x, out vec4 basis) {
-    const float u = x * axis.x;
-    const int i = min(int(u), int(axis.y) - 1);
-    const float t = u - float(i), s = 1.0 - t;
-    basis = vec4((1.0 + 2.0 * t) * s * s, t * s * s, t * t * (3.0 - 2.0 * t), t * t * (t - 1.0));
-    return int(axis.z) + i;
-}
-vec4 crossingTableAt(int row, int k, vec4 basis) {
-    const int OC = OUTPUT_COUNT;
-    return basis.x * texelFetch(depthSpectra, row + k) + basis.y * texelFetch(depthSpectra, row + OC + k) +
-           basis.z * texelFetch(depthSpectra, row + 2 * OC + k) + basis.w * texelFetch(depthSpectra, row + 3 * OC + k);
-}
-// Light l's response through channel e at depth x, from the material's table.
-void respondFromTable(int l, int e, float x, float diffuseWeight, float specularWeight) {
-    vec4 basis;
-    const int node = crossingNode(crossingAxis(e), x, basis);
-    const int diffuseRow = R.tables.x + ((2 * l) * CROSSING_NODES + node) * 2 * OUTPUT_COUNT;
-    const int specularRow = R.tables.x + ((2 * l + 1) * CROSSING_NODES + node) * 2 * OUTPUT_COUNT;
-    [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) {
-        acc[k] += diffuseWeight * crossingTableAt(diffuseRow, k, basis);
-        if (HAS_SPECULAR) acc[k] += specularWeight * crossingTableAt(specularRow, k, basis);
-    }
-}
-// Whether channel e's table holds depth x.
-bool tabulated(int e, float x) { return x <= crossingAxis(e).w; }
-
-// Where nothing filters light l's path here, its per-scene response (as in an opaque scene).
-void respondUnfiltered(int l, float diffuseWeight, float specularWeight) {
-    [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) {
-        const int r = l * RESPONSE_VEC4 + k;
-        acc[k] += R.diffuse[r] * diffuseWeight;
-        if (HAS_SPECULAR) acc[k] += R.specular[r] * specularWeight;
-    }
-}
-// Unfiltered (ambient and hemisphere lights): τ of the camera's channels only.
-void respondThroughView(int l, float diffuseWeight, float specularWeight) {
-    const int layers = needViewTau ? RESPONSE_END_LAYER : RESPONSE_FIRST_LAYER;
-    for (int j = RESPONSE_FIRST_LAYER; j < layers; ++j) respondLayer(l, j, diffuseWeight, specularWeight, viewTau[j]);
-    if (viewClear) respondUnfiltered(l, diffuseWeight, specularWeight);
-    if (viewSingle) respondFromTable(l, viewC, viewX, diffuseWeight, specularWeight);
-}
-// The camera's τ of band layer j, where it was not summed per band: one channel's (or 1).
-vec4 viewTauAt(int j) {
-    return needViewTau ? viewTau[j] : exp2(viewX * texelFetch(depthSpectra, viewC * BAND_LAYERS + j));
-}
-// A directional or point light: × τ of its own channels at its transmittance-map texel (zero where
-// it arrives unfiltered: τ = 1). One program for both cases, since lavapipe would run both sides of
-// a branch between them.
-void respondThroughViewAndLight(int l, float diffuseWeight, float specularWeight, bool directional) {
-    const bool clear = viewClear && lightClear;
-    // One channel crossed by both paths together (the same one, where both cross one): its table.
-    const int e = lightSingle ? lightC : viewC;
-    const float x = viewX + lightX;
-    const bool single = !clear && (viewClear || viewSingle) && (lightClear || lightSingle) &&
-                        (!viewSingle || !lightSingle || viewC == lightC) && tabulated(e, x);
-    const int layers = clear || single ? RESPONSE_FIRST_LAYER : RESPONSE_END_LAYER;
-    for (int j = RESPONSE_FIRST_LAYER; j < layers; ++j)
-        respondLayer(l, j, diffuseWeight, specularWeight, viewTauAt(j) * exp2(log2TransmittanceAt(j, directional)));
-    if (clear) respondUnfiltered(l, diffuseWeight, specularWeight);
-    if (single) respondFromTable(l, e, x, diffuseWeight, specularWeight);
-}
-
 // Adds light l's reflected radiance with geometric weights: diffuse g/π, specular lobe weight
 // (in the response pass, the detector's response to it).
 void addLight(int l, float diffuseWeight, float specularWeight) {
+#ifdef FILTERED_RESPONSES
     if (THROUGH_FILTERS) {
         respondThroughView(l, diffuseWeight, specularWeight);
         return;
     }
+#endif
     if (RESPONSES) {
         [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) {
             const int r = l * RESPONSE_VEC4 + k;
@@ -493,9 +392,11 @@ void directionalLight(int i, vec3 n, vec3 v, vec3 ng) {
     shadowLayer = -1;
     if (i < SHADOWED_DIRECTIONAL && g > 0.0) g *= visibility(l, worldPosition, ng, w, false);
     if (FILTERED_SHADOWS) filterLight(true);
+#ifdef FILTERED_RESPONSES
     if (THROUGH_WITH_FILTERED_SHADOWS)
         respondThroughViewAndLight(l, g * INV_PI, specularWeight(n, w, v, g), true);
     else
+#endif
         addLight(l, g * INV_PI, specularWeight(n, w, v, g));
     addFluorescence(l, g);
 }
@@ -514,9 +415,11 @@ void pointLight(int i, vec3 n, vec3 v, vec3 ng) {
     shadowLayer = -1;
     if (i < SHADOWED_POINT && g > 0.0) g *= visibility(l, worldPosition, ng, w, true);
     if (FILTERED_SHADOWS) filterLight(false);
+#ifdef FILTERED_RESPONSES
     if (THROUGH_WITH_FILTERED_SHADOWS)
         respondThroughViewAndLight(l, g * INV_PI, specularWeight(n, w, v, g), false);
     else
+#endif
         addLight(l, g * INV_PI, specularWeight(n, w, v, g));
     addFluorescence(l, g);
 }
@@ -562,42 +465,9 @@ void main() {
     }
 
     filtered = false;
-    if (THROUGH_FILTERS) {  // τ inside the response sums
-        fetchViewChannels(0);
-        bool slabSeen = false;
-        float slabCos = 1.0;
-        if (VIEW_SLAB_CHANNEL >= 0) {
-            // The crossings behind the slab and in front of it, together; the slab's own T where it
-            // lies in front of this surface, at the angle of this pixel's ray with its plane.
-            const ivec2 pixel = ivec2(gl_FragCoord.xy);
-            [[unroll]] for (int j = 0; j < VIEW_LAYERS; ++j) {
-                const vec4 front = texelFetch(viewChannels, ivec3(pixel, VIEW_LAYERS + j), 0);
-                [[unroll]] for (int i = 0; i < 4; ++i) viewChannel[4 * j + i] += front[i];
-            }
-            slabSeen = texelFetch(slabDistance, pixel, 0).r < texelFetch(opaqueDistance, pixel, 0).r;
-            slabCos = min(abs(dot(R.slabNormal.xyz, v)), 1.0);
-        }
-        int crossed = 0;
-        viewC = 0;
-        viewX = 0.0;
-        [[unroll]] for (int i = 0; i < VIEW_CHANNELS; ++i)
-            if (viewChannel[i] != 0.0) {
-                ++crossed;
-                viewC = i;
-                viewX = viewChannel[i];
-            }
-        viewClear = !slabSeen && crossed == 0;
-        viewSingle = !slabSeen && crossed == 1 && tabulated(viewC, viewX);
-        needViewTau = !viewClear && !viewSingle;
-        if (!viewSingle) viewX = 0.0;  // (viewTauAt: τ = 1 where the camera's τ is not one channel's)
-        const int viewLayers = needViewTau ? RESPONSE_END_LAYER : RESPONSE_FIRST_LAYER;
-        const int slabLayers = slabSeen ? RESPONSE_END_LAYER : RESPONSE_FIRST_LAYER;
-        for (int j = RESPONSE_FIRST_LAYER; j < viewLayers; ++j) viewTau[j] = viewTransmittance(j);
-        if (VIEW_SLAB_CHANNEL >= 0)
-            for (int j = RESPONSE_FIRST_LAYER; j < slabLayers; ++j)
-                viewTau[j] *= slabTransmittance(slabCos, texelFetch(depthSpectra, VIEW_SLAB_CHANNEL * BAND_LAYERS + j),
-                                                texelFetch(depthSpectra, (VIEW_SLAB_CHANNEL + 1) * BAND_LAYERS + j));
-    }
+#ifdef FILTERED_RESPONSES
+    if (THROUGH_FILTERS) classifyView(v);  // τ inside the response sums
+#endif
     [[unroll]] for (int i = 0; i < min(AMBIENT_COUNT, UNROLLED_LIGHTS); ++i) ambientLight(i);
     [[dont_unroll]] for (int i = UNROLLED_LIGHTS; i < AMBIENT_COUNT; ++i) ambientLight(i);
     vec3 ng = dot(faceNormal, faceNormal) > 0.0 ? normalize(faceNormal) : n;
@@ -623,25 +493,9 @@ void main() {
     // so that neither overflows before their product does.
     if (HAS_FLUORESCENCE && !FLUORESCENCE_SPECTRA && !RESPONSES && RADIANCE)
         [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) acc[k] += fluorescence * M.emissionOverLambda[k];
-    // Through filters: Σ_j τ_j·(w_c·ê/λ)_j, the detector-weighted emission (GpuResponseBlock::spectra.z):
-    // its sum over the bands where nothing is in front, its table through one channel
-    // (GpuResponseBlock::tables), per band elsewhere.
-    if (THROUGH_FILTERS) {
-        if (HAS_FLUORESCENCE && R.spectra.z >= 0) {
-            const int C = 4 * OUTPUT_COUNT;
-            const int layers = needViewTau ? RESPONSE_END_LAYER : RESPONSE_FIRST_LAYER;
-            for (int j = RESPONSE_FIRST_LAYER; j < layers; ++j)
-                [[unroll]] for (int c = 0; c < C && c < RESPONSE_CHANNELS; ++c)
-                    acc[c / 4][c % 4] += fluorescence * dot(texelFetch(depthSpectra, R.spectra.z + c * BAND_LAYERS + j), viewTau[j]);
-            if (viewClear)
-                [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) acc[k] += fluorescence * texelFetch(depthSpectra, R.tables.z + k);
-            if (viewSingle) {
-                vec4 basis;
-                const int row = R.tables.y + crossingNode(crossingAxis(viewC), viewX, basis) * 2 * OUTPUT_COUNT;
-                [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) acc[k] += fluorescence * crossingTableAt(row, k, basis);
-            }
-        }
-    }
+#ifdef FILTERED_RESPONSES
+    if (THROUGH_FILTERS) respondEmissionThroughView();
+#endif
     // A self-luminous surface's own radiance, on its front (the side its winding faces).
     if (HAS_EMITTERS && !RESPONSES && RADIANCE && gl_FrontFacing && (runtimeValue(M.switches.x) & MATERIAL_EMITTER) != 0u)
         [[unroll]] for (int k = 0; k < OUTPUT_COUNT; ++k) acc[k] += M.emitted[k];

@@ -118,7 +118,11 @@ VkPipeline SpectralResources::makePipeline(const vk::SharedHandle<VkRenderPass>&
         [&] {
             VkShaderModule frag = VK_NULL_HANDLE;
             if (!prePass) {
-                const SpirvCode fragCode = indirect ? spectralIndirectFragment(attachments) : spectralFragment(attachments);
+                // THROUGH_FILTERS (spectral.frag): its code is in the FILTERED_RESPONSES builds only.
+                const bool throughFilters = spec.responses && (spec.viewChannels > 0 || spec.viewSlabChannel >= 0);
+                const SpirvCode fragCode = indirect         ? spectralIndirectFragment(attachments)
+                                           : throughFilters ? spectralFilteredResponsesFragment(attachments)
+                                                            : spectralFragment(attachments);
                 frag = vk::createShaderModule(ctx.device(), fragCode.code, fragCode.bytes);
             }
             const vk::OwnedShaderModule fragModule(ctx.device(), frag);  // the pipeline keeps what it needs

@@ -30,6 +30,8 @@
 #include "spectral.frag.7.indirect.spv.h"
 #include "spectral.frag.8.indirect.spv.h"
 #include "spectral.vert.indirect.spv.h"
+#include "spectral.frag.1.filtered_responses.spv.h"
+#include "spectral.frag.2.filtered_responses.spv.h"
 
 namespace metamer {
 
@@ -53,6 +55,12 @@ const SpirvCode kSpectralIndirectFrag[MAX_OUTPUTS] = {
     {kSpirv_spectral_frag_7_indirect, sizeof(kSpirv_spectral_frag_7_indirect)},
     {kSpirv_spectral_frag_8_indirect, sizeof(kSpirv_spectral_frag_8_indirect)},
 };
+// spectral.frag's FILTERED_RESPONSES builds (the response pass through filters: 1 or 2 attachments,
+// a detector's ≤ 8 channels).
+const SpirvCode kSpectralFilteredResponsesFrag[2] = {
+    {kSpirv_spectral_frag_1_filtered_responses, sizeof(kSpirv_spectral_frag_1_filtered_responses)},
+    {kSpirv_spectral_frag_2_filtered_responses, sizeof(kSpirv_spectral_frag_2_filtered_responses)},
+};
 // transmit.frag likewise.
 const SpirvCode kTransmitFrag[MAX_OUTPUTS] = {
     {kSpirv_transmit_frag_1, sizeof(kSpirv_transmit_frag_1)}, {kSpirv_transmit_frag_2, sizeof(kSpirv_transmit_frag_2)},
@@ -70,6 +78,11 @@ uint32_t variantIndex(uint32_t attachments) {
 }  // namespace
 
 SpirvCode spectralFragment(uint32_t attachments) { return kSpectralFrag[variantIndex(attachments)]; }
+SpirvCode spectralFilteredResponsesFragment(uint32_t attachments) {
+    if (attachments < 1 || attachments > 2)
+        failRuntime("no response-pass-through-filters fragment shader for {} colour attachments (1 or 2)", attachments);
+    return kSpectralFilteredResponsesFrag[attachments - 1];
+}
 SpirvCode transmitFragment(uint32_t attachments) { return kTransmitFrag[variantIndex(attachments)]; }
 SpirvCode opaqueDistanceFragment() { return {kSpirv_opaque_distance_frag, sizeof(kSpirv_opaque_distance_frag)}; }
 SpirvCode spectralVertex() { return {kSpirv_spectral_vert, sizeof(kSpirv_spectral_vert)}; }

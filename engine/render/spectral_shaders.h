@@ -18,6 +18,8 @@ struct SpirvCode {
 };
 
 SpirvCode spectralFragment(uint32_t attachments);  // spectral.frag with OUTPUT_COUNT attachments (1..8)
+// spectral.frag with FILTERED_RESPONSES (the response pass through sheets, media and a slab; 1 or 2).
+SpirvCode spectralFilteredResponsesFragment(uint32_t attachments);
 // The band programs that add interreflection's indirect light (built with INDIRECT; interface.h).
 SpirvCode spectralIndirectFragment(uint32_t attachments);
 SpirvCode spectralIndirectVertex();
