@@ -13,6 +13,8 @@
 // x runs up to twice the most one path can cross (the camera's and a light's path added): a sheet
 // material's triangles, a medium's bounding-box diagonal (a straight line inside a box is at most
 // its diagonal long).
+// Tests: engine/render/spectral_packing_test.cpp (CrossingTablesInterpolateEveryChannelWithinTheCertifiedBound),
+// tests/response_pass_test.cpp (through filters, against the cube path).
 #include <glm/glm.hpp>
 
 #include <cstddef>

@@ -613,7 +613,11 @@ PackedScene packResponses(const Scene& scene, const SceneOnGrid& g, const std::v
         for (size_t mi = 0; mi < g.materials.size(); ++mi)
             tables += (p.responseBlocks[mi].spectra.x >= 0 ? 2 * lights : 0) + (p.responseBlocks[mi].spectra.z >= 0 ? 1 : 0);
         const uint64_t tableRows = tables * uint64_t(axes.totalNodes) * 2 * (padded / 4) + axes.channels.size();
-        if (axes.totalNodes > 0 && p.depthSpectra.size() + tableRows <= texelLimit) {
+        // At most kCrossingTableTexels (32 MiB; filters.json's: 2 MiB, 670 nodes on 5 channels): a
+        // scene of many materials and lights beside deep filters would spend seconds of loading on
+        // them, so it sums per band.
+        constexpr uint64_t kCrossingTableTexels = uint64_t(1) << 21;
+        if (axes.totalNodes > 0 && tableRows <= kCrossingTableTexels && p.depthSpectra.size() + tableRows <= texelLimit) {
             p.crossingHeader = int(p.depthSpectra.size());
             p.crossingNodes = axes.totalNodes;
             for (const CrossingAxis& a : axes.channels)
@@ -647,6 +651,7 @@ PackedScene packResponses(const Scene& scene, const SceneOnGrid& g, const std::v
                 p.responseBlocks[mi].tables.y = int(p.depthSpectra.size());
                 appendCrossingTable(p.depthSpectra, axes, weigh(emission));
             }
+            p.crossingTexels = p.depthSpectra.size() - size_t(p.crossingHeader);
         }
     }
     p.responseTextureSlots.assign(g.materials.size(), {-1, -1, -1});

@@ -96,6 +96,7 @@ struct PackedScene {
     // Single-crossing tables (render/crossing_tables.h): their header's first row in depthSpectra
     // (−1: none) and every channel's nodes together (SPEC_CROSSING_HEADER, SPEC_CROSSING_NODES).
     int crossingHeader = -1, crossingNodes = 0;
+    size_t crossingTexels = 0;  // the tables' RGBA32F texels (header included)
     std::vector<gpu::GpuResponseBlock> responseBlocks;
     std::vector<TextureOnGrid> responseTextures;
     std::vector<std::array<int, 3>> responseTextureSlots;

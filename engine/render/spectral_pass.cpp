@@ -17,7 +17,7 @@ std::string SpectralPassPlan::describe() const {
                            "its own depth (no pre-pass), {}×{} target ({} MiB), {} light(s), specular {}, fluorescence {}, ssaa {}",
                            bands, layers, targetWidth, targetHeight, targetBytes >> 20, lightCount,
                            hasSpecular ? "on" : "off", hasFluorescence ? "on" : "off", ssaa) +
-               (frame.empty() ? "" : "; the frame: " + frame);
+               (throughFilters.empty() ? "" : "; " + throughFilters) + (frame.empty() ? "" : "; the frame: " + frame);
     return fmt::format("{} bands in {} RGBA32F layers, a depth pre-pass + {} colour pass(es) of ≤{} attachments, {}×{} target ({} MiB), "
                        "{} light(s){}, specular {}, fluorescence {}, ssaa {}, readback by {}",
                        bands, layers, passes, MAX_OUTPUTS, targetWidth, targetHeight, targetBytes >> 20,
@@ -111,6 +111,14 @@ SpectralPass::SpectralPass(vk::Context& ctx, const Scene& scene, const SceneOnGr
                                            ctx.properties().limits.maxTexelBufferElements)
                            : pack(scene, spectra, p.passes, m.frame, m.interreflection ? &*m.interreflection : nullptr);
     p.fluorescenceSpectra = m.packed.fluorescenceSpectra;
+    if (p.responses && scene.hasTransparency())
+        p.throughFilters =
+            m.packed.crossingHeader >= 0
+                ? fmt::format("through sheets and media: single-crossing tables of {} node(s) on {} channel(s) ({:.1f} MiB), "
+                              "per-band sums where a pixel crosses more",
+                              m.packed.crossingNodes, m.packed.depthChannels,
+                              double(m.packed.crossingTexels) * 16.0 / double(1 << 20))
+                : "through sheets and media: per-band sums (no single-crossing tables: none fit, or none needed)";
     p.shadowLayers = int(m.packed.shadowMaps.layers.size());
     m.camera = cameraMatrices(scene.camera, scene, m.frame);
     m.fullViewProjection = m.camera.viewProjection;

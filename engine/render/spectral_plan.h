@@ -56,6 +56,7 @@ struct SpectralPassPlan {
     bool mappedReadback = false;
     std::string frame;  // the frame's declared passes in order (SpectralResources::describeFrame)
     std::string interreflection;  // what solving the scene's interreflection took (empty without)
+    std::string throughFilters;   // the response pass through sheets and media: its tables (empty without)
     size_t targetBytes = 0;  // the layered colour target
     std::string describe() const;
 };
