@@ -13,9 +13,12 @@ namespace metamer {
 
 std::string SpectralPassPlan::describe() const {
     if (responses)
-        return fmt::format("response pass: {} detector channel(s) in {} RGBA32F layer(s), one pass that writes "
-                           "its own depth (no pre-pass), {}×{} target ({} MiB), {} light(s), specular {}, fluorescence {}, ssaa {}",
-                           bands, layers, targetWidth, targetHeight, targetBytes >> 20, lightCount,
+        return fmt::format("response pass: {} detector channel(s) in {} RGBA32F layer(s), {}, {}×{} target ({} MiB), "
+                           "{} light(s), specular {}, fluorescence {}, ssaa {}",
+                           bands, layers,
+                           throughFilters.empty() ? "one pass that writes its own depth (no pre-pass)"
+                                                  : "a depth pre-pass, the transparent objects' passes, then one pass",
+                           targetWidth, targetHeight, targetBytes >> 20, lightCount,
                            hasSpecular ? "on" : "off", hasFluorescence ? "on" : "off", ssaa) +
                (throughFilters.empty() ? "" : "; " + throughFilters) + (frame.empty() ? "" : "; the frame: " + frame);
     return fmt::format("{} bands in {} RGBA32F layers, a depth pre-pass + {} colour pass(es) of ≤{} attachments, {}×{} target ({} MiB), "
@@ -114,11 +117,11 @@ SpectralPass::SpectralPass(vk::Context& ctx, const Scene& scene, const SceneOnGr
     if (p.responses && scene.hasTransparency())
         p.throughFilters =
             m.packed.crossingHeader >= 0
-                ? fmt::format("through sheets and media: single-crossing tables of {} node(s) on {} channel(s) ({:.1f} MiB), "
+                ? fmt::format("through transparent objects: single-crossing tables of {} node(s) on {} channel(s) ({:.1f} MiB), "
                               "per-band sums where a pixel crosses more",
                               m.packed.crossingNodes, m.packed.depthChannels,
                               double(m.packed.crossingTexels) * 16.0 / double(1 << 20))
-                : "through sheets and media: per-band sums (no single-crossing tables: none fit, or none needed)";
+                : "through transparent objects: per-band sums (no single-crossing tables: none fit, or none needed)";
     p.shadowLayers = int(m.packed.shadowMaps.layers.size());
     m.camera = cameraMatrices(scene.camera, scene, m.frame);
     m.fullViewProjection = m.camera.viewProjection;
