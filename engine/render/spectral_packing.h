@@ -138,14 +138,14 @@ void layOutIndirect(PackedScene& p, const std::vector<IndirectVertex>& perVertex
 void packEmitters(PackedScene& p, const Scene& scene, const SceneOnGrid& g, const LocalFrame& frame,
                   const radiosity::SceneInterreflection& interreflection);
 
-// The scene packed for the response pass: one pass whose outputs are the channels of a detector
-// with `weights` [channel][band of g.grid] (at most 4·RESPONSE_VEC4 channels): every material's
-// responses under every light, in double, rounded once to float.
 // Per sheet and medium channel, twice the deepest one straight path can cross (the camera's and a
 // light's added; render/crossing_tables.h): a sheet material's triangle count, a medium's
 // bounding-box diagonal (a straight line inside a box is at most its diagonal long); 0: not drawn.
 std::vector<double> crossingDepthBounds(const PackedScene& p, const SceneOnGrid& g);
 
+// The scene packed for the response pass: one pass whose outputs are the channels of a detector
+// with `weights` [channel][band of g.grid] (at most 4·RESPONSE_VEC4 channels): every material's
+// responses under every light, in double, rounded once to float.
 // Through sheets and media it adds single-crossing tables (render/crossing_tables.h) where every
 // row fits in `texelLimit` (the device's maxTexelBufferElements); without them the pass sums per band.
 PackedScene packResponses(const Scene& scene, const SceneOnGrid& g, const std::vector<std::vector<double>>& weights,
