@@ -12,21 +12,8 @@
 #include "vk/render_pass.h"
 
 #include <algorithm>
-#include <array>
 
 namespace metamer {
-
-namespace {
-// transmit.frag's specialization: one 4-byte entry per id of gpu::TransmitSpecialization, in order.
-const std::array<VkSpecializationMapEntry, TRANSMIT_SPEC_RESPONSE_END_LAYER + 1> kTransmitEntries = [] {
-    std::array<VkSpecializationMapEntry, TRANSMIT_SPEC_RESPONSE_END_LAYER + 1> e{};
-    for (uint32_t id = 0; id < e.size(); ++id) e[id] = {id, id * 4, 4};
-    return e;
-}();
-VkSpecializationInfo transmitSpecialization(const gpu::TransmitSpecialization& spec) {
-    return {uint32_t(kTransmitEntries.size()), kTransmitEntries.data(), sizeof spec, &spec};
-}
-}  // namespace
 
 // attachments == 0: the depth pre-pass (clears and writes depth). Otherwise a colour pass that
 // loads the pre-pass's depth and shades only the visible surface (depth test EQUAL), so every
@@ -82,11 +69,7 @@ VkPipeline SpectralResources::makePipeline(const vk::SharedHandle<VkRenderPass>&
                                            packed.responseEndLayer,
                                            packed.crossingHeader,
                                            packed.crossingNodes};
-    // interface.h orders the struct's 4-byte fields by id.
-    constexpr uint32_t kIds = SPEC_CROSSING_NODES + 1;
-    VkSpecializationMapEntry entries[kIds];
-    for (uint32_t id = 0; id < kIds; ++id) entries[id] = {id, id * 4, 4};
-    VkSpecializationInfo si{kIds, entries, sizeof(spec), &spec};
+    const VkSpecializationInfo si = vk::specializationOf(spec);
     bool prePass = attachments == 0;
     // Interreflection's band passes add the indirect light (the INDIRECT programs, a second vertex
     // buffer); the pre-pass, the lobe pass and the response pass do not read it.
@@ -242,7 +225,7 @@ VkPipeline SpectralResources::makeChannelPipeline(VkRenderPass renderPass, uint3
     spec.channelOutput = VK_TRUE;
     spec.firstChannel = firstChannel;
     spec.split = split ? VK_TRUE : VK_FALSE;
-    const VkSpecializationInfo si = transmitSpecialization(spec);
+    const VkSpecializationInfo si = vk::specializationOf(spec);
     return makeOwnPipeline(fmt::format("spectral.channels attachments={} {}x{} pass={} layout={} spec={}", attachments,
                                        pd.width, pd.height, static_cast<void*>(renderPass),
                                        static_cast<void*>(pipelineLayout.get()), vk::keyBytes(&spec, sizeof spec)),
@@ -347,7 +330,7 @@ void SpectralResources::createTransmissionPasses() {
     frontSpec.front = VK_TRUE;
     frontSpec.viewChannels = packed.depthChannels;
     frontSpec.bandLayers = packed.bandLayers;
-    const VkSpecializationInfo frontInfo = transmitSpecialization(frontSpec);
+    const VkSpecializationInfo frontInfo = vk::specializationOf(frontSpec);
     const bool slabs = std::any_of(scene.materials.begin(), scene.materials.end(), [](const Material& m) { return m.isSlab(); });
     // The slabs' reflection draws add R·(ambient and hemisphere lights in the mirror direction).
     gpu::TransmitSpecialization reflection{};
@@ -365,7 +348,7 @@ void SpectralResources::createTransmissionPasses() {
         reflection.responseFirstLayer = packed.responseFirstLayer;
         reflection.responseEndLayer = packed.responseEndLayer;
     }
-    const VkSpecializationInfo reflectionInfo = transmitSpecialization(reflection);
+    const VkSpecializationInfo reflectionInfo = vk::specializationOf(reflection);
     for (const PassObjects& band : passes) {
         PassObjects po;
         po.firstLayer = band.firstLayer;

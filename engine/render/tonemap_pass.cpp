@@ -190,11 +190,7 @@ struct TonemapPass::Impl {
                                                : TONEMAP_MODE_RESPONSES,
             plan.display.kind == DisplayKind::Srgb ? TONEMAP_DISPLAY_SRGB : TONEMAP_DISPLAY_GOG,
             source.plan().responses ? TONEMAP_INPUT_RESPONSES : TONEMAP_INPUT_BANDS};
-        // interface.h orders the struct's 4-byte fields by id.
-        constexpr uint32_t kIds = TONEMAP_SPEC_INPUT + 1;
-        VkSpecializationMapEntry entries[kIds];
-        for (uint32_t id = 0; id < kIds; ++id) entries[id] = {id, id * 4, 4};
-        VkSpecializationInfo si{kIds, entries, sizeof(spec), &spec};
+        const VkSpecializationInfo si = vk::specializationOf(spec);
         const std::string key = fmt::format("tonemap.pipeline {}x{} pass={} layout={} spec={}", width, height,
                                             static_cast<void*>(renderPass.get()),
                                             static_cast<void*>(pipelineLayout.get()), vk::keyBytes(&spec, sizeof spec));

@@ -6,9 +6,25 @@
 #include "vk/check.h"
 #include "vk/handle.h"
 
+#include <array>
+#include <type_traits>
 #include <vector>
 
 namespace metamer::vk {
+
+// The specialization of a struct whose 4-byte fields are constant ids 0, 1, … in order (interface.h's
+// *Specialization structs): the map is derived from the struct's size, so a field added there is
+// mapped here without restating the count. `spec` must outlive the pipeline's creation.
+template <class Spec>
+VkSpecializationInfo specializationOf(const Spec& spec) {
+    static_assert(sizeof(Spec) % 4 == 0 && std::is_trivially_copyable_v<Spec>, "one 4-byte field per constant id");
+    static const std::array<VkSpecializationMapEntry, sizeof(Spec) / 4> entries = [] {
+        std::array<VkSpecializationMapEntry, sizeof(Spec) / 4> e{};
+        for (uint32_t id = 0; id < e.size(); ++id) e[id] = {id, id * 4, 4};
+        return e;
+    }();
+    return {uint32_t(entries.size()), entries.data(), sizeof(Spec), &spec};
+}
 
 VkShaderModule createShaderModule(VkDevice device, const uint32_t* code, size_t bytes);
 
