@@ -542,38 +542,50 @@ PackedScene packResponses(const Scene& scene, const SceneOnGrid& g, const std::v
         // The detector-weighted spectrum w_cb·s_b, 4·⌈channels/4⌉ channels × BAND_LAYERS vec4 (zero
         // past the channels and the bands), appended to the texel buffer's rows.
         const size_t padded = 4 * ((channels + 3) / 4), layers = size_t(p.bandLayers);
+        // w_cb·s_b rounded to float, as the records hold it and the tables take it.
+        std::vector<std::vector<double>> weighted(padded, std::vector<double>(n, 0.0));
+        auto weigh = [&](const std::vector<double>& s) -> const std::vector<std::vector<double>>& {
+            for (size_t c = 0; c < channels; ++c)
+                for (size_t b = 0; b < n; ++b) weighted[c][b] = double(float(weights[c][b] * s[b]));
+            return weighted;
+        };
         auto appendWeighted = [&](const std::vector<double>& s) {
+            const std::vector<std::vector<double>>& w = weigh(s);
             for (size_t c = 0; c < padded; ++c)
                 for (size_t j = 0; j < layers; ++j) {
                     glm::vec4 v(0.0f);
-                    for (size_t k = 0; k < 4; ++k) {
-                        const size_t b = 4 * j + k;
-                        if (c < channels && b < n) v[int(k)] = float(weights[c][b] * s[b]);
-                    }
+                    for (size_t k = 0; k < 4 && 4 * j + k < n; ++k) v[int(k)] = float(w[c][4 * j + k]);
                     p.depthSpectra.push_back(v);
                 }
+        };
+        // An opaque material's terms in the records' (and tables') order: per light, ρ_d·E then ρ_s·E.
+        auto forEachTerm = [&](const MaterialOnGrid& m, const auto& use) {
+            for (size_t i = 0; i < lights; ++i) {
+                const std::vector<double>& E = g.lights[order[i]];
+                for (const std::vector<double>* rho : {&m.diffuse, &m.specular}) {
+                    for (size_t b = 0; b < n; ++b) product[b] = (*rho)[b] * E[b];
+                    use(product);
+                }
+            }
+        };
+        // A rank-one fluorescent material's emission ê(λ)/λ as pack() scales it, rounded to float as
+        // the band passes read it (their product, bit for bit).
+        auto emissionOf = [&](const MaterialOnGrid& m) {
+            std::vector<double> emission = scaledEmissionOverLambda(m, g).overLambda;
+            for (double& v : emission) v = double(float(v));
+            return emission;
         };
         for (size_t mi = 0; mi < g.materials.size(); ++mi) {
             const MaterialOnGrid& m = g.materials[mi];
             if (m.isTransparent()) continue;
             p.responseBlocks[mi].spectra.x = int(p.depthSpectra.size());
-            for (size_t i = 0; i < lights; ++i) {
-                const std::vector<double>& E = g.lights[order[i]];
-                for (const std::vector<double>* rho : {&m.diffuse, &m.specular}) {
-                    for (size_t b = 0; b < n; ++b) product[b] = (*rho)[b] * E[b];
-                    appendWeighted(product);
-                }
-            }
+            forEachTerm(m, appendWeighted);
         }
-        // A rank-one fluorescent material's emission ê(λ)/λ as pack() scales it, rounded to float as
-        // the band passes read it (their product, bit for bit).
         for (size_t mi = 0; mi < g.materials.size(); ++mi) {
             const MaterialOnGrid& m = g.materials[mi];
             if (!m.fluorescent || m.isTransparent()) continue;
-            std::vector<double> emission = scaledEmissionOverLambda(m, g).overLambda;
-            for (double& v : emission) v = double(float(v));
             p.responseBlocks[mi].spectra.z = int(p.depthSpectra.size());
-            appendWeighted(emission);
+            appendWeighted(emissionOf(m));
         }
         // A slab reflects the environment: the detector-weighted light spectra w_cb·E_lb, and its
         // normal (Scene::transparencyInResponses: one planar slab, every normal parallel).
@@ -624,32 +636,15 @@ PackedScene packResponses(const Scene& scene, const SceneOnGrid& g, const std::v
                 p.depthSpectra.push_back(a.nodes > 0 ? glm::vec4(float(1.0 / a.h), float(a.nodes - 1), float(a.first),
                                                                  float(double(a.nodes - 1) * a.h))
                                                      : glm::vec4(0.0f, 0.0f, 0.0f, -1.0f));
-            // w_cb·s_b as the records hold it (rounded to float), padded channels zero.
-            std::vector<std::vector<double>> weighted(padded, std::vector<double>(n, 0.0));
-            auto weigh = [&](const std::vector<double>& s) {
-                for (size_t c = 0; c < channels; ++c)
-                    for (size_t b = 0; b < n; ++b) weighted[c][b] = double(float(weights[c][b] * s[b]));
-                return weighted;
-            };
             for (size_t mi = 0; mi < g.materials.size(); ++mi) {
-                const MaterialOnGrid& m = g.materials[mi];
                 if (p.responseBlocks[mi].spectra.x < 0) continue;
                 p.responseBlocks[mi].tables.x = int(p.depthSpectra.size());
-                for (size_t i = 0; i < lights; ++i) {
-                    const std::vector<double>& E = g.lights[order[i]];
-                    for (const std::vector<double>* rho : {&m.diffuse, &m.specular}) {
-                        for (size_t b = 0; b < n; ++b) product[b] = (*rho)[b] * E[b];
-                        appendCrossingTable(p.depthSpectra, axes, weigh(product));
-                    }
-                }
+                forEachTerm(g.materials[mi], [&](const std::vector<double>& s) { appendCrossingTable(p.depthSpectra, axes, weigh(s)); });
             }
             for (size_t mi = 0; mi < g.materials.size(); ++mi) {
-                const MaterialOnGrid& m = g.materials[mi];
                 if (p.responseBlocks[mi].spectra.z < 0) continue;
-                std::vector<double> emission = scaledEmissionOverLambda(m, g).overLambda;
-                for (double& v : emission) v = double(float(v));
                 p.responseBlocks[mi].tables.y = int(p.depthSpectra.size());
-                appendCrossingTable(p.depthSpectra, axes, weigh(emission));
+                appendCrossingTable(p.depthSpectra, axes, weigh(emissionOf(g.materials[mi])));
             }
             p.crossingTexels = p.depthSpectra.size() - size_t(p.crossingHeader);
         }
