@@ -13,6 +13,12 @@
 #ifndef OUTPUT_COUNT
 #define OUTPUT_COUNT MAX_OUTPUTS
 #endif
+// The response pass through filters in two draws (render/spectral_pipelines.cpp): this build sums
+// no band; where a pixel needs the per-band sums it writes its depth to one more attachment, and
+// the FILTERED_RESPONSES build is then drawn over those pixels only (docs/color.md).
+#ifdef RESPONSES_WITHOUT_BANDS
+#define FILTERED_RESPONSES 1
+#endif
 
 layout(constant_id = SPEC_AMBIENT_COUNT) const int AMBIENT_COUNT = 0;
 layout(constant_id = SPEC_DIRECTIONAL_COUNT) const int DIRECTIONAL_COUNT = 0;
@@ -141,6 +147,9 @@ float pointToTriangle(vec3 x, vec3 n, vec3 a, vec3 b, vec3 c) {
 #endif
 
 layout(location = 0) out vec4 out0;
+#ifdef RESPONSES_WITHOUT_BANDS
+layout(location = OUTPUT_COUNT) out float bandPassDepth;  // this fragment's depth where it needs bands, else 0
+#endif
 #if OUTPUT_COUNT > 1
 layout(location = 1) out vec4 out1;
 #endif
@@ -537,6 +546,9 @@ void main() {
 
 void writeOutputs() {
     out0 = acc[0];
+#ifdef RESPONSES_WITHOUT_BANDS
+    bandPassDepth = needsBands ? gl_FragCoord.z : 0.0;
+#endif
 #if OUTPUT_COUNT > 1
     out1 = acc[1];
 #endif

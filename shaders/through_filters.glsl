@@ -15,6 +15,20 @@ bool viewClear, lightClear, viewSingle, lightSingle, needViewTau;
 int viewC, lightC;
 float viewX, lightX;
 
+// The end of a per-band loop: the detector's last band layer where `perBand`, else none. The
+// RESPONSES_WITHOUT_BANDS build runs none — it notes the pixel (needsBands) for the draw that does:
+// lavapipe pays for a loop's code at every pixel even where no pixel of the block runs it.
+#ifdef RESPONSES_WITHOUT_BANDS
+const bool SUMS_BANDS = false;
+#else
+const bool SUMS_BANDS = true;
+#endif
+bool needsBands = false;
+int bandLayersEnd(bool perBand) {
+    needsBands = needsBands || perBand;
+    return SUMS_BANDS && perBand ? RESPONSE_END_LAYER : RESPONSE_FIRST_LAYER;
+}
+
 // The filtered light's path at this fragment (after visibility()): clear, one channel, or more;
 // no channels where it arrives unfiltered (τ = 1), and a map layer that exists.
 void classifyFilteredLight() {
@@ -98,7 +112,7 @@ void respondUnfiltered(int l, float diffuseWeight, float specularWeight) {
 }
 // Unfiltered (ambient and hemisphere lights): τ of the camera's channels only.
 void respondThroughView(int l, float diffuseWeight, float specularWeight) {
-    const int layers = needViewTau ? RESPONSE_END_LAYER : RESPONSE_FIRST_LAYER;
+    const int layers = bandLayersEnd(needViewTau);
     for (int j = RESPONSE_FIRST_LAYER; j < layers; ++j) respondLayer(l, j, diffuseWeight, specularWeight, viewTau[j]);
     if (viewClear) respondUnfiltered(l, diffuseWeight, specularWeight);
     if (viewSingle) respondFromTable(l, viewC, viewX, diffuseWeight, specularWeight);
@@ -117,7 +131,7 @@ void respondThroughViewAndLight(int l, float diffuseWeight, float specularWeight
     const float x = viewX + lightX;
     const bool single = !clear && (viewClear || viewSingle) && (lightClear || lightSingle) &&
                         (!viewSingle || !lightSingle || viewC == lightC) && tabulated(e, x);
-    const int layers = clear || single ? RESPONSE_FIRST_LAYER : RESPONSE_END_LAYER;
+    const int layers = bandLayersEnd(!clear && !single);
     for (int j = RESPONSE_FIRST_LAYER; j < layers; ++j)
         respondLayer(l, j, diffuseWeight, specularWeight, viewTauAt(j) * exp2(log2TransmittanceAt(j, directional)));
     if (clear) respondUnfiltered(l, diffuseWeight, specularWeight);
@@ -154,8 +168,8 @@ void classifyView(vec3 v) {
     viewSingle = !slabSeen && crossed == 1 && tabulated(viewC, viewX);
     needViewTau = !viewClear && !viewSingle;
     if (!viewSingle) viewX = 0.0;  // (viewTauAt: τ = 1 where the camera's τ is not one channel's)
-    const int viewLayers = needViewTau ? RESPONSE_END_LAYER : RESPONSE_FIRST_LAYER;
-    const int slabLayers = slabSeen ? RESPONSE_END_LAYER : RESPONSE_FIRST_LAYER;
+    const int viewLayers = bandLayersEnd(needViewTau);
+    const int slabLayers = bandLayersEnd(slabSeen);
     for (int j = RESPONSE_FIRST_LAYER; j < viewLayers; ++j) viewTau[j] = viewTransmittance(j);
     if (VIEW_SLAB_CHANNEL >= 0)
         for (int j = RESPONSE_FIRST_LAYER; j < slabLayers; ++j)
@@ -169,7 +183,7 @@ void classifyView(vec3 v) {
 void respondEmissionThroughView() {
     if (HAS_FLUORESCENCE && R.spectra.z >= 0) {
         const int C = 4 * OUTPUT_COUNT;
-        const int layers = needViewTau ? RESPONSE_END_LAYER : RESPONSE_FIRST_LAYER;
+        const int layers = bandLayersEnd(needViewTau);
         for (int j = RESPONSE_FIRST_LAYER; j < layers; ++j)
             [[unroll]] for (int c = 0; c < C && c < RESPONSE_CHANNELS; ++c)
                 acc[c / 4][c % 4] += fluorescence * dot(texelFetch(depthSpectra, R.spectra.z + c * BAND_LAYERS + j), viewTau[j]);

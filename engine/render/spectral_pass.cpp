@@ -17,7 +17,9 @@ std::string SpectralPassPlan::describe() const {
                            "{} light(s), specular {}, fluorescence {}, ssaa {}",
                            bands, layers,
                            throughFilters.empty() ? "one pass that writes its own depth (no pre-pass)"
-                                                  : "a depth pre-pass, the transparent objects' passes, then one pass",
+                                                  : "a depth pre-pass, the transparent objects' passes, then one pass "
+                                                    "in two draws (every pixel without per-band sums, then the full "
+                                                    "program where a pixel needs them)",
                            targetWidth, targetHeight, targetBytes >> 20, lightCount,
                            hasSpecular ? "on" : "off", hasFluorescence ? "on" : "off", ssaa) +
                (throughFilters.empty() ? "" : "; " + throughFilters) + (frame.empty() ? "" : "; the frame: " + frame);
@@ -118,10 +120,11 @@ SpectralPass::SpectralPass(vk::Context& ctx, const Scene& scene, const SceneOnGr
         p.throughFilters =
             m.packed.crossingHeader >= 0
                 ? fmt::format("through transparent objects: single-crossing tables of {} node(s) on {} channel(s) ({:.1f} MiB), "
-                              "per-band sums where a pixel crosses more",
+                              "per-band sums where a pixel crosses more (the second draw)",
                               m.packed.crossingNodes, m.packed.depthChannels,
                               double(m.packed.crossingTexels) * 16.0 / double(1 << 20))
-                : "through transparent objects: per-band sums (no single-crossing tables: none fit, or none needed)";
+                : "through transparent objects: per-band sums where a pixel crosses anything (the second draw; no "
+                  "single-crossing tables: none fit, or none needed)";
     p.shadowLayers = int(m.packed.shadowMaps.layers.size());
     m.camera = cameraMatrices(scene.camera, scene, m.frame);
     m.fullViewProjection = m.camera.viewProjection;

@@ -18,25 +18,29 @@ namespace metamer {
 // attachments == 0: the depth pre-pass (clears and writes depth). Otherwise a colour pass that
 // loads the pre-pass's depth and shades only the visible surface (depth test EQUAL), so every
 // pixel is shaded once per pass whatever the overdraw — or, clearsDepth, one with its own depth.
-VkRenderPass SpectralResources::makeRenderPass(uint32_t attachments, bool clearsDepth) {
+VkRenderPass SpectralResources::makeRenderPass(uint32_t attachments, bool clearsDepth, bool bandDepthOutput) {
     using vk::Access;
     vk::RenderPassDesc desc;
     // Cleared once per frame by the frame's clear pass (a transfer), not by the render pass: lavapipe
     // (Mesa 22.3) leaks about a target's size of memory per render-pass clear of array-layer views.
     for (uint32_t i = 0; i < attachments; ++i)
         desc.colors.push_back(vk::attachmentFor(VK_FORMAT_R32G32B32A32_SFLOAT, Access::ColorAttachment, VK_ATTACHMENT_LOAD_OP_LOAD));
+    if (bandDepthOutput)  // one layer, not an array view: cleared by the render pass
+        desc.colors.push_back(vk::attachmentFor(VK_FORMAT_R32_SFLOAT, Access::ColorAttachment, VK_ATTACHMENT_LOAD_OP_CLEAR));
     // Stored: every later pass loads it.
     desc.depth = vk::attachmentFor(VK_FORMAT_D32_SFLOAT, Access::DepthAttachment,
                                    clearsDepth ? VK_ATTACHMENT_LOAD_OP_CLEAR : VK_ATTACHMENT_LOAD_OP_LOAD);
     renderPasses.push_back(vk::sharedRenderPass(
-        ctx.objects(), fmt::format("spectral.pass attachments={} clearsDepth={}", attachments, clearsDepth), desc));
+        ctx.objects(),
+        fmt::format("spectral.pass attachments={} clearsDepth={} bandDepth={}", attachments, clearsDepth, bandDepthOutput),
+        desc));
     return renderPasses.back().get();
 }
 
 // attachments == 0: the depth pre-pass pipeline (vertex stage only); writesDepth with attachments:
 // a colour pass without a pre-pass.
 VkPipeline SpectralResources::makePipeline(const vk::SharedHandle<VkRenderPass>& renderPass, uint32_t attachments,
-                                           bool writesDepth, int lobeMode, const Variant& v) {
+                                           bool writesDepth, int lobeMode, const Variant& v, bool withoutBands) {
     const gpu::SpectralSpecialization spec{packed.ambient,
                                            packed.directional,
                                            packed.point,
@@ -83,7 +87,7 @@ VkPipeline SpectralResources::makePipeline(const vk::SharedHandle<VkRenderPass>&
     spectralVertexInput(d, indirect);
     d.width = plan.targetWidth;
     d.height = plan.targetHeight;
-    d.colorAttachments = attachments;
+    d.colorAttachments = attachments + (withoutBands ? 1 : 0);
     d.depthTest = true;
     d.cache = ctx.pipelineCache();
     d.depthWrite = writesDepth;
@@ -92,8 +96,9 @@ VkPipeline SpectralResources::makePipeline(const vk::SharedHandle<VkRenderPass>&
     // Everything the pipeline depends on is in its key (the render pass and layout are shared, so
     // their handles name their descriptions).
     const std::string key =
-        fmt::format("spectral.pipeline attachments={} writesDepth={} cull={} indirect={} {}x{} pass={} layout={} spec={}",
-                    attachments, writesDepth, int(d.cullMode), indirect, d.width, d.height,
+        fmt::format("spectral.pipeline attachments={} writesDepth={} cull={} indirect={} withoutBands={} {}x{} pass={} "
+                    "layout={} spec={}",
+                    attachments, writesDepth, int(d.cullMode), indirect, withoutBands, d.width, d.height,
                     static_cast<void*>(renderPass.get()), static_cast<void*>(pipelineLayout.get()),
                     vk::keyBytes(&spec, sizeof spec));
     pipelines.push_back(ctx.objects().pipeline(
@@ -104,6 +109,7 @@ VkPipeline SpectralResources::makePipeline(const vk::SharedHandle<VkRenderPass>&
                 // THROUGH_FILTERS (spectral.frag): its code is in the FILTERED_RESPONSES builds only.
                 const bool throughFilters = spec.responses && (spec.viewChannels > 0 || spec.viewSlabChannel >= 0);
                 const SpirvCode fragCode = indirect         ? spectralIndirectFragment(attachments)
+                                           : withoutBands   ? spectralResponsesWithoutBandsFragment(attachments)
                                            : throughFilters ? spectralFilteredResponsesFragment(attachments)
                                                             : spectralFragment(attachments);
                 frag = vk::createShaderModule(ctx.device(), fragCode.code, fragCode.bytes);
@@ -146,9 +152,11 @@ void SpectralResources::classifyDraws() {
 }
 
 std::vector<VkPipeline> SpectralResources::makePipelines(const vk::SharedHandle<VkRenderPass>& renderPass,
-                                                         uint32_t attachments, bool writesDepth, int lobeMode) {
+                                                         uint32_t attachments, bool writesDepth, int lobeMode,
+                                                         bool withoutBands) {
     std::vector<VkPipeline> out;
-    for (const Variant& v : variants) out.push_back(makePipeline(renderPass, attachments, writesDepth, lobeMode, v));
+    for (const Variant& v : variants)
+        out.push_back(makePipeline(renderPass, attachments, writesDepth, lobeMode, v, withoutBands));
     return out;
 }
 
@@ -194,6 +202,23 @@ void SpectralResources::createPasses() {
         views.push_back(depth.layerView(0));
         po.framebuffer = vk::createFramebuffer(ctx.device(), rp, views, plan.targetWidth, plan.targetHeight);
         passes.push_back(std::move(po));
+    }
+    if (bandSplit) {
+        // The response pass's first draw (every pixel, no per-band sums, the band pass depth out)
+        // and the framebuffer of its second (the pixels that need them, by their depth).
+        PassObjects& first = responsesWithoutBands;
+        const PassObjects& response = passes.at(0);
+        first.attachments = response.attachments;
+        first.renderPass = makeRenderPass(first.attachments, false, true);
+        first.pipelines = makePipelines(renderPasses.back(), first.attachments, false, LOBE_COMPUTE, true);
+        std::vector<VkImageView> views;
+        for (uint32_t i = 0; i < first.attachments; ++i) views.push_back(color.layerView(i));
+        std::vector<VkImageView> second = views;
+        views.push_back(bandPassDepthColor.layerView(0));
+        views.push_back(depth.layerView(0));
+        first.framebuffer = vk::createFramebuffer(ctx.device(), first.renderPass, views, plan.targetWidth, plan.targetHeight);
+        second.push_back(bandDepth.layerView(0));
+        bandFramebuffer = vk::createFramebuffer(ctx.device(), response.renderPass, second, plan.targetWidth, plan.targetHeight);
     }
     if (hasLobePass) createLobePass();
     if (viewChannelLayers > 0) createViewChannelPass();

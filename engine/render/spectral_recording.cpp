@@ -196,6 +196,11 @@ void SpectralResources::declareFrame() {
     const size_t slabs = viewSplit ? frame.add(FrameResource::perFrame("slab distance", slabDistance.handle())) : 0;
     const size_t slabsDepth =
         viewSplit ? frame.add(FrameResource::perFrame("slab depth", slabDepth.handle(), 1, VK_IMAGE_ASPECT_DEPTH_BIT)) : 0;
+    const size_t bandColor =
+        bandSplit ? frame.add(FrameResource::perFrame("band pass depth (R32F)", bandPassDepthColor.handle())) : 0;
+    const size_t bandBuffer = bandSplit ? frame.add(FrameResource::perFrame("band pass depth copy", bandDepthBuffer.handle())) : 0;
+    const size_t bandDepthImage =
+        bandSplit ? frame.add(FrameResource::perFrame("band pass depth", bandDepth.handle(), 1, VK_IMAGE_ASPECT_DEPTH_BIT)) : 0;
     const bool copies = !plan.mappedReadback && !plan.responses;
     const size_t readback = copies ? frame.add(FrameResource::perFrame("readback buffer", readbackBuffer.handle())) : 0;
     const SceneReads scene = declareSceneReads(frame, true);
@@ -289,12 +294,51 @@ void SpectralResources::declareFrame() {
         if (viewChannelLayers > 0) uses.push_back({channels, Access::Sampled});
         uses.insert(uses.end(), distances.begin(), distances.end());
         if (viewSplit) uses.push_back({slabs, Access::Sampled});
-        frame.add(FramePass{plan.responses ? "response pass" : fmt::format("band pass {}", p),
+        if (bandSplit) {
+            // The response pass through filters in two draws (spectral_resources.h, bandSplit):
+            // every pixel without the per-band sums, writing the depth of those that need them …
+            std::vector<ResourceUse> firstUses = uses;
+            firstUses.push_back({bandColor, Access::ColorAttachment, 0, kAllLayers, false});
+            std::vector<VkClearValue> firstClears(po.attachments + 2);
+            firstClears[po.attachments].color = {{0, 0, 0, 0}};
+            firstClears[po.attachments + 1] = farDepth;
+            frame.add(FramePass{"response pass, without bands",
+                                fmt::format("OUTPUT_COUNT {}, SPEC_RESPONSES, RESPONSES_WITHOUT_BANDS; + the depth of the "
+                                            "pixels that need the per-band sums (R32F, 0 elsewhere)",
+                                            po.attachments),
+                                std::move(firstUses), responsesWithoutBands.renderPass,
+                                responsesWithoutBands.framebuffer.get(), extent, std::move(firstClears),
+                                [this, draws](VkCommandBuffer cmd) {
+                                    if (draws) drawScene(cmd, *frameState, responsesWithoutBands.pipelines, 0, descriptorSet, false);
+                                }});
+            // … that depth into a depth image (a colour image cannot be copied into one directly) …
+            frame.add(FramePass{"band pass depth copy", "vkCmdCopyImageToBuffer",
+                                {{bandColor, Access::TransferSrc}, {bandBuffer, Access::TransferDst, 0, kAllLayers, false}},
+                                VK_NULL_HANDLE, VK_NULL_HANDLE, {}, {}, [this](VkCommandBuffer cmd) {
+                                    const VkBufferImageCopy region{0, 0, 0, {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1}, {0, 0, 0},
+                                                                   {plan.targetWidth, plan.targetHeight, 1}};
+                                    vkCmdCopyImageToBuffer(cmd, bandPassDepthColor.handle(), vk::accessLayout(Access::TransferSrc),
+                                                           bandDepthBuffer.handle(), 1, &region);
+                                }});
+            frame.add(FramePass{"band pass depth", "vkCmdCopyBufferToImage",
+                                {{bandBuffer, Access::TransferSrc}, {bandDepthImage, Access::TransferDst, 0, kAllLayers, false}},
+                                VK_NULL_HANDLE, VK_NULL_HANDLE, {}, {}, [this](VkCommandBuffer cmd) {
+                                    const VkBufferImageCopy region{0, 0, 0, {VK_IMAGE_ASPECT_DEPTH_BIT, 0, 0, 1}, {0, 0, 0},
+                                                                   {plan.targetWidth, plan.targetHeight, 1}};
+                                    vkCmdCopyBufferToImage(cmd, bandDepthBuffer.handle(), bandDepth.handle(),
+                                                           vk::accessLayout(Access::TransferDst, true), 1, &region);
+                                }});
+            // … and the full program again where that depth is the surface's (EQUAL): the early depth
+            // test keeps it off every other pixel.
+            uses[1] = {bandDepthImage, Access::DepthAttachment, 0, kAllLayers, true};
+        }
+        frame.add(FramePass{plan.responses ? (bandSplit ? "response pass, the pixels that sum bands" : "response pass")
+                                           : fmt::format("band pass {}", p),
                             fmt::format("OUTPUT_COUNT {}{}; a pipeline per material kind (specular, fluorescent, textured, "
                                         "normal-mapped, culled)",
                                         po.attachments, plan.responses ? ", SPEC_RESPONSES" : hasLobePass ? ", LOBE_READ" : ""),
-                            std::move(uses), po.renderPass, po.framebuffer.get(), extent, std::move(clears),
-                            [this, p, draws](VkCommandBuffer cmd) {
+                            std::move(uses), po.renderPass, bandSplit ? bandFramebuffer.get() : po.framebuffer.get(),
+                            extent, std::move(clears), [this, p, draws](VkCommandBuffer cmd) {
                                 if (draws) drawScene(cmd, *frameState, passes[p].pipelines, p, descriptorSet, false);
                             }});
         if (!hasTransmission || (viewChannelLayers > 0 && !viewSplit)) continue;

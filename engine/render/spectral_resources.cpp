@@ -58,6 +58,7 @@ SpectralResources::SpectralResources(vk::Context& c, const Scene& s, const Scene
                     viewSlabChannel = int32_t(packed.materials[d.material].params.w);
                     break;
                 }
+        bandSplit = true;
     }
     // The coloured shadows' cost grows with the transparent area the lights see × the channels'
     // layers: said when it is long, refused when it would take hours, before anything is drawn.
@@ -306,6 +307,14 @@ void SpectralResources::createTargets(Readback mode, bool sampled, SpectralPassP
     if (viewSplit) {
         slabDistance = image(VK_FORMAT_R32_SFLOAT, 1, sampledAttachment, "slab distance");
         slabDepth = image(VK_FORMAT_D32_SFLOAT, 1, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, "slab depth");
+    }
+    if (bandSplit) {
+        bandPassDepthColor = image(VK_FORMAT_R32_SFLOAT, 1,
+                                   VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, "band pass depth (R32F)");
+        bandDepth = image(VK_FORMAT_D32_SFLOAT, 1,
+                          VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT, "band pass depth");
+        bandDepthBuffer = vk::Buffer(ctx, VkDeviceSize(w) * h * 4,
+                                     VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, "band pass depth copy");
     }
 }
 

@@ -174,6 +174,19 @@ struct SpectralResources {
     vk::OwnedBufferView shadowExcitationView, depthSpectraView;
     VkDescriptorSet lightDescriptorSet = VK_NULL_HANDLE;  // set 0 with the light's distance
     std::vector<PassObjects> transmissionPasses;
+    // The response pass through filters in two draws (bandSplit). lavapipe runs a fragment
+    // program's every instruction at every pixel of a block, a loop's body included where no pixel
+    // runs it, and skips only what its early depth test rejects (docs/performance.md). So every
+    // pixel is drawn first without the per-band sums (spectral.frag RESPONSES_WITHOUT_BANDS), which
+    // writes the depth of the pixels that need them into bandPassDepthColor (R32F, 0 elsewhere);
+    // copied through bandDepthBuffer into bandDepth (D32), it is the depth the full program is then
+    // drawn against (EQUAL, passes[0]'s render pass and pipelines, bandFramebuffer): only those
+    // pixels are shaded again, and each takes the value the one-draw pass gave it.
+    bool bandSplit = false;
+    PassObjects responsesWithoutBands;
+    vk::Image bandPassDepthColor, bandDepth;
+    vk::Buffer bandDepthBuffer;
+    vk::OwnedFramebuffer bandFramebuffer;
 
     // The frame as declared passes over declared resources (render/frame_pass.h), recorded in
     // order by recordSpectralFrame with the barriers derived from the declarations: each pass names
@@ -196,11 +209,13 @@ private:
     void createTextures(std::vector<const TextureOnGrid*> list);
     void createTargets(Readback mode, bool sampled, SpectralPassPlan& plan);
     void createLayouts();
-    VkRenderPass makeRenderPass(uint32_t attachments, bool clearsDepth);
+    // bandDepthOutput: one more attachment, R32F cleared to 0 (the response pass's first draw).
+    VkRenderPass makeRenderPass(uint32_t attachments, bool clearsDepth, bool bandDepthOutput = false);
+    // withoutBands: the RESPONSES_WITHOUT_BANDS program, with that attachment.
     VkPipeline makePipeline(const vk::SharedHandle<VkRenderPass>& renderPass, uint32_t attachments, bool writesDepth,
-                            int lobeMode, const Variant& variant);
+                            int lobeMode, const Variant& variant, bool withoutBands = false);
     std::vector<VkPipeline> makePipelines(const vk::SharedHandle<VkRenderPass>& renderPass, uint32_t attachments,
-                                          bool writesDepth, int lobeMode);
+                                          bool writesDepth, int lobeMode, bool withoutBands = false);
     void classifyDraws();
     void createLobePass();
     void createTransmissionPasses();

@@ -32,6 +32,8 @@
 #include "spectral.vert.indirect.spv.h"
 #include "spectral.frag.1.filtered_responses.spv.h"
 #include "spectral.frag.2.filtered_responses.spv.h"
+#include "spectral.frag.1.responses_without_bands.spv.h"
+#include "spectral.frag.2.responses_without_bands.spv.h"
 
 namespace metamer {
 
@@ -61,6 +63,11 @@ const SpirvCode kSpectralFilteredResponsesFrag[2] = {
     {kSpirv_spectral_frag_1_filtered_responses, sizeof(kSpirv_spectral_frag_1_filtered_responses)},
     {kSpirv_spectral_frag_2_filtered_responses, sizeof(kSpirv_spectral_frag_2_filtered_responses)},
 };
+// Its RESPONSES_WITHOUT_BANDS builds (the first of the response pass's two draws through filters).
+const SpirvCode kSpectralResponsesWithoutBandsFrag[2] = {
+    {kSpirv_spectral_frag_1_responses_without_bands, sizeof(kSpirv_spectral_frag_1_responses_without_bands)},
+    {kSpirv_spectral_frag_2_responses_without_bands, sizeof(kSpirv_spectral_frag_2_responses_without_bands)},
+};
 // transmit.frag likewise.
 const SpirvCode kTransmitFrag[MAX_OUTPUTS] = {
     {kSpirv_transmit_frag_1, sizeof(kSpirv_transmit_frag_1)}, {kSpirv_transmit_frag_2, sizeof(kSpirv_transmit_frag_2)},
@@ -82,6 +89,11 @@ SpirvCode spectralFilteredResponsesFragment(uint32_t attachments) {
     if (attachments < 1 || attachments > 2)
         failRuntime("no response-pass-through-filters fragment shader for {} colour attachments (1 or 2)", attachments);
     return kSpectralFilteredResponsesFrag[attachments - 1];
+}
+SpirvCode spectralResponsesWithoutBandsFragment(uint32_t attachments) {
+    if (attachments < 1 || attachments > 2)
+        failRuntime("no response-pass-without-bands fragment shader for {} colour attachments (1 or 2)", attachments);
+    return kSpectralResponsesWithoutBandsFrag[attachments - 1];
 }
 SpirvCode transmitFragment(uint32_t attachments) { return kTransmitFrag[variantIndex(attachments)]; }
 SpirvCode opaqueDistanceFragment() { return {kSpirv_opaque_distance_frag, sizeof(kSpirv_opaque_distance_frag)}; }

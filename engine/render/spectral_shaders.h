@@ -20,6 +20,9 @@ struct SpirvCode {
 SpirvCode spectralFragment(uint32_t attachments);  // spectral.frag with OUTPUT_COUNT attachments (1..8)
 // spectral.frag with FILTERED_RESPONSES (the response pass through sheets, media and a slab; 1 or 2).
 SpirvCode spectralFilteredResponsesFragment(uint32_t attachments);
+// The same with RESPONSES_WITHOUT_BANDS: no per-band sums; one more attachment (R32F) takes the
+// depth of the pixels that need them, 0 elsewhere, for the draw that sums them.
+SpirvCode spectralResponsesWithoutBandsFragment(uint32_t attachments);
 // The band programs that add interreflection's indirect light (built with INDIRECT; interface.h).
 SpirvCode spectralIndirectFragment(uint32_t attachments);
 SpirvCode spectralIndirectVertex();
