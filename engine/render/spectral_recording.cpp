@@ -329,7 +329,7 @@ void SpectralResources::declareFrame() {
                                                            vk::accessLayout(Access::TransferDst, true), 1, &region);
                                 }});
             // … and the full program again where that depth is the surface's (EQUAL): the early depth
-            // test keeps it off every other pixel.
+            // test keeps it off every other pixel. (uses[1]: the depth attachment's use, declared above.)
             uses[1] = {bandDepthImage, Access::DepthAttachment, 0, kAllLayers, true};
         }
         frame.add(FramePass{plan.responses ? (bandSplit ? "response pass, the pixels that sum bands" : "response pass")
