@@ -286,19 +286,19 @@ void SpectralResources::declareFrame() {
         std::vector<VkClearValue> clears(po.attachments + 1);
         for (uint32_t i = 0; i < po.attachments; ++i) clears[i].color = {{0, 0, 0, 0}};
         clears[po.attachments] = farDepth;
+        std::vector<ResourceUse> reads = shading;
+        if (hasLobePass) reads.push_back({lobe, Access::Sampled});
+        if (viewChannelLayers > 0) reads.push_back({channels, Access::Sampled});
+        reads.insert(reads.end(), distances.begin(), distances.end());
+        if (viewSplit) reads.push_back({slabs, Access::Sampled});
+        const ResourceUse target{targetResource, Access::ColorAttachment, po.firstLayer, po.attachments};
         // Without a pre-pass, the pass clears and writes its own depth.
-        std::vector<ResourceUse> uses = with({{targetResource, Access::ColorAttachment, po.firstLayer, po.attachments},
-                                              {depthImage, Access::DepthAttachment, 0, kAllLayers, hasDepthPrePass}},
-                                             shading);
-        if (hasLobePass) uses.push_back({lobe, Access::Sampled});
-        if (viewChannelLayers > 0) uses.push_back({channels, Access::Sampled});
-        uses.insert(uses.end(), distances.begin(), distances.end());
-        if (viewSplit) uses.push_back({slabs, Access::Sampled});
+        ResourceUse depthUse{depthImage, Access::DepthAttachment, 0, kAllLayers, hasDepthPrePass};
         if (bandSplit) {
             // The response pass through filters in two draws (spectral_resources.h, bandSplit):
             // every pixel without the per-band sums, writing the depth of those that need them …
-            std::vector<ResourceUse> firstUses = uses;
-            firstUses.push_back({bandColor, Access::ColorAttachment, 0, kAllLayers, false});
+            std::vector<ResourceUse> firstUses =
+                with({target, depthUse, {bandColor, Access::ColorAttachment, 0, kAllLayers, false}}, reads);
             std::vector<VkClearValue> firstClears(po.attachments + 2);
             firstClears[po.attachments].color = {{0, 0, 0, 0}};
             firstClears[po.attachments + 1] = farDepth;
@@ -329,9 +329,10 @@ void SpectralResources::declareFrame() {
                                                            vk::accessLayout(Access::TransferDst, true), 1, &region);
                                 }});
             // … and the full program again where that depth is the surface's (EQUAL): the early depth
-            // test keeps it off every other pixel. (uses[1]: the depth attachment's use, declared above.)
-            uses[1] = {bandDepthImage, Access::DepthAttachment, 0, kAllLayers, true};
+            // test keeps it off every other pixel.
+            depthUse = {bandDepthImage, Access::DepthAttachment, 0, kAllLayers, true};
         }
+        std::vector<ResourceUse> uses = with({target, depthUse}, reads);
         frame.add(FramePass{plan.responses ? (bandSplit ? "response pass, the pixels that sum bands" : "response pass")
                                            : fmt::format("band pass {}", p),
                             fmt::format("OUTPUT_COUNT {}{}; a pipeline per material kind (specular, fluorescent, textured, "

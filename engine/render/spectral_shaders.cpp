@@ -82,18 +82,21 @@ uint32_t variantIndex(uint32_t attachments) {
     return attachments - 1;
 }
 
+// The response pass's builds exist for its 1 or 2 attachments only.
+SpirvCode responsePassBuild(const SpirvCode (&builds)[2], uint32_t attachments, const char* what) {
+    if (attachments < 1 || attachments > 2)
+        failRuntime("no {} fragment shader for {} colour attachments (1 or 2)", what, attachments);
+    return builds[attachments - 1];
+}
+
 }  // namespace
 
 SpirvCode spectralFragment(uint32_t attachments) { return kSpectralFrag[variantIndex(attachments)]; }
 SpirvCode spectralFilteredResponsesFragment(uint32_t attachments) {
-    if (attachments < 1 || attachments > 2)
-        failRuntime("no response-pass-through-filters fragment shader for {} colour attachments (1 or 2)", attachments);
-    return kSpectralFilteredResponsesFrag[attachments - 1];
+    return responsePassBuild(kSpectralFilteredResponsesFrag, attachments, "response-pass-through-filters");
 }
 SpirvCode spectralResponsesWithoutBandsFragment(uint32_t attachments) {
-    if (attachments < 1 || attachments > 2)
-        failRuntime("no response-pass-without-bands fragment shader for {} colour attachments (1 or 2)", attachments);
-    return kSpectralResponsesWithoutBandsFrag[attachments - 1];
+    return responsePassBuild(kSpectralResponsesWithoutBandsFrag, attachments, "response-pass-without-bands");
 }
 SpirvCode transmitFragment(uint32_t attachments) { return kTransmitFrag[variantIndex(attachments)]; }
 SpirvCode opaqueDistanceFragment() { return {kSpirv_opaque_distance_frag, sizeof(kSpirv_opaque_distance_frag)}; }
